@@ -1,0 +1,28 @@
+#pragma once
+/// Finds, checks and loads task plugins (Boost.DLL).
+///
+/// A plugin named "landscape" is the file libpodium_task_landscape.so, searched in each folder of
+/// PODIUM_PLUGIN_PATH (colon-separated), then in the plugins folder next to the running binary
+/// (build tree: <build>/plugins; install: <prefix>/lib/podium/plugins). Every failure is one line:
+/// a missing file (with the folders searched), a missing symbol, or an ABI mismatch saying what
+/// the library was built for and what this host accepts.
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "podium/plugins/task.h"
+
+namespace podium::plugins {
+
+/// The folders searched, in order.
+std::vector<std::filesystem::path> plugin_search_path();
+
+/// Loads the plugin and creates its task. The returned object keeps its library loaded and is
+/// destroyed by the library's own destroy function. Throws base::UserError on any failure.
+std::shared_ptr<Task> load_task(const std::string& task_name);
+
+/// Loads a plugin from an explicit file (tests, tools).
+std::shared_ptr<Task> load_task_file(const std::filesystem::path& file, const std::string& task_name);
+
+}  // namespace podium::plugins

@@ -51,7 +51,8 @@ endfunction()
 function(podium_test name)
   cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
-  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
+  # podium_test_main (tests/support) sets PODIUM_BIN, PODIUM_PLUGIN_PATH and PODIUM_SHARED_DIR.
+  target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest podium_test_main)
   podium_warnings(${name})
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
@@ -59,7 +60,5 @@ function(podium_test name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
   endif()
-  gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT}
-                       ENVIRONMENT "PODIUM_PLUGIN_PATH=${PODIUM_PLUGIN_DIR};PODIUM_SHARED_DIR=${PODIUM_SHARED_DIR};PODIUM_BIN=$<TARGET_FILE:podium>"
-                       DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT} DISCOVERY_TIMEOUT 60)
 endfunction()

@@ -27,8 +27,7 @@ std::vector<fs::path> plugin_search_path() {
       if (!item.empty()) folders.emplace_back(item);
   }
   const fs::path exe_dir = boost::dll::program_location().parent_path().string();
-  folders.push_back(exe_dir / "plugins");                       // build tree
-  folders.push_back(exe_dir.parent_path() / "lib/podium/plugins");  // install tree
+  folders.push_back(exe_dir.parent_path() / "lib/podium/plugins");  // build and install trees
   return folders;
 }
 

@@ -2,8 +2,8 @@
 /// Finds, checks and loads task plugins (Boost.DLL).
 ///
 /// A plugin named "landscape" is the file libpodium_task_landscape.so, searched in each folder of
-/// PODIUM_PLUGIN_PATH (colon-separated), then in the plugins folder next to the running binary
-/// (build tree: <build>/plugins; install: <prefix>/lib/podium/plugins). Every failure is one line:
+/// PODIUM_PLUGIN_PATH (colon-separated), then in <bin>/../lib/podium/plugins next to the running
+/// binary (the build tree mirrors the install layout). Every failure is one line:
 /// a missing file (with the folders searched), a missing symbol, or an ABI mismatch saying what
 /// the library was built for and what this host accepts.
 #include <filesystem>

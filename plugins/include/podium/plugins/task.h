@@ -64,7 +64,9 @@ struct RunResult {
 class Task {
  public:
   virtual ~Task() = default;
-  virtual Json describe() const = 0;
+  /// The description for a resolved config (parameter spaces may depend on it, e.g. a dimension).
+  /// describe({}) must work and gives "presets" and "config_defaults".
+  virtual Json describe(const Json& config) const = 0;
   /// Runs one trial. Throwing an exception fails the attempt with its message.
   virtual RunResult run(const RunRequest& request, Sink& sink) = 0;
 };

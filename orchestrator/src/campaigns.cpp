@@ -1,0 +1,146 @@
+#include "podium/orchestrator/campaigns.h"
+
+#include <sstream>
+
+#include "podium/base/error.h"
+#include "podium/base/rng.h"
+#include "podium/orchestrator/spec.h"
+#include "podium/search/search.h"
+#include "podium/store/store.h"
+#include "worker_process.h"
+
+namespace podium::orchestrator {
+
+using base::Json;
+using base::UserError;
+
+std::int64_t submit_campaign(store::Store& store, const Json& spec_json, const std::string& source,
+                             const std::filesystem::path& worker_binary) {
+  const CampaignSpec spec = parse_spec(spec_json, source);
+  std::vector<store::NewStage> stages;
+  for (std::size_t i = 0; i < spec.stages.size(); ++i) {
+    const StageSpec& s = spec.stages[i];
+    const std::string path = source + ": stages[" + std::to_string(i) + "]";
+    // Ask the plugin (in its own process) for defaults and presets, then for the full description.
+    Json defaults;
+    try {
+      defaults = describe_task_isolated(worker_binary, s.task, Json::object());
+    } catch (const UserError& e) {
+      throw UserError(path + ".task: " + e.what());
+    }
+    Json config = defaults.value("config_defaults", Json::object());
+    if (!s.preset.empty()) {
+      const Json presets = defaults.value("presets", Json::object());
+      if (!presets.contains(s.preset)) {
+        std::string known;
+        for (const auto& [name, value] : presets.items()) known += (known.empty() ? "" : ", ") + name;
+        throw UserError(path + ".preset: \"" + s.preset + "\" is not a preset of task " + s.task + " (presets: " + known + ")");
+      }
+      config.update(presets[s.preset]);
+    }
+    config.update(s.config);
+    Json description;
+    try {
+      description = describe_task_isolated(worker_binary, s.task, config);
+    } catch (const UserError& e) {
+      throw UserError(path + ".config: " + e.what());
+    }
+    // Build the search once so its config errors are reported now, not when the stage starts.
+    search::SearchSetup setup;
+    setup.space = search::Space::from_json(description.at("params"), path + " (task params)");
+    setup.features = search::Feature::list_from_json(description.at("features"), path + " (task features)");
+    setup.config = s.search_config;
+    search::make_search(s.algorithm, setup, path + ".search");
+    stages.push_back({s.name, s.task, s.algorithm, s.search_config, config, description, s.inputs, s.budget_trials,
+                      s.budget_seconds});
+  }
+  return store.add_campaign(spec.name, spec_json, spec.seed, spec.run_dir, stages);
+}
+
+void control_campaign(store::Store& store, const std::string& id_or_name, const std::string& action) {
+  const auto campaign = store.find_campaign(id_or_name);
+  if (!campaign) throw UserError("no campaign \"" + id_or_name + "\"");
+  const std::string& state = campaign->state;
+  const bool active = state == "queued" || state == "running";
+  std::string next;
+  if (action == "pause" && active) next = "paused";
+  else if (action == "resume" && state == "paused") next = "queued";
+  else if (action == "cancel" && (active || state == "paused")) next = "cancelled";
+  if (next.empty())
+    throw UserError("campaign " + std::to_string(campaign->id) + " is " + state + "; cannot " + action + " it");
+  store.transaction([&] {
+    store.set_campaign_state(campaign->id, next);
+    store.add_event(campaign->id, action + "_requested", Json::object());
+  });
+}
+
+std::filesystem::path campaign_run_dir(const std::filesystem::path& database, const store::CampaignRecord& campaign) {
+  if (!campaign.run_dir.empty()) return campaign.run_dir;
+  return std::filesystem::absolute(database).string() + ".runs/" + std::to_string(campaign.id);
+}
+
+namespace {
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+std::string number(const Json& v) {
+  if (!v.is_number()) return "";
+  std::ostringstream out;
+  out.precision(17);
+  out << v.get<double>();
+  return out.str();
+}
+}  // namespace
+
+std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format) {
+  if (format != "csv" && format != "json") throw UserError("--format: \"" + format + "\" is not one of csv, json");
+  const auto stages = store.stages(campaign_id);
+  Json rows = Json::array();
+  for (const auto& st : stages) {
+    const auto& features = st.description.at("features");
+    for (const auto& t : store.trials(st.id)) {
+      Json row = {{"campaign", campaign_id}, {"stage", st.name},   {"trial", t.index},
+                  {"state", t.state},        {"attempts", t.attempts}, {"seed", t.seed},
+                  {"params", t.params},      {"objectives", t.objectives}, {"error", t.error}};
+      Json f = Json::object();
+      for (std::size_t i = 0; i < t.features.size() && i < features.size(); ++i) f[features[i]["name"]] = t.features[i];
+      row["features"] = f;
+      row["strategy"] = t.strategy ? Json(*t.strategy) : Json(nullptr);
+      rows.push_back(row);
+    }
+  }
+  if (format == "json") return rows.dump(2) + "\n";
+
+  // CSV: one column per parameter, objective and feature name over all stages.
+  std::vector<std::string> param_names, feature_names;
+  std::size_t objectives = 0;
+  auto add_unique = [](std::vector<std::string>& list, const std::string& name) {
+    if (std::find(list.begin(), list.end(), name) == list.end()) list.push_back(name);
+  };
+  for (const auto& r : rows) {
+    for (const auto& [k, v] : r["params"].items()) add_unique(param_names, k);
+    for (const auto& [k, v] : r["features"].items()) add_unique(feature_names, k);
+    if (r["objectives"].is_array()) objectives = std::max(objectives, r["objectives"].size());
+  }
+  std::ostringstream out;
+  out << "campaign,stage,trial,state,attempts,seed";
+  for (const auto& p : param_names) out << "," << csv_field("param." + p);
+  for (std::size_t i = 0; i < objectives; ++i) out << ",objective" << i;
+  for (const auto& f : feature_names) out << "," << csv_field("feature." + f);
+  out << ",strategy,error\n";
+  for (const auto& r : rows) {
+    out << campaign_id << "," << csv_field(r["stage"]) << "," << r["trial"] << "," << r["state"].get<std::string>() << ","
+        << r["attempts"] << "," << r["seed"];
+    for (const auto& p : param_names) out << "," << number(r["params"].value(p, Json()));
+    for (std::size_t i = 0; i < objectives; ++i)
+      out << "," << (r["objectives"].is_array() && i < r["objectives"].size() ? number(r["objectives"][i]) : "");
+    for (const auto& f : feature_names) out << "," << number(r["features"].value(f, Json()));
+    out << "," << (r["strategy"].is_null() ? "" : r["strategy"].dump()) << "," << csv_field(r["error"]) << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace podium::orchestrator

@@ -1,0 +1,57 @@
+#pragma once
+// Where attempts run. The scheduler drives every executor through this interface and knows
+// nothing of processes or clusters; executors know nothing of the store.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "podium/base/json.h"
+
+namespace podium::orchestrator {
+
+using base::Json;
+
+/// One attempt of one trial, as the executor needs it. `key` is the store's attempt id.
+struct AttemptOrder {
+  std::int64_t key = 0;
+  std::string task;
+  Json config, params, context;
+  std::uint64_t seed = 0, trial_index = 0;
+  int attempt = 1;
+  std::filesystem::path work_dir;
+  double timeout_s = 3600.0;
+};
+
+/// What comes back. Every submitted order ends with exactly one `finished` event.
+struct ExecutorEvent {
+  enum class Kind { metric, progress, finished };
+  Kind kind = Kind::finished;
+  std::int64_t key = 0;
+  // metric / progress
+  std::string name;
+  double step = 0, value = 0;
+  // finished: state is "done" (result holds the worker's result message) or one of
+  // "failed", "timeout", "cancelled"; for a dead worker, exit_code or signal is set.
+  std::string state;
+  Json result;
+  std::string error;
+  std::optional<int> exit_code, signal;
+};
+
+class Executor {
+ public:
+  virtual ~Executor() = default;
+  /// How many more orders can start now.
+  virtual std::size_t free_slots() const = 0;
+  /// Starts an order; returns where it runs (e.g. "local:worker-1/pid 1234").
+  virtual std::string submit(const AttemptOrder& order) = 0;
+  /// Asks a running order to stop; it ends with a `cancelled` event.
+  virtual void cancel(std::int64_t key) = 0;
+  /// Waits up to max_wait_s for events and returns them (possibly none).
+  virtual std::vector<ExecutorEvent> poll(double max_wait_s) = 0;
+  virtual std::string host() const = 0;
+};
+
+}  // namespace podium::orchestrator

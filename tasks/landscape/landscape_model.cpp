@@ -1,0 +1,110 @@
+#include "landscape_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "podium/base/error.h"
+#include "podium/base/rng.h"
+
+namespace podium::tasks::landscape {
+
+LandscapeModel::LandscapeModel(const LandscapeOptions& options) : options_(options) {
+  if (options.dim < 1) throw base::UserError("landscape: dim " + std::to_string(options.dim) + " is not >= 1");
+  if (options.regions < 2) throw base::UserError("landscape: regions " + std::to_string(options.regions) + " is not >= 2");
+  base::Rng rng(base::derive_seed(options.landscape_seed, 0x1a2d5ca9e));
+  const int d = options.dim;
+  auto random_point = [&] {
+    std::vector<double> p(d);
+    for (auto& v : p) v = rng.uniform();
+    return p;
+  };
+  auto random_feature = [&] {
+    std::vector<double> f(kFeatureDim);
+    for (auto& v : f) v = rng.uniform();
+    return f;
+  };
+  optimum_ = random_point();
+
+  if (options.family == "basins") {
+    base_value_ = random_feature();
+    for (int k = 0; k < options.regions; ++k) {
+      centres_.push_back(random_point());
+      weights_.push_back(rng.uniform(0.05, 0.12));  // radius: each basin covers a few % of the box
+      values_.push_back(random_feature());
+    }
+  } else if (options.family == "voronoi") {
+    for (int k = 0; k < options.regions; ++k) {
+      centres_.push_back(random_point());
+      weights_.push_back(rng.uniform(0.0, 0.05));   // additive weights make cells unequal
+      values_.push_back(random_feature());
+    }
+  } else if (options.family == "plateaus") {
+    for (int f = 0; f < kFeatureDim; ++f) {
+      std::vector<Cosine> trend;
+      for (int c = 0; c < 3; ++c) {
+        Cosine cos_term;
+        for (int i = 0; i < d; ++i) cos_term.frequency.push_back(rng.uniform(-1.5, 1.5));
+        cos_term.phase = rng.uniform(0.0, 2.0 * std::numbers::pi);
+        cos_term.amplitude = rng.uniform(0.5, 1.0);
+        trend.push_back(cos_term);
+      }
+      trends_.push_back(trend);
+      // Unequal level widths: sorted random cut points of the squashed trend's range (0,1).
+      std::vector<double> cuts;
+      for (int k = 0; k + 1 < options.regions; ++k) cuts.push_back(rng.uniform(0.1, 0.9));
+      std::sort(cuts.begin(), cuts.end());
+      thresholds_.push_back(cuts);
+    }
+  } else {
+    throw base::UserError("landscape: family \"" + options.family + "\" is not one of basins, plateaus, voronoi");
+  }
+}
+
+std::vector<double> LandscapeModel::feature(const std::vector<double>& x) const {
+  PODIUM_CHECK(static_cast<int>(x.size()) == options_.dim, "landscape: x has the wrong dimension");
+  auto squared_distance = [&](const std::vector<double>& c) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) s += (x[i] - c[i]) * (x[i] - c[i]);
+    return s;
+  };
+  if (options_.family == "basins") {
+    for (std::size_t k = 0; k < centres_.size(); ++k)
+      if (squared_distance(centres_[k]) < weights_[k] * weights_[k] * options_.dim) return values_[k];
+    return base_value_;
+  }
+  if (options_.family == "voronoi") {
+    std::size_t best = 0;
+    double best_score = 1e300;
+    for (std::size_t k = 0; k < centres_.size(); ++k) {
+      const double score = squared_distance(centres_[k]) - weights_[k];
+      if (score < best_score) { best_score = score; best = k; }
+    }
+    return values_[best];
+  }
+  // plateaus: squash the trend into (0,1), then report the centre of its level.
+  std::vector<double> out(kFeatureDim);
+  for (int f = 0; f < kFeatureDim; ++f) {
+    double t = 0.0;
+    for (const auto& c : trends_[f]) {
+      double phase = c.phase;
+      for (std::size_t i = 0; i < x.size(); ++i) phase += 2.0 * std::numbers::pi * c.frequency[i] * x[i];
+      t += c.amplitude * std::cos(phase);
+    }
+    const double squashed = 0.5 + 0.5 * std::tanh(t);
+    const auto& cuts = thresholds_[f];
+    const auto level = std::upper_bound(cuts.begin(), cuts.end(), squashed) - cuts.begin();
+    const double lo = level == 0 ? 0.0 : cuts[level - 1];
+    const double hi = level == static_cast<long>(cuts.size()) ? 1.0 : cuts[level];
+    out[f] = 0.5 * (lo + hi);
+  }
+  return out;
+}
+
+double LandscapeModel::objective(const std::vector<double>& x) const {
+  double s = 0.0;
+  for (std::size_t i = 0; i < x.size(); ++i) s += (x[i] - optimum_[i]) * (x[i] - optimum_[i]);
+  return -s;
+}
+
+}  // namespace podium::tasks::landscape

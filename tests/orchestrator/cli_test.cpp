@@ -1,0 +1,305 @@
+// End-to-end tests of the `podium` CLI: real processes, a real SQLite file, the landscape plugin.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <fstream>
+#include <set>
+#include <thread>
+
+#include "podium/base/json.h"
+#include "podium/base/rng.h"
+#include "podium/store/store.h"
+#include "process.h"
+
+namespace podium::orchestrator {
+namespace {
+
+using base::Json;
+using podium::testing::run_podium;
+using podium::testing::TempDir;
+using podium::testing::write_file;
+
+Json landscape_spec(int trials, const Json& config = Json::object(), int retries = 1, double timeout_s = 30) {
+  return {{"name", "test"},
+          {"seed", 11},
+          {"workers", 2},
+          {"retries", retries},
+          {"trial_timeout_s", timeout_s},
+          {"stages",
+           {{{"name", "explore"},
+             {"task", "landscape"},
+             {"preset", "smoke"},
+             {"config", config},
+             {"search", {{"algorithm", "random"}}},
+             {"budget", {{"trials", trials}}}}}}};
+}
+
+// Submits a spec in `dir` and returns the campaign id printed by `podium submit`.
+std::string submit(const TempDir& dir, const Json& spec) {
+  write_file(dir / "spec.json", spec.dump());
+  const auto r = run_podium({"submit", "spec.json"}, dir.path());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return r.out.substr(0, r.out.find('\n'));
+}
+
+Json export_json(const TempDir& dir, const std::string& campaign) {
+  const auto r = run_podium({"export", campaign, "--format", "json"}, dir.path());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return Json::parse(r.out);
+}
+
+std::string file_bytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST(Cli, Runs200TrialCampaignEndToEnd) {
+  TempDir dir;
+  const auto id = submit(dir, landscape_spec(200));
+  const auto run = run_podium({"run", "--workers", "2"}, dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  const auto rows = export_json(dir, id);
+  ASSERT_EQ(rows.size(), 200u);
+  std::set<std::int64_t> indices;
+  for (const auto& row : rows) {
+    EXPECT_EQ(row["state"], "done");
+    EXPECT_EQ(row["params"].size(), 3u);
+    EXPECT_EQ(row["features"].size(), 2u);
+    indices.insert(row["trial"].get<std::int64_t>());
+  }
+  EXPECT_EQ(indices.size(), 200u);
+
+  auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  const auto trials = store->campaign_trials(std::stoll(id));
+  ASSERT_EQ(trials.size(), 200u);
+  EXPECT_EQ(store->metrics(trials[17].id).size(), 5u);  // the smoke preset's 5 metric points
+  EXPECT_EQ(store->campaign(std::stoll(id))->state, "done");
+
+  const auto csv = run_podium({"export", id, "--format", "csv"}, dir.path());
+  EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 201);  // header + 200 rows
+  const auto status = run_podium({"status", id, "--json"}, dir.path());
+  EXPECT_EQ(Json::parse(status.out)["done"], 200);
+}
+
+// The set of (trial index, parameters, objectives, features) of a finished campaign.
+std::set<std::string> results(const TempDir& dir, const std::string& id) {
+  std::set<std::string> out;
+  for (const auto& row : export_json(dir, id))
+    out.insert(Json{row["trial"], row["params"], row["objectives"], row["features"], row["state"]}.dump());
+  return out;
+}
+
+TEST(Cli, KillNineAtRandomMomentsLosesAndRepeatsNothing) {
+  const Json spec = landscape_spec(400, {{"sleep_s", 0.008}});
+  TempDir reference;
+  const auto ref_id = submit(reference, spec);
+  ASSERT_EQ(run_podium({"run"}, reference.path()).exit_code, 0);
+
+  TempDir dir;
+  const auto id = submit(dir, spec);
+  base::Rng rng(2024);  // the kill moments; any seed must pass
+  int kills = 0;
+  for (int round = 0; round < 40 && kills < 6; ++round) {
+    const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
+    std::this_thread::sleep_for(std::chrono::milliseconds(rng.integer(40, 250)));
+    int status = 0;
+    if (::waitpid(pid, &status, WNOHANG) == pid) break;  // finished before the kill
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+    ++kills;
+  }
+  ASSERT_GE(kills, 5) << "the campaign finished before 5 kills; make it longer";
+  const auto final_run = run_podium({"run"}, dir.path());
+  ASSERT_EQ(final_run.exit_code, 0) << final_run.err;
+
+  EXPECT_EQ(results(dir, id), results(reference, ref_id));
+  auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  int interrupted = 0;
+  for (const auto& t : store->campaign_trials(std::stoll(id))) {
+    int done_attempts = 0;
+    for (const auto& a : store->attempts(t.id)) {
+      done_attempts += a.state == "done";
+      interrupted += a.state == "interrupted";
+    }
+    EXPECT_EQ(done_attempts, 1) << "trial " << t.index;
+  }
+  EXPECT_GT(interrupted, 0) << "no attempt was running at any kill: the test did not exercise resume";
+}
+
+TEST(Cli, PluginFailuresAreRetriedThenFailedWithTheReason) {
+  const Json failures = Json::parse(R"([
+    {"mode": "throw", "trials": [3], "attempts": 1},
+    {"mode": "segfault", "trials": [5]},
+    {"mode": "abort", "trials": [7]},
+    {"mode": "hang", "trials": [9]},
+    {"mode": "nan", "trials": [11]},
+    {"mode": "exit", "trials": [13]},
+    {"mode": "throw", "trials": [15]}])");
+  TempDir dir;
+  const auto id = submit(dir, landscape_spec(24, {{"failures", failures}}, 1, 1.0));
+  const auto run = run_podium({"run"}, dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  std::map<std::int64_t, Json> by_trial;
+  for (const auto& row : export_json(dir, id)) by_trial[row["trial"].get<std::int64_t>()] = row;
+  ASSERT_EQ(by_trial.size(), 24u);
+  EXPECT_EQ(by_trial[3]["state"], "done");
+  EXPECT_EQ(by_trial[3]["attempts"], 2);
+  const std::map<std::int64_t, std::string> expected = {{5, "signal 11"},
+                                                        {7, "signal 6"},
+                                                        {9, "timeout"},
+                                                        {11, "non-finite feature f0"},
+                                                        {13, "exited with code 3"},
+                                                        {15, "injected failure (throw)"}};
+  for (const auto& [trial, reason] : expected) {
+    EXPECT_EQ(by_trial[trial]["state"], "failed") << trial;
+    EXPECT_EQ(by_trial[trial]["attempts"], 2) << trial;
+    EXPECT_NE(by_trial[trial]["error"].get<std::string>().find(reason), std::string::npos)
+        << trial << ": " << by_trial[trial]["error"];
+  }
+  int done = 0;
+  for (const auto& [trial, row] : by_trial) done += row["state"] == "done";
+  EXPECT_EQ(done, 24 - 6);
+}
+
+TEST(Cli, BadInputIsOneLineAndLeavesTheDatabaseUnchanged) {
+  TempDir dir;
+  submit(dir, landscape_spec(3));
+  const auto db = dir / "podium.db";
+  // Settle the WAL so the main file holds everything before comparing bytes.
+  ASSERT_EQ(run_podium({"run"}, dir.path()).exit_code, 0);
+  const std::string before = file_bytes(db);
+
+  auto expect_error = [&](const std::string& spec_text, int code, const std::string& fragment) {
+    write_file(dir / "bad.json", spec_text);
+    const auto r = run_podium({"submit", "bad.json"}, dir.path());
+    EXPECT_EQ(r.exit_code, code) << spec_text;
+    EXPECT_NE(r.err.find(fragment), std::string::npos) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  };
+  expect_error("{\"name\": \"x\",\n \"seed\": 1,, }", 2, "bad.json: invalid JSON at line 2 column");
+  Json spec = landscape_spec(3);
+  spec["stages"][0]["budget"]["trials"] = 0;
+  expect_error(spec.dump(), 2, "bad.json: stages[0].budget.trials: 0 is not >= 1");
+  spec = landscape_spec(3);
+  spec["stages"][0]["task"] = "nope";
+  expect_error(spec.dump(), 2, "no file libpodium_task_nope.so");
+  spec["stages"][0]["task"] = "landscape_wrong_abi";
+  expect_error(spec.dump(), 2, "plugin ABI version 999");
+  spec = landscape_spec(3);
+  spec["stages"][0]["preset"] = "huge";
+  expect_error(spec.dump(), 2, "stages[0].preset: \"huge\" is not a preset of task landscape");
+  spec = landscape_spec(3, {{"dimm", 4}});
+  expect_error(spec.dump(), 2, "landscape config: unknown key \"dimm\"");
+  spec = landscape_spec(3);
+  spec["stages"][0]["search"]["algorithm"] = "gradient-descent";
+  expect_error(spec.dump(), 2, "unknown algorithm \"gradient-descent\"");
+  EXPECT_EQ(file_bytes(db), before);
+
+  const auto unwritable = run_podium({"submit", "spec.json", "--db", "/nonexistent-folder/p.db"}, dir.path());
+  EXPECT_EQ(unwritable.exit_code, 1);
+  EXPECT_NE(unwritable.err.find("/nonexistent-folder/p.db: cannot open database"), std::string::npos) << unwritable.err;
+
+  // A database written by a newer podium is refused by every command and left as it is.
+  {
+    auto store = store::Store::open(dir / "newer.db", store::Store::Access::read_write);
+  }
+  const auto bump = run_podium({"status", "--db", "newer.db"}, dir.path());
+  ASSERT_EQ(bump.exit_code, 0);
+  std::system(("sqlite3 " + (dir / "newer.db").string() + " 'UPDATE schema_version SET version = 42'").c_str());
+  const std::string newer_before = file_bytes(dir / "newer.db");
+  for (const auto& command : {"run", "status"}) {
+    const auto r = run_podium({command, "--db", "newer.db"}, dir.path());
+    EXPECT_EQ(r.exit_code, 1) << command;
+    EXPECT_NE(r.err.find("schema version 42 is newer than this podium supports"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(file_bytes(dir / "newer.db"), newer_before);
+
+  const auto usage = run_podium({"run", "--workers", "many"}, dir.path());
+  EXPECT_EQ(usage.exit_code, 2);
+  EXPECT_EQ(run_podium({"frobnicate"}, dir.path()).exit_code, 2);
+}
+
+TEST(Cli, EveryCommandHasHelp) {
+  TempDir dir;
+  for (const auto& command : {"submit", "run", "status", "trials", "pause", "resume", "cancel", "export"}) {
+    const auto r = run_podium({command, "--help"}, dir.path());
+    EXPECT_EQ(r.exit_code, 0) << command;
+    EXPECT_NE(r.out.find("--db"), std::string::npos) << command;
+  }
+}
+
+// Polls `podium status --json` until pred holds or ~20 s pass.
+bool wait_for(const TempDir& dir, const std::string& id, const std::function<bool(const Json&)>& pred) {
+  for (int i = 0; i < 400; ++i) {
+    const auto r = run_podium({"status", id, "--json"}, dir.path());
+    if (r.exit_code == 0 && pred(Json::parse(r.out))) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return false;
+}
+
+TEST(Cli, PauseResumeAndCancel) {
+  TempDir dir;
+  const auto id = submit(dir, landscape_spec(60, {{"sleep_s", 0.05}}));
+  const pid_t scheduler = podium::testing::spawn_podium({"run"}, dir.path());
+  ASSERT_TRUE(wait_for(dir, id, [](const Json& s) { return s["done"].get<int>() >= 4; }));
+  ASSERT_EQ(run_podium({"pause", id}, dir.path()).exit_code, 0);
+  // With nothing left to run, the scheduler finishes the attempts in hand and exits.
+  EXPECT_EQ(podium::testing::wait_process(scheduler), 0);
+  const auto paused = Json::parse(run_podium({"status", id, "--json"}, dir.path()).out);
+  EXPECT_EQ(paused["state"], "paused");
+  EXPECT_EQ(paused["running"], 0);
+  EXPECT_LT(paused["done"].get<int>(), 60);
+
+  ASSERT_EQ(run_podium({"resume", id}, dir.path()).exit_code, 0);
+  ASSERT_EQ(run_podium({"run"}, dir.path()).exit_code, 0);
+  const auto done = Json::parse(run_podium({"status", id, "--json"}, dir.path()).out);
+  EXPECT_EQ(done["state"], "done");
+  EXPECT_EQ(done["done"], 60);
+  EXPECT_EQ(run_podium({"pause", id}, dir.path()).exit_code, 2);  // nothing to pause
+
+  const auto second = submit(dir, landscape_spec(60, {{"sleep_s", 0.05}}));
+  const pid_t again = podium::testing::spawn_podium({"run"}, dir.path());
+  ASSERT_TRUE(wait_for(dir, second, [](const Json& s) { return s["done"].get<int>() >= 2; }));
+  ASSERT_EQ(run_podium({"cancel", second}, dir.path()).exit_code, 0);
+  EXPECT_EQ(podium::testing::wait_process(again), 0);
+  const auto cancelled = Json::parse(run_podium({"status", second, "--json"}, dir.path()).out);
+  EXPECT_EQ(cancelled["state"], "cancelled");
+  EXPECT_EQ(cancelled["running"], 0);
+  EXPECT_EQ(cancelled["pending"], 0);
+}
+
+TEST(Cli, LogJsonPrintsOneEventPerLine) {
+  TempDir dir;
+  submit(dir, landscape_spec(10));
+  const auto r = run_podium({"run", "--log-json"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0);
+  std::istringstream lines(r.out);
+  std::string line;
+  std::map<std::string, int> kinds;
+  while (std::getline(lines, line)) kinds[Json::parse(line)["event"]]++;
+  EXPECT_EQ(kinds["trial_done"], 10);
+  EXPECT_EQ(kinds["campaign_done"], 1);
+}
+
+TEST(Cli, LaterStageReceivesAnEarlierStagesResults) {
+  Json spec = landscape_spec(6);
+  spec["stages"].push_back({{"name", "refine"},
+                            {"task", "landscape"},
+                            {"search", {{"algorithm", "random"}}},
+                            {"budget", {{"trials", 4}}},
+                            {"inputs", {{"stage", "explore"}, {"select", "best"}}}});
+  TempDir dir;
+  const auto id = submit(dir, spec);
+  ASSERT_EQ(run_podium({"run"}, dir.path()).exit_code, 0);
+  const auto status = Json::parse(run_podium({"status", id, "--json"}, dir.path()).out);
+  EXPECT_EQ(status["done"], 10);
+  EXPECT_EQ(status["stages"][1]["state"], "done");
+}
+
+}  // namespace
+}  // namespace podium::orchestrator

@@ -1,0 +1,91 @@
+#include "process.h"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+namespace podium::testing {
+
+namespace fs = std::filesystem;
+
+fs::path podium_binary() {
+  const char* bin = std::getenv("PODIUM_BIN");
+  if (!bin) throw std::runtime_error("PODIUM_BIN is not set (run the tests through ctest)");
+  return bin;
+}
+
+namespace {
+pid_t start(const std::vector<std::string>& args, const fs::path& cwd, const fs::path& out, const fs::path& err) {
+  const std::string bin = podium_binary().string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    if (::chdir(cwd.c_str()) != 0) ::_exit(126);
+    const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(o, STDOUT_FILENO);
+    ::dup2(e, STDERR_FILENO);
+    const int null_in = ::open("/dev/null", O_RDONLY);
+    ::dup2(null_in, STDIN_FILENO);
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(bin.c_str()));
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(bin.c_str(), argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+}  // namespace
+
+int wait_process(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return -WTERMSIG(status);
+}
+
+CommandResult run_podium(const std::vector<std::string>& args, const fs::path& cwd) {
+  static int counter = 0;
+  const fs::path out = cwd / (".out" + std::to_string(++counter)), err = cwd / (".err" + std::to_string(counter));
+  const int status = wait_process(start(args, cwd, out, err));
+  CommandResult r;
+  r.exit_code = status >= 0 ? status : -1;
+  r.signal = status < 0 ? -status : 0;
+  r.out = slurp(out);
+  r.err = slurp(err);
+  fs::remove(out);
+  fs::remove(err);
+  return r;
+}
+
+pid_t spawn_podium(const std::vector<std::string>& args, const fs::path& cwd) {
+  return start(args, cwd, cwd / "spawn.out", cwd / "spawn.err");
+}
+
+TempDir::TempDir() {
+  std::random_device rd;
+  path_ = fs::temp_directory_path() / ("podium-test-" + std::to_string(::getpid()) + "-" + std::to_string(rd()));
+  fs::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
+void write_file(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
+
+}  // namespace podium::testing

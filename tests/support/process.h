@@ -1,0 +1,45 @@
+#pragma once
+// Test support: run the real `podium` binary (path in PODIUM_BIN, set by CTest) as a child
+// process, and temporary folders that clean up after themselves.
+#include <sys/types.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace podium::testing {
+
+struct CommandResult {
+  int exit_code = -1;   // -1 if killed by a signal
+  int signal = 0;
+  std::string out, err;
+};
+
+/// The podium binary under test.
+std::filesystem::path podium_binary();
+
+/// Runs `podium args...` to completion with the given working folder.
+CommandResult run_podium(const std::vector<std::string>& args, const std::filesystem::path& cwd);
+
+/// Starts `podium args...` in the background (stdout/stderr to files in cwd); returns its pid.
+pid_t spawn_podium(const std::vector<std::string>& args, const std::filesystem::path& cwd);
+
+/// Waits for a spawned process; returns its exit code, or -signal.
+int wait_process(pid_t pid);
+
+/// A fresh folder under the system temp folder, removed by the destructor.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+/// Writes text to a file.
+void write_file(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace podium::testing

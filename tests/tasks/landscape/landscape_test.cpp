@@ -1,0 +1,77 @@
+// The task conformance checks (describe is valid, run is deterministic for a seed, features have
+// the declared size, cancellation is honoured) applied to the landscape task, plus its families.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <map>
+
+#include "landscape_model.h"
+#include "podium/base/error.h"
+#include "podium/base/rng.h"
+#include "podium/plugins/loader.h"
+#include "process.h"
+
+namespace podium::tasks::landscape {
+namespace {
+
+using base::Json;
+
+struct NullSink : plugins::Sink {
+  int metrics = 0;
+  void progress(double) override {}
+  void metric(const std::string&, double, double) override { ++metrics; }
+};
+
+plugins::RunRequest request_for(const Json& config, std::uint64_t seed) {
+  plugins::RunRequest r;
+  r.config = config;
+  r.params = {{"x0", 0.2}, {"x1", 0.7}, {"x2", 0.4}};
+  r.seed = seed;
+  return r;
+}
+
+TEST(LandscapeTask, RunIsDeterministicForASeedAndMatchesDeclaredSizes) {
+  auto task = plugins::load_task("landscape");
+  const Json config = {{"noise", 0.05}};
+  const auto d = task->describe(config);
+  NullSink sink;
+  const auto a = task->run(request_for(config, 11), sink);
+  const auto b = task->run(request_for(config, 11), sink);
+  const auto c = task->run(request_for(config, 12), sink);
+  EXPECT_EQ(a.features.size(), d["features"].size());
+  EXPECT_EQ(a.features, b.features);
+  EXPECT_NE(a.features, c.features);  // noise depends on the seed
+  EXPECT_EQ(sink.metrics, 3 * 5);
+}
+
+TEST(LandscapeTask, HonoursCancellation) {
+  auto task = plugins::load_task("landscape");
+  std::atomic<bool> cancel{true};
+  auto r = request_for({{"sleep_s", 30.0}}, 1);
+  r.cancel = &cancel;
+  NullSink sink;
+  EXPECT_THROW(task->run(r, sink), std::runtime_error);
+}
+
+TEST(LandscapeTask, UnknownConfigKeyIsRejected) {
+  auto task = plugins::load_task("landscape");
+  EXPECT_THROW(task->describe({{"dimm", 3}}), base::UserError);
+}
+
+// Each family has a few large flat regions: sampling finds several distinct features, and the
+// most common one covers a sizeable share of the box.
+TEST(LandscapeModel, EveryFamilyHasSeveralFlatRegions) {
+  for (const auto& family : LandscapeModel::families()) {
+    const LandscapeModel model({family, 3, 5, 6});
+    base::Rng rng(3);
+    std::map<std::vector<double>, int> counts;
+    for (int i = 0; i < 4000; ++i) counts[model.feature({rng.uniform(), rng.uniform(), rng.uniform()})]++;
+    int largest = 0;
+    for (const auto& [f, n] : counts) largest = std::max(largest, n);
+    EXPECT_GE(counts.size(), 2u) << family;
+    EXPECT_GE(largest, 400) << family;
+  }
+}
+
+}  // namespace
+}  // namespace podium::tasks::landscape

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# The demo, end to end: installs what is missing, builds, runs the demo campaign and prints where
+# the results are. Usage: scripts/demo.sh [SPEC.json]   (default campaigns/demo.json)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+spec="${1:-campaigns/demo.json}"
+mkdir -p runs
+db="$PWD/runs/demo.db"
+id=$(build/bin/podium submit "$spec" --db "$db")
+echo "demo: submitted $spec as campaign $id in $db"
+build/bin/podium run --db "$db" --workers 2
+build/bin/podium status "$id" --db "$db"
+echo
+echo "demo: database      $db"
+echo "demo: run folder    $(build/bin/podium status "$id" --db "$db" --json | /usr/bin/python3 -c 'import json,sys; print(json.load(sys.stdin)["run_dir"])')"
+echo "demo: trials        build/bin/podium trials $id --db $db"
+echo "demo: export        build/bin/podium export $id --format csv --db $db"

@@ -14,6 +14,7 @@ packages=(
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-jsonschema
   python3-torch python3-sklearn python3-optuna python3-cmaes libmujoco-dev
+  slurm-wlm munge   # the Slurm executor's tests start a real single-node cluster
 )
 
 missing=()

@@ -7,6 +7,7 @@
 #include "podium/orchestrator/spec.h"
 #include "podium/search/search.h"
 #include "podium/store/store.h"
+#include "slurm_executor.h"
 #include "worker_process.h"
 
 namespace podium::orchestrator {
@@ -17,6 +18,7 @@ using base::UserError;
 std::int64_t submit_campaign(store::Store& store, const Json& spec_json, const std::string& source,
                              const std::filesystem::path& worker_binary) {
   const CampaignSpec spec = parse_spec(spec_json, source);
+  if (spec.executor.kind == "slurm") SlurmExecutor::check_cluster(spec.executor, source + ": executor");
   std::vector<store::NewStage> stages;
   for (std::size_t i = 0; i < spec.stages.size(); ++i) {
     const StageSpec& s = spec.stages[i];

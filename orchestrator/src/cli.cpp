@@ -14,6 +14,7 @@
 #include "podium/orchestrator/campaigns.h"
 #include "podium/orchestrator/scheduler.h"
 #include "podium/store/store.h"
+#include "trial_runner.h"
 #include "worker.h"
 
 namespace po = boost::program_options;
@@ -234,6 +235,8 @@ int dispatch(const std::string& command, int argc, char** argv) {
   if (command == "pause" || command == "resume" || command == "cancel") return cmd_control(command, argc, argv);
   if (command == "export") return cmd_export(argc, argv);
   if (command == "worker") return podium::orchestrator::run_worker();
+  if (command == "trial" && argc == 3 && std::string(argv[1]) == "--batch")
+    return podium::orchestrator::run_batch_trial(argv[2]);  // inside a Slurm job
   if (command == "version") {
     std::cout << "podium " << podium::base::version() << " (" << podium::base::compiler_id() << ", "
               << podium::base::build_type() << ")\n";

@@ -26,12 +26,14 @@ struct AttemptOrder {
 
 /// What comes back. Every submitted order ends with exactly one `finished` event.
 struct ExecutorEvent {
-  enum class Kind { metric, progress, finished };
+  enum class Kind { metric, progress, placed, finished };
   Kind kind = Kind::finished;
   std::int64_t key = 0;
   // metric / progress
   std::string name;
   double step = 0, value = 0;
+  // placed: where the attempt runs now (a batch job id and/or host), once known
+  std::string job_id, host;
   // finished: state is "done" (result holds the worker's result message) or one of
   // "failed", "timeout", "cancelled"; for a dead worker, exit_code or signal is set.
   std::string state;
@@ -52,6 +54,9 @@ class Executor {
   /// Waits up to max_wait_s for events and returns them (possibly none).
   virtual std::vector<ExecutorEvent> poll(double max_wait_s) = 0;
   virtual std::string host() const = 0;
+  /// Takes over an attempt that an earlier scheduler placed (job_id from the store). Executors
+  /// whose attempts die with the scheduler (local) cannot and return false.
+  virtual bool adopt(const AttemptOrder& order, const std::string& job_id) = 0;
 };
 
 }  // namespace podium::orchestrator

@@ -21,6 +21,7 @@ class LocalExecutor final : public Executor {
   void cancel(std::int64_t key) override;
   std::vector<ExecutorEvent> poll(double max_wait_s) override;
   std::string host() const override { return host_; }
+  bool adopt(const AttemptOrder&, const std::string&) override { return false; }
 
  private:
   using Clock = std::chrono::steady_clock;

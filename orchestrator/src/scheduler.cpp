@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "local_executor.h"
+#include "slurm_executor.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/base/rng.h"
@@ -75,6 +76,8 @@ struct CampaignRun {
   std::unique_ptr<StageRun> stage;
   std::string control = "running";  // running, paused, cancelled (as last read from the store)
   std::filesystem::path run_dir;
+  Executor* executor = nullptr;              // the shared local pool, or own_executor
+  std::unique_ptr<Executor> own_executor;    // a Slurm executor of this campaign's own
   int in_flight = 0;
   ProgressCounter counter;
 };
@@ -96,7 +99,7 @@ class LockFile {
 class Scheduler {
  public:
   Scheduler(store::Store& store, const SchedulerOptions& options)
-      : store_(store), options_(options), executor_(options.worker_binary, options.workers) {}
+      : store_(store), options_(options), local_(options.worker_binary, options.workers) {}
 
   void run() {
     const int recovered = store_.recover_interrupted();
@@ -105,7 +108,10 @@ class Scheduler {
     for (;;) {
       if (g_stop) break;
       const bool busy = in_flight_.size() > 0 || has_dispatchable();
-      auto events = executor_.poll(has_dispatchable() ? 0.0 : 0.1);
+      auto events = local_.poll(has_dispatchable() ? 0.0 : 0.1);
+      for (auto& [id, c] : campaigns_)
+        if (c->own_executor)
+          for (auto& e : c->own_executor->poll(0.0)) events.push_back(std::move(e));
       store_.begin();
       try {
         for (auto& e : events) handle(e);
@@ -133,9 +139,8 @@ class Scheduler {
 
  private:
   bool has_dispatchable() const {
-    if (executor_.free_slots() == 0) return false;
     for (const auto& [id, c] : campaigns_)
-      if (c->control == "running" && c->stage && c->in_flight < c->spec.workers &&
+      if (c->control == "running" && c->stage && c->executor->free_slots() > 0 && c->in_flight < c->spec.workers &&
           (!c->stage->ready.empty() || c->stage->can_ask()))
         return true;
     return false;
@@ -167,7 +172,7 @@ class Scheduler {
       if (wanted == "cancelled") {
         emit(c, "campaign_cancelled", {}, true);
         for (const auto& [key, f] : in_flight_)
-          if (f.campaign_id == c.rec.id) executor_.cancel(key);
+          if (f.campaign_id == c.rec.id) c.executor->cancel(key);
       }
       if (wanted == "running") {
         store_.set_campaign_state(c.rec.id, "running");
@@ -183,6 +188,13 @@ class Scheduler {
     c->spec = parse_spec(rec.spec, "campaign " + std::to_string(rec.id));
     c->stages = store_.stages(rec.id);
     c->run_dir = campaign_run_dir(options_.database, rec);
+    if (c->spec.executor.kind == "slurm") {
+      c->own_executor = std::make_unique<SlurmExecutor>(c->spec.executor, c->run_dir, options_.worker_binary,
+                                                        "podium-" + std::to_string(rec.id));
+      c->executor = c->own_executor.get();
+    } else {
+      c->executor = &local_;
+    }
     std::size_t current = 0;
     while (current < c->stages.size() && c->stages[current].state == "done") ++current;
     store_.set_campaign_state(rec.id, "running");
@@ -242,6 +254,40 @@ class Scheduler {
       emit(c, "stage_started", {{"stage", s->rec.name}}, true);
     }
     c.stage = std::move(s);
+    adopt_running_jobs(c);
+  }
+
+  // Re-attaches to batch jobs an earlier scheduler left running (they are not resubmitted).
+  void adopt_running_jobs(CampaignRun& c) {
+    StageRun& s = *c.stage;
+    std::map<std::int64_t, store::TrialRecord> trials;
+    for (auto& t : store_.trials(s.rec.id)) trials[t.id] = std::move(t);
+    for (const auto& a : store_.running_job_attempts(s.rec.id)) {
+      const auto& t = trials.at(a.trial_id);
+      PendingTrial p{t.id, t.index, t.params, t.context, t.seed, a.number - 1};
+      AttemptOrder order = make_order(c, s, p);
+      if (!c.executor->adopt(order, a.job_id)) continue;
+      in_flight_[order.key] = {c.rec.id, a.id, p, a.number, &s, {}};
+      ++c.in_flight;
+      ++s.in_flight;
+      emit(c, "attempt_reattached", {{"stage", s.rec.name}, {"trial", t.index}, {"job_id", a.job_id}}, true);
+    }
+  }
+
+  AttemptOrder make_order(const CampaignRun& c, const StageRun& s, const PendingTrial& t) {
+    AttemptOrder order;
+    order.key = next_key_++;
+    order.task = s.rec.task;
+    order.config = s.rec.task_config;
+    order.params = t.params;
+    order.context = t.context;
+    order.seed = t.seed;
+    order.trial_index = static_cast<std::uint64_t>(t.index);
+    order.attempt = t.attempts + 1;
+    order.work_dir = c.run_dir / ("stage-" + std::to_string(s.rec.index) + "-" + s.rec.name) /
+                     ("trial-" + std::to_string(t.index));
+    order.timeout_s = c.spec.trial_timeout_s;
+    return order;
   }
 
   void fill() {
@@ -249,11 +295,11 @@ class Scheduler {
       CampaignRun& c = *cp;
       StageRun* s = c.stage.get();
       if (!s || c.control != "running") continue;
-      while (executor_.free_slots() > 0 && c.in_flight < c.spec.workers) {
+      while (c.executor->free_slots() > 0 && c.in_flight < c.spec.workers) {
         if (s->ready.empty()) {
           if (!s->can_ask()) break;
           const auto room = std::min<std::int64_t>(
-              {static_cast<std::int64_t>(executor_.free_slots()), c.spec.workers - c.in_flight, s->rec.budget_trials - s->asked});
+              {static_cast<std::int64_t>(c.executor->free_slots()), c.spec.workers - c.in_flight, s->rec.budget_trials - s->asked});
           const auto proposals = s->search->ask(static_cast<std::size_t>(room));
           s->dirty = true;
           if (proposals.empty()) {
@@ -277,22 +323,11 @@ class Scheduler {
   void dispatch(CampaignRun& c, StageRun& s) {
     PendingTrial t = std::move(s.ready.front());
     s.ready.pop_front();
-    AttemptOrder order;
-    order.key = next_key_++;
-    order.task = s.rec.task;
-    order.config = s.rec.task_config;
-    order.params = t.params;
-    order.context = t.context;
-    order.seed = t.seed;
-    order.trial_index = static_cast<std::uint64_t>(t.index);
-    order.attempt = t.attempts + 1;
-    order.work_dir = c.run_dir / ("stage-" + std::to_string(s.rec.index) + "-" + s.rec.name) /
-                     ("trial-" + std::to_string(t.index));
-    order.timeout_s = c.spec.trial_timeout_s;
-    const std::string worker = executor_.submit(order);
+    const AttemptOrder order = make_order(c, s, t);
+    const std::string worker = c.executor->submit(order);
     InFlight f;
     f.campaign_id = c.rec.id;
-    f.attempt_id = store_.start_attempt(t.id, order.attempt, worker, executor_.host());
+    f.attempt_id = store_.start_attempt(t.id, order.attempt, worker, c.executor->host());
     f.number = order.attempt;
     f.trial = std::move(t);
     f.stage = &s;
@@ -325,6 +360,10 @@ class Scheduler {
       return;
     }
     if (e.kind == ExecutorEvent::Kind::progress) return;
+    if (e.kind == ExecutorEvent::Kind::placed) {
+      store_.set_attempt_placement(f.attempt_id, e.job_id, e.host);
+      return;
+    }
 
     CampaignRun& c = *campaigns_.at(f.campaign_id);
     StageRun& s = *f.stage;
@@ -451,7 +490,7 @@ class Scheduler {
 
   store::Store& store_;
   SchedulerOptions options_;
-  LocalExecutor executor_;
+  LocalExecutor local_;
   std::map<std::int64_t, std::unique_ptr<CampaignRun>> campaigns_;
   std::map<std::int64_t, InFlight> in_flight_;
   std::int64_t next_key_ = 1;

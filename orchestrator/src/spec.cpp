@@ -106,6 +106,34 @@ StageSpec parse_stage(const Json& j, const std::string& path, const std::string&
   return s;
 }
 
+ExecutorSpec parse_executor(const Json& j, const std::string& source) {
+  Fields e(j, "executor", source);
+  ExecutorSpec x;
+  x.kind = e.string("kind", true);
+  if (x.kind == "slurm") {
+    x.partition = e.string("partition", true);
+    x.account = e.string("account", false);
+    x.time = e.string("time", false);
+    if (x.time.find_first_not_of("0123456789:-") != std::string::npos)
+      e.fail(e.at("time"), j["time"], "is not a Slurm time limit (minutes, or [days-]hours:minutes:seconds)");
+    x.cpus_per_task = static_cast<int>(e.integer("cpus_per_task", false, 1, 1));
+    x.mem = e.string("mem", false);
+    if (e.has("extra_sbatch")) {
+      const Json& extra = j["extra_sbatch"];
+      if (!extra.is_array()) e.fail(e.at("extra_sbatch"), extra, "is not an array of strings");
+      for (const auto& item : extra) {
+        if (!item.is_string()) e.fail(e.at("extra_sbatch"), extra, "is not an array of strings");
+        x.extra_sbatch.push_back(item.get<std::string>());
+      }
+    }
+    x.max_jobs_in_queue = static_cast<int>(e.integer("max_jobs_in_queue", false, 100, 1));
+  } else if (x.kind != "local") {
+    e.fail(e.at("kind"), j["kind"], "is not a supported executor (supported: \"local\", \"slurm\")");
+  }
+  e.reject_unknown();
+  return x;
+}
+
 }  // namespace
 
 CampaignSpec parse_spec(const Json& j, const std::string& source) {
@@ -115,13 +143,7 @@ CampaignSpec parse_spec(const Json& j, const std::string& source) {
   spec.seed = static_cast<std::uint64_t>(f.integer("seed", true, 0, 0));
   if (f.has("description")) spec.description = f.string("description", false);
   spec.run_dir = f.string("run_dir", false);
-  if (f.has("executor")) {
-    Fields e(j["executor"], "executor", source);
-    spec.executor.kind = e.string("kind", true);
-    if (spec.executor.kind != "local")
-      e.fail(e.at("kind"), j["executor"]["kind"], "is not a supported executor (supported: \"local\")");
-    e.reject_unknown();
-  }
+  if (f.has("executor")) spec.executor = parse_executor(j["executor"], source);
   spec.workers = static_cast<int>(f.integer("workers", false, 2, 1));
   spec.retries = static_cast<int>(f.integer("retries", false, 2, 0));
   spec.trial_timeout_s = f.positive("trial_timeout_s", 3600.0);

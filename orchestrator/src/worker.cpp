@@ -14,8 +14,7 @@
 #include <thread>
 
 #include "podium/base/json.h"
-#include "podium/plugins/loader.h"
-#include "sha256.h"
+#include "trial_runner.h"
 
 namespace podium::orchestrator {
 
@@ -93,43 +92,6 @@ void read_stdin(Inbox& inbox) {
   inbox.ready.notify_one();
 }
 
-class TaskCache {
- public:
-  plugins::Task& get(const std::string& name) {
-    auto& slot = tasks_[name];
-    if (!slot) slot = plugins::load_task(name);
-    return *slot;
-  }
-
- private:
-  std::map<std::string, std::shared_ptr<plugins::Task>> tasks_;
-};
-
-Json run_trial(TaskCache& tasks, const Json& m, Inbox& inbox, Channel& channel) {
-  const std::int64_t key = m.at("key").get<std::int64_t>();
-  plugins::RunRequest request;
-  request.params = m.at("params");
-  request.context = m.at("context");
-  request.config = m.at("config");
-  request.seed = m.at("seed").get<std::uint64_t>();
-  request.trial_index = m.at("trial_index").get<std::uint64_t>();
-  request.attempt = m.at("attempt").get<int>();
-  request.work_dir = m.at("work_dir").get<std::string>();
-  request.cancel = &inbox.cancel;
-  std::filesystem::create_directories(request.work_dir);
-  ChannelSink sink(channel, key);
-  const plugins::RunResult result = tasks.get(m.at("task").get<std::string>()).run(request, sink);
-  Json artifacts = Json::array();
-  for (const auto& a : result.artifacts)
-    artifacts.push_back({{"name", a.name},
-                         {"path", a.path.string()},
-                         {"sha256", sha256_file(a.path)},
-                         {"size", std::filesystem::file_size(a.path)}});
-  // nlohmann writes NaN as null; the scheduler rejects null features as non-finite.
-  return {{"type", "result"},     {"key", key},           {"objectives", result.objectives},
-          {"features", result.features}, {"artifacts", artifacts}, {"info", result.info}};
-}
-
 }  // namespace
 
 int run_worker() {
@@ -162,7 +124,8 @@ int run_worker() {
       } else if (type == "run") {
         inbox.cancel = false;
         inbox.running_key = key;
-        channel.send(run_trial(tasks, m, inbox, channel));
+        ChannelSink sink(channel, key);
+        channel.send(run_attempt(tasks, m, inbox.cancel, sink));
         inbox.running_key = -1;
       }
     } catch (const std::exception& e) {

@@ -384,11 +384,18 @@ void Store::set_trial_strategy(std::int64_t trial_id, std::int64_t strategy) {
   impl_->cached("UPDATE trials SET strategy = ? WHERE id = ?").bind(1, strategy).bind(2, trial_id).run();
 }
 
-std::vector<AttemptRecord> Store::attempts(std::int64_t trial_id) const {
-  Statement s(impl_->db,
-              "SELECT id, trial_id, number, state, worker, host, job_id, exit_code, signal, error, started_at, "
-              "finished_at FROM attempts WHERE trial_id = ? ORDER BY number");
-  s.bind(1, trial_id);
+void Store::set_attempt_placement(std::int64_t attempt_id, const std::string& job_id, const std::string& host) {
+  impl_->cached("UPDATE attempts SET job_id = ?, host = CASE WHEN ? = '' THEN host ELSE ? END, "
+                "worker = CASE WHEN ? = '' THEN worker ELSE 'slurm job ' || ? END WHERE id = ?")
+      .bind(1, job_id).bind(2, host).bind(3, host).bind(4, job_id).bind(5, job_id).bind(6, attempt_id).run();
+}
+
+namespace {
+constexpr const char* kAttemptColumns =
+    "SELECT a.id, a.trial_id, a.number, a.state, a.worker, a.host, a.job_id, a.exit_code, a.signal, a.error, "
+    "a.started_at, a.finished_at FROM attempts a ";
+
+std::vector<AttemptRecord> read_attempts(Statement& s) {
   std::vector<AttemptRecord> out;
   while (s.step()) {
     AttemptRecord a;
@@ -407,6 +414,22 @@ std::vector<AttemptRecord> Store::attempts(std::int64_t trial_id) const {
     out.push_back(std::move(a));
   }
   return out;
+}
+}  // namespace
+
+std::vector<AttemptRecord> Store::attempts(std::int64_t trial_id) const {
+  Statement s(impl_->db, (std::string(kAttemptColumns) + "WHERE a.trial_id = ? ORDER BY a.number").c_str());
+  s.bind(1, trial_id);
+  return read_attempts(s);
+}
+
+std::vector<AttemptRecord> Store::running_job_attempts(std::int64_t stage_id) const {
+  Statement s(impl_->db, (std::string(kAttemptColumns) +
+                          "JOIN trials t ON t.id = a.trial_id WHERE t.stage_id = ? AND a.state = 'running' "
+                          "AND a.job_id != '' ORDER BY t.idx")
+                             .c_str());
+  s.bind(1, stage_id);
+  return read_attempts(s);
 }
 
 std::vector<ArtifactRecord> Store::artifacts(std::int64_t trial_id) const {
@@ -454,10 +477,12 @@ int Store::recover_interrupted() {
   transaction([&] {
     Statement a(impl_->db,
                 "UPDATE attempts SET state = 'interrupted', error = 'scheduler stopped while the attempt ran', "
-                "finished_at = ? WHERE state = 'running'");
+                "finished_at = ? WHERE state = 'running' AND job_id = ''");
     a.bind(1, now_unix_s()).run();
     changed = sqlite3_changes(impl_->db);
-    impl_->exec("UPDATE trials SET state = 'interrupted' WHERE state = 'running'");
+    impl_->exec(
+        "UPDATE trials SET state = 'interrupted' WHERE state = 'running' AND NOT EXISTS "
+        "(SELECT 1 FROM attempts a WHERE a.trial_id = trials.id AND a.state = 'running')");
   });
   return changed;
 }

@@ -60,7 +60,7 @@ TEST(CampaignSpec, ErrorsNameTheJsonPath) {
 
   j = valid_spec();
   j["executor"] = {{"kind", "kubernetes"}};
-  EXPECT_EQ(error_of(j), "spec.json: executor.kind: \"kubernetes\" is not a supported executor (supported: \"local\")");
+  EXPECT_EQ(error_of(j), "spec.json: executor.kind: \"kubernetes\" is not a supported executor (supported: \"local\", \"slurm\")");
 
   j = valid_spec();
   j["trial_timeout_s"] = 0;

@@ -24,8 +24,17 @@ struct StageSpec {
   Json inputs = nullptr;             ///< {"stage": name, "select": "all"|"best"} or null
 };
 
+/// Where trials run: "local" (worker processes on this machine) or "slurm" (jobs on a cluster;
+/// the run folder must be on a filesystem the compute nodes share).
 struct ExecutorSpec {
   std::string kind = "local";
+  std::string partition;              ///< slurm: required
+  std::string account;                ///< slurm: optional
+  std::string time;                   ///< slurm: job time limit, Slurm syntax ("30", "01:00:00")
+  int cpus_per_task = 1;
+  std::string mem;                    ///< slurm: e.g. "4G"; "" = the partition's default
+  std::vector<std::string> extra_sbatch;  ///< passed to sbatch as they are
+  int max_jobs_in_queue = 100;        ///< at most this many of the campaign's jobs queued or running
 };
 
 struct CampaignSpec {

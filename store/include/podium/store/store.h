@@ -154,7 +154,11 @@ class Store {
   /// Sets a trial's state (pending, failed, interrupted, cancelled) and, if given, its error text.
   void set_trial_state(std::int64_t trial_id, const std::string& state, const std::string& error = "");
   void set_trial_strategy(std::int64_t trial_id, std::int64_t strategy);
+  /// Records where an attempt runs once known (a batch job id, the host it landed on).
+  void set_attempt_placement(std::int64_t attempt_id, const std::string& job_id, const std::string& host);
   std::vector<AttemptRecord> attempts(std::int64_t trial_id) const;
+  /// Attempts of a stage still running with a batch job id (to re-attach to after a restart).
+  std::vector<AttemptRecord> running_job_attempts(std::int64_t stage_id) const;
   std::vector<ArtifactRecord> artifacts(std::int64_t trial_id) const;
 
   // Metrics and events.
@@ -163,7 +167,8 @@ class Store {
   void add_event(std::int64_t campaign_id, const std::string& kind, const Json& payload);
   std::vector<Json> events(std::int64_t campaign_id) const;
 
-  /// After a scheduler died: running attempts and trials become interrupted. Returns how many.
+  /// After a scheduler died: running attempts without a batch job id (they died with it) and
+  /// their trials become interrupted. Returns how many. Batch jobs live on and are re-attached.
   int recover_interrupted();
 
  private:

@@ -1,0 +1,100 @@
+#include "trial_runner.h"
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+
+#include "podium/base/error.h"
+#include "podium/plugins/loader.h"
+#include "sha256.h"
+#include "slurm_files.h"
+
+namespace podium::orchestrator {
+
+using base::Json;
+
+plugins::Task& TaskCache::get(const std::string& name) {
+  auto& slot = tasks_[name];
+  if (!slot) slot = plugins::load_task(name);
+  return *slot;
+}
+
+Json run_attempt(TaskCache& tasks, const Json& order, const std::atomic<bool>& cancel, plugins::Sink& sink) {
+  plugins::RunRequest request;
+  request.params = order.at("params");
+  request.context = order.at("context");
+  request.config = order.at("config");
+  request.seed = order.at("seed").get<std::uint64_t>();
+  request.trial_index = order.at("trial_index").get<std::uint64_t>();
+  request.attempt = order.at("attempt").get<int>();
+  request.work_dir = order.at("work_dir").get<std::string>();
+  request.cancel = &cancel;
+  std::filesystem::create_directories(request.work_dir);
+  const plugins::RunResult result = tasks.get(order.at("task").get<std::string>()).run(request, sink);
+  Json artifacts = Json::array();
+  for (const auto& a : result.artifacts)
+    artifacts.push_back({{"name", a.name},
+                         {"path", a.path.string()},
+                         {"sha256", sha256_file(a.path)},
+                         {"size", std::filesystem::file_size(a.path)}});
+  // nlohmann writes NaN as null; the scheduler rejects null features as non-finite.
+  return {{"type", "result"},
+          {"key", order.at("key")},
+          {"objectives", result.objectives},
+          {"features", result.features},
+          {"artifacts", artifacts},
+          {"info", result.info}};
+}
+
+namespace {
+
+// Appends metric lines to an append-only stream the scheduler tails; flushed at most every
+// 200 ms so a long trial's curve arrives live without a write per point.
+class FileSink final : public plugins::Sink {
+ public:
+  explicit FileSink(const std::filesystem::path& path) : out_(std::fopen(path.c_str(), "a")) {
+    if (!out_) throw base::RuntimeError(path.string() + ": cannot open metrics stream");
+  }
+  ~FileSink() override { std::fclose(out_); }
+  void progress(double) override {}
+  void metric(const std::string& name, double step, double value) override {
+    const std::string line = Json{{"name", name}, {"step", step}, {"value", value}}.dump() + "\n";
+    std::fwrite(line.data(), 1, line.size(), out_);
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_flush_ > std::chrono::milliseconds(200)) {
+      std::fflush(out_);
+      last_flush_ = now;
+    }
+  }
+
+ private:
+  FILE* out_;
+  std::chrono::steady_clock::time_point last_flush_{};
+};
+
+}  // namespace
+
+int run_batch_trial(const std::string& batch_file) {
+  const char* index_text = std::getenv("SLURM_ARRAY_TASK_ID");
+  const long index = index_text ? std::strtol(index_text, nullptr, 10) : 0;
+  std::ifstream batch(batch_file);
+  std::string order_path;
+  for (long i = 0; i <= index; ++i)
+    if (!std::getline(batch, order_path)) throw base::RuntimeError(batch_file + ": no line " + std::to_string(index));
+  const Json order = base::read_json_file(order_path);
+  const SlurmAttemptFiles files(std::filesystem::path(order_path).parent_path());
+  Json result;
+  try {
+    TaskCache tasks;
+    std::atomic<bool> cancel{false};
+    FileSink sink(files.metrics());
+    result = run_attempt(tasks, order, cancel, sink);
+  } catch (const std::exception& e) {
+    result = {{"type", "error"}, {"key", order.at("key")}, {"message", e.what()}};
+  }
+  base::write_json_file_atomic(files.result(), result);
+  return 0;
+}
+
+}  // namespace podium::orchestrator

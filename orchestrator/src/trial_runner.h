@@ -1,0 +1,34 @@
+#pragma once
+// Runs one attempt of a trial inside this process: the shared core of `podium worker` (local
+// executor, results over a pipe) and `podium trial` (Slurm executor, results in files).
+#include <atomic>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "podium/base/json.h"
+#include "podium/plugins/task.h"
+
+namespace podium::orchestrator {
+
+/// Plugins loaded once per process.
+class TaskCache {
+ public:
+  plugins::Task& get(const std::string& name);
+
+ private:
+  std::map<std::string, std::shared_ptr<plugins::Task>> tasks_;
+};
+
+/// Runs the attempt described by `order` (the fields of an AttemptOrder as JSON: key, task,
+/// config, params, context, seed, trial_index, attempt, work_dir) and returns the result message
+/// {"type":"result", "key", "objectives", "features", "artifacts":[{name,path,sha256,size}], "info"}.
+/// Throws whatever the task throws.
+base::Json run_attempt(TaskCache& tasks, const base::Json& order, const std::atomic<bool>& cancel,
+                       plugins::Sink& sink);
+
+/// `podium trial --batch FILE`: runs the order named on line $SLURM_ARRAY_TASK_ID of FILE,
+/// appending metrics to <attempt folder>/metrics.jsonl and writing result.json atomically.
+int run_batch_trial(const std::string& batch_file);
+
+}  // namespace podium::orchestrator

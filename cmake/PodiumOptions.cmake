@@ -49,7 +49,7 @@ endfunction()
 
 # A GoogleTest executable registered with CTest; LABELS default to "unit".
 function(podium_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "" "TIMEOUT;RESOURCE_LOCK" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   # podium_test_main (tests/support) sets PODIUM_BIN, PODIUM_PLUGIN_PATH and PODIUM_SHARED_DIR.
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest podium_test_main)
@@ -60,5 +60,10 @@ function(podium_test name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
   endif()
-  gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT} DISCOVERY_TIMEOUT 60)
+  # RESOURCE_LOCK: tests sharing a resource (e.g. the test Slurm cluster) never run at once.
+  set(lock)
+  if(ARG_RESOURCE_LOCK)
+    set(lock RESOURCE_LOCK ${ARG_RESOURCE_LOCK})
+  endif()
+  gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT} ${lock} DISCOVERY_TIMEOUT 60)
 endfunction()

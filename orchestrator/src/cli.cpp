@@ -6,6 +6,7 @@
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <sstream>
 
 #include "podium/base/error.h"
@@ -85,11 +86,17 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
   for (const auto& st : store.stages(c.id)) {
     const auto sc = store.stage_trial_counts(st.id);
     budget += st.budget_trials;
+    std::map<std::int64_t, std::int64_t> index_of;
+    for (const auto& t : store.trials(st.id)) index_of[t.id] = t.index;
+    Json running = Json::array();
+    for (const auto& a : store.running_attempts(st.id))
+      running.push_back({{"trial", index_of[a.trial_id]}, {"attempt", a.number}, {"worker", a.worker},
+                         {"host", a.host}, {"job_id", a.job_id}, {"started_at", a.started_at}});
     stages.push_back({{"index", st.index},     {"name", st.name},     {"task", st.task},
                       {"algorithm", st.algorithm}, {"state", st.state}, {"budget_trials", st.budget_trials},
                       {"done", sc.done},       {"failed", sc.failed}, {"running", sc.running},
                       {"pending", sc.pending + sc.interrupted}, {"cancelled", sc.cancelled},
-                      {"elapsed_s", st.elapsed_s}});
+                      {"elapsed_s", st.elapsed_s}, {"running_attempts", running}});
   }
   return {{"id", c.id},
           {"name", c.name},
@@ -172,11 +179,18 @@ int cmd_status(int argc, char** argv) {
                 c["pending"].get<long>(), fmt_time(c["created_at"].get<double>()).c_str());
     if (!cmd.vm.count("campaign")) continue;
     std::printf("  run folder: %s\n", c["run_dir"].get<std::string>().c_str());
-    for (const auto& s : c["stages"])
+    for (const auto& s : c["stages"]) {
       std::printf("  stage %d %-16s %-10s task=%s search=%s %ld/%ld done, %ld failed, %ld running, %.1f s\n",
                   s["index"].get<int>(), s["name"].get<std::string>().c_str(), s["state"].get<std::string>().c_str(),
                   s["task"].get<std::string>().c_str(), s["algorithm"].get<std::string>().c_str(), s["done"].get<long>(),
                   s["budget_trials"].get<long>(), s["failed"].get<long>(), s["running"].get<long>(), s["elapsed_s"].get<double>());
+      for (const auto& a : s["running_attempts"]) {
+        const std::string where = a["job_id"].get<std::string>().empty() ? a["worker"].get<std::string>()
+                                                                         : "slurm job " + a["job_id"].get<std::string>();
+        std::printf("    trial %lld attempt %d on %s (%s)\n", a["trial"].get<long long>(), a["attempt"].get<int>(),
+                    a["host"].get<std::string>().empty() ? "?" : a["host"].get<std::string>().c_str(), where.c_str());
+      }
+    }
   }
   return 0;
 }

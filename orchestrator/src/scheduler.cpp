@@ -262,7 +262,8 @@ class Scheduler {
     StageRun& s = *c.stage;
     std::map<std::int64_t, store::TrialRecord> trials;
     for (auto& t : store_.trials(s.rec.id)) trials[t.id] = std::move(t);
-    for (const auto& a : store_.running_job_attempts(s.rec.id)) {
+    for (const auto& a : store_.running_attempts(s.rec.id)) {
+      if (a.job_id.empty()) continue;  // died with the earlier scheduler; already interrupted
       const auto& t = trials.at(a.trial_id);
       PendingTrial p{t.id, t.index, t.params, t.context, t.seed, a.number - 1};
       AttemptOrder order = make_order(c, s, p);

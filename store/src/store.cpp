@@ -423,10 +423,10 @@ std::vector<AttemptRecord> Store::attempts(std::int64_t trial_id) const {
   return read_attempts(s);
 }
 
-std::vector<AttemptRecord> Store::running_job_attempts(std::int64_t stage_id) const {
+std::vector<AttemptRecord> Store::running_attempts(std::int64_t stage_id) const {
   Statement s(impl_->db, (std::string(kAttemptColumns) +
                           "JOIN trials t ON t.id = a.trial_id WHERE t.stage_id = ? AND a.state = 'running' "
-                          "AND a.job_id != '' ORDER BY t.idx")
+                          "ORDER BY t.idx")
                              .c_str());
   s.bind(1, stage_id);
   return read_attempts(s);

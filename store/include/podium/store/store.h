@@ -157,8 +157,8 @@ class Store {
   /// Records where an attempt runs once known (a batch job id, the host it landed on).
   void set_attempt_placement(std::int64_t attempt_id, const std::string& job_id, const std::string& host);
   std::vector<AttemptRecord> attempts(std::int64_t trial_id) const;
-  /// Attempts of a stage still running with a batch job id (to re-attach to after a restart).
-  std::vector<AttemptRecord> running_job_attempts(std::int64_t stage_id) const;
+  /// Attempts of a stage still running (where they run; batch jobs to re-attach to after a restart).
+  std::vector<AttemptRecord> running_attempts(std::int64_t stage_id) const;
   std::vector<ArtifactRecord> artifacts(std::int64_t trial_id) const;
 
   // Metrics and events.

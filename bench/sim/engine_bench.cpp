@@ -1,0 +1,163 @@
+// Benchmark B: simulated seconds per wall second on one core for humanoid21 under random PD
+// targets (ragdoll drops, lying, rolling), next to MuJoCo 2.2.2 simulating the same body layout
+// (../shared/peers/mujoco/humanoid.xml) under the same protocol, in the same run.
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iterator>
+#include <string>
+
+#include "podium/base/rng.h"
+#include "podium/sim/dynamics.h"
+#include "podium/sim/starts.h"
+#include "podium/sim/world.h"
+
+using namespace podium::sim;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr double kSimSeconds = 30.0;    // per measurement
+constexpr double kEpisodeSeconds = 5.0;  // a new ragdoll drop every 5 s
+constexpr double kControlHz = 10.0;
+
+// The standing check of the SPD stability test (root servo, model gains) at sim rate hz.
+bool standing_holds(const ModelPtr& model, double hz) {
+  WorldConfig config;
+  config.sim_hz = hz;
+  config.control_hz = hz;
+  World world(model, config);
+  Gains gains = Gains::from_model(*model);
+  gains.kp.head<6>().setConstant(20000.0);
+  gains.kd.head<6>().setConstant(2000.0);
+  world.set_gains(gains);
+  const double h0 = world.observe().head_height_m;
+  for (int k = 0; k < static_cast<int>(10 * hz); ++k) {
+    if (!world.control_step(Control::spd_maba, model->standing_pose()).ok || world.observe().head_height_m < 0.9 * h0) return false;
+  }
+  return true;
+}
+
+struct Result {
+  double rtf = 0, steps_per_s = 0, max_energy = 0, lowest_m = 0;
+  bool ok = true;
+};
+
+Result run_bullet(const ModelPtr& model, double hz, std::uint64_t seed) {
+  WorldConfig config;
+  config.sim_hz = hz;
+  config.control_hz = kControlHz;
+  World world(model, config);
+  podium::base::Rng rng(seed);
+  Result r;
+  const int controls = static_cast<int>(kSimSeconds * kControlHz), per_episode = static_cast<int>(kEpisodeSeconds * kControlHz);
+  const auto t0 = Clock::now();
+  for (int k = 0; k < controls && r.ok; ++k) {
+    if (k % per_episode == 0) {
+      Eigen::VectorXd q = random_pose(*model, rng, 1.5);
+      world.reset(q, Eigen::VectorXd::Zero(model->nv()));
+    }
+    r.ok = world.control_step(Control::spd_maba, random_pose(*model, rng, 0.0)).ok;
+    r.max_energy = std::max(r.max_energy, world.kinetic_energy());
+    r.lowest_m = std::min(r.lowest_m, lowest_geom_point(*model, world.data()));
+  }
+  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  r.rtf = kSimSeconds / wall;
+  r.steps_per_s = kSimSeconds * hz / wall;
+  // Sane physics: no blow-up and no sinking through the floor by more than 5 cm.
+  r.ok = r.ok && r.max_energy < 2000.0 && r.lowest_m > -0.05;
+  return r;
+}
+
+Result run_mujoco(const mjModel* m, std::uint64_t seed) {
+  mjData* d = mj_makeData(m);
+  podium::base::Rng rng(seed);
+  Result r;
+  const double dt = m->opt.timestep;
+  const int steps = static_cast<int>(kSimSeconds / dt), per_control = static_cast<int>(std::lround(1.0 / (kControlHz * dt)));
+  const int per_episode = static_cast<int>(kEpisodeSeconds / dt);
+  std::vector<double> target(m->nu);
+  const auto t0 = Clock::now();
+  for (int s = 0; s < steps; ++s) {
+    if (s % per_episode == 0) {
+      mj_resetData(m, d);
+      d->qpos[2] = 1.5;
+      const double u1 = rng.uniform(), u2 = rng.uniform(0, 2 * M_PI), u3 = rng.uniform(0, 2 * M_PI);
+      d->qpos[3] = std::sqrt(1 - u1) * std::sin(u2);
+      d->qpos[4] = std::sqrt(1 - u1) * std::cos(u2);
+      d->qpos[5] = std::sqrt(u1) * std::sin(u3);
+      d->qpos[6] = std::sqrt(u1) * std::cos(u3);
+      for (int j = 1; j < m->njnt; ++j) d->qpos[m->jnt_qposadr[j]] = rng.uniform(m->jnt_range[2 * j], m->jnt_range[2 * j + 1]);
+    }
+    if (s % per_control == 0) {
+      for (int a = 0; a < m->nu; ++a) {
+        const int j = m->actuator_trnid[2 * a];
+        target[a] = rng.uniform(m->jnt_range[2 * j], m->jnt_range[2 * j + 1]);
+      }
+    }
+    // PD through the motors: kp = gear (the seed's torque limit), kd = kp/10, as in Podium's model.
+    for (int a = 0; a < m->nu; ++a) {
+      const int j = m->actuator_trnid[2 * a];
+      const double gear = m->actuator_gear[6 * a];
+      const double tau = gear * (target[a] - d->qpos[m->jnt_qposadr[j]]) - 0.1 * gear * d->qvel[m->jnt_dofadr[j]];
+      d->ctrl[a] = std::clamp(tau / gear, -1.0, 1.0);
+    }
+    mj_step(m, d);
+  }
+  const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
+  r.ok = std::isfinite(d->qvel[0]);
+  r.rtf = kSimSeconds / wall;
+  r.steps_per_s = steps / wall;
+  mj_deleteData(d);
+  return r;
+}
+
+// Median real-time factor over seeds 1..3 (the worst workload check counts).
+template <class Run>
+Result median_of_3(Run&& run) {
+  Result rs[3] = {run(1), run(2), run(3)};
+  std::sort(std::begin(rs), std::end(rs), [](const Result& a, const Result& b) { return a.rtf < b.rtf; });
+  Result r = rs[1];
+  for (const Result& x : rs) {
+    r.ok = r.ok && x.ok;
+    r.max_energy = std::max(r.max_energy, x.max_energy);
+    r.lowest_m = std::min(r.lowest_m, x.lowest_m);
+  }
+  return r;
+}
+
+}  // namespace
+
+int main() {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  std::printf("Benchmark B: humanoid21, random SPD targets every 1/%g s, ragdoll drop every %g s, %g simulated s per row (median of seeds 1-3), one core\n", kControlHz,
+              kEpisodeSeconds, kSimSeconds);
+  std::printf("%-8s %8s %10s %12s %10s %9s %10s %10s\n", "engine", "dt (ms)", "standing", "workload ok", "steps/s", "x real", "max KE J", "lowest m");
+  double best_rtf = 0, best_dt = 0;
+  for (double hz : {30.0, 60.0, 120.0, 240.0, 480.0, 800.0}) {
+    const bool stands = standing_holds(model, hz);
+    const Result r = median_of_3([&](std::uint64_t seed) { return run_bullet(model, hz, seed); });
+    std::printf("%-8s %8.2f %10s %12s %10.0f %9.1f %10.1f %10.3f\n", "podium", 1000.0 / hz, stands ? "holds" : "falls", r.ok ? "yes" : "NO", r.steps_per_s,
+                r.rtf, r.max_energy, r.lowest_m);
+    if (stands && r.ok && best_dt == 0) {
+      best_rtf = r.rtf;
+      best_dt = 1.0 / hz;
+    }
+  }
+  const std::string xml = std::string(PODIUM_SHARED_DIR) + "/peers/mujoco/humanoid.xml";
+  char error[1000] = "";
+  mjModel* m = mj_loadXML(xml.c_str(), nullptr, error, sizeof error);
+  if (!m) {
+    std::printf("mujoco: cannot load %s: %s\n", xml.c_str(), error);
+    return 1;
+  }
+  const Result mj = median_of_3([&](std::uint64_t seed) { return run_mujoco(m, seed); });
+  std::printf("%-8s %8.2f %10s %12s %10.0f %9.1f %10s %10s\n", "mujoco", 1000.0 * m->opt.timestep, "(default)", mj.ok ? "yes" : "NO", mj.steps_per_s, mj.rtf, "-", "-");
+  std::printf("podium at its largest stable dt (%.2f ms): %.1fx real time; MuJoCo at %.1f ms: %.1fx; bar (>= MuJoCo): %s\n", best_dt * 1000, best_rtf,
+              m->opt.timestep * 1000, mj.rtf, best_rtf >= mj.rtf ? "met" : "NOT met");
+  mj_deleteModel(m);
+  return 0;
+}

@@ -1,0 +1,188 @@
+// CRBA, RNEA, dense forward dynamics and kinematics (Featherstone, "Rigid Body Dynamics
+// Algorithms", 2008, §§4–6), hand-written over the model's link tree because no packaged
+// library builds from our model format. Spatial conventions in spatial.h.
+#include "podium/sim/dynamics.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "internal.h"
+#include "spatial.h"
+
+namespace podium::sim {
+
+CharacterData::CharacterData(const CharacterModel& model)
+    : q(model.neutral()),
+      qd(Eigen::VectorXd::Zero(model.nv())),
+      qdd(Eigen::VectorXd::Zero(model.nv())),
+      tau(Eigen::VectorXd::Zero(model.nv())),
+      M(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
+      C(Eigen::VectorXd::Zero(model.nv())),
+      Q(Eigen::VectorXd::Zero(model.nv())),
+      llt(model.nv()),
+      links(model.links().size()) {
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const Link& l = model.links()[i];
+    LinkData& d = links[i];
+    d.I_body = spatial::inertia(l.mass, l.com, l.inertia);
+    d.S = Matrix6Xd::Zero(6, l.nv);
+    if (l.joint == JointType::free) d.S = Matrix6d::Identity();
+    if (l.joint == JointType::spherical) d.S.topRows<3>().setIdentity();
+    if (l.joint == JointType::revolute) d.S.col(0).head<3>() = l.axis;
+    d.U = Matrix6Xd::Zero(6, l.nv);
+    d.D_inv = MatrixJd::Zero(l.nv, l.nv);
+    d.u = VectorJd::Zero(l.nv);
+  }
+}
+
+namespace {
+Eigen::Quaterniond quat_at(const Eigen::VectorXd& q, int i) { return Eigen::Quaterniond(q(i), q(i + 1), q(i + 2), q(i + 3)).normalized(); }
+
+}  // namespace
+
+namespace internal {
+
+// Velocities v_i = X_i v_p + S_i q̇_i and velocity-product terms c_i = v_i × S_i q̇_i.
+void velocity_pass(const CharacterModel& model, CharacterData& data) {
+  const auto& links = model.links();
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    LinkData& d = data.links[i];
+    const Vector6d vj = d.S * data.qd.segment(l.v_index, l.nv);
+    if (l.parent < 0) {
+      d.v = vj;
+      d.c.setZero();
+    } else {
+      d.v = spatial::motion(d.E, l.joint_pos, data.links[l.parent].v) + vj;
+      d.c = spatial::cross_motion(d.v, vj);
+    }
+  }
+}
+
+// The fictitious upward acceleration −g that accounts for gravity, in root coordinates.
+Vector6d root_gravity_accel(const CharacterData& data) {
+  Vector6d a = Vector6d::Zero();
+  a.tail<3>() = -(data.links[0].E * data.gravity);
+  return a;
+}
+
+}  // namespace internal
+
+using internal::root_gravity_accel;
+using internal::velocity_pass;
+
+void forward_kinematics(const CharacterModel& model, CharacterData& data) {
+  const auto& links = model.links();
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    LinkData& d = data.links[i];
+    Eigen::Matrix3d Rj = Eigen::Matrix3d::Identity();
+    switch (l.joint) {
+      case JointType::free: Rj = quat_at(data.q, l.q_index + 3).toRotationMatrix(); break;
+      case JointType::spherical: Rj = quat_at(data.q, l.q_index).toRotationMatrix(); break;
+      case JointType::revolute: Rj = Eigen::AngleAxisd(data.q(l.q_index), l.axis).toRotationMatrix(); break;
+    }
+    d.E = Rj.transpose();
+    if (l.parent < 0) {
+      d.R = Rj;
+      d.p = data.q.head<3>();
+    } else {
+      const LinkData& p = data.links[l.parent];
+      d.R = p.R * Rj;
+      d.p = p.p + p.R * l.joint_pos;
+    }
+  }
+}
+
+void mass_matrix(const CharacterModel& model, CharacterData& data) {
+  forward_kinematics(model, data);
+  const auto& links = model.links();
+  const int n = static_cast<int>(links.size());
+  for (int i = 0; i < n; ++i) data.links[i].I = data.links[i].I_body;
+  for (int i = n - 1; i > 0; --i) {
+    const Link& l = links[i];
+    spatial::add_inertia_to_parent(data.links[i].E, l.joint_pos, data.links[i].I, data.links[l.parent].I);
+  }
+  for (int i = 0; i < n; ++i) {
+    const Link& l = links[i];
+    Matrix6Xd F = data.links[i].I * data.links[i].S;
+    data.M.block(l.v_index, l.v_index, l.nv, l.nv) = data.links[i].S.transpose() * F;
+    int j = i;
+    while (links[j].parent >= 0) {
+      for (int k = 0; k < F.cols(); ++k) F.col(k) = spatial::force_to_parent(data.links[j].E, links[j].joint_pos, F.col(k));
+      j = links[j].parent;
+      const Link& lj = links[j];
+      data.M.block(lj.v_index, l.v_index, lj.nv, l.nv) = data.links[j].S.transpose() * F;
+      data.M.block(l.v_index, lj.v_index, l.nv, lj.nv) = data.M.block(lj.v_index, l.v_index, lj.nv, l.nv).transpose();
+    }
+  }
+}
+
+void bias_forces(const CharacterModel& model, CharacterData& data) {
+  forward_kinematics(model, data);
+  velocity_pass(model, data);
+  const auto& links = model.links();
+  const int n = static_cast<int>(links.size());
+  const Vector6d a0 = root_gravity_accel(data);
+  for (int i = 0; i < n; ++i) {
+    const Link& l = links[i];
+    LinkData& d = data.links[i];
+    d.a = l.parent < 0 ? a0 : Vector6d(spatial::motion(d.E, l.joint_pos, data.links[l.parent].a) + d.c);
+    d.f = d.I_body * d.a + spatial::cross_force(d.v, d.I_body * d.v);
+  }
+  for (int i = n - 1; i >= 0; --i) {
+    const Link& l = links[i];
+    LinkData& d = data.links[i];
+    data.C.segment(l.v_index, l.nv) = d.S.transpose() * d.f;
+    if (l.parent >= 0) data.links[l.parent].f += spatial::force_to_parent(d.E, l.joint_pos, d.f);
+  }
+}
+
+void forward_dynamics_dense(const CharacterModel& model, CharacterData& data, const Eigen::VectorXd& tau) {
+  mass_matrix(model, data);
+  bias_forces(model, data);
+  data.llt.compute(data.M);
+  data.qdd = tau - data.C;
+  data.llt.solveInPlace(data.qdd);
+}
+
+Eigen::Vector3d body_point(const CharacterModel& model, const CharacterData& data, int body, const Eigen::Vector3d& local) {
+  const Body& b = model.bodies()[body];
+  const LinkData& d = data.links[b.link];
+  return d.p + d.R * (b.offset + local);
+}
+
+void center_of_mass(const CharacterModel& model, CharacterData& data, Eigen::Vector3d& com, Eigen::Vector3d& com_vel) {
+  velocity_pass(model, data);
+  com.setZero();
+  com_vel.setZero();
+  const auto& links = model.links();
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const LinkData& d = data.links[i];
+    const Link& l = links[i];
+    com += l.mass * (d.p + d.R * l.com);
+    com_vel += l.mass * (d.R * (d.v.tail<3>() + d.v.head<3>().cross(l.com)));
+  }
+  com /= model.total_mass();
+  com_vel /= model.total_mass();
+}
+
+double lowest_geom_point(const CharacterModel& model, const CharacterData& data) {
+  double z = 1e9;
+  for (std::size_t i = 0; i < model.links().size(); ++i) {
+    const LinkData& d = data.links[i];
+    for (const Geom& g : model.links()[i].geoms) {
+      const Eigen::Vector3d c = d.p + d.R * g.pos;
+      if (g.type == ShapeType::box) {
+        const Eigen::Matrix3d R = d.R * g.rot.toRotationMatrix();
+        z = std::min(z, c.z() - R.row(2).cwiseAbs().dot(g.half_extents));
+      } else {
+        const Eigen::Vector3d axis = d.R * (g.rot * Eigen::Vector3d::UnitZ());
+        z = std::min(z, c.z() - std::abs(axis.z()) * g.half_length - g.radius);
+      }
+    }
+  }
+  return z;
+}
+
+}  // namespace podium::sim

@@ -1,0 +1,14 @@
+#pragma once
+// Passes shared by the dynamics files (not public API).
+#include "podium/sim/data.h"
+#include "podium/sim/dynamics.h"
+#include "podium/sim/model.h"
+
+namespace podium::sim::internal {
+
+void velocity_pass(const CharacterModel& model, CharacterData& data);
+Vector6d root_gravity_accel(const CharacterData& data);
+/// SPD spring-damper term Q (thesis eq. 2.20) into data.Q; root entries 0.
+void spd_spring_term(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
+
+}  // namespace podium::sim::internal

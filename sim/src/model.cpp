@@ -1,0 +1,373 @@
+// Builds a CharacterModel from the project's JSON model format (sim/README.md): parses bodies,
+// expands multi-hinge bodies into chains of links, welds jointless bodies into their parent,
+// and accumulates link masses and inertias from geom volumes.
+#include "podium/sim/model.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <cstdlib>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+#include "podium/base/error.h"
+#include "shapes.h"
+
+namespace podium::sim {
+
+using base::Json;
+using base::UserError;
+
+namespace {
+
+std::string show(const Json& j) { return j.dump(); }
+
+Eigen::Vector3d vec3(const Json& j, const std::string& where) {
+  if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
+    throw UserError(where + ": " + show(j) + " is not an array of 3 numbers");
+  return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+}
+
+double number(const Json& obj, const char* key, double fallback, const std::string& where) {
+  if (!obj.contains(key)) return fallback;
+  if (!obj[key].is_number()) throw UserError(base::json_path_join(where, key) + ": " + show(obj[key]) + " is not a number");
+  return obj[key].get<double>();
+}
+
+double positive(const Json& obj, const char* key, const std::string& where) {
+  const double v = number(obj, key, -1.0, where);
+  if (!(v > 0.0)) throw UserError(base::json_path_join(where, key) + ": " + (obj.contains(key) ? show(obj[key]) : "missing") + " is not > 0");
+  return v;
+}
+
+Geom parse_geom(const Json& g, const std::string& where) {
+  Geom geom;
+  const std::string type = g.value("type", "");
+  if (type == "capsule") {
+    geom.type = ShapeType::capsule;
+    geom.radius = positive(g, "radius", where);
+    if (!g.contains("fromto")) throw UserError(where + ".fromto: missing (capsules are given by their end points)");
+    const Json& ft = g["fromto"];
+    if (!ft.is_array() || ft.size() != 6) throw UserError(where + ".fromto: " + show(ft) + " is not an array of 6 numbers");
+    const Eigen::Vector3d a = vec3(Json{ft[0], ft[1], ft[2]}, where + ".fromto");
+    const Eigen::Vector3d b = vec3(Json{ft[3], ft[4], ft[5]}, where + ".fromto");
+    geom.pos = 0.5 * (a + b);
+    geom.half_length = 0.5 * (b - a).norm();
+    if (geom.half_length > 0) geom.rot = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), b - a);
+  } else if (type == "sphere") {
+    geom.type = ShapeType::sphere;
+    geom.radius = positive(g, "radius", where);
+    if (g.contains("pos")) geom.pos = vec3(g["pos"], where + ".pos");
+  } else if (type == "box") {
+    geom.type = ShapeType::box;
+    geom.half_extents = vec3(g.value("half_extents", Json()), where + ".half_extents");
+    if (geom.half_extents.minCoeff() <= 0) throw UserError(where + ".half_extents: " + show(g["half_extents"]) + " has an entry ≤ 0");
+    if (g.contains("pos")) geom.pos = vec3(g["pos"], where + ".pos");
+    if (g.contains("quat")) {
+      const Json& q = g["quat"];
+      if (!q.is_array() || q.size() != 4) throw UserError(where + ".quat: " + show(q) + " is not [w, x, y, z]");
+      geom.rot = Eigen::Quaterniond(q[0].get<double>(), q[1].get<double>(), q[2].get<double>(), q[3].get<double>()).normalized();
+    }
+  } else {
+    throw UserError(where + ".type: \"" + type + "\" is not one of capsule, sphere, box");
+  }
+  return geom;
+}
+
+struct PendingBody {
+  std::string name;
+  int parent = -1;
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero();
+  std::vector<Geom> geoms;  // in body frame
+  double mass = -1.0, density = 1000.0;
+};
+
+}  // namespace
+
+class ModelBuilder {
+ public:
+  static ModelPtr build(const Json& json, const std::string& where);
+};
+
+ModelPtr CharacterModel::from_json(const Json& json, const std::string& where) { return ModelBuilder::build(json, where); }
+
+ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
+  auto model = std::make_shared<CharacterModel>();
+  CharacterModel& m = *model;
+  if (!json.is_object()) throw UserError(where + ": the model is not a JSON object");
+  m.name_ = json.value("name", "character");
+  if (!json.contains("bodies") || !json["bodies"].is_array() || json["bodies"].empty())
+    throw UserError(where + ": bodies: missing or empty (a model needs at least a root body)");
+
+  double hinge_mass = 0.0, hinge_radius = 0.0;
+  if (json.contains("hinge_link")) {
+    hinge_mass = number(json["hinge_link"], "mass", 0.0, where + ": hinge_link");
+    hinge_radius = number(json["hinge_link"], "radius", 0.0, where + ": hinge_link");
+    if (hinge_mass < 0 || hinge_radius < 0) throw UserError(where + ": hinge_link: mass and radius must be ≥ 0");
+  }
+  std::map<std::string, int> body_index;
+  // body -> link carrying its frame, and that body's origin in that link's frame
+  std::vector<int> body_link;
+  std::vector<Eigen::Vector3d> body_offset;
+
+  const Json& bodies = json["bodies"];
+  for (std::size_t bi = 0; bi < bodies.size(); ++bi) {
+    const Json& b = bodies[bi];
+    const std::string bw = where + ": " + base::json_path_index("bodies", bi);
+    const std::string name = b.value("name", "");
+    if (name.empty()) throw UserError(bw + ".name: missing or empty");
+    if (body_index.count(name)) throw UserError(bw + ".name: \"" + name + "\" is used by an earlier body");
+    int parent_body = -1;
+    if (bi == 0) {
+      if (b.contains("parent") && !b["parent"].is_null()) throw UserError(bw + ".parent: the first body is the root and has no parent");
+    } else {
+      const std::string parent = b.value("parent", "");
+      auto it = body_index.find(parent);
+      if (it == body_index.end()) throw UserError(bw + ".parent: \"" + parent + "\" is not an earlier body (list parents before children)");
+      parent_body = it->second;
+    }
+    Eigen::Vector3d pos = b.contains("pos") ? vec3(b["pos"], bw + ".pos") : Eigen::Vector3d::Zero();
+
+    std::vector<Geom> geoms;
+    if (b.contains("geoms")) {
+      for (std::size_t gi = 0; gi < b["geoms"].size(); ++gi) geoms.push_back(parse_geom(b["geoms"][gi], bw + "." + base::json_path_index("geoms", gi)));
+    }
+    double density = number(b, "density", 1000.0, bw);
+    double mass = number(b, "mass", -1.0, bw);
+    if (b.contains("mass") && !(mass > 0)) throw UserError(bw + ".mass: " + show(b["mass"]) + " is not > 0");
+    if (!(density > 0)) throw UserError(bw + ".density: " + show(b["density"]) + " is not > 0");
+
+    // Body mass properties in the body frame.
+    double body_mass = 0.0;
+    Eigen::Vector3d body_moment = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d body_inertia_origin = Eigen::Matrix3d::Zero();  // about body origin
+    {
+      double volume = 0.0;
+      for (const Geom& g : geoms) volume += geom_volume(g);
+      const double scale = mass > 0 ? (volume > 0 ? mass / volume : 0.0) : density;
+      if (mass > 0 && volume <= 0) throw UserError(bw + ".mass: a body with mass needs at least one geom");
+      for (const Geom& g : geoms) {
+        const double gm = scale * geom_volume(g);
+        const Eigen::Matrix3d Ic = g.rot.toRotationMatrix() * geom_unit_inertia(g) * g.rot.toRotationMatrix().transpose() * gm;
+        body_mass += gm;
+        body_moment += gm * g.pos;
+        body_inertia_origin += Ic + gm * (g.pos.squaredNorm() * Eigen::Matrix3d::Identity() - g.pos * g.pos.transpose());
+      }
+    }
+
+    const int body_id = static_cast<int>(m.bodies_.size());
+    body_index[name] = body_id;
+    Body body;
+    body.name = name;
+
+    // Joints.
+    std::vector<Json> joints;
+    if (b.contains("joints")) for (const Json& j : b["joints"]) joints.push_back(j);
+    if (bi == 0 && !joints.empty()) throw UserError(bw + ".joints: the root body moves by its free joint and takes no other joints");
+
+    // Anchor of the body frame in the link frame that carries it (changes along the hinge chain).
+    int link_id = -1;
+    Eigen::Vector3d origin_in_link = Eigen::Vector3d::Zero();  // body origin in current link frame
+    if (bi == 0) {
+      Link root;
+      root.name = name;
+      root.joint = JointType::free;
+      root.body = body_id;
+      m.links_.push_back(root);
+      link_id = 0;
+    } else if (joints.empty()) {
+      link_id = body_link[parent_body];
+      origin_in_link = body_offset[parent_body] + pos;
+    } else {
+      int parent_link = body_link[parent_body];
+      Eigen::Vector3d prev_anchor_in_parent = body_offset[parent_body] + pos;  // body origin in parent link frame
+      Eigen::Vector3d prev_joint_pos = Eigen::Vector3d::Zero();                // previous anchor in body frame
+      for (std::size_t ji = 0; ji < joints.size(); ++ji) {
+        const Json& j = joints[ji];
+        const std::string jw = bw + "." + base::json_path_index("joints", ji);
+        Link link;
+        link.name = j.value("name", "");
+        if (link.name.empty()) throw UserError(jw + ".name: missing or empty");
+        if (m.find_link(link.name) >= 0) throw UserError(jw + ".name: \"" + link.name + "\" is used by an earlier joint");
+        const std::string type = j.value("type", "");
+        Eigen::Vector3d anchor = j.contains("pos") ? vec3(j["pos"], jw + ".pos") : Eigen::Vector3d::Zero();
+        if (type == "revolute") {
+          link.joint = JointType::revolute;
+          link.axis = vec3(j.value("axis", Json()), jw + ".axis");
+          if (link.axis.norm() < 1e-9) throw UserError(jw + ".axis: " + show(j["axis"]) + " is not a direction (zero length)");
+          link.axis.normalize();
+          if (j.contains("range")) {
+            const Json& r = j["range"];
+            if (!r.is_array() || r.size() != 2 || !(r[0].get<double>() < r[1].get<double>()))
+              throw UserError(jw + ".range: " + show(r) + " is not [lower, upper] with lower < upper (radians)");
+            link.lower = r[0].get<double>();
+            link.upper = r[1].get<double>();
+          } else {
+            link.lower = 1.0;
+            link.upper = -1.0;
+          }
+        } else if (type == "spherical") {
+          link.joint = JointType::spherical;
+          link.lower = 1.0;
+          link.upper = -1.0;
+        } else {
+          throw UserError(jw + ".type: \"" + type + "\" is not one of revolute, spherical");
+        }
+        link.torque_limit_nm = positive(j, "torque_limit", jw);
+        link.kp = number(j, "kp", link.torque_limit_nm, jw);
+        link.kd = number(j, "kd", 0.1 * link.kp, jw);
+        if (link.kp < 0 || link.kd < 0) throw UserError(jw + ": kp and kd must be ≥ 0");
+        link.parent = parent_link;
+        link.body = body_id;
+        link.joint_pos = prev_anchor_in_parent + (anchor - prev_joint_pos);
+        if (ji + 1 < joints.size()) {
+          // Intermediate hinge link: a small sphere at the anchor (massless links destabilise
+          // Bullet's contact solver; MuJoCo regularises the same way with joint armature).
+          link.mass = hinge_mass;
+          link.inertia = Eigen::Matrix3d::Identity() * (0.4 * hinge_mass * hinge_radius * hinge_radius);
+        }
+        m.links_.push_back(link);
+        parent_link = static_cast<int>(m.links_.size()) - 1;
+        prev_anchor_in_parent = Eigen::Vector3d::Zero();
+        prev_joint_pos = anchor;
+      }
+      link_id = parent_link;
+      origin_in_link = -prev_joint_pos;
+    }
+
+    // Add body mass and geoms to the carrying link (inertia about the link COM, link frame).
+    Link& link = m.links_[link_id];
+    const Eigen::Vector3d body_com = body_mass > 0 ? Eigen::Vector3d(body_moment / body_mass) : Eigen::Vector3d::Zero();
+    if (body_mass > 0) {
+      // Move body inertia from body origin to body COM, then combine with the link (parallel axis).
+      const Eigen::Matrix3d Ib = body_inertia_origin - body_mass * (body_com.squaredNorm() * Eigen::Matrix3d::Identity() - body_com * body_com.transpose());
+      const Eigen::Vector3d cb = origin_in_link + body_com;
+      const double total = link.mass + body_mass;
+      const Eigen::Vector3d c = (link.mass * link.com + body_mass * cb) / total;
+      auto shift = [](double mass_kg, const Eigen::Vector3d& d) {
+        return Eigen::Matrix3d(mass_kg * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
+      };
+      link.inertia = link.inertia + shift(link.mass, link.com - c) + Ib + shift(body_mass, cb - c);
+      link.com = c;
+      link.mass = total;
+    }
+    for (Geom g : geoms) {
+      g.pos += origin_in_link;
+      g.body = body_id;
+      link.geoms.push_back(g);
+    }
+    body.link = link_id;
+    body.offset = origin_in_link;
+    m.bodies_.push_back(body);
+    body_link.push_back(link_id);
+    body_offset.push_back(origin_in_link);
+  }
+
+  // DoF layout.
+  int nq = 0, nv = 0;
+  for (Link& l : m.links_) {
+    l.q_index = nq;
+    l.v_index = nv;
+    l.nq = l.joint == JointType::free ? 7 : l.joint == JointType::spherical ? 4 : 1;
+    l.nv = l.joint == JointType::free ? 6 : l.joint == JointType::spherical ? 3 : 1;
+    nq += l.nq;
+    nv += l.nv;
+    m.total_mass_ += l.mass;
+  }
+  m.nq_ = nq;
+  m.nv_ = nv;
+  if (m.links_.size() < 2) throw UserError(where + ": bodies: the model has no joints");
+  if (m.links_[0].mass <= 0) throw UserError(where + ": bodies[0]: the root body has no mass (give it geoms or a mass)");
+  m.torque_limits_ = Eigen::VectorXd::Zero(nv);
+  m.kp_ = Eigen::VectorXd::Zero(nv);
+  m.kd_ = Eigen::VectorXd::Zero(nv);
+  for (const Link& l : m.links_) {
+    if (l.joint == JointType::free) continue;
+    m.torque_limits_.segment(l.v_index, l.nv).setConstant(l.torque_limit_nm);
+    m.kp_.segment(l.v_index, l.nv).setConstant(l.kp);
+    m.kd_.segment(l.v_index, l.nv).setConstant(l.kd);
+  }
+
+  // Self-collision filter: every pair except a link with itself, its parent, links of the same
+  // body (massless hinge chains) and pairs the file excludes.
+  const std::size_t L = m.links_.size();
+  m.collide_.assign(L * L, 1);
+  auto forbid = [&](std::size_t a, std::size_t b) { m.collide_[a * L + b] = m.collide_[b * L + a] = 0; };
+  for (std::size_t a = 0; a < L; ++a) {
+    forbid(a, a);
+    // Walk up through massless links so a body never collides with its parent body.
+    int p = m.links_[a].parent;
+    while (p >= 0) {
+      forbid(a, static_cast<std::size_t>(p));
+      if (!m.links_[p].geoms.empty()) break;
+      p = m.links_[p].parent;
+    }
+  }
+  if (json.contains("contact_exclude")) {
+    for (std::size_t i = 0; i < json["contact_exclude"].size(); ++i) {
+      const Json& pair = json["contact_exclude"][i];
+      const std::string pw = where + ": " + base::json_path_index("contact_exclude", i);
+      if (!pair.is_array() || pair.size() != 2) throw UserError(pw + ": " + show(pair) + " is not a pair of body names");
+      const int a = m.find_body(pair[0].get<std::string>()), b = m.find_body(pair[1].get<std::string>());
+      if (a < 0 || b < 0) throw UserError(pw + ": " + show(pair) + " names an unknown body");
+      forbid(m.bodies_[a].link, m.bodies_[b].link);
+    }
+  }
+
+  auto body_by_key = [&](const char* key, int fallback) {
+    if (!json.contains(key)) return fallback;
+    const int id = m.find_body(json[key].get<std::string>());
+    if (id < 0) throw UserError(where + ": " + key + ": \"" + json[key].get<std::string>() + "\" is not a body");
+    return id;
+  };
+  m.head_ = body_by_key("head", 0);
+  m.torso_ = body_by_key("torso", 0);
+  if (json.contains("end_effectors")) {
+    for (const Json& e : json["end_effectors"]) {
+      const int id = m.find_body(e.get<std::string>());
+      if (id < 0) throw UserError(where + ": end_effectors: \"" + e.get<std::string>() + "\" is not a body");
+      m.end_effectors_.push_back(id);
+    }
+  }
+  m.standing_ = m.neutral();
+  m.standing_(2) = number(json, "standing_root_height", 0.0, where);
+  return model;
+}
+
+int CharacterModel::find_body(const std::string& name) const {
+  for (std::size_t i = 0; i < bodies_.size(); ++i)
+    if (bodies_[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+int CharacterModel::find_link(const std::string& name) const {
+  for (std::size_t i = 0; i < links_.size(); ++i)
+    if (links_[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+Eigen::VectorXd CharacterModel::neutral() const {
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(nq_);
+  for (const Link& l : links_) {
+    if (l.joint == JointType::free) q(l.q_index + 3) = 1.0;
+    if (l.joint == JointType::spherical) q(l.q_index) = 1.0;
+  }
+  return q;
+}
+
+std::filesystem::path shipped_models_dir() {
+  if (const char* env = std::getenv("PODIUM_SIM_MODELS")) return env;
+  return PODIUM_SIM_MODELS_DIR;
+}
+
+ModelPtr load_model(const std::filesystem::path& path) {
+  return CharacterModel::from_json(base::read_json_file(path), "model " + path.filename().string());
+}
+
+ModelPtr load_shipped_model(const std::string& name) {
+  const auto path = shipped_models_dir() / (name + ".json");
+  if (!std::filesystem::exists(path)) throw UserError("sim: model \"" + name + "\" is not shipped (looked for " + path.string() + ")");
+  return load_model(path);
+}
+
+}  // namespace podium::sim

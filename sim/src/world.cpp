@@ -1,0 +1,294 @@
+// World: a CharacterModel in a btMultiBodyDynamicsWorld with terrain, contacts, joint limits and
+// motor control (torque, PD, SPD dense/MABA) applied every simulation step.
+#include "podium/sim/world.h"
+
+#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
+#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
+#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
+#include <BulletCollision/CollisionShapes/btBoxShape.h>
+#include <BulletCollision/CollisionShapes/btCapsuleShape.h>
+#include <BulletCollision/CollisionShapes/btCompoundShape.h>
+#include <BulletCollision/CollisionShapes/btSphereShape.h>
+#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
+#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
+
+#include <cmath>
+#include <string>
+
+#include "bullet_character.h"
+#include "podium/base/error.h"
+
+namespace podium::sim {
+
+namespace {
+
+// Self-collision filter: pairs of links of our character collide only if the model allows it.
+struct SelfCollisionFilter : btOverlapFilterCallback {
+  const CharacterModel* model = nullptr;
+  bool self_collision = true;
+  bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
+    if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) || !(b->m_collisionFilterGroup & a->m_collisionFilterMask)) return false;
+    auto* ca = btMultiBodyLinkCollider::upcast(static_cast<btCollisionObject*>(a->m_clientObject));
+    auto* cb = btMultiBodyLinkCollider::upcast(static_cast<btCollisionObject*>(b->m_clientObject));
+    if (ca && cb && ca->m_multiBody == cb->m_multiBody) return self_collision && model->links_collide(ca->m_link + 1, cb->m_link + 1);
+    return true;
+  }
+};
+
+std::unique_ptr<btCollisionShape> make_shape(const Geom& g) {
+  switch (g.type) {
+    case ShapeType::sphere: return std::make_unique<btSphereShape>(g.radius);
+    case ShapeType::capsule: return std::make_unique<btCapsuleShapeZ>(g.radius, 2.0 * g.half_length);
+    case ShapeType::box: return std::make_unique<btBoxShape>(to_bt(g.half_extents));
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+struct World::Bullet {
+  btDefaultCollisionConfiguration collision_config;
+  btCollisionDispatcher dispatcher{&collision_config};
+  btDbvtBroadphase broadphase;
+  btMultiBodyConstraintSolver solver;
+  SelfCollisionFilter filter;  // declared before the world, which points to it
+  std::unique_ptr<btMultiBodyDynamicsWorld> world;
+  std::unique_ptr<BulletCharacter> character;
+  std::vector<std::unique_ptr<btCollisionShape>> shapes;
+  std::vector<std::unique_ptr<btCollisionObject>> objects;  // colliders and terrain
+  std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
+  std::vector<std::vector<int>> child_body;  // per link: body of each compound child
+
+  ~Bullet() {
+    for (auto& c : limits) world->removeMultiBodyConstraint(c.get());
+    for (auto& o : objects) world->removeCollisionObject(o.get());
+    if (character) world->removeMultiBody(&character->body());
+  }
+
+  void add_static(std::unique_ptr<btCollisionShape> shape, const btTransform& pose, double friction) {
+    auto obj = std::make_unique<btCollisionObject>();
+    obj->setCollisionShape(shape.get());
+    obj->setWorldTransform(pose);
+    obj->setFriction(friction);
+    obj->setRestitution(0.0);
+    world->addCollisionObject(obj.get(), btBroadphaseProxy::StaticFilter, btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+    shapes.push_back(std::move(shape));
+    objects.push_back(std::move(obj));
+  }
+};
+
+World::World(ModelPtr model, const WorldConfig& config)
+    : model_(std::move(model)), config_(config), terrain_(config.terrain), data_(*model_), gains_(Gains::from_model(*model_)),
+      limits_(model_->nv()) {
+  const double ratio = config_.sim_hz / config_.control_hz;
+  if (!(config_.sim_hz > 0) || !(config_.control_hz > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 || ratio < 1)
+    throw base::UserError("sim: control_hz " + std::to_string(config_.control_hz) + " does not divide sim_hz " + std::to_string(config_.sim_hz) +
+                          " (need sim_hz = k · control_hz, k ≥ 1)");
+  substeps_ = static_cast<int>(std::lround(ratio));
+  data_.gravity = config_.gravity;
+  build_bullet();
+  set_state(model_->standing_pose(), Eigen::VectorXd::Zero(model_->nv()));
+}
+
+World::~World() = default;
+
+void World::build_bullet() {
+  bullet_ = std::make_unique<Bullet>();
+  Bullet& b = *bullet_;
+  b.world = std::make_unique<btMultiBodyDynamicsWorld>(&b.dispatcher, &b.broadphase, &b.solver, &b.collision_config);
+  b.world->setGravity(to_bt(config_.gravity));
+  b.filter.model = model_.get();
+  b.filter.self_collision = config_.self_collision;
+  b.world->getPairCache()->setOverlapFilterCallback(&b.filter);
+
+  // Character.
+  b.character = std::make_unique<BulletCharacter>(*model_);
+  btMultiBody& body = b.character->body();
+  body.setHasSelfCollision(config_.self_collision);
+  b.world->addMultiBody(&body);
+  const auto& links = model_->links();
+  b.child_body.resize(links.size());
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    const Link& l = links[i];
+    if (l.geoms.empty()) continue;
+    const Eigen::Quaterniond P = b.character->principal(static_cast<int>(i));
+    auto compound = std::make_unique<btCompoundShape>();
+    for (std::size_t k = 0; k < l.geoms.size(); ++k) {
+      const Geom& g = l.geoms[k];
+      auto shape = make_shape(g);
+      // Child pose in Bullet's link frame (at the COM, along principal axes).
+      const btTransform local(to_bt(Eigen::Quaterniond(P.conjugate() * g.rot)), to_bt(Eigen::Vector3d(P.conjugate() * (g.pos - l.com))));
+      compound->addChildShape(local, shape.get());
+      b.shapes.push_back(std::move(shape));
+      b.child_body[i].push_back(g.body);
+    }
+    auto collider = std::make_unique<btMultiBodyLinkCollider>(&body, static_cast<int>(i) - 1);
+    collider->setCollisionShape(compound.get());
+    collider->setFriction(config_.friction);
+    collider->setRestitution(0.0);
+    b.world->addCollisionObject(collider.get(), btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+    if (i == 0) body.setBaseCollider(collider.get());
+    else body.getLink(static_cast<int>(i) - 1).m_collider = collider.get();
+    b.shapes.push_back(std::move(compound));
+    b.objects.push_back(std::move(collider));
+  }
+  if (config_.joint_limits) {
+    for (std::size_t i = 1; i < links.size(); ++i) {
+      const Link& l = links[i];
+      if (l.joint != JointType::revolute || !(l.lower < l.upper)) continue;
+      auto c = std::make_unique<btMultiBodyJointLimitConstraint>(&body, static_cast<int>(i) - 1, l.lower, l.upper);
+      b.world->addMultiBodyConstraint(c.get());
+      b.limits.push_back(std::move(c));
+    }
+  }
+
+  // Terrain: ground plane (or slope), tiles, boxes. The character's μ times the ground's 1.0 is μ.
+  const TerrainConfig& t = config_.terrain;
+  if (t.kind == TerrainConfig::Kind::slope) {
+    const Eigen::Vector3d n(-std::sin(t.slope_rad), 0.0, std::cos(t.slope_rad));
+    b.add_static(std::make_unique<btStaticPlaneShape>(to_bt(n), 0.0), btTransform::getIdentity(), 1.0);
+  } else {
+    b.add_static(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0), btTransform::getIdentity(), 1.0);
+  }
+  if (t.kind == TerrainConfig::Kind::rough) {
+    const int n = t.tiles_per_side;
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        const double h = terrain_.tile_height(i, j);
+        if (h <= 0) continue;
+        const double cx = (i - n / 2.0 + 0.5) * t.tile_size_m, cy = (j - n / 2.0 + 0.5) * t.tile_size_m;
+        b.add_static(std::make_unique<btBoxShape>(btVector3(t.tile_size_m / 2, t.tile_size_m / 2, h / 2)),
+                     btTransform(btQuaternion::getIdentity(), btVector3(cx, cy, h / 2)), 1.0);
+      }
+    }
+  }
+  for (const BoxProp& box : t.boxes) {
+    b.add_static(std::make_unique<btBoxShape>(to_bt(box.half_extents)), btTransform(btQuaternion(btVector3(0, 0, 1), box.yaw_rad), to_bt(box.center)),
+                 box.friction);
+  }
+}
+
+void World::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  build_bullet();
+  step_count_ = 0;
+  set_state(q, qd);
+}
+
+void World::set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
+  if (q.size() != model_->nq() || qd.size() != model_->nv())
+    throw base::UserError("sim: set_state: q has " + std::to_string(q.size()) + " entries and qd " + std::to_string(qd.size()) + " but model " +
+                          model_->name() + " has nq " + std::to_string(model_->nq()) + " and nv " + std::to_string(model_->nv()));
+  bullet_->character->set_state(q, qd);
+  btAlignedObjectArray<btQuaternion> scratch_q;
+  btAlignedObjectArray<btVector3> scratch_m;
+  bullet_->character->body().updateCollisionObjectWorldTransforms(scratch_q, scratch_m);
+  bullet_->character->get_state(data_.q, data_.qd);
+  forward_kinematics(*model_, data_);
+  failure_ = StepReport{};
+}
+
+void World::set_state_world(const Eigen::VectorXd& q, const Eigen::Vector3d& root_omega_world, const Eigen::Vector3d& root_vel_world,
+                            const Eigen::VectorXd& joint_qd) {
+  if (joint_qd.size() != model_->nv() - 6)
+    throw base::UserError("sim: set_state_world: joint_qd has " + std::to_string(joint_qd.size()) + " entries, model needs nv − 6 = " +
+                          std::to_string(model_->nv() - 6));
+  const Eigen::Matrix3d R = Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized().toRotationMatrix();
+  Eigen::VectorXd qd(model_->nv());
+  qd.head<3>() = R.transpose() * root_omega_world;
+  qd.segment<3>(3) = R.transpose() * root_vel_world;
+  qd.tail(model_->nv() - 6) = joint_qd;
+  set_state(q, qd);
+}
+
+void World::set_gains(const Gains& gains) {
+  if (gains.kp.size() != model_->nv() || gains.kd.size() != model_->nv())
+    throw base::UserError("sim: gains: kp has " + std::to_string(gains.kp.size()) + " entries and kd " + std::to_string(gains.kd.size()) +
+                          " but model nv is " + std::to_string(model_->nv()));
+  gains_ = gains;
+}
+
+StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
+  if (!failure_.ok) return failure_;
+  const int expected = mode == Control::torque ? model_->nv() : model_->nq();
+  if (command.size() != expected)
+    throw base::UserError("sim: command has " + std::to_string(command.size()) + " entries but " +
+                          (mode == Control::torque ? "torque control needs nv = " : "PD control needs nq = ") + std::to_string(expected));
+  switch (mode) {
+    case Control::torque: data_.tau = command; break;
+    case Control::pd: pd_torques(*model_, data_, gains_, command); break;
+    case Control::spd_dense: stable_pd_dense(*model_, data_, gains_, command, dt_s()); break;
+    case Control::spd_maba: stable_pd_maba(*model_, data_, gains_, command, dt_s()); break;
+  }
+  if (mode == Control::torque) data_.tau.head<6>().setZero();
+  if (config_.torque_limits) {
+    limits_ = model_->torque_limits() * config_.strength;
+    const int nj = model_->nv() - 6;  // the root servo (if any) is not a motor: no limit
+    data_.tau.tail(nj) = data_.tau.tail(nj).cwiseMax(-limits_.tail(nj)).cwiseMin(limits_.tail(nj));
+  }
+  btMultiBody& body = bullet_->character->body();
+  body.clearForcesAndTorques();
+  bullet_->character->add_joint_torques(data_.tau);
+  bullet_->character->add_root_wrench(data_.q, data_.tau.head<6>());
+  bullet_->world->stepSimulation(dt_s(), 0, dt_s());
+  ++step_count_;
+  bullet_->character->get_state(data_.q, data_.qd);
+  for (int i = 0; i < model_->nv(); ++i) {
+    if (!std::isfinite(data_.qd(i))) {
+      failure_ = StepReport{false, i, step_count_};
+      return failure_;
+    }
+  }
+  forward_kinematics(*model_, data_);
+  return failure_;
+}
+
+StepReport World::control_step(Control mode, const Eigen::VectorXd& command) {
+  StepReport r;
+  for (int k = 0; k < substeps_ && r.ok; ++k) r = sim_step(mode, command);
+  return r;
+}
+
+double World::kinetic_energy() {
+  double e = 0.0;
+  Eigen::Vector3d com, com_vel;
+  center_of_mass(*model_, data_, com, com_vel);  // fills link velocities
+  for (std::size_t i = 0; i < model_->links().size(); ++i) e += 0.5 * data_.links[i].v.dot(data_.links[i].I_body * data_.links[i].v);
+  return e;
+}
+
+Observation World::observe() {
+  Observation o;
+  const CharacterModel& m = *model_;
+  const Eigen::Vector3d head = body_point(m, data_, m.head_body(), Eigen::Vector3d::Zero());
+  o.head_height_m = head.z() - terrain_.height(head.x(), head.y());
+  center_of_mass(m, data_, o.com, o.com_vel);
+  const Eigen::Matrix3d& Rt = data_.links[m.bodies()[m.torso_body()].link].R;
+  o.torso_up = Rt.row(2).transpose();
+  o.root_quat = data_.q.segment<4>(3);
+  const LinkData& root = data_.links[0];
+  for (int e : m.end_effector_bodies()) o.end_effectors.push_back(root.R.transpose() * (body_point(m, data_, e, Eigen::Vector3d::Zero()) - root.p));
+  // Contacts from Bullet's manifolds, mapped through compound child indices to bodies.
+  o.body_contacts.assign(m.bodies().size(), 0);
+  btDispatcher* dispatcher = bullet_->world->getDispatcher();
+  auto mark = [&](const btCollisionObject* obj, int child) {
+    const auto* col = btMultiBodyLinkCollider::upcast(obj);
+    if (!col || col->m_multiBody != &bullet_->character->body()) return;
+    const auto& owners = bullet_->child_body[col->m_link + 1];
+    if (child >= 0 && child < static_cast<int>(owners.size())) o.body_contacts[owners[child]] = 1;
+  };
+  for (int k = 0; k < dispatcher->getNumManifolds(); ++k) {
+    const btPersistentManifold* mf = dispatcher->getManifoldByIndexInternal(k);
+    for (int p = 0; p < mf->getNumContacts(); ++p) {
+      const btManifoldPoint& pt = mf->getContactPoint(p);
+      if (pt.getDistance() > 1e-3) continue;
+      mark(mf->getBody0(), pt.m_index0);
+      mark(mf->getBody1(), pt.m_index1);
+    }
+  }
+  return o;
+}
+
+}  // namespace podium::sim

@@ -1,0 +1,70 @@
+// Model files: structure of the shipped characters and error messages for bad input.
+#include <gtest/gtest.h>
+
+#include "podium/base/error.h"
+#include "podium/sim/model.h"
+
+namespace podium::sim {
+namespace {
+
+using base::Json;
+
+Json two_bodies(const Json& joint) {
+  return Json{{"name", "t"},
+              {"bodies",
+               {{{"name", "a"}, {"geoms", {{{"type", "sphere"}, {"radius", 0.1}}}}},
+                {{"name", "b"}, {"parent", "a"}, {"pos", {0, 0, -0.3}}, {"geoms", {{{"type", "sphere"}, {"radius", 0.1}}}}, {"joints", {joint}}}}}};
+}
+
+TEST(Model, Humanoid21HasTable2JointsAndMuJoCoLayout) {
+  const ModelPtr m = load_shipped_model("humanoid21");
+  EXPECT_EQ(m->links().size(), 22u);  // root + 21 hinges
+  EXPECT_EQ(m->bodies().size(), 16u);  // humanoid.xml bodies
+  const Link& knee = m->links()[m->find_link("knee_right")];
+  EXPECT_EQ(knee.torque_limit_nm, 80.0);
+  EXPECT_NEAR(knee.axis.y(), -1.0, 1e-12);
+  EXPECT_EQ(knee.lower, -2.79);
+  const Link& ankle = m->links()[m->find_link("ankle_x_right")];
+  EXPECT_NEAR(ankle.axis.dot(Eigen::Vector3d(1, 0, 0.5).normalized()), 1.0, 1e-12);
+  // Excluded pair (humanoid.xml <contact><exclude>) and parent/child pairs do not collide.
+  const int waist = m->bodies()[m->find_body("waist_lower")].link, thigh = m->bodies()[m->find_body("thigh_right")].link;
+  EXPECT_FALSE(m->links_collide(waist, thigh));
+  const int shin = m->bodies()[m->find_body("shin_right")].link;
+  EXPECT_FALSE(m->links_collide(thigh, shin));
+  EXPECT_TRUE(m->links_collide(m->bodies()[m->find_body("hand_left")].link, m->bodies()[m->find_body("foot_right")].link));
+}
+
+TEST(Model, ChainsHaveTheThesisDofCounts) {
+  EXPECT_EQ(make_chain(11)->nv(), 36);
+  EXPECT_EQ(make_chain(23)->nv(), 72);
+  EXPECT_EQ(make_chain(64)->nv(), 195);
+  EXPECT_EQ(make_chain(50, JointType::revolute)->nv(), 55);
+}
+
+TEST(Model, ErrorsNameThePathValueAndRule) {
+  Json bad_axis = two_bodies({{"name", "j"}, {"type", "revolute"}, {"axis", {0, 0, 0}}, {"torque_limit", 10}});
+  EXPECT_THROW(
+      {
+        try {
+          CharacterModel::from_json(bad_axis, "model t.json");
+        } catch (const base::UserError& e) {
+          EXPECT_STREQ(e.what(), "model t.json: bodies[1].joints[0].axis: [0,0,0] is not a direction (zero length)");
+          throw;
+        }
+      },
+      base::UserError);
+  Json bad_parent = two_bodies({{"name", "j"}, {"type", "spherical"}, {"torque_limit", 10}});
+  bad_parent["bodies"][1]["parent"] = "nope";
+  EXPECT_THROW(CharacterModel::from_json(bad_parent, "m"), base::UserError);
+  Json bad_range = two_bodies({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"range", {1, -1}}, {"torque_limit", 10}});
+  try {
+    CharacterModel::from_json(bad_range, "m");
+    FAIL() << "no error for an inverted range";
+  } catch (const base::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies[1].joints[0].range: [1,-1] is not [lower, upper]"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(load_shipped_model("humanoid99"), base::UserError);
+}
+
+}  // namespace
+}  // namespace podium::sim

@@ -1,0 +1,217 @@
+// Stepping, control, stability, starts and observations on real Bullet worlds.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <thread>
+#include <vector>
+
+#include "podium/base/error.h"
+#include "podium/sim/starts.h"
+#include "podium/sim/world.h"
+
+namespace podium::sim {
+namespace {
+
+// Holds the standing pose for 10 s at Δt = 1/60 s; returns the lowest head height seen.
+double hold_standing(Control control, double* final_height) {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  WorldConfig config;
+  config.sim_hz = 60.0;
+  config.control_hz = 60.0;
+  World world(model, config);
+  // Model gains (seed App. D: kp = torque limit, kd = kp/10) on the joints, and the thesis's
+  // root servo (§2.4.1: kp = 20000, kd = 2000): with light feet, no ankle spring can balance
+  // the body at 60 Hz (effective ankle stiffness ≤ I_foot/Δt², see sim/README.md).
+  Gains gains = Gains::from_model(*model);
+  gains.kp.head<6>().setConstant(20000.0);
+  gains.kd.head<6>().setConstant(2000.0);
+  world.set_gains(gains);
+  double lowest = world.observe().head_height_m;
+  for (int k = 0; k < 600; ++k) {
+    if (!world.control_step(control, model->standing_pose()).ok) return -1e9;
+    lowest = std::min(lowest, world.observe().head_height_m);
+  }
+  *final_height = world.observe().head_height_m;
+  return lowest;
+}
+
+TEST(SpdStability, StablePdHoldsStandingAt60HzWherePlainPdDiverges) {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  World world(model, WorldConfig{});
+  const double standing = world.observe().head_height_m;
+  double final_spd = 0, final_pd = 0;
+  const double spd = hold_standing(Control::spd_maba, &final_spd);
+  const double pd = hold_standing(Control::pd, &final_pd);
+  std::printf("standing head %.3f m; lowest head over 10 s at 60 Hz: SPD %.3f m, PD %.3g m (final %.3g m)\n", standing, spd, pd, final_pd);
+  EXPECT_GT(spd, 0.9 * standing);
+  EXPECT_LT(pd, 0.9 * standing);
+}
+
+// Unassisted balance needs stiff ankles, hence low damping (kd = kp/100) and a high rate.
+TEST(SpdStability, StandsUnassistedAt800Hz) {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  WorldConfig config;
+  config.control_hz = 800;
+  config.torque_limits = false;
+  World world(model, config);
+  Gains gains = Gains::from_model(*model);
+  gains.kp *= 20.0;
+  gains.kd = gains.kp / 100.0;
+  world.set_gains(gains);
+  const double standing = world.observe().head_height_m;
+  double lowest = standing;
+  for (int k = 0; k < 8000; ++k) {
+    ASSERT_TRUE(world.control_step(Control::spd_maba, model->standing_pose()).ok);
+    lowest = std::min(lowest, world.observe().head_height_m);
+  }
+  EXPECT_GT(lowest, 0.95 * standing);
+}
+
+TEST(SpdStability, DenseAndMabaGiveTheSameTrajectory) {
+  const ModelPtr model = load_shipped_model("humanoid34");
+  WorldConfig config;
+  config.sim_hz = 600;
+  config.control_hz = 30;
+  config.self_collision = false;
+  World a(model, config), b(model, config);
+  base::Rng rng(3);
+  // In the air, no self-collision: contacts would amplify round-off differences chaotically.
+  const Eigen::VectorXd q0 = random_pose(*model, rng, 100.0, 0.3);
+  a.set_state(q0, Eigen::VectorXd::Zero(model->nv()));
+  b.set_state(q0, Eigen::VectorXd::Zero(model->nv()));
+  const Eigen::VectorXd target = random_pose(*model, rng, 1.0, 0.5);
+  for (int k = 0; k < 15; ++k) {
+    ASSERT_TRUE(a.control_step(Control::spd_dense, target).ok);
+    ASSERT_TRUE(b.control_step(Control::spd_maba, target).ok);
+  }
+  EXPECT_LE((a.data().q - b.data().q).lpNorm<Eigen::Infinity>(), 1e-6);
+}
+
+TEST(RagdollStart, EndsLyingDownFor100Seeds) {
+  // Two rollout threads share one model, each with its own World (the intended threading).
+  const ModelPtr model = load_shipped_model("humanoid21");
+  struct Result {
+    double head = 0, energy = 0;
+    bool ok = true, finite = true;
+  };
+  std::vector<Result> results(100);
+  auto run = [&](int first) {
+    World world(model, WorldConfig{});  // get-up seed: 800 Hz / 40 Hz, μ = 1
+    for (int seed = first; seed < 100; seed += 2) {
+      base::Rng rng(static_cast<std::uint64_t>(seed));
+      Result& r = results[seed];
+      r.ok = ragdoll_start(world, rng).ok;
+      r.head = world.observe().head_height_m;
+      r.energy = world.kinetic_energy();
+      r.finite = world.data().q.allFinite() && world.data().qd.allFinite();
+    }
+  };
+  std::thread other(run, 1);
+  run(0);
+  other.join();
+  double worst_head = 0, worst_energy = 0;
+  for (int seed = 0; seed < 100; ++seed) {
+    const Result& r = results[seed];
+    EXPECT_TRUE(r.ok && r.finite) << "seed " << seed;
+    EXPECT_LT(r.head, 0.5) << "seed " << seed;
+    // Bounded energy: far below the potential energy of the 1.5 m drop (m g h ≈ 600 J).
+    EXPECT_LT(r.energy, model->total_mass() * 9.81 * 1.5) << "seed " << seed;
+    worst_head = std::max(worst_head, r.head);
+    worst_energy = std::max(worst_energy, r.energy);
+  }
+  std::printf("100 ragdoll starts: highest final head %.3f m, largest final kinetic energy %.2f J\n", worst_head, worst_energy);
+}
+
+TEST(World, RolloutDependsOnlyOnItsSeedNotOnWorldHistory) {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  World fresh(model, WorldConfig{}), used(model, WorldConfig{});
+  base::Rng warmup(3);
+  ragdoll_start(used, warmup);
+  base::Rng a(5), b(5);
+  ragdoll_start(fresh, a);
+  ragdoll_start(used, b);
+  EXPECT_EQ(fresh.data().q, used.data().q);
+  EXPECT_EQ(fresh.data().qd, used.data().qd);
+}
+
+TEST(World, SetStateWorldTakesWorldFrameRootVelocities) {
+  const ModelPtr model = load_shipped_model("humanoid34");
+  World world(model, WorldConfig{});
+  Eigen::VectorXd q = model->standing_pose();
+  const Eigen::Quaterniond yaw(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  q.segment<4>(3) << yaw.w(), yaw.x(), yaw.y(), yaw.z();
+  world.set_state_world(q, Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(2, 0, 0), Eigen::VectorXd::Zero(model->nv() - 6));
+  // Root frame is yawed 90°: world +x is root −y.
+  EXPECT_NEAR(world.data().qd(4), -2.0, 1e-12);
+  EXPECT_NEAR(world.data().qd(2), 1.0, 1e-12);
+  EXPECT_NEAR(world.observe().com_vel.x(), 2.0, 0.5);  // COM off the root axis adds ω × r
+}
+
+TEST(World, DivergenceIsReportedWithDofAndStep) {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  World world(model, WorldConfig{});
+  Eigen::VectorXd qd = Eigen::VectorXd::Zero(model->nv());
+  qd(10) = std::numeric_limits<double>::quiet_NaN();
+  world.set_state(model->standing_pose(), qd);
+  const StepReport r = world.control_step(Control::spd_maba, model->standing_pose());
+  EXPECT_FALSE(r.ok);
+  EXPECT_GE(r.bad_dof, 0);
+  EXPECT_EQ(r.bad_step, 1);
+  EXPECT_FALSE(world.control_step(Control::torque, Eigen::VectorXd::Zero(model->nv())).ok);  // stays failed until reset
+  world.reset(model->standing_pose(), Eigen::VectorXd::Zero(model->nv()));
+  EXPECT_TRUE(world.control_step(Control::torque, Eigen::VectorXd::Zero(model->nv())).ok);
+}
+
+TEST(World, StrengthMultiplierScalesTorqueLimits) {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  World world(model, WorldConfig{});
+  Eigen::VectorXd tau = Eigen::VectorXd::Constant(model->nv(), 1e4);
+  world.set_strength(0.5);
+  world.sim_step(Control::torque, tau);
+  EXPECT_NEAR(world.data().tau(6 + 5), 0.5 * 120.0, 1e-12);  // hip_y_right: 120 N·m in Table 2
+  EXPECT_EQ(world.data().tau.head<6>().norm(), 0.0);
+}
+
+TEST(World, JointLimitsHold) {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  World world(model, WorldConfig{});
+  const int knee = model->find_link("knee_right");
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(model->nv());
+  tau(model->links()[knee].v_index) = 80.0;  // push the knee past its 0.03 rad upper limit
+  for (int k = 0; k < 20; ++k) world.control_step(Control::torque, tau);
+  EXPECT_LT(world.data().q(model->links()[knee].q_index), 0.03 + 0.02);
+}
+
+TEST(World, RejectsControlRateThatDoesNotDivide) {
+  WorldConfig config;
+  config.sim_hz = 800;
+  config.control_hz = 30;
+  const ModelPtr model = load_shipped_model("humanoid21");
+  EXPECT_THROW({ World world(model, config); }, base::UserError);
+}
+
+TEST(World, SetStateRoundTripsAndObservesStanding) {
+  const ModelPtr model = load_shipped_model("humanoid34");
+  World world(model, WorldConfig{});
+  base::Rng rng(9);
+  const Eigen::VectorXd q = random_pose(*model, rng, 2.0, 0.5);
+  Eigen::VectorXd qd = Eigen::VectorXd::Zero(model->nv());
+  for (int i = 0; i < model->nv(); ++i) qd(i) = rng.normal();
+  world.set_state(q, qd);
+  EXPECT_LE((world.data().qd - qd).lpNorm<Eigen::Infinity>(), 1e-12);
+  EXPECT_LE((world.data().q.head<3>() - q.head<3>()).norm(), 1e-12);
+  standing_start(world);
+  const Observation o = world.observe();
+  EXPECT_NEAR(o.head_height_m, 1.58, 0.03);  // head centre; top of head at ~1.70 m
+  EXPECT_NEAR(o.torso_up.z(), 1.0, 1e-9);
+  EXPECT_EQ(o.end_effectors.size(), 4u);
+  world.control_step(Control::spd_maba, model->standing_pose());
+  const Observation after = world.observe();
+  EXPECT_TRUE(after.body_contacts[model->find_body("right_foot")]);
+  EXPECT_FALSE(after.body_contacts[model->find_body("head")]);
+}
+
+}  // namespace
+}  // namespace podium::sim

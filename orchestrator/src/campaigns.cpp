@@ -1,5 +1,6 @@
 #include "podium/orchestrator/campaigns.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "podium/base/error.h"
@@ -47,6 +48,19 @@ std::int64_t submit_campaign(store::Store& store, const Json& spec_json, const s
     } catch (const UserError& e) {
       throw UserError(path + ".config: " + e.what());
     }
+    // The one definition of "distinct" for this stage: the spec's threshold, else the task's, else
+    // 5% of the feature box's diagonal.
+    double threshold = s.strategy_threshold;
+    if (threshold <= 0) threshold = description.value("strategy_threshold", 0.0);
+    if (threshold <= 0) {
+      double diagonal = 0;
+      for (const auto& f : description.at("features")) {
+        const double range = f.at("high").get<double>() - f.at("low").get<double>();
+        diagonal += range * range;
+      }
+      threshold = 0.05 * std::sqrt(diagonal);
+    }
+    description["strategy_threshold"] = threshold;
     // Build the search once so its config errors are reported now, not when the stage starts.
     search::SearchSetup setup;
     setup.space = search::Space::from_json(description.at("params"), path + " (task params)");

@@ -20,6 +20,7 @@
 #include "podium/orchestrator/campaigns.h"
 #include "podium/orchestrator/spec.h"
 #include "podium/search/search.h"
+#include "podium/search/strategies.h"
 #include "podium/store/store.h"
 #include "progress.h"
 
@@ -42,10 +43,26 @@ struct PendingTrial {
   int attempts = 0;  // attempts already made
 };
 
+// Live strategy ids: a finished trial joins the first strategy whose leader lies within the
+// threshold, else founds one (search::group_strategies' rule, applied in completion order). When
+// the stage ends, every trial is regrouped in trial order, the one definition the store keeps.
+struct StrategyTracker {
+  std::vector<search::Feature> features;
+  double threshold = 0;
+  std::vector<std::vector<double>> leaders;
+  std::int64_t assign(const std::vector<double>& f) {
+    for (std::size_t i = 0; i < leaders.size(); ++i)
+      if (search::feature_distance(features, leaders[i], f) <= threshold) return static_cast<std::int64_t>(i);
+    leaders.push_back(f);
+    return static_cast<std::int64_t>(leaders.size()) - 1;
+  }
+};
+
 struct StageRun {
   store::StageRecord rec;
   std::unique_ptr<search::Search> search;
   std::vector<std::string> param_names, feature_names;
+  StrategyTracker strategies;
   std::deque<PendingTrial> ready;
   std::int64_t asked = 0;
   int in_flight = 0;
@@ -244,8 +261,11 @@ class Scheduler {
     for (const auto& f : setup.features) s->feature_names.push_back(f.name);
     s->search = search::make_search(s->rec.algorithm, setup, path + ".search");
     if (s->rec.search_state) s->search->load(*s->rec.search_state);
+    s->strategies.features = setup.features;
+    s->strategies.threshold = s->rec.description.at("strategy_threshold").get<double>();
     for (const auto& t : store_.trials(s->rec.id)) {
       ++s->asked;
+      if (t.state == "done") s->strategies.assign(t.features);
       if (t.state == "pending" || t.state == "interrupted")
         s->ready.push_back({t.id, t.index, t.params, t.context, t.seed, t.attempts});
     }
@@ -387,6 +407,7 @@ class Scheduler {
       store_.complete_trial(f.trial.id, obs.objectives, s.feature_names, obs.features, e.result.value("info", Json::object()),
                             artifacts);
       s.search->tell({obs});
+      store_.set_trial_strategy(f.trial.id, s.strategies.assign(obs.features));
       c.counter.record_finished();
       emit(c, "trial_done", {{"stage", s.rec.name}, {"trial", f.trial.index}, {"objectives", obs.objectives}}, false);
     } else {
@@ -430,6 +451,7 @@ class Scheduler {
                  (c.stage->ready.empty() || c.stage->out_of_time())) {
         StageRun& s = *c.stage;
         for (const auto& t : s.ready) store_.set_trial_state(t.id, "cancelled", "stage wall-time budget reached");
+        regroup_strategies(s);
         store_.save_search_state(s.rec.id, s.search->save(), s.elapsed_s());
         store_.set_stage_state(s.rec.id, "done");
         emit(c, "stage_done", {{"stage", s.rec.name}}, true);
@@ -451,6 +473,17 @@ class Scheduler {
         ++it;
       }
     }
+  }
+
+  void regroup_strategies(const StageRun& s) {
+    std::vector<store::TrialRecord> done;
+    for (auto& t : store_.trials(s.rec.id))
+      if (t.state == "done") done.push_back(std::move(t));
+    std::vector<std::vector<double>> features;
+    for (const auto& t : done) features.push_back(t.features);
+    const auto ids = search::group_strategies(s.strategies.features, features, s.strategies.threshold);
+    for (std::size_t i = 0; i < done.size(); ++i)
+      if (done[i].strategy != ids[i]) store_.set_trial_strategy(done[i].id, ids[i]);
   }
 
   // Streams metrics of running attempts and saves changed search states.

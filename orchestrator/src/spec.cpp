@@ -85,6 +85,7 @@ StageSpec parse_stage(const Json& j, const std::string& path, const std::string&
   s.search_config = search.object("config");
   search.reject_unknown();
 
+  s.strategy_threshold = f.positive("strategy_threshold", 0.0);
   Fields budget(f.get("budget"), f.at("budget"), source);
   s.budget_trials = budget.integer("trials", true, 0, 1);
   s.budget_seconds = budget.positive("wall_time_s", 0.0);

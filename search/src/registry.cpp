@@ -1,15 +1,23 @@
 // The one place that maps an algorithm name in a campaign spec to its implementation.
 #include "podium/base/error.h"
 #include "podium/search/search.h"
+#include "bds.h"
+#include "cmaes.h"
+#include "novel_policy_seeking.h"
+#include "novelty_search.h"
 #include "random_search.h"
 
 namespace podium::search {
 
-std::vector<std::string> algorithm_names() { return {"random"}; }
+std::vector<std::string> algorithm_names() { return {"random", "bds", "novelty", "novel_policy", "cmaes"}; }
 
 std::unique_ptr<Search> make_search(const std::string& algorithm, const SearchSetup& setup,
                                     const std::string& json_path) {
   if (algorithm == "random") return std::make_unique<RandomSearch>(setup, json_path);
+  if (algorithm == "novelty") return std::make_unique<NoveltySearch>(setup, json_path);
+  if (algorithm == "novel_policy") return std::make_unique<NovelPolicySeeking>(setup, json_path);
+  if (algorithm == "cmaes") return std::make_unique<Cmaes>(setup, json_path);
+  if (algorithm == "bds") return std::make_unique<BayesianDiversitySearch>(setup, json_path);
   std::string known;
   for (const auto& n : algorithm_names()) known += (known.empty() ? "" : ", ") + n;
   throw base::UserError(json_path + ".algorithm: unknown algorithm \"" + algorithm + "\" (known: " + known + ")");

@@ -99,6 +99,7 @@ class LandscapeTask final : public plugins::Task {
             {"features", features},
             {"metrics", {{{"name", "trace"}, {"description", "a synthetic learning curve ending at the objective"}}}},
             {"objectives", {"objective"}},
+            {"strategy_threshold", 0.02},  // plateau values are constant: any two strategies differ more
             {"presets",
              {{"smoke", {{"dim", 3}, {"metric_points", 5}}},
               {"quick", {{"dim", 3}, {"metric_points", 50}, {"sleep_s", 0.05}}},

@@ -63,14 +63,20 @@ TEST(Cli, Runs200TrialCampaignEndToEnd) {
 
   const auto rows = export_json(dir, id);
   ASSERT_EQ(rows.size(), 200u);
-  std::set<std::int64_t> indices;
+  std::set<std::int64_t> indices, strategies;
   for (const auto& row : rows) {
     EXPECT_EQ(row["state"], "done");
+    ASSERT_TRUE(row["strategy"].is_number()) << row;
+    strategies.insert(row["strategy"].get<std::int64_t>());
     EXPECT_EQ(row["params"].size(), 3u);
     EXPECT_EQ(row["features"].size(), 2u);
     indices.insert(row["trial"].get<std::int64_t>());
   }
   EXPECT_EQ(indices.size(), 200u);
+  // Strategies are numbered densely in trial order; the basins landscape has several.
+  EXPECT_GE(strategies.size(), 2u);
+  EXPECT_EQ(*strategies.rbegin(), static_cast<std::int64_t>(strategies.size()) - 1);
+  EXPECT_EQ(rows[0]["strategy"], 0);
 
   auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
   const auto trials = store->campaign_trials(std::stoll(id));

@@ -22,6 +22,7 @@ struct StageSpec {
   std::int64_t budget_trials = 0;
   double budget_seconds = 0.0;       ///< 0 = no wall-time budget
   Json inputs = nullptr;             ///< {"stage": name, "select": "all"|"best"} or null
+  double strategy_threshold = 0.0;   ///< feature distance within which trials are one strategy; 0 = the task's default
 };
 
 /// Where trials run: "local" (worker processes on this machine) or "slurm" (jobs on a cluster;

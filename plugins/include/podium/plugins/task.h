@@ -11,6 +11,8 @@
 ///    "features": [{"name", "low", "high", "metric": "euclidean"|"angular", "unit"?}],
 ///    "metrics":  [{"name", "unit"?, "description"?}],
 ///    "objectives": ["name", ...],        // objectives[0] is the primary one
+///    "strategy_threshold": 0.1,          // optional: feature distance within which two trials
+///                                        // are the same strategy (a spec may override it)
 ///    "presets":  {"smoke": {config}, "quick": {config}, "paper": {config}},
 ///    "config_defaults": {config}}         // every config key the task accepts, with its default
 #include <atomic>

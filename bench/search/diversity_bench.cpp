@@ -1,0 +1,170 @@
+// Diversity benchmark (issue 5 acceptance): distinct strategies found after 10, 20 and 50
+// evaluations by BDS, random and novelty search on the seeded landscapes of tasks/landscape
+// (family "plateaus" = issue family (a), "voronoi" = family (b)), over L landscapes × S seeds.
+// Strategies are counted with search/strategies.h (the stored definition) at --threshold.
+// Bars: BDS never below random beyond noise (paired mean difference > −2 standard errors) on either
+// family at any budget, and BDS ≥ 1.2× random at 20 evaluations on "plateaus".
+//
+// Usage: search_diversity_bench [--landscapes 20] [--seeds 10] [--dim 3] [--regions 6]
+//          [--threshold 0.05] [--batch 1] [--threads 1] [--bds-config '{"n_exp": 3}'] [--novelty-config '{}']
+//          [--families plateaus,voronoi] [--algorithms bds,random,novelty]
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "landscape_model.h"
+#include "podium/search/search.h"
+#include "podium/search/strategies.h"
+
+using podium::search::Json;
+
+namespace {
+const std::vector<int> kBudgets = {10, 20, 50};
+
+std::vector<std::string> split(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string item; std::getline(in, item, ',');) out.push_back(item);
+  return out;
+}
+
+struct Options {
+  int landscapes = 20, seeds = 10, dim = 3, regions = 6, batch = 1, threads = 1;
+  double threshold = 0.05;
+  Json bds_config = Json::object(), novelty_config = Json::object();
+  std::vector<std::string> families = {"plateaus", "voronoi"}, algorithms = {"bds", "random", "novelty"};
+};
+
+// Distinct strategies after each budget for one (algorithm, landscape, seed) run.
+std::vector<int> run(const Options& o, const std::string& family, const std::string& algorithm, int landscape, int seed) {
+  const podium::tasks::landscape::LandscapeModel model({family, o.dim, static_cast<std::uint64_t>(landscape), o.regions});
+  podium::search::SearchSetup setup;
+  Json space = Json::array();
+  for (int i = 0; i < o.dim; ++i) space.push_back({{"name", "x" + std::to_string(i)}, {"low", 0.0}, {"high", 1.0}});
+  setup.space = podium::search::Space::from_json(space, "space");
+  setup.features = podium::search::Feature::list_from_json(
+      Json::parse(R"([{"name": "f0", "low": 0, "high": 1}, {"name": "f1", "low": 0, "high": 1}])"), "features");
+  if (algorithm == "bds") setup.config = o.bds_config;
+  if (algorithm == "novelty") setup.config = o.novelty_config;
+  setup.seed = 1000003ull * static_cast<std::uint64_t>(landscape) + static_cast<std::uint64_t>(seed);
+  auto search = podium::search::make_search(algorithm, setup);
+  std::vector<std::vector<double>> found;
+  while (static_cast<int>(found.size()) < kBudgets.back()) {
+    const auto proposals = search->ask(static_cast<std::size_t>(std::min<int>(o.batch, kBudgets.back() - static_cast<int>(found.size()))));
+    std::vector<podium::search::Observation> observations;
+    for (const auto& p : proposals) {
+      observations.push_back({p.id, true, {model.objective(p.x)}, model.feature(p.x)});
+      found.push_back(observations.back().features);
+    }
+    search->tell(observations);
+  }
+  std::vector<int> counts;
+  for (int b : kBudgets)
+    counts.push_back(podium::search::count_strategies(setup.features, {found.begin(), found.begin() + b}, o.threshold));
+  return counts;
+}
+
+struct Stat {
+  double mean, se;
+};
+Stat stat(const std::vector<double>& v) {
+  double m = 0;
+  for (double x : v) m += x;
+  m /= static_cast<double>(v.size());
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return {m, std::sqrt(s / static_cast<double>(v.size() - 1) / static_cast<double>(v.size()))};
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string key = argv[i], value = argv[i + 1];
+    if (key == "--landscapes") o.landscapes = std::stoi(value);
+    else if (key == "--seeds") o.seeds = std::stoi(value);
+    else if (key == "--dim") o.dim = std::stoi(value);
+    else if (key == "--regions") o.regions = std::stoi(value);
+    else if (key == "--threshold") o.threshold = std::stod(value);
+    else if (key == "--batch") o.batch = std::stoi(value);
+    else if (key == "--threads") o.threads = std::stoi(value);
+    else if (key == "--bds-config") o.bds_config = Json::parse(value);
+    else if (key == "--novelty-config") o.novelty_config = Json::parse(value);
+    else if (key == "--families") o.families = split(value);
+    else if (key == "--algorithms") o.algorithms = split(value);
+    else {
+      std::fprintf(stderr, "unknown option %s\n", key.c_str());
+      return 2;
+    }
+  }
+  std::printf("landscapes %d x seeds %d, dim %d, regions %d, threshold %.3g, batch %d, bds config %s, novelty config %s\n",
+              o.landscapes, o.seeds, o.dim, o.regions, o.threshold, o.batch, o.bds_config.dump().c_str(),
+              o.novelty_config.dump().c_str());
+  // results[family][algorithm][run][budget]
+  std::map<std::string, std::map<std::string, std::vector<std::vector<int>>>> results;
+  std::vector<std::tuple<std::string, std::string, int, int>> jobs;
+  for (const auto& f : o.families)
+    for (const auto& a : o.algorithms) {
+      results[f][a].resize(static_cast<std::size_t>(o.landscapes * o.seeds));
+      for (int l = 0; l < o.landscapes; ++l)
+        for (int s = 0; s < o.seeds; ++s) jobs.emplace_back(f, a, l + 1, s);
+    }
+  std::mutex mutex;
+  std::size_t next = 0;
+  std::vector<std::thread> workers;
+  for (int t = 0; t < o.threads; ++t)
+    workers.emplace_back([&] {
+      for (;;) {
+        std::size_t j;
+        {
+          std::lock_guard lock(mutex);
+          if (next == jobs.size()) return;
+          j = next++;
+        }
+        const auto& [f, a, l, s] = jobs[j];
+        auto counts = run(o, f, a, l, s);
+        std::lock_guard lock(mutex);
+        results[f][a][static_cast<std::size_t>((l - 1) * o.seeds + s)] = std::move(counts);
+      }
+    });
+  for (auto& w : workers) w.join();
+
+  bool pass = true;
+  for (const auto& f : o.families) {
+    std::printf("\nfamily %s: distinct strategies, mean ± standard error over %d runs\n", f.c_str(), o.landscapes * o.seeds);
+    for (const auto& a : o.algorithms) {
+      std::printf("  %-8s", a.c_str());
+      for (std::size_t b = 0; b < kBudgets.size(); ++b) {
+        std::vector<double> v;
+        for (const auto& r : results[f][a]) v.push_back(r[b]);
+        const Stat st = stat(v);
+        std::printf("  @%d: %5.2f ± %.2f", kBudgets[b], st.mean, st.se);
+      }
+      std::printf("\n");
+    }
+    if (!results[f].count("bds") || !results[f].count("random")) continue;
+    for (std::size_t b = 0; b < kBudgets.size(); ++b) {
+      std::vector<double> diff, bds, rnd;
+      for (std::size_t r = 0; r < results[f]["bds"].size(); ++r) {
+        diff.push_back(results[f]["bds"][r][b] - results[f]["random"][r][b]);
+        bds.push_back(results[f]["bds"][r][b]);
+        rnd.push_back(results[f]["random"][r][b]);
+      }
+      const Stat d = stat(diff);
+      const double ratio = stat(bds).mean / stat(rnd).mean;
+      const bool not_below = d.mean >= -2.0 * d.se;
+      const bool ratio_ok = !(f == "plateaus" && kBudgets[b] == 20) || ratio >= 1.2;
+      pass = pass && not_below && ratio_ok;
+      std::printf("  bds vs random @%d: ratio %.3f, paired difference %+.2f ± %.2f%s%s\n", kBudgets[b], ratio, d.mean, d.se,
+                  not_below ? "" : "  FAIL (below random beyond noise)",
+                  (f == "plateaus" && kBudgets[b] == 20) ? (ratio_ok ? "  (bar >= 1.2: PASS)" : "  (bar >= 1.2: FAIL)") : "");
+    }
+  }
+  std::printf("\n%s\n", pass ? "PASS" : "FAIL");
+  return pass ? 0 : 1;
+}

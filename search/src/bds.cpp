@@ -1,0 +1,380 @@
+#include "bds.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <nlopt.hpp>
+
+#include "config_reader.h"
+#include "podium/base/error.h"
+#include "podium/search/strategies.h"
+
+namespace podium::search {
+
+using Eigen::MatrixXd;
+using Eigen::VectorXd;
+
+BdsParams BdsParams::from_json(const Json& config, const std::string& path) {
+  ConfigReader r(config, path);
+  BdsParams p;
+  p.initial_samples = r.integer("initial_samples", p.initial_samples, 1, 100000);
+  p.n_exp = r.integer("n_exp", p.n_exp, 0, 1000);
+  p.n_opt = r.integer("n_opt", p.n_opt, 0, 1000);
+  if (p.n_exp + p.n_opt == 0) throw base::UserError(path + ": n_exp and n_opt are both 0; one must be >= 1");
+  p.mc_samples = r.integer("mc_samples", p.mc_samples, 1, 100000);
+  p.explore_candidates = r.integer("explore_candidates", p.explore_candidates, 1, 1000000);
+  p.explore_starts = r.integer("explore_starts", p.explore_starts, 1, 1000);
+  p.direct_evals = r.integer("direct_evals", p.direct_evals, 10, 10000000);
+  p.fit_starts = r.integer("fit_starts", p.fit_starts, 0, 1000);
+  p.acquisition = r.choice("acquisition", p.acquisition, {"expected_distance", "capped_distance", "new_strategy"});
+  p.length_scale_min = r.number("length_scale_min", p.length_scale_min, 1e-6, 1e6);
+  p.length_scale_max = r.number("length_scale_max", p.length_scale_max, p.length_scale_min, 1e6);
+  p.noise_min = r.number("noise_min", p.noise_min, 1e-9, 0.5);
+  p.strategy_threshold = r.number("strategy_threshold", p.strategy_threshold, 0.0, 1e300);
+  p.snap = r.boolean("snap", p.snap);
+  r.finish();
+  return p;
+}
+
+BayesianDiversitySearch::BayesianDiversitySearch(const SearchSetup& setup, const std::string& json_path)
+    : space_(setup.space),
+      features_(setup.features),
+      params_(BdsParams::from_json(setup.config, json_path + ".config")),
+      rng_(setup.seed) {
+  if (space_.dim() == 0) throw base::UserError(json_path + ": bds needs a parameter space with at least one parameter");
+  if (features_.empty()) throw base::UserError(json_path + ": bds needs the task to declare at least one feature");
+  for (const auto& f : features_)
+    if (!(f.low < f.high))
+      throw base::UserError(json_path + ": feature \"" + f.name + "\" has an empty range [" + std::to_string(f.low) +
+                            ", " + std::to_string(f.high) + "]; bds scales features by it");
+  bounds_.log_length_low = std::log(params_.length_scale_min);
+  bounds_.log_length_high = std::log(params_.length_scale_max);
+  bounds_.log_noise_low = std::log(params_.noise_min);
+  const GaussianProcess prototype(static_cast<int>(space_.dim()), 0.5);
+  theta_.assign(features_.size(), prototype.default_theta());
+}
+
+std::vector<double> BayesianDiversitySearch::to_params(const VectorXd& u) const {
+  std::vector<double> x(space_.dim());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const auto& p = space_.params[i];
+    x[i] = std::clamp(p.low + u[static_cast<Eigen::Index>(i)] * (p.high - p.low), p.low, p.high);
+    if (p.integer) x[i] = std::clamp(std::round(x[i]), std::ceil(p.low), std::floor(p.high));
+  }
+  return x;
+}
+
+VectorXd BayesianDiversitySearch::to_unit(const std::vector<double>& x) const {
+  VectorXd u(static_cast<Eigen::Index>(x.size()));
+  for (std::size_t i = 0; i < x.size(); ++i)
+    u[static_cast<Eigen::Index>(i)] = (x[i] - space_.params[i].low) / (space_.params[i].high - space_.params[i].low);
+  return u;
+}
+
+std::vector<Proposal> BayesianDiversitySearch::ask(std::size_t n) {
+  std::vector<Proposal> out;
+  for (std::size_t k = 0; k < n; ++k) {
+    Proposal p;
+    std::string step;
+    const VectorXd u = propose(step);
+    p.id = next_id_++;
+    p.x = to_params(u);
+    p.info = {{"step", step}};
+    pending_[p.id] = to_unit(p.x);
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+VectorXd BayesianDiversitySearch::propose(std::string& step) {
+  const int d = static_cast<int>(space_.dim());
+  const bool any_ok = std::any_of(told_.begin(), told_.end(), [](const Told& t) { return t.ok; });
+  if (next_id_ < static_cast<std::uint64_t>(params_.initial_samples) || !any_ok) {
+    step = "initial";
+    VectorXd u(d);
+    for (int i = 0; i < d; ++i) u[i] = rng_.uniform();
+    return u;
+  }
+  fit_if_needed();
+  std::vector<std::vector<double>> believer_features;
+  const auto gps = conditioned_gps(believer_features);
+  // Algorithm 1 line 4: t mod (N_exp + N_opt) < N_exp → exploration.
+  const bool exploring = steps_ % static_cast<std::uint64_t>(params_.n_exp + params_.n_opt) <
+                         static_cast<std::uint64_t>(params_.n_exp);
+  ++steps_;
+  if (exploring) {
+    step = "explore";
+    return explore(gps);
+  }
+  step = "diversity";
+  std::vector<std::vector<double>> targets = believer_features;
+  for (const auto& t : told_)
+    if (t.ok) targets.push_back(t.features);
+  return diversify(gps, targets);
+}
+
+void BayesianDiversitySearch::fit_if_needed() {
+  std::vector<const Told*> ok;
+  for (const auto& t : told_)
+    if (t.ok) ok.push_back(&t);
+  if (ok.size() == fitted_on_) return;
+  const int d = static_cast<int>(space_.dim());
+  MatrixXd x(static_cast<Eigen::Index>(ok.size()), d);
+  for (std::size_t i = 0; i < ok.size(); ++i) x.row(static_cast<Eigen::Index>(i)) = ok[i]->u.transpose();
+  for (std::size_t j = 0; j < features_.size(); ++j) {
+    VectorXd y(x.rows());
+    for (std::size_t i = 0; i < ok.size(); ++i)
+      y[static_cast<Eigen::Index>(i)] = (ok[i]->features[j] - features_[j].low) / (features_[j].high - features_[j].low);
+    GaussianProcess gp(d, 0.5);
+    gp.set(x, y, theta_[j]);
+    gp.fit(rng_, params_.fit_starts, bounds_);
+    theta_[j] = gp.theta();
+  }
+  fitted_on_ = ok.size();
+}
+
+std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(
+    std::vector<std::vector<double>>& believer_features) const {
+  const int d = static_cast<int>(space_.dim());
+  std::vector<VectorXd> xs, believers;
+  for (const auto& t : told_) (t.ok ? xs : believers).push_back(t.u);
+  const std::size_t failed = believers.size();
+  for (const auto& [id, u] : pending_) believers.push_back(u);
+  const auto n_ok = static_cast<Eigen::Index>(xs.size());
+  const auto n_all = n_ok + static_cast<Eigen::Index>(believers.size());
+  MatrixXd x(n_all, d);
+  for (Eigen::Index i = 0; i < n_ok; ++i) x.row(i) = xs[static_cast<std::size_t>(i)].transpose();
+  for (std::size_t b = 0; b < believers.size(); ++b) x.row(n_ok + static_cast<Eigen::Index>(b)) = believers[b].transpose();
+  believer_features.assign(believers.size() - failed, std::vector<double>(features_.size()));
+
+  std::vector<GaussianProcess> gps;
+  for (std::size_t j = 0; j < features_.size(); ++j) {
+    const double range = features_[j].high - features_[j].low;
+    VectorXd y(n_all);
+    Eigen::Index i = 0;
+    for (const auto& t : told_)
+      if (t.ok) y[i++] = (t.features[j] - features_[j].low) / range;
+    GaussianProcess base(d, 0.5);
+    base.set(x.topRows(n_ok), y.head(n_ok), theta_[j]);
+    for (std::size_t b = 0; b < believers.size(); ++b) {
+      double mean = 0.0, var = 0.0;
+      base.predict(believers[b], mean, var);
+      y[n_ok + static_cast<Eigen::Index>(b)] = mean;
+      if (b >= failed) believer_features[b - failed][j] = features_[j].low + mean * range;
+    }
+    GaussianProcess gp(d, 0.5);
+    gp.set(x, y, theta_[j]);
+    gps.push_back(std::move(gp));
+  }
+  return gps;
+}
+
+namespace {
+struct ExploreContext {
+  const std::vector<GaussianProcess>* gps;
+};
+
+// Eq. 3.9 summed over feature dimensions: Σ_j σ_j(u), with its gradient for L-BFGS.
+double total_sigma(const std::vector<GaussianProcess>& gps, const VectorXd& u, VectorXd* grad) {
+  double total = 0.0;
+  if (grad) grad->setZero(u.size());
+  for (const auto& gp : gps) {
+    double mean = 0.0, var = 0.0;
+    VectorXd dvar;
+    gp.predict(u, mean, var, nullptr, grad ? &dvar : nullptr);
+    const double sigma = std::sqrt(var);
+    total += sigma;
+    if (grad) *grad += dvar / (2.0 * sigma);
+  }
+  return total;
+}
+}  // namespace
+
+VectorXd BayesianDiversitySearch::explore(const std::vector<GaussianProcess>& gps) {
+  const int d = static_cast<int>(space_.dim());
+  std::vector<std::pair<double, VectorXd>> candidates;
+  for (int c = 0; c < params_.explore_candidates; ++c) {
+    VectorXd u(d);
+    for (int i = 0; i < d; ++i) u[i] = rng_.uniform();
+    candidates.emplace_back(total_sigma(gps, u, nullptr), u);
+  }
+  std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  candidates.resize(std::min<std::size_t>(candidates.size(), static_cast<std::size_t>(params_.explore_starts)));
+
+  VectorXd best = candidates.front().second;
+  double best_value = candidates.front().first;
+  ExploreContext ctx{&gps};
+  auto objective = [](const std::vector<double>& x, std::vector<double>& g, void* data) {
+    const auto* c = static_cast<ExploreContext*>(data);
+    const VectorXd u = Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
+    VectorXd grad;
+    const double v = total_sigma(*c->gps, u, g.empty() ? nullptr : &grad);
+    for (std::size_t i = 0; i < g.size(); ++i) g[i] = grad[static_cast<Eigen::Index>(i)];
+    return v;
+  };
+  for (const auto& [value, start] : candidates) {
+    nlopt::opt opt(nlopt::LD_LBFGS, static_cast<unsigned>(d));
+    opt.set_lower_bounds(std::vector<double>(d, 0.0));
+    opt.set_upper_bounds(std::vector<double>(d, 1.0));
+    opt.set_max_objective(objective, &ctx);
+    opt.set_maxeval(100);
+    opt.set_xtol_rel(1e-6);
+    std::vector<double> x(start.data(), start.data() + d);
+    double v = value;
+    try {
+      opt.optimize(x, v);
+    } catch (const std::exception&) {
+      // Round-off stops keep the last iterate; it is re-scored below.
+    }
+    const VectorXd u = Eigen::Map<const VectorXd>(x.data(), d).cwiseMax(0.0).cwiseMin(1.0);
+    const double score = total_sigma(gps, u, nullptr);
+    if (score > best_value) {
+      best_value = score;
+      best = u;
+    }
+  }
+  return best;
+}
+
+namespace {
+struct DiversityContext {
+  const std::vector<GaussianProcess>* gps;
+  const std::vector<Feature>* features;
+  const std::vector<std::vector<double>>* targets;
+  const MatrixXd* eps;  // mc_samples × features: common random numbers for every x
+  int acquisition;      // 0 expected distance, 1 capped distance, 2 new strategy
+  double threshold;
+  const std::vector<std::vector<double>>* levels;  // per feature: sorted observed values (empty: no snapping)
+};
+
+// Snaps v to the nearest of `levels` when within `tolerance` (plateau recognition).
+double snap_to_level(double v, const std::vector<double>& levels, double tolerance) {
+  if (levels.empty()) return v;
+  auto it = std::lower_bound(levels.begin(), levels.end(), v);
+  double best = v, gap = tolerance;
+  if (it != levels.end() && *it - v <= gap) { best = *it; gap = *it - v; }
+  if (it != levels.begin() && v - *(it - 1) <= gap) best = *(it - 1);
+  return best;
+}
+
+// Thesis eq. 3.7: E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖], by Monte Carlo.
+double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
+  const std::size_t nf = c.features->size();
+  std::vector<double> mean(nf), sigma(nf);
+  for (std::size_t j = 0; j < nf; ++j) {
+    const auto& f = (*c.features)[j];
+    double m = 0.0, var = 0.0;
+    (*c.gps)[j].predict(u, m, var);
+    mean[j] = f.low + m * (f.high - f.low);
+    sigma[j] = std::sqrt(var) * (f.high - f.low);
+  }
+  double total = 0.0;
+  std::vector<double> sample(nf);
+  for (Eigen::Index s = 0; s < c.eps->rows(); ++s) {
+    for (std::size_t j = 0; j < nf; ++j)
+      sample[j] = snap_to_level(mean[j] + sigma[j] * (*c.eps)(s, static_cast<Eigen::Index>(j)), (*c.levels)[j], c.threshold);
+    // The strategies' own distance (angular features wrap), so "diverse" means what the store counts.
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& target : *c.targets) nearest = std::min(nearest, feature_distance(*c.features, sample, target));
+    if (c.acquisition == 0) total += nearest;
+    else if (c.acquisition == 1) total += std::min(nearest, c.threshold);
+    else total += nearest > c.threshold ? 1.0 : 0.0;
+  }
+  return total / static_cast<double>(c.eps->rows());
+}
+}  // namespace
+
+VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& gps,
+                                            const std::vector<std::vector<double>>& targets) {
+  const int d = static_cast<int>(space_.dim());
+  MatrixXd eps(params_.mc_samples, static_cast<Eigen::Index>(features_.size()));
+  for (Eigen::Index s = 0; s < eps.rows(); ++s)
+    for (Eigen::Index j = 0; j < eps.cols(); ++j) eps(s, j) = rng_.normal();
+  const int acquisition = params_.acquisition == "expected_distance" ? 0 : params_.acquisition == "capped_distance" ? 1 : 2;
+  // Plateau levels: the distinct observed values of each feature (believers' predictions are snapped too).
+  std::vector<std::vector<double>> levels(features_.size());
+  std::vector<std::vector<double>> snapped_targets = targets;
+  if (params_.snap) {
+    for (const auto& t : told_)
+      if (t.ok)
+        for (std::size_t j = 0; j < features_.size(); ++j) levels[j].push_back(t.features[j]);
+    for (auto& l : levels) {
+      std::sort(l.begin(), l.end());
+      l.erase(std::unique(l.begin(), l.end()), l.end());
+    }
+    for (auto& t : snapped_targets)
+      for (std::size_t j = 0; j < features_.size(); ++j) t[j] = snap_to_level(t[j], levels[j], params_.strategy_threshold);
+  }
+  DiversityContext ctx{&gps, &features_, &snapped_targets, &eps, acquisition, params_.strategy_threshold, &levels};
+  auto objective = [](const std::vector<double>& x, std::vector<double>&, void* data) {
+    return expected_min_distance(*static_cast<DiversityContext*>(data),
+                                 Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())));
+  };
+  nlopt::opt opt(nlopt::GN_DIRECT_L, static_cast<unsigned>(d));
+  opt.set_lower_bounds(std::vector<double>(d, 0.0));
+  opt.set_upper_bounds(std::vector<double>(d, 1.0));
+  opt.set_max_objective(objective, &ctx);
+  opt.set_maxeval(params_.direct_evals);
+  std::vector<double> x(d, 0.5);
+  double value = 0.0;
+  try {
+    opt.optimize(x, value);
+  } catch (const std::exception&) {
+    // DIRECT's best point so far is in x even when it stops early.
+  }
+  return Eigen::Map<const VectorXd>(x.data(), d).cwiseMax(0.0).cwiseMin(1.0);
+}
+
+void BayesianDiversitySearch::tell(const std::vector<Observation>& observations) {
+  for (const auto& o : observations) {
+    auto it = pending_.find(o.id);
+    if (it == pending_.end())
+      throw base::UserError(name() + ": tell() got id " + std::to_string(o.id) +
+                            ", which is not a pending proposal (never asked or already told)");
+    if (o.ok && o.features.size() != features_.size())
+      throw base::UserError(name() + ": trial " + std::to_string(o.id) + " reported " + std::to_string(o.features.size()) +
+                            " feature values but the task declares " + std::to_string(features_.size()));
+    if (o.ok)
+      for (double v : o.features)
+        if (!std::isfinite(v))
+          throw base::UserError(name() + ": trial " + std::to_string(o.id) + " reported a non-finite feature value");
+    told_.push_back({o.id, it->second, o.ok, o.ok ? o.features : std::vector<double>{}});
+    pending_.erase(it);
+  }
+}
+
+namespace {
+Json vector_json(const VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
+VectorXd vector_from(const Json& j) {
+  const auto v = j.get<std::vector<double>>();
+  return Eigen::Map<const VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+}  // namespace
+
+Json BayesianDiversitySearch::save() const {
+  Json pending = Json::array(), told = Json::array(), theta = Json::array();
+  for (const auto& [id, u] : pending_) pending.push_back({{"id", id}, {"u", vector_json(u)}});
+  for (const auto& t : told_)
+    told.push_back({{"id", t.id}, {"u", vector_json(t.u)}, {"ok", t.ok}, {"features", t.features}});
+  for (const auto& t : theta_) theta.push_back(vector_json(t));
+  return {{"rng", rng_.save()}, {"next_id", next_id_}, {"steps", steps_}, {"fitted_on", fitted_on_},
+          {"theta", theta},     {"pending", pending},  {"told", told}};
+}
+
+void BayesianDiversitySearch::load(const Json& state) {
+  rng_.load(state.at("rng").get<std::string>());
+  next_id_ = state.at("next_id").get<std::uint64_t>();
+  steps_ = state.at("steps").get<std::uint64_t>();
+  fitted_on_ = state.at("fitted_on").get<std::size_t>();
+  theta_.clear();
+  for (const auto& t : state.at("theta")) theta_.push_back(vector_from(t));
+  PODIUM_CHECK(theta_.size() == features_.size(), "bds: saved state has a different number of features");
+  pending_.clear();
+  for (const auto& p : state.at("pending")) pending_[p.at("id").get<std::uint64_t>()] = vector_from(p.at("u"));
+  told_.clear();
+  for (const auto& t : state.at("told"))
+    told_.push_back({t.at("id").get<std::uint64_t>(), vector_from(t.at("u")), t.at("ok").get<bool>(),
+                     t.at("features").get<std::vector<double>>()});
+}
+
+}  // namespace podium::search

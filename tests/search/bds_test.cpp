@@ -1,0 +1,91 @@
+#include <gtest/gtest.h>
+
+#include "landscape_model.h"
+#include "podium/search/search.h"
+
+namespace podium::search {
+namespace {
+
+SearchSetup unit_box(int dim, Json config) {
+  SearchSetup s;
+  Json space = Json::array();
+  for (int i = 0; i < dim; ++i) space.push_back({{"name", "x" + std::to_string(i)}, {"low", 0.0}, {"high", 1.0}});
+  s.space = Space::from_json(space, "space");
+  s.features = Feature::list_from_json(
+      Json::parse(R"([{"name": "f0", "low": 0, "high": 1}, {"name": "f1", "low": 0, "high": 1}])"), "features");
+  s.config = std::move(config);
+  s.seed = 11;
+  return s;
+}
+
+Observation run(const Proposal& p, bool ok = true) {
+  static const tasks::landscape::LandscapeModel model({"plateaus", 3, 2, 5});
+  return {p.id, ok, ok ? std::vector<double>{model.objective(p.x)} : std::vector<double>{},
+          ok ? model.feature(p.x) : std::vector<double>{}};
+}
+
+double min_pairwise_distance(const std::vector<Proposal>& ps) {
+  double best = 1e300;
+  for (std::size_t a = 0; a < ps.size(); ++a)
+    for (std::size_t b = 0; b < a; ++b) {
+      double s = 0;
+      for (std::size_t i = 0; i < ps[a].x.size(); ++i) s += std::pow(ps[a].x[i] - ps[b].x[i], 2);
+      best = std::min(best, std::sqrt(s));
+    }
+  return best;
+}
+
+TEST(Bds, AlternatesExplorationAndDiversityAfterInitialSamples) {
+  auto search = make_search("bds", unit_box(3, {{"initial_samples", 2}, {"n_exp", 2}, {"n_opt", 1}}));
+  std::vector<std::string> steps;
+  for (int t = 0; t < 8; ++t) {
+    const auto p = search->ask(1).at(0);
+    steps.push_back(p.info.at("step"));
+    search->tell({run(p)});
+  }
+  EXPECT_EQ(steps, (std::vector<std::string>{"initial", "initial", "explore", "explore", "diversity", "explore",
+                                             "explore", "diversity"}));
+}
+
+TEST(Bds, BatchedProposalsAreDistinctPoints) {
+  auto search = make_search("bds", unit_box(3, {{"initial_samples", 5}}));
+  std::vector<Observation> observations;
+  for (const auto& p : search->ask(5)) observations.push_back(run(p));
+  search->tell(observations);
+  // 6 proposals span explore and diversity steps; pending points are believers, so none repeats.
+  const auto batch = search->ask(6);
+  ASSERT_EQ(batch.size(), 6u);
+  EXPECT_GT(min_pairwise_distance(batch), 0.05);
+}
+
+TEST(Bds, FailedTrialsAreKeptOutAndNotProposedAgain) {
+  auto search = make_search("bds", unit_box(3, {{"initial_samples", 3}}));
+  for (const auto& p : search->ask(3)) search->tell({run(p)});
+  std::vector<Proposal> after;
+  for (int t = 0; t < 8; ++t) {
+    const auto p = search->ask(1).at(0);
+    after.push_back(p);
+    search->tell({run(p, false)});
+  }
+  EXPECT_GT(min_pairwise_distance(after), 1e-3);
+  EXPECT_EQ(search->save().at("fitted_on"), 3);  // only the successful trials were fitted
+}
+
+TEST(Bds, AcquisitionVariantsProposeDistinctPointsInsideTheBox) {
+  for (const char* acquisition : {"capped_distance", "new_strategy"}) {
+    auto search = make_search("bds", unit_box(3, {{"initial_samples", 3}, {"n_exp", 0}, {"acquisition", acquisition},
+                                                  {"snap", true}, {"direct_evals", 200}}));
+    std::vector<Proposal> all;
+    for (int t = 0; t < 8; ++t) {
+      const auto p = search->ask(1).at(0);
+      for (double v : p.x) EXPECT_TRUE(v >= 0.0 && v <= 1.0) << acquisition;
+      all.push_back(p);
+      search->tell({run(p)});
+    }
+    EXPECT_EQ(all.back().info.at("step"), "diversity");
+    EXPECT_GT(min_pairwise_distance(all), 1e-3) << acquisition;
+  }
+}
+
+}  // namespace
+}  // namespace podium::search

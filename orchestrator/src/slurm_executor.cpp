@@ -190,15 +190,21 @@ void SlurmExecutor::query_states(std::vector<ExecutorEvent>& events) {
     auto row = rows.find(job.job_id);
     std::string state, reason;
     if (row == rows.end()) {
-      // squeue forgets finished jobs after MinJobAge; ask accounting, if there is any.
-      const auto acct = run_command({"sacct", "-n", "-P", "-X", "-j", job.job_id, "-o", "State,Reason"});
-      if (acct.exit_code == 0 && !acct.out.empty()) {
-        state = acct.out.substr(0, acct.out.find_first_of("| \n"));
-        reason = "from sacct";
-      } else if (++job.unknown_polls >= 3) {
-        finish(key, "failed", "slurm job " + job.job_id + " is no longer known to Slurm and left no result", events);
-        continue;
-      } else {
+      // squeue forgets finished jobs after MinJobAge (and never lists an array task cancelled
+      // while pending): ask accounting, else the job-completion log, if the cluster keeps either.
+      for (const bool completion_log : {false, true}) {
+        std::vector<std::string> argv = {"sacct", "-n", "-P", "-X", "-j", job.job_id, "-o", "State"};
+        if (completion_log) argv.insert(argv.begin() + 1, "-c");
+        const auto acct = run_command(argv);
+        if (acct.exit_code == 0 && !acct.out.empty()) {
+          state = acct.out.substr(0, acct.out.find_first_of("| \n"));
+          reason = completion_log ? "from sacct -c" : "from sacct";
+          break;
+        }
+      }
+      if (state.empty()) {
+        if (++job.unknown_polls >= 3)
+          finish(key, "failed", "slurm job " + job.job_id + " is no longer known to Slurm and left no result", events);
         continue;
       }
     } else {

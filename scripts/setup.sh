@@ -15,7 +15,12 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev python3 python3-numpy python3-jsonschema
   python3-torch python3-sklearn python3-optuna python3-cmaes libmujoco-dev
   slurm-wlm munge   # the Slurm executor's tests start a real single-node cluster
+  # the dashboard: its HTTP library's dependencies, Node.js for the pinned front-end packages,
+  # Chromium for the browser tests
+  zlib1g-dev libbrotli-dev nodejs chromium
 )
+# Debian packages npm separately; Node.js builds from elsewhere bundle it.
+command -v npm >/dev/null || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do

@@ -15,6 +15,7 @@
 #include "podium/orchestrator/campaigns.h"
 #include "podium/orchestrator/scheduler.h"
 #include "podium/store/store.h"
+#include "podium/web_dashboard/server.h"
 #include "trial_runner.h"
 #include "worker.h"
 
@@ -35,6 +36,7 @@ commands:
   trials CAMPAIGN [--json]   the trials of a campaign
   pause|resume|cancel CAMPAIGN
   export CAMPAIGN --format csv|json
+  serve [--port N] [--host H] the read-only web dashboard (default http://127.0.0.1:8080/)
   version
 
 every command takes --db PATH (default ./podium.db) and --help.
@@ -241,6 +243,23 @@ int cmd_export(int argc, char** argv) {
   return 0;
 }
 
+int cmd_serve(int argc, char** argv) {
+  Command cmd;
+  cmd.options.add_options()("port", po::value<int>()->default_value(8080), "TCP port (0: any free port)")(
+      "host", po::value<std::string>()->default_value("127.0.0.1"), "address to listen on")(
+      "static", po::value<std::string>(), "front-end folder (default: <bin>/../share/podium/web)");
+  if (!parse(cmd, "serve", "[--port N] [--host 127.0.0.1] [--db PATH]", argc, argv)) return 0;
+  podium::web_dashboard::ServeOptions options;
+  options.database = cmd.vm["db"].as<std::string>();
+  options.host = cmd.vm["host"].as<std::string>();
+  options.port = cmd.vm["port"].as<int>();
+  if (options.port < 0 || options.port > 65535)
+    throw podium::base::UserError("--port: " + std::to_string(options.port) + " is not in [0, 65535]");
+  options.static_dir = cmd.vm.count("static") ? fs::path(cmd.vm["static"].as<std::string>())
+                                              : podium::web_dashboard::default_static_dir(worker_binary());
+  return podium::web_dashboard::serve(options, std::cout);
+}
+
 int dispatch(const std::string& command, int argc, char** argv) {
   if (command == "submit") return cmd_submit(argc, argv);
   if (command == "run") return cmd_run(argc, argv);
@@ -248,6 +267,7 @@ int dispatch(const std::string& command, int argc, char** argv) {
   if (command == "trials") return cmd_trials(argc, argv);
   if (command == "pause" || command == "resume" || command == "cancel") return cmd_control(command, argc, argv);
   if (command == "export") return cmd_export(argc, argv);
+  if (command == "serve") return cmd_serve(argc, argv);
   if (command == "worker") return podium::orchestrator::run_worker();
   if (command == "trial" && argc == 3 && std::string(argv[1]) == "--batch")
     return podium::orchestrator::run_batch_trial(argv[2]);  // inside a Slurm job

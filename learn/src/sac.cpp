@@ -1,0 +1,394 @@
+#include "podium/learn/sac.h"
+
+#include <ATen/Parallel.h>
+#include <torch/optim/adam.h>
+#include <torch/serialize.h>
+#include <torch/types.h>
+// clip_grad.h needs torch/types.h first.
+#include <torch/nn/utils/clip_grad.h>
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "config_json.h"
+#include "nets.h"
+#include "podium/base/error.h"
+
+namespace podium::learn {
+
+using detail::Mlp;
+
+SacConfig SacConfig::paper() {
+  SacConfig c;
+  c.hidden = {1024, 1024};
+  c.activation = "relu";
+  c.critic_lr = 1e-4;
+  c.actor_lr = 1e-5;
+  c.initial_alpha = 0.1;
+  c.alpha_lr = 1e-4;
+  c.log_std_min = -5.0;
+  c.log_std_max = 2.0;
+  c.tau = 5e-3;
+  c.batch_size = 1024;
+  c.updates_per_step = 1;
+  c.gamma = 0.97;
+  c.reward_scale = 1.0;
+  c.max_grad_norm = 0.0;
+  c.warmup_steps = 10'000;
+  c.log_interval_steps = 20'000;  // §B: evaluated every 20 000 simulation steps
+  return c;
+}
+
+#define PODIUM_SAC_FIELDS(X)                                                                                            \
+  X(hidden) X(activation) X(actor_lr) X(critic_lr) X(alpha_lr) X(initial_alpha) X(log_std_min) X(log_std_max) X(tau)   \
+  X(gamma) X(batch_size) X(updates_per_step) X(warmup_steps) X(buffer_capacity) X(reward_scale) X(max_grad_norm)       \
+  X(normalize_observations) X(target_entropy) X(action_bound) X(log_interval_steps)
+
+base::Json SacConfig::to_json() const {
+  base::Json j;
+#define X(f) j[#f] = f;
+  PODIUM_SAC_FIELDS(X)
+#undef X
+  return j;
+}
+
+SacConfig SacConfig::from_json(const base::Json& json) {
+  SacConfig c;
+  detail::ConfigReader r("sac config", json);
+#define X(f) r.read(#f, c.f);
+  PODIUM_SAC_FIELDS(X)
+#undef X
+  r.finish();
+  return c;
+}
+
+namespace {
+void check_bound(double beta) {
+  if (!(beta > 0.0 && beta <= 1.0))
+    throw base::UserError("sac: action bound β = " + std::to_string(beta) + " is not in (0, 1]");
+}
+}  // namespace
+
+struct Sac::Impl {
+  SacConfig config;
+  BoxSpace observation_space, action_space;
+  std::int64_t n_obs, n_act;
+  std::vector<double> center, half;
+  base::Rng rng;
+  RunningNormalizer normalizer;
+  Mlp actor, q1, q2, q1_target, q2_target;
+  torch::Tensor log_alpha;
+  std::unique_ptr<torch::optim::Adam> actor_opt, critic_opt, alpha_opt;
+  double bound;
+  double target_entropy;
+  std::int64_t env_steps = 0, updates = 0;
+  // Replay buffer: observations in float64 (normalised when sampled), the rest float32.
+  torch::Tensor buf_obs, buf_next_obs, buf_act, buf_rew, buf_term;
+  std::int64_t buf_size = 0, buf_pos = 0;
+
+  Impl(const SacConfig& c, const BoxSpace& obs, const BoxSpace& act, std::uint64_t seed)
+      : config(c), observation_space(obs), action_space(act), n_obs(std::int64_t(obs.size())),
+        n_act(std::int64_t(act.size())), rng(seed), normalizer(obs.size()),
+        actor(int(n_obs), c.hidden, int(2 * n_act), detail::parse_activation(c.activation, "sac config: activation")),
+        q1(int(n_obs + n_act), c.hidden, 1, actor->activation), q2(int(n_obs + n_act), c.hidden, 1, actor->activation),
+        q1_target(int(n_obs + n_act), c.hidden, 1, actor->activation),
+        q2_target(int(n_obs + n_act), c.hidden, 1, actor->activation), bound(c.action_bound),
+        target_entropy(c.target_entropy != 0.0 ? c.target_entropy : -double(act.size())) {
+    check_bound(bound);
+    if (c.batch_size < 1 || c.buffer_capacity < c.batch_size || c.updates_per_step < 0)
+      throw base::UserError("sac config: need batch_size ≥ 1, buffer_capacity ≥ batch_size, updates_per_step ≥ 0");
+    if (!(c.initial_alpha > 0)) throw base::UserError("sac config: initial_alpha " + std::to_string(c.initial_alpha) + " is not > 0");
+    for (std::size_t j = 0; j < act.size(); ++j) {
+      if (!(act.high[j] > act.low[j]) || !std::isfinite(act.high[j] - act.low[j]))
+        throw base::UserError("sac: action_space[" + std::to_string(j) + "] is not a finite, non-empty interval");
+      center.push_back(0.5 * (act.high[j] + act.low[j]));
+      half.push_back(0.5 * (act.high[j] - act.low[j]));
+    }
+    at::set_num_threads(1);
+    setup_blas();
+    detail::init_mlp(actor, rng);
+    detail::init_mlp(q1, rng);
+    detail::init_mlp(q2, rng);
+    detail::hard_update(*q1_target, *q1);
+    detail::hard_update(*q2_target, *q2);
+    for (auto& p : q1_target->parameters()) p.set_requires_grad(false);
+    for (auto& p : q2_target->parameters()) p.set_requires_grad(false);
+    log_alpha = torch::full({1}, std::log(c.initial_alpha), torch::kFloat32).set_requires_grad(true);
+    actor_opt = std::make_unique<torch::optim::Adam>(actor->parameters(), torch::optim::AdamOptions(c.actor_lr));
+    auto critic_params = q1->parameters();
+    for (auto& p : q2->parameters()) critic_params.push_back(p);
+    critic_opt = std::make_unique<torch::optim::Adam>(critic_params, torch::optim::AdamOptions(c.critic_lr));
+    alpha_opt = std::make_unique<torch::optim::Adam>(std::vector<torch::Tensor>{log_alpha}, torch::optim::AdamOptions(c.alpha_lr));
+    const auto f64 = torch::kFloat64;
+    buf_obs = torch::zeros({c.buffer_capacity, n_obs}, f64);
+    buf_next_obs = torch::zeros({c.buffer_capacity, n_obs}, f64);
+    buf_act = torch::zeros({c.buffer_capacity, n_act});
+    buf_rew = torch::zeros({c.buffer_capacity});
+    buf_term = torch::zeros({c.buffer_capacity});
+  }
+
+  /// The normaliser applied to float64 rows, with the same arithmetic as RunningNormalizer.
+  torch::Tensor normalize(const torch::Tensor& raw) const {
+    if (!config.normalize_observations) return raw.to(torch::kFloat32);
+    auto mean = torch::tensor(normalizer.mean(), torch::kFloat64);
+    auto scale = torch::tensor(normalizer.scale(), torch::kFloat64);
+    return ((raw - mean) / scale).clamp(-normalizer.clip(), normalizer.clip()).to(torch::kFloat32);
+  }
+
+  /// Reparameterised sample a = β·tanh(μ + σ·ε) and its log-density (SAC appendix C, with the
+  /// extra log β of the scaled squashing).
+  std::pair<torch::Tensor, torch::Tensor> sample(const torch::Tensor& obs) {
+    auto out = actor->forward(obs);
+    auto mu = out.slice(1, 0, n_act);
+    auto log_std = out.slice(1, n_act, 2 * n_act).clamp(config.log_std_min, config.log_std_max);
+    auto eps = detail::normal_tensor(rng, {obs.size(0), n_act});
+    auto u = mu + log_std.exp() * eps;
+    const double log_2pi = std::log(2 * std::numbers::pi);
+    auto logp = (-0.5 * eps.pow(2) - log_std - 0.5 * log_2pi).sum(1);
+    // log(1 − tanh²u) = 2(log 2 − u − softplus(−2u)), the numerically stable form.
+    logp = logp - (std::log(bound) + 2.0 * (std::log(2.0) - u - torch::softplus(-2.0 * u))).sum(1);
+    return {bound * torch::tanh(u), logp};
+  }
+
+  torch::Tensor q_min(Mlp& a, Mlp& b, const torch::Tensor& o, const torch::Tensor& act) {
+    auto x = torch::cat({o, act}, 1);
+    return torch::min(a->forward(x), b->forward(x)).reshape({-1});
+  }
+
+  void update() {
+    const std::int64_t B = config.batch_size;
+    std::vector<std::int64_t> idx_v(static_cast<std::size_t>(B));
+    for (auto& i : idx_v) i = rng.integer(0, buf_size - 1);
+    auto idx = torch::from_blob(idx_v.data(), {B}, torch::kInt64);
+    auto o = normalize(buf_obs.index_select(0, idx));
+    auto o2 = normalize(buf_next_obs.index_select(0, idx));
+    auto a = buf_act.index_select(0, idx);
+    auto r = buf_rew.index_select(0, idx);
+    auto term = buf_term.index_select(0, idx);
+    const double alpha = log_alpha.exp().item<double>();
+    torch::Tensor y;
+    {
+      torch::NoGradGuard no_grad;
+      auto [a2, logp2] = sample(o2);
+      // Soft Bellman target with the smaller of the twin target critics (Fujimoto et al. 2018).
+      y = config.reward_scale * r + config.gamma * (1.0 - term) * (q_min(q1_target, q2_target, o2, a2) - alpha * logp2);
+    }
+    auto x = torch::cat({o, a}, 1);
+    auto critic_loss = 0.5 * ((q1->forward(x).reshape({-1}) - y).pow(2).mean() + (q2->forward(x).reshape({-1}) - y).pow(2).mean());
+    critic_opt->zero_grad();
+    critic_loss.backward();
+    if (config.max_grad_norm > 0) {
+      torch::nn::utils::clip_grad_norm_(q1->parameters(), config.max_grad_norm);
+      torch::nn::utils::clip_grad_norm_(q2->parameters(), config.max_grad_norm);
+    }
+    critic_opt->step();
+
+    auto [a_new, logp] = sample(o);
+    auto actor_loss = (alpha * logp - q_min(q1, q2, o, a_new)).mean();
+    actor_opt->zero_grad();
+    actor_loss.backward();
+    if (config.max_grad_norm > 0) torch::nn::utils::clip_grad_norm_(actor->parameters(), config.max_grad_norm);
+    actor_opt->step();
+
+    // Automatic temperature (Haarnoja et al. 2018b, eq. 18).
+    auto alpha_loss = -(log_alpha * (logp.detach() + target_entropy)).mean();
+    alpha_opt->zero_grad();
+    alpha_loss.backward();
+    alpha_opt->step();
+
+    detail::soft_update(*q1_target, *q1, config.tau);
+    detail::soft_update(*q2_target, *q2, config.tau);
+    ++updates;
+  }
+
+  void store(const std::vector<double>& obs, const std::vector<double>& next_obs, const float* action, double reward,
+             bool terminated) {
+    auto o = buf_obs[buf_pos];
+    auto o2 = buf_next_obs[buf_pos];
+    for (std::int64_t j = 0; j < n_obs; ++j) {
+      o[j] = obs[static_cast<std::size_t>(j)];
+      o2[j] = next_obs[static_cast<std::size_t>(j)];
+    }
+    std::copy(action, action + n_act, buf_act[buf_pos].data_ptr<float>());
+    buf_rew[buf_pos] = float(reward);
+    buf_term[buf_pos] = terminated ? 1.0f : 0.0f;
+    buf_pos = (buf_pos + 1) % config.buffer_capacity;
+    buf_size = std::min(buf_size + 1, config.buffer_capacity);
+  }
+};
+
+Sac::Sac(const SacConfig& config, const BoxSpace& observation_space, const BoxSpace& action_space, std::uint64_t seed)
+    : impl_(std::make_unique<Impl>(config, observation_space, action_space, seed)) {}
+Sac::~Sac() = default;
+
+std::int64_t Sac::env_steps() const { return impl_->env_steps; }
+void Sac::set_action_bound(double beta) {
+  check_bound(beta);
+  impl_->bound = beta;
+}
+double Sac::action_bound() const { return impl_->bound; }
+double Sac::alpha() const { return impl_->log_alpha.exp().item<double>(); }
+std::int64_t Sac::replay_size() const { return impl_->buf_size; }
+
+void Sac::train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCallback& callback) {
+  auto& m = *impl_;
+  if (std::int64_t(envs.observation_space().size()) != m.n_obs || std::int64_t(envs.action_space().size()) != m.n_act)
+    throw base::UserError("sac: the VecEnv's spaces do not match the learner's");
+  const std::int64_t K = std::int64_t(envs.size());
+  std::vector<double> env_actions(static_cast<std::size_t>(K * m.n_act));
+  std::vector<std::vector<double>> obs(static_cast<std::size_t>(K));
+  TrainStats stats;
+  std::int64_t next_log = (m.env_steps / m.config.log_interval_steps + 1) * m.config.log_interval_steps;
+  while (m.env_steps < total_env_steps) {
+    const auto t0 = std::chrono::steady_clock::now();
+    std::vector<double> raw;
+    for (std::int64_t i = 0; i < K; ++i) {
+      obs[static_cast<std::size_t>(i)] = envs.observation(static_cast<std::size_t>(i));
+      raw.insert(raw.end(), obs[static_cast<std::size_t>(i)].begin(), obs[static_cast<std::size_t>(i)].end());
+    }
+    if (m.config.normalize_observations) m.normalizer.update(raw, static_cast<std::size_t>(K));
+    torch::Tensor actions;
+    if (m.env_steps < m.config.warmup_steps) {
+      actions = torch::empty({K, m.n_act});
+      auto p = actions.data_ptr<float>();
+      for (std::int64_t k = 0; k < K * m.n_act; ++k) p[k] = float(m.rng.uniform(-m.bound, m.bound));
+    } else {
+      torch::NoGradGuard no_grad;
+      actions = m.sample(m.normalize(torch::tensor(raw, torch::kFloat64).reshape({K, m.n_obs}))).first.contiguous();
+    }
+    const float* ap = actions.data_ptr<float>();
+    for (std::int64_t k = 0; k < K * m.n_act; ++k)
+      env_actions[static_cast<std::size_t>(k)] = m.center[std::size_t(k % m.n_act)] + m.half[std::size_t(k % m.n_act)] * ap[k];
+    envs.step(env_actions);
+    for (std::int64_t i = 0; i < K; ++i) {
+      const StepResult& r = envs.result(static_cast<std::size_t>(i));
+      m.store(obs[static_cast<std::size_t>(i)], r.observation, ap + i * m.n_act, r.reward, r.terminated);
+    }
+    m.env_steps += K;
+    const auto t1 = std::chrono::steady_clock::now();
+    if (m.env_steps >= m.config.warmup_steps && m.buf_size >= m.config.batch_size)
+      for (std::int64_t u = 0; u < K * m.config.updates_per_step; ++u) m.update();
+    const auto t2 = std::chrono::steady_clock::now();
+    stats.rollout_seconds += std::chrono::duration<double>(t1 - t0).count();
+    stats.update_seconds += std::chrono::duration<double>(t2 - t1).count();
+    if (m.env_steps >= next_log || m.env_steps >= total_env_steps) {
+      next_log = (m.env_steps / m.config.log_interval_steps + 1) * m.config.log_interval_steps;
+      const auto returns = envs.take_finished_returns();
+      stats.env_steps = m.env_steps;
+      stats.episodes = returns.size();
+      double sum = 0.0;
+      for (double x : returns) sum += x;
+      stats.mean_return = returns.empty() ? std::numeric_limits<double>::quiet_NaN() : sum / double(returns.size());
+      if (callback) callback(stats);
+      stats = TrainStats{};
+    }
+  }
+}
+
+void Sac::act(std::span<const double> observation, std::span<double> action, bool deterministic) {
+  auto& m = *impl_;
+  PODIUM_CHECK(std::int64_t(observation.size()) == m.n_obs && std::int64_t(action.size()) == m.n_act, "sac act: sizes");
+  torch::NoGradGuard no_grad;
+  auto o = m.normalize(torch::tensor(std::vector<double>(observation.begin(), observation.end()), torch::kFloat64).reshape({1, m.n_obs}));
+  if (deterministic) {
+    auto mu = torch::tanh(m.actor->forward(o).slice(1, 0, m.n_act));
+    auto p = mu.accessor<float, 2>();
+    for (std::int64_t j = 0; j < m.n_act; ++j)
+      action[std::size_t(j)] = m.center[std::size_t(j)] + m.half[std::size_t(j)] * (double(p[0][j]) * m.bound);
+  } else {
+    auto a = m.sample(o).first;
+    auto p = a.accessor<float, 2>();
+    for (std::int64_t j = 0; j < m.n_act; ++j)
+      action[std::size_t(j)] = m.center[std::size_t(j)] + m.half[std::size_t(j)] * double(p[0][j]);
+  }
+}
+
+void Sac::save_checkpoint(const std::filesystem::path& path, const VecEnv& envs) const {
+  const auto& m = *impl_;
+  torch::serialize::OutputArchive archive;
+  auto sub = [&](const char* key, auto&& save) {
+    torch::serialize::OutputArchive a;
+    save(a);
+    archive.write(key, a);
+  };
+  sub("actor", [&](auto& a) { m.actor->save(a); });
+  sub("q1", [&](auto& a) { m.q1->save(a); });
+  sub("q2", [&](auto& a) { m.q2->save(a); });
+  sub("q1_target", [&](auto& a) { m.q1_target->save(a); });
+  sub("q2_target", [&](auto& a) { m.q2_target->save(a); });
+  sub("actor_opt", [&](auto& a) { m.actor_opt->save(a); });
+  sub("critic_opt", [&](auto& a) { m.critic_opt->save(a); });
+  sub("alpha_opt", [&](auto& a) { m.alpha_opt->save(a); });
+  archive.write("log_alpha", m.log_alpha.detach());
+  archive.write("buf_obs", m.buf_obs.slice(0, 0, m.buf_size));
+  archive.write("buf_next_obs", m.buf_next_obs.slice(0, 0, m.buf_size));
+  archive.write("buf_act", m.buf_act.slice(0, 0, m.buf_size));
+  archive.write("buf_rew", m.buf_rew.slice(0, 0, m.buf_size));
+  archive.write("buf_term", m.buf_term.slice(0, 0, m.buf_size));
+  detail::write_json(archive, "state",
+                     {{"config", m.config.to_json()}, {"env_steps", m.env_steps}, {"updates", m.updates},
+                      {"bound", m.bound}, {"buf_size", m.buf_size}, {"buf_pos", m.buf_pos}, {"rng", m.rng.save()},
+                      {"normalizer", m.normalizer.save()}, {"envs", envs.save_state()}});
+  archive.save_to(path.string());
+}
+
+void Sac::load_checkpoint(const std::filesystem::path& path, VecEnv& envs) {
+  auto& m = *impl_;
+  torch::serialize::InputArchive archive;
+  archive.load_from(path.string());
+  const base::Json state = detail::read_json(archive, "state");
+  if (state.at("config") != m.config.to_json())
+    throw base::UserError("sac: checkpoint " + path.string() + " was written with another config: " + state.at("config").dump());
+  auto sub = [&](const char* key, auto&& load) {
+    torch::serialize::InputArchive a;
+    archive.read(key, a);
+    load(a);
+  };
+  sub("actor", [&](auto& a) { m.actor->load(a); });
+  sub("q1", [&](auto& a) { m.q1->load(a); });
+  sub("q2", [&](auto& a) { m.q2->load(a); });
+  sub("q1_target", [&](auto& a) { m.q1_target->load(a); });
+  sub("q2_target", [&](auto& a) { m.q2_target->load(a); });
+  sub("actor_opt", [&](auto& a) { m.actor_opt->load(a); });
+  sub("critic_opt", [&](auto& a) { m.critic_opt->load(a); });
+  sub("alpha_opt", [&](auto& a) { m.alpha_opt->load(a); });
+  {
+    // A fresh tensor per read: InputArchive::read into a defined tensor re-points it (set_).
+    torch::NoGradGuard no_grad;
+    torch::Tensor alpha;
+    archive.read("log_alpha", alpha);
+    m.log_alpha.copy_(alpha);
+    m.buf_size = state.at("buf_size").get<std::int64_t>();
+    for (auto [key, buf] : {std::pair{"buf_obs", &m.buf_obs}, {"buf_next_obs", &m.buf_next_obs}, {"buf_act", &m.buf_act},
+                            {"buf_rew", &m.buf_rew}, {"buf_term", &m.buf_term}}) {
+      torch::Tensor t;
+      archive.read(key, t);
+      buf->slice(0, 0, m.buf_size).copy_(t);
+    }
+  }
+  m.buf_pos = state.at("buf_pos").get<std::int64_t>();
+  m.env_steps = state.at("env_steps").get<std::int64_t>();
+  m.updates = state.at("updates").get<std::int64_t>();
+  m.bound = state.at("bound").get<double>();
+  m.rng.load(state.at("rng").get<std::string>());
+  m.normalizer.load(state.at("normalizer"));
+  envs.load_state(state.at("envs"));
+}
+
+void Sac::export_torchscript(const std::filesystem::path& path) const {
+  const auto& m = *impl_;
+  detail::PolicyHead head{int(m.n_act), true, m.bound, m.action_space.low, m.action_space.high};
+  detail::export_policy(path, m.actor, m.config.normalize_observations ? &m.normalizer : nullptr, std::size_t(m.n_obs), head);
+}
+
+std::vector<float> Sac::parameters() const {
+  std::vector<float> out;
+  for (const Mlp* net : {&impl_->actor, &impl_->q1, &impl_->q2, &impl_->q1_target, &impl_->q2_target})
+    detail::append_parameters(**net, out);
+  out.push_back(impl_->log_alpha.item<float>());
+  return out;
+}
+
+}  // namespace podium::learn

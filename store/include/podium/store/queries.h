@@ -1,0 +1,107 @@
+#pragma once
+/// Read-only queries for the dashboard and scripts: trial paging and filters, compact scatter
+/// points, strategy summaries, downsampled metric series and a cheap change token.
+///
+/// A Queries object is one read-only connection (plus the typed reads of Store on another). Every
+/// call runs autocommit statements that are finished before it returns, so no read transaction is
+/// held between calls and a running scheduler is never blocked. One object per thread at a time.
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "podium/store/store.h"
+
+namespace podium::store {
+
+struct TrialFilter {
+  std::optional<int> stage_index;          ///< only this stage (0-based)
+  std::optional<std::string> state;        ///< only trials in this state
+  std::optional<std::int64_t> strategy;    ///< only trials of this strategy cluster
+  std::int64_t offset = 0, limit = 100;
+  enum class Order { index, objective, finished } order = Order::index;
+  bool descending = false;
+};
+
+struct TrialPage {
+  std::int64_t total = 0;                  ///< trials matching the filter (before offset/limit)
+  std::vector<TrialRecord> trials;
+};
+
+/// One finished trial as a point of the strategy-feature scatter (no params or metrics).
+struct TrialPoint {
+  std::int64_t id = 0, stage_index = 0, index = 0;
+  double objective = 0;
+  std::vector<double> features;
+  std::optional<std::int64_t> strategy;
+  std::string step;                        ///< info.step ("explore", "diversity" for BDS) or ""
+  double finished_at = 0;
+};
+
+struct StrategySummary {
+  std::int64_t strategy = 0, trials = 0;
+  std::int64_t representative_trial = 0;   ///< the trial with the best objective
+  double best_objective = 0;
+  std::vector<double> representative_features;
+};
+
+struct CampaignSummary {
+  TrialCounts counts;
+  std::map<std::int64_t, TrialCounts> stage_counts;  ///< by stage id (stages without trials absent)
+  std::optional<double> best_objective;    ///< max of objectives[0] over done trials
+  std::int64_t strategies = 0;             ///< distinct strategy clusters
+  double first_finished_at = 0, last_finished_at = 0;
+  std::int64_t done_last_minute = 0;       ///< trials finished in the 60 s before `now`
+  std::vector<StrategySummary> strategy_table;  ///< what strategies() returns (same pass)
+};
+
+
+/// One metric of one attempt, downsampled to at most 2 * max_points points (min and max of each
+/// bucket, in step order, so spikes survive).
+struct MetricSeries {
+  std::string name;
+  int attempt = 1;
+  std::int64_t total_points = 0;
+  std::vector<double> steps, values;       ///< NaN values are stored as NULL and returned as NaN
+};
+
+class Queries {
+ public:
+  /// Opens the database read-only (Store::open's checks apply). Throws base::RuntimeError.
+  static std::unique_ptr<Queries> open(const std::filesystem::path& path);
+  ~Queries();
+  Queries(const Queries&) = delete;
+  Queries& operator=(const Queries&) = delete;
+
+  /// The typed reads of the store on this object's own read-only connection.
+  const Store& store() const { return *store_; }
+
+  /// Changes whenever another connection commits (SQLite's PRAGMA data_version); costs no I/O.
+  std::int64_t data_version() const;
+
+  std::optional<TrialRecord> trial(std::int64_t trial_id) const;
+  /// The campaign a trial belongs to, or nullopt if there is no such trial.
+  std::optional<std::int64_t> trial_campaign(std::int64_t trial_id) const;
+
+  /// Counts, best objective, rates and the strategy table in one pass over the campaign's trials.
+  CampaignSummary summary(std::int64_t campaign_id, double now_unix_s) const;
+  TrialPage trial_page(std::int64_t campaign_id, const TrialFilter& filter) const;
+  /// Done trials as scatter points, in creation order; at most max_points, evenly strided when
+  /// there are more (`total` receives the number of done trials).
+  std::vector<TrialPoint> points(std::int64_t campaign_id, std::int64_t max_points, std::int64_t* total) const;
+  std::vector<StrategySummary> strategies(std::int64_t campaign_id) const;
+  /// Every metric (or only `name`) of a trial, each downsampled (see MetricSeries).
+  std::vector<MetricSeries> metric_series(std::int64_t trial_id, std::int64_t max_points,
+                                          const std::optional<std::string>& name) const;
+
+ private:
+  struct Impl;
+  Queries(std::unique_ptr<Store> store, std::unique_ptr<Impl> impl);
+  std::unique_ptr<Store> store_;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace podium::store

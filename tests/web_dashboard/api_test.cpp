@@ -1,0 +1,173 @@
+// The JSON API against campaigns run by the real CLI (landscape smoke and the replay fixture),
+// checked against the store's own typed reads.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <set>
+
+#include "dashboard_support.h"
+#include "podium/store/store.h"
+
+namespace podium::web_dashboard {
+namespace {
+
+using base::Json;
+using testing::RunningServer;
+
+class Api : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new podium::testing::TempDir();
+    landscape_ = testing::run_campaign(dir_->path(), testing::landscape_spec("smoke", 120));
+    replay_ = testing::run_campaign(dir_->path(), testing::replay_fixture_spec("swing", 4));
+    server_ = new RunningServer(dir_->path() / "podium.db");
+  }
+  static void TearDownTestSuite() {
+    delete server_;
+    delete dir_;
+  }
+  static std::unique_ptr<store::Store> store() {
+    return store::Store::open(dir_->path() / "podium.db", store::Store::Access::read_only);
+  }
+  static inline podium::testing::TempDir* dir_ = nullptr;
+  static inline RunningServer* server_ = nullptr;
+  static inline std::int64_t landscape_ = 0, replay_ = 0;
+};
+
+TEST_F(Api, CampaignListReportsStateProgressBestAndRate) {
+  const Json list = server_->get_json("/api/campaigns");
+  ASSERT_GE(list.size(), 2u);
+  const Json& c = list[0];
+  EXPECT_EQ(c["id"], landscape_);
+  EXPECT_EQ(c["state"], "done");
+  EXPECT_EQ(c["counts"]["done"], 120);
+  EXPECT_DOUBLE_EQ(c["progress"].get<double>(), 1.0);
+  EXPECT_GT(c["trials_per_minute"].get<double>(), 0.0);
+  double best = -1e300;
+  for (const auto& t : store()->campaign_trials(landscape_)) best = std::max(best, t.objectives[0].get<double>());
+  EXPECT_DOUBLE_EQ(c["best_objective"].get<double>(), best);
+  EXPECT_EQ(c["stages"][0]["task"], "landscape");
+}
+
+TEST_F(Api, CampaignIsFoundByIdOrName) {
+  EXPECT_EQ(server_->get_json("/api/campaigns/swing")["id"], replay_);
+  const Json detail = server_->get_json("/api/campaigns/" + std::to_string(landscape_));
+  EXPECT_EQ(detail["name"], "smoke");
+  EXPECT_EQ(detail["stages"][0]["description"]["features"].size(), 2u);
+  EXPECT_EQ(detail["stages"][0]["counts"]["done"], 120);
+  int status = 0;
+  server_->get_json("/api/campaigns/no-such-campaign", &status);
+  EXPECT_EQ(status, 404);
+}
+
+TEST_F(Api, TrialPagesCoverEveryTrialExactlyOnce) {
+  std::set<std::int64_t> ids;
+  for (int offset = 0; offset < 120; offset += 37) {
+    const Json page = server_->get_json("/api/campaigns/smoke/trials?limit=37&offset=" + std::to_string(offset));
+    EXPECT_EQ(page["total"], 120);
+    for (const auto& t : page["trials"]) ids.insert(t["id"].get<std::int64_t>());
+  }
+  std::set<std::int64_t> expected;
+  for (const auto& t : store()->campaign_trials(landscape_)) expected.insert(t.id);
+  EXPECT_EQ(ids, expected);
+}
+
+TEST_F(Api, OrdersByObjectiveAndFiltersByState) {
+  const Json page = server_->get_json("/api/campaigns/smoke/trials?order=objective&desc=1&limit=10&state=done");
+  ASSERT_EQ(page["trials"].size(), 10u);
+  for (std::size_t i = 1; i < 10; ++i)
+    EXPECT_GE(page["trials"][i - 1]["objectives"][0].get<double>(), page["trials"][i]["objectives"][0].get<double>());
+  EXPECT_EQ(page["trials"][0]["objectives"][0], server_->get_json("/api/campaigns/smoke")["best_objective"]);
+  EXPECT_EQ(server_->get_json("/api/campaigns/smoke/trials?state=failed")["total"], 0);
+  EXPECT_EQ(server_->get_json("/api/campaigns/smoke/trials?stage=0")["total"], 120);
+  EXPECT_EQ(server_->get_json("/api/campaigns/smoke/trials?stage=1")["total"], 0);
+}
+
+TEST_F(Api, PointsHaveOnePointPerDoneTrialAndStrideWhenCapped) {
+  const Json all = server_->get_json("/api/campaigns/smoke/points");
+  EXPECT_EQ(all["total"], 120);
+  EXPECT_EQ(all["columns"]["id"].size(), 120u);
+  EXPECT_EQ(all["columns"]["features"][0].size(), 2u);
+  const Json capped = server_->get_json("/api/campaigns/smoke/points?max_points=50");
+  EXPECT_EQ(capped["total"], 120);
+  EXPECT_EQ(capped["columns"]["id"].size(), 40u);  // every 3rd of 120
+}
+
+TEST_F(Api, TrialDetailHasAttemptsArtifactsAndMetrics) {
+  const auto trial = store()->campaign_trials(landscape_)[17];
+  const Json t = server_->get_json("/api/trials/" + std::to_string(trial.id));
+  EXPECT_EQ(t["campaign_id"], landscape_);
+  EXPECT_EQ(t["index"], 17);
+  EXPECT_EQ(t["params"], trial.params);
+  EXPECT_EQ(t["seed"], std::to_string(trial.seed));
+  ASSERT_EQ(t["attempt_list"].size(), 1u);
+  EXPECT_EQ(t["attempt_list"][0]["state"], "done");
+  ASSERT_EQ(t["artifacts"].size(), 1u);
+  EXPECT_EQ(t["artifacts"][0]["name"], "result");
+
+  auto client = server_->client();
+  const auto r = client.Get(t["artifacts"][0]["url"].get<std::string>().c_str());
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  std::ifstream in(t["artifacts"][0]["path"].get<std::string>(), std::ios::binary);
+  EXPECT_EQ(r->body, std::string(std::istreambuf_iterator<char>(in), {}));
+  EXPECT_NE(r->get_header_value("Content-Disposition").find("attachment"), std::string::npos);
+
+  const Json metrics = server_->get_json("/api/trials/" + std::to_string(trial.id) + "/metrics");
+  ASSERT_EQ(metrics.size(), 1u);
+  EXPECT_EQ(metrics[0]["name"], "trace");
+  EXPECT_EQ(metrics[0]["steps"].size(), 5u);
+  EXPECT_DOUBLE_EQ(metrics[0]["values"][4].get<double>(), trial.objectives[0].get<double>());
+}
+
+TEST_F(Api, TrajectoryEndpointServesTheReplayArtifact) {
+  const auto trial = store()->campaign_trials(replay_)[0];
+  auto client = server_->client();
+  const auto r = client.Get(("/api/trials/" + std::to_string(trial.id) + "/trajectory").c_str());
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200);
+  std::istringstream lines(r->body);  // sim/'s JSON-lines format: a header, then one frame per line
+  std::string line;
+  std::getline(lines, line);
+  const Json header = Json::parse(line);
+  EXPECT_EQ(header["format"], "podium-trajectory");
+  int frames = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(Json::parse(line)["links"].size(), header["links"].size());
+    ++frames;
+  }
+  EXPECT_EQ(frames, 90);
+  int status = 0;
+  const auto landscape_trial = store()->campaign_trials(landscape_)[0];
+  server_->get_json("/api/trials/" + std::to_string(landscape_trial.id) + "/trajectory", &status);
+  EXPECT_EQ(status, 404);  // landscape trials record no motion
+}
+
+TEST_F(Api, VersionChangesOnlyWhenTheDatabaseChanges) {
+  const auto before = server_->get_json("/api/version")["data_version"];
+  EXPECT_EQ(server_->get_json("/api/version")["data_version"], before);
+  // A write by another process: a campaign is queued.
+  podium::testing::write_file(dir_->path() / "extra.json", testing::landscape_spec("extra", 3).dump());
+  const auto r = podium::testing::run_podium({"submit", "extra.json"}, dir_->path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(server_->get_json("/api/version")["data_version"], before);
+  EXPECT_EQ(server_->get_json("/api/campaigns/extra")["state"], "queued");
+}
+
+TEST_F(Api, ServesTheFrontEndAndRefusesUnknownPaths) {
+  auto client = server_->client();
+  for (const char* page : {"/", "/index.html", "/campaign.html", "/trial.html", "/replay.html", "/vendor/three.module.js",
+                           "/vendor/uPlot.iife.min.js", "/vendor/OrbitControls.js"}) {
+    const auto r = client.Get(page);
+    ASSERT_TRUE(r) << page;
+    EXPECT_EQ(r->status, 200) << page;
+    EXPECT_FALSE(r->body.empty()) << page;
+  }
+  EXPECT_EQ(client.Get("/nope.html")->status, 404);
+  EXPECT_EQ(client.Get("/api/nope")->status, 404);
+  EXPECT_EQ(client.Get("/api/trials/999999")->status, 404);
+}
+
+}  // namespace
+}  // namespace podium::web_dashboard

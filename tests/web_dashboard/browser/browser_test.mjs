@@ -1,0 +1,175 @@
+// End-to-end test of the dashboard in headless Chromium (Debian's /usr/bin/chromium driven by
+// playwright-core from web_dashboard/node_modules): every page for a landscape smoke campaign and a
+// trajectory-recording campaign, the scatter's point count, the 3D replay (canvas not blank,
+// frame counter advancing, side by side), and a live update while a campaign runs.
+// Environment (set by CTest): PODIUM_BIN, PODIUM_PLUGIN_PATH, PODIUM_WEB_NODE_MODULES, CHROMIUM.
+// Exit codes: 0 pass, 1 fail, 77 skipped (no Chromium).
+import assert from 'node:assert/strict';
+import { spawn, spawnSync } from 'node:child_process';
+import { existsSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { createRequire } from 'node:module';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+
+const chromiumPath = process.env.CHROMIUM || '/usr/bin/chromium';
+if (!existsSync(chromiumPath)) {
+  console.log(`SKIPPED: ${chromiumPath} not found (apt-get install chromium)`);
+  process.exit(77);
+}
+const require = createRequire(join(process.env.PODIUM_WEB_NODE_MODULES, 'x.js'));
+const { chromium } = require('playwright-core');
+const podiumBin = process.env.PODIUM_BIN;
+const dir = mkdtempSync(join(tmpdir(), 'podium-browser-'));
+const children = [];
+
+function podium(args) {
+  const r = spawnSync(podiumBin, args, { cwd: dir, encoding: 'utf8' });
+  assert.equal(r.status, 0, `podium ${args.join(' ')}: ${r.stderr}`);
+  return r.stdout.trim();
+}
+function submit(name, spec) {
+  writeFileSync(join(dir, `${name}.json`), JSON.stringify(spec));
+  return Number(podium(['submit', `${name}.json`]));
+}
+const stage = (name, task, trials, config = {}) =>
+  ({ name, task, preset: 'smoke', config, search: { algorithm: 'random' }, budget: { trials } });
+const campaign = (name, stages) => ({ name, seed: 5, workers: 2, retries: 0, trial_timeout_s: 30, stages });
+
+async function waitFor(what, fn, timeout_ms = 20000) {
+  const start = Date.now();
+  for (;;) {
+    const value = await fn();
+    if (value) return value;
+    if (Date.now() - start > timeout_ms) throw new Error(`timed out waiting for ${what}`);
+    await new Promise(r => setTimeout(r, 100));
+  }
+}
+
+async function main() {
+  const landscape = submit('landscape', campaign('landscape-smoke', [stage('explore', 'landscape', 60, { artifact: true })]));
+  const physics = submit('physics', campaign('replay-smoke', [stage('swing', 'web_replay_fixture', 6)]));
+  podium(['run', '--workers', '2']);
+  const live = submit('live', campaign('live', [stage('explore', 'landscape', 6, { sleep_s: 0.3 })]));
+
+  const serve = spawn(podiumBin, ['serve', '--port', '0'], { cwd: dir });
+  children.push(serve);
+  let out = '';
+  serve.stdout.on('data', d => { out += d; });
+  const url = await waitFor('podium serve URL', () => out.match(/http:\/\/127\.0\.0\.1:\d+\//)?.[0]);
+  const api = async path => (await fetch(url + path.slice(1))).json();
+
+  const browser = await chromium.launch({
+    executablePath: chromiumPath, headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+      '--disable-component-update', '--disable-sync', '--enable-unsafe-swiftshader'],
+  });
+  const context = await browser.newContext();
+  const external = [], problems = [];
+  // Offline: anything not served by podium serve is refused and recorded.
+  await context.route('**/*', route => {
+    if (route.request().url().startsWith(url)) return route.continue();
+    external.push(route.request().url());
+    return route.abort();
+  });
+  const page = await context.newPage();
+  page.on('pageerror', e => problems.push(`page error: ${e.message}`));
+  page.on('console', m => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+  const step = name => console.log(`-- ${name}`);
+
+  step('campaign list');
+  await page.goto(url);
+  await waitFor('3 campaign rows', async () => (await page.locator('#campaigns tr').count()) === 4);
+  assert.match(await page.locator('#campaigns').innerText(), /landscape-smoke[\s\S]*done/);
+
+  for (const [id, expected] of [[landscape, 60], [physics, 6]]) {
+    step(`campaign page ${id}: one scatter point per finished trial`);
+    const done = (await api(`/api/campaigns/${id}`)).counts.done;
+    assert.equal(done, expected);
+    await page.goto(`${url}campaign.html?id=${id}`);
+    await waitFor('scatter', async () => (await page.locator('#scatter').getAttribute('data-points')) === String(done));
+    await waitFor('trial rows', async () => (await page.locator('#trials tr').count()) === Math.min(done, 50) + 1);
+    assert.equal(await page.locator('#history .uplot').count(), 1);
+    assert.equal(await page.locator('#stages tr').count(), 2);
+  }
+
+  step('trial page: learning curves, artifacts, attempts');
+  const landscapeTrial = (await api(`/api/campaigns/${landscape}/trials?limit=1`)).trials[0];
+  await page.goto(`${url}trial.html?id=${landscapeTrial.id}`);
+  await waitFor('curve', async () => (await page.locator('#curves .uplot').count()) === 1);
+  assert.equal(await page.locator('#attempts tr').count(), 2);
+  const link = page.locator('#artifacts a');
+  assert.equal(await link.count(), 1);
+  const download = await page.request.get(new URL(await link.getAttribute('href'), url).href);
+  assert.equal(download.status(), 200);
+  assert.match(await download.text(), /"feature"/);
+
+  const physicsTrials = (await api(`/api/campaigns/${physics}/trials?limit=2`)).trials;
+  await page.goto(`${url}trial.html?id=${physicsTrials[0].id}`);
+  await waitFor('curriculum curve', async () => (await page.locator('#curriculum .uplot').count()) === 1);
+  assert.equal(await page.locator('#curves .uplot').count(), 1);
+  assert.equal(await page.locator('#replay-link').isVisible(), true);
+
+  const canvasStats = () => page.evaluate(() => [...document.querySelectorAll('#viewports canvas')].map(c => {
+    const copy = document.createElement('canvas');
+    copy.width = c.width; copy.height = c.height;
+    const ctx = copy.getContext('2d');
+    ctx.drawImage(c, 0, 0);
+    const data = ctx.getImageData(0, 0, c.width, c.height).data;
+    const colours = new Set();
+    let differing = 0;
+    for (let i = 0; i < data.length; i += 4) {
+      colours.add((data[i] >> 3) << 10 | (data[i + 1] >> 3) << 5 | (data[i + 2] >> 3));
+      if (Math.abs(data[i] - data[0]) + Math.abs(data[i + 1] - data[1]) + Math.abs(data[i + 2] - data[2]) > 30) differing++;
+    }
+    return { colours: colours.size, differing: differing / (data.length / 4) };
+  }));
+
+  step('3D replay: renders, frame counter advances');
+  await page.goto(`${url}replay.html?trial=${physicsTrials[0].id}`);
+  await waitFor('replay frames', () => page.evaluate(() => window.podiumReplay && window.podiumReplay.rendered > 10));
+  const first = await page.locator('#frame').innerText();
+  await page.waitForTimeout(600);
+  const second = await page.locator('#frame').innerText();
+  assert.notEqual(first, second, 'frame counter did not advance');
+  const [stats] = await canvasStats();
+  console.log(`   canvas: ${stats.colours} colours, ${(100 * stats.differing).toFixed(1)}% non-background pixels`);
+  assert.ok(stats.colours > 20 && stats.differing > 0.02, `blank canvas: ${JSON.stringify(stats)}`);
+  await page.locator('#play').click();  // pause: the counter stops
+  const paused = await page.locator('#frame').innerText();
+  await page.waitForTimeout(300);
+  assert.equal(await page.locator('#frame').innerText(), paused);
+
+  step('side-by-side replay of two strategies');
+  await page.goto(`${url}replay.html?trial=${physicsTrials[0].id}&compare=${physicsTrials[1].id}`);
+  await waitFor('two viewports', () => page.evaluate(() => window.podiumReplay && window.podiumReplay.rendered > 5));
+  const both = await canvasStats();
+  assert.equal(both.length, 2);
+  for (const s of both) assert.ok(s.colours > 20 && s.differing > 0.02, `blank canvas: ${JSON.stringify(s)}`);
+
+  step('live: the campaign page updates while the campaign runs, without a reload');
+  await page.goto(`${url}campaign.html?id=${live}`);
+  await waitFor('live page', async () => (await page.locator('#summary').getAttribute('data-done')) === '0');
+  await page.evaluate(() => { window.notReloaded = true; });
+  const runner = spawn(podiumBin, ['run', '--workers', '2'], { cwd: dir, stdio: 'ignore' });
+  children.push(runner);
+  await waitFor('first finished trial on the page', async () =>
+    Number(await page.locator('#summary').getAttribute('data-done')) > 0, 30000);
+  await waitFor('all 6 trials on the page', async () =>
+    (await page.locator('#scatter').getAttribute('data-points')) === '6', 30000);
+  assert.equal(await page.evaluate(() => window.notReloaded), true, 'the page reloaded');
+  await waitFor('a live refresh', () => page.evaluate(() => window.podiumLive.refreshes >= 2));  // initial load + live
+  if (runner.exitCode === null) await new Promise(r => runner.on('exit', r));
+  assert.equal(runner.exitCode, 0);
+
+  assert.deepEqual(external, [], 'requests left the machine');
+  assert.deepEqual(problems, [], 'errors in the pages');
+  await browser.close();
+  console.log('PASS');
+}
+
+main().then(() => { cleanup(); process.exit(0); }, e => { console.error('FAIL:', e.stack || e); cleanup(); process.exit(1); });
+
+function cleanup() {
+  for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
+  rmSync(dir, { recursive: true, force: true });
+}

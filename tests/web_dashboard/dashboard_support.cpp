@@ -1,0 +1,92 @@
+#include "dashboard_support.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cctype>
+#include <cstdio>
+#include <stdexcept>
+
+namespace podium::web_dashboard::testing {
+
+int raw_status(int port, const std::string& request_line) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(static_cast<std::uint16_t>(port));
+  addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0) {
+    ::close(fd);
+    throw std::runtime_error("cannot connect to port " + std::to_string(port));
+  }
+  const std::string request = request_line + "\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  if (::send(fd, request.data(), request.size(), 0) != static_cast<ssize_t>(request.size())) {
+    ::close(fd);
+    throw std::runtime_error("send failed");
+  }
+  std::string response;
+  char buffer[4096];
+  for (ssize_t n; (n = ::recv(fd, buffer, sizeof buffer, 0)) > 0;) response.append(buffer, static_cast<std::size_t>(n));
+  ::close(fd);
+  // "HTTP/1.1 404 Not Found"
+  if (response.size() < 12) throw std::runtime_error("no HTTP response to " + request_line);
+  return std::stoi(response.substr(9, 3));
+}
+
+std::string url_encode(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text) {
+    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') {
+      out += static_cast<char>(c);
+    } else {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
+std::int64_t run_campaign(const std::filesystem::path& dir, const Json& spec) {
+  podium::testing::write_file(dir / "spec.json", spec.dump());
+  const auto submit = podium::testing::run_podium({"submit", "spec.json"}, dir);
+  if (submit.exit_code != 0) throw std::runtime_error("podium submit: " + submit.err);
+  const auto run = podium::testing::run_podium({"run", "--workers", "2"}, dir);
+  if (run.exit_code != 0) throw std::runtime_error("podium run: " + run.err);
+  return std::stoll(submit.out);
+}
+
+Json landscape_spec(const std::string& name, int trials, const Json& extra_config) {
+  Json config = {{"artifact", true}};
+  config.update(extra_config);
+  return {{"name", name},
+          {"seed", 7},
+          {"workers", 2},
+          {"retries", 1},
+          {"trial_timeout_s", 30},
+          {"stages",
+           {{{"name", "explore"},
+             {"task", "landscape"},
+             {"preset", "smoke"},
+             {"config", config},
+             {"search", {{"algorithm", "random"}}},
+             {"budget", {{"trials", trials}}}}}}};
+}
+
+Json replay_fixture_spec(const std::string& name, int trials) {
+  return {{"name", name},
+          {"seed", 3},
+          {"workers", 2},
+          {"retries", 0},
+          {"trial_timeout_s", 30},
+          {"stages",
+           {{{"name", "swing"},
+             {"task", "web_replay_fixture"},
+             {"preset", "smoke"},
+             {"search", {{"algorithm", "random"}}},
+             {"budget", {{"trials", trials}}}}}}};
+}
+
+}  // namespace podium::web_dashboard::testing

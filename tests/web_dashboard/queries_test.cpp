@@ -1,0 +1,184 @@
+// The dashboard's read-only store queries: filters, ordering, scatter sampling, strategy
+// summaries, metric downsampling, the change token, and no read transaction left open.
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+
+#include <cmath>
+
+#include "podium/store/queries.h"
+#include "process.h"
+
+namespace podium::store {
+namespace {
+
+using podium::testing::TempDir;
+
+struct Fixture {
+  TempDir dir;
+  std::filesystem::path db = dir / "q.db";
+  std::int64_t campaign = 0;
+  std::vector<std::int64_t> trials;
+
+  // 30 trials over two stages: trial i has objective i, features (i, -i), strategy i % 3 in
+  // stage 0, and is done except every 10th, which failed.
+  Fixture() {
+    auto s = Store::open(db, Store::Access::read_write);
+    NewStage a{"a", "landscape", "random"}, b{"b", "landscape", "random"};
+    a.budget_trials = b.budget_trials = 15;
+    campaign = s->add_campaign("q", Json::object(), 1, "", {a, b});
+    const auto stages = s->stages(campaign);
+    for (int i = 0; i < 30; ++i) {
+      const auto id = s->add_trial(stages[i / 15].id, i % 15, {{"x", i}}, Json::object(), {{"step", i % 2 ? "explore" : "diversity"}}, 1);
+      trials.push_back(id);
+      s->start_attempt(id, 1, "w", "h");
+      if (i % 10 == 0) {
+        s->set_trial_state(id, "failed", "boom");
+        continue;
+      }
+      s->complete_trial(id, {double(i)}, {"f0", "f1"}, {double(i), -double(i)}, Json::object(), {});
+      if (i < 15) s->set_trial_strategy(id, i % 3);
+    }
+  }
+};
+
+TEST(Queries, TrialPageFiltersByStageStateAndStrategy) {
+  Fixture f;
+  auto q = Queries::open(f.db);
+  TrialFilter filter;
+  EXPECT_EQ(q->trial_page(f.campaign, filter).total, 30);
+  filter.stage_index = 1;
+  EXPECT_EQ(q->trial_page(f.campaign, filter).total, 15);
+  filter.state = "failed";
+  const auto failed = q->trial_page(f.campaign, filter);  // failed: trials 0, 10, 20; stage 1 holds 20
+  ASSERT_EQ(failed.total, 1);
+  EXPECT_EQ(failed.trials[0].id, f.trials[20]);
+  EXPECT_EQ(failed.trials[0].error, "boom");
+  TrialFilter by_strategy;
+  by_strategy.strategy = 2;  // done trials 2, 5, 8, 11, 14
+  EXPECT_EQ(q->trial_page(f.campaign, by_strategy).total, 5);
+}
+
+TEST(Queries, TrialPageOrdersAndPages) {
+  Fixture f;
+  auto q = Queries::open(f.db);
+  TrialFilter filter;
+  filter.order = TrialFilter::Order::objective;
+  filter.descending = true;
+  filter.limit = 3;
+  filter.offset = 1;
+  const auto page = q->trial_page(f.campaign, filter);
+  EXPECT_EQ(page.total, 30);
+  ASSERT_EQ(page.trials.size(), 3u);
+  EXPECT_EQ(page.trials[0].objectives[0], 28.0);  // 29 is first; offset 1
+  EXPECT_EQ(page.trials[2].objectives[0], 26.0);
+  EXPECT_EQ(page.trials[0].features, (std::vector<double>{28.0, -28.0}));
+  filter.descending = false;
+  filter.offset = 0;
+  EXPECT_EQ(q->trial_page(f.campaign, filter).trials[0].objectives[0], 1.0);  // failed trials (no objective) last
+}
+
+TEST(Queries, PointsAreDoneTrialsStridedWhenCapped) {
+  Fixture f;
+  auto q = Queries::open(f.db);
+  std::int64_t total = 0;
+  const auto all = q->points(f.campaign, 1000, &total);
+  EXPECT_EQ(total, 27);
+  ASSERT_EQ(all.size(), 27u);
+  EXPECT_EQ(all[0].step, "explore");  // trial 1 (trial 0 failed)
+  EXPECT_EQ(all[1].step, "diversity");
+  EXPECT_EQ(all[0].features, (std::vector<double>{1.0, -1.0}));
+  EXPECT_EQ(all[0].strategy, 1);
+  EXPECT_FALSE(all.back().strategy.has_value());
+  const auto capped = q->points(f.campaign, 10, &total);
+  EXPECT_EQ(capped.size(), 9u);  // stride 3 over 27
+  EXPECT_EQ(capped[1].id, all[3].id);
+}
+
+TEST(Queries, StrategiesPickTheBestTrialAsRepresentative) {
+  Fixture f;
+  auto q = Queries::open(f.db);
+  const auto s = q->strategies(f.campaign);
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_EQ(s[0].strategy, 0);
+  EXPECT_EQ(s[0].trials, 4);
+  EXPECT_EQ(s[0].representative_trial, f.trials[12]);
+  EXPECT_EQ(s[0].best_objective, 12.0);
+  EXPECT_EQ(s[2].trials, 5);
+  EXPECT_EQ(s[2].representative_features, (std::vector<double>{14.0, -14.0}));
+  const auto summary = q->summary(f.campaign, now_unix_s());
+  EXPECT_EQ(summary.strategies, 3);
+  EXPECT_EQ(summary.best_objective, 29.0);
+  EXPECT_EQ(summary.counts.failed, 3);
+  EXPECT_EQ(summary.done_last_minute, 27);
+}
+
+TEST(Queries, MetricDownsamplingKeepsEveryBucketsMinAndMax) {
+  Fixture f;
+  {
+    auto s = Store::open(f.db, Store::Access::read_write);
+    std::vector<MetricPoint> points;
+    for (int k = 0; k < 100000; ++k) points.push_back({"loss", double(k), std::sin(k * 1e-3)});
+    points[54321].value = 50.0;  // a spike the plot must not lose
+    points[777].value = std::nan("");
+    s->transaction([&] { s->add_metrics(f.trials[1], points); });
+    s->add_metrics(f.trials[1], {{"other", 0.0, 1.0}});
+  }
+  auto q = Queries::open(f.db);
+  const auto series = q->metric_series(f.trials[1], 500, std::string("loss"));
+  ASSERT_EQ(series.size(), 1u);
+  EXPECT_EQ(series[0].total_points, 100000);
+  EXPECT_LE(series[0].steps.size(), 1000u);
+  EXPECT_GE(series[0].steps.size(), 500u);
+  EXPECT_TRUE(std::is_sorted(series[0].steps.begin(), series[0].steps.end()));
+  EXPECT_EQ(*std::max_element(series[0].values.begin(), series[0].values.end()), 50.0);
+  EXPECT_NEAR(*std::min_element(series[0].values.begin(), series[0].values.end()), -1.0, 1e-6);
+  EXPECT_EQ(q->metric_series(f.trials[1], 500, std::nullopt).size(), 2u);
+  EXPECT_EQ(q->metric_series(f.trials[1], 500, std::string("loss' OR '1'='1")).size(), 0u);  // bound, not spliced
+}
+
+TEST(Queries, DataVersionChangesWhenAnotherConnectionCommits) {
+  Fixture f;
+  auto q = Queries::open(f.db);
+  const auto v = q->data_version();
+  EXPECT_EQ(q->data_version(), v);
+  Store::open(f.db, Store::Access::read_write)->set_campaign_state(f.campaign, "paused");
+  EXPECT_NE(q->data_version(), v);
+}
+
+// A reader that kept a read transaction open would pin the WAL: a TRUNCATE checkpoint could not
+// finish. After every query the writer's checkpoint must complete.
+TEST(Queries, NoReadTransactionOutlivesACall) {
+  Fixture f;
+  auto q = Queries::open(f.db);
+  sqlite3* writer = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(f.db.c_str(), &writer, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
+  const auto checkpoint_completes = [&] {
+    int log = -1, done = -1;
+    const int rc = sqlite3_wal_checkpoint_v2(writer, nullptr, SQLITE_CHECKPOINT_TRUNCATE, &log, &done);
+    return rc == SQLITE_OK && log == 0;
+  };
+  // A first write makes the writer see WAL mode and leaves frames for the checkpoint to move.
+  ASSERT_EQ(sqlite3_exec(writer, "UPDATE campaigns SET error = ''", nullptr, nullptr, nullptr), SQLITE_OK);
+  std::int64_t total = 0;
+  q->trial_page(f.campaign, {});
+  q->points(f.campaign, 5, &total);
+  q->strategies(f.campaign);
+  q->summary(f.campaign, now_unix_s());
+  q->metric_series(f.trials[1], 10, std::nullopt);
+  q->trial(f.trials[3]);
+  q->store().campaign_trials(f.campaign);
+  EXPECT_TRUE(checkpoint_completes());
+  // Control: an open read transaction on the same file does block it.
+  sqlite3* reader = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(f.db.c_str(), &reader, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(reader, "BEGIN; SELECT count(*) FROM trials;", nullptr, nullptr, nullptr), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(writer, "UPDATE campaigns SET error = 'x'", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_busy_timeout(writer, 0);
+  EXPECT_FALSE(checkpoint_completes());
+  sqlite3_exec(reader, "COMMIT", nullptr, nullptr, nullptr);
+  sqlite3_close(reader);
+  sqlite3_close(writer);
+}
+
+}  // namespace
+}  // namespace podium::store

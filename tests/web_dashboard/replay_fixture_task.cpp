@@ -1,0 +1,83 @@
+// Test-only task plugin "web_replay_fixture": writes a trajectory artifact (sim/'s trajectory
+// file, JSON lines, sim/README.md) for the browser tests, until a physics task records real ones. The
+// motion is analytic on purpose: a chain of three capsules and a ball swinging under a bar
+// (a box prop); parameters set the amplitude and the rate. Not physics; nothing else uses it.
+#include <cmath>
+#include <fstream>
+
+#include "podium/plugins/export.h"
+
+namespace podium::tests::web_dashboard {
+
+using base::Json;
+
+class ReplayFixtureTask final : public plugins::Task {
+ public:
+  Json describe(const Json&) const override {
+    return {{"params", {{{"name", "amplitude"}, {"low", 0.2}, {"high", 1.2}}, {{"name", "rate"}, {"low", 1.0}, {"high", 4.0}}}},
+            {"features",
+             {{{"name", "tip_height"}, {"low", 0.0}, {"high", 2.0}, {"metric", "euclidean"}},
+              {{"name", "final_angle"}, {"low", -2.0}, {"high", 2.0}, {"metric", "euclidean"}}}},
+            {"metrics", {{{"name", "return"}}, {{"name", "curriculum/level"}}}},
+            {"objectives", {"tip_height"}},
+            {"presets", {{"smoke", Json::object()}, {"quick", Json::object()}, {"paper", Json::object()}}},
+            {"config_defaults", Json::object()}};
+  }
+
+  plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
+    const double amplitude = request.params.at("amplitude").get<double>(), rate = request.params.at("rate").get<double>();
+    constexpr int kLinks = 3, kFrames = 90;
+    constexpr double kLength = 0.4, kDt = 1.0 / 30.0, kPi = 3.14159265358979323846;
+    const double bar_z = 2.0;
+    // Header line: links with their shapes (capsules along local z), a ball, and the bar as a prop.
+    Json links = Json::array(), names = Json::array();
+    for (int i = 0; i <= kLinks; ++i) {
+      const bool ball = i == kLinks;
+      const std::string name = ball ? "ball" : "link" + std::to_string(i);
+      const Json shape = ball ? Json{{"type", "sphere"}, {"body", name}, {"radius", 0.09}}
+                              : Json{{"type", "capsule"}, {"body", name}, {"radius", 0.05}, {"half_length", 0.15}};
+      links.push_back({{"name", name}, {"parent", i == 0 ? Json(nullptr) : Json(i - 1)}, {"shapes", {shape}}});
+      names.push_back(name);
+    }
+    const Json header = {{"format", "podium-trajectory"}, {"version", 1}, {"model", "fixture-chain"}, {"links", links},
+                         {"bodies", names}, {"joints", Json::array()}, {"ground", true},
+                         {"props", {{{"name", "bar"}, {"type", "box"}, {"half_extents", {0.05, 0.6, 0.05}},
+                                     {"pos", {0.0, 0.0, bar_z}}}}}};
+    const auto path = request.work_dir / "trajectory.jsonl";
+    std::ofstream out(path);
+    out << header.dump() << '\n';
+    double tip_z = 0, max_tip_z = -1e9, angle = 0;
+    for (int f = 0; f < kFrames; ++f) {
+      const double t = f * kDt;
+      double px = 0, pz = bar_z;
+      Json poses = Json::array();
+      for (int i = 0; i < kLinks; ++i) {
+        angle = amplitude * (1.0 + 0.3 * i) * std::sin(rate * t + 0.5 * i);
+        const double dx = std::sin(angle), dz = -std::cos(angle), phi = kPi - angle;  // local z onto (dx, 0, dz)
+        poses.push_back({px + dx * kLength / 2, 0.0, pz + dz * kLength / 2, std::cos(phi / 2), 0.0, std::sin(phi / 2), 0.0});
+        px += dx * kLength;
+        pz += dz * kLength;
+      }
+      poses.push_back({px, 0.0, pz, 1.0, 0.0, 0.0, 0.0});
+      tip_z = pz;
+      max_tip_z = std::max(max_tip_z, tip_z);
+      out << Json{{"t", t}, {"root", poses[0]}, {"q", Json::array()}, {"links", poses}, {"com", {px / 2, 0.0, pz}},
+                  {"contacts", Json::array()}}.dump()
+          << '\n';
+    }
+    out.close();
+    for (int k = 0; k < 20; ++k) {
+      sink.metric("return", k, max_tip_z * (1.0 - std::exp(-0.2 * k)));
+      sink.metric("curriculum/level", k, std::floor(k / 5.0));
+    }
+    plugins::RunResult result;
+    result.objectives = {max_tip_z};
+    result.features = {max_tip_z, angle};
+    result.artifacts.push_back({"trajectory", path});
+    return result;
+  }
+};
+
+}  // namespace podium::tests::web_dashboard
+
+PODIUM_EXPORT_TASK(podium::tests::web_dashboard::ReplayFixtureTask, "web_replay_fixture")

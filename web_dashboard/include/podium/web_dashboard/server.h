@@ -1,0 +1,53 @@
+#pragma once
+/// `podium serve`: a read-only HTTP dashboard on a Podium database (DESIGN.md "Dashboard").
+///
+/// Serves the JSON API (`/api/...`, documented in the top-level README "The dashboard") and the
+/// static front end, both GET only. The database is opened read-only; every request borrows a
+/// connection from a small pool and runs autocommit statements only, so no read transaction
+/// outlives a request and a running scheduler is never blocked. API responses are cached by URL
+/// and database version (SQLite's data_version): repeated requests cost nothing until a commit.
+#include <filesystem>
+#include <memory>
+#include <ostream>
+#include <string>
+
+namespace podium::web_dashboard {
+
+struct ServeOptions {
+  std::filesystem::path database = "podium.db";
+  std::string host = "127.0.0.1";   ///< localhost only unless asked otherwise
+  int port = 8080;                  ///< 0: any free port (see Server::port())
+  std::filesystem::path static_dir; ///< the built front end (index.html, vendor/...)
+  bool cache = true;                ///< reuse an API response while the database is unchanged
+};
+
+class Server {
+ public:
+  /// Opens the database (read-only) and loads the front end into memory. Throws
+  /// base::RuntimeError if the database cannot be opened, base::UserError if static_dir has no
+  /// index.html.
+  explicit Server(const ServeOptions& options);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  /// Binds the listening socket; returns the port (the chosen one when options.port is 0).
+  /// Throws base::RuntimeError if the address cannot be bound.
+  int bind();
+  /// Serves until stop() is called (from another thread or a signal handler's thread).
+  void run();
+  void stop();
+  int port() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// `podium serve`: binds, prints the URL on `out`, serves until SIGINT or SIGTERM; returns 0.
+int serve(const ServeOptions& options, std::ostream& out);
+
+/// The front end next to an installed or built `podium` binary: <bin>/../share/podium/web.
+std::filesystem::path default_static_dir(const std::filesystem::path& podium_binary);
+
+}  // namespace podium::web_dashboard

@@ -1,0 +1,261 @@
+#include "api.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace podium::web_dashboard {
+
+namespace fs = std::filesystem;
+using store::Queries;
+
+namespace {
+
+Json counts_json(const store::TrialCounts& c) {
+  return {{"total", c.total},   {"pending", c.pending + c.interrupted}, {"running", c.running},
+          {"done", c.done},     {"failed", c.failed},                   {"cancelled", c.cancelled}};
+}
+
+Json optional_number(const std::optional<double>& v) { return v && std::isfinite(*v) ? Json(*v) : Json(nullptr); }
+
+Json campaign_summary(const store::CampaignRecord& c, const store::CampaignSummary& s,
+                      const std::vector<store::StageRecord>& stage_list, double now) {
+  Json stages = Json::array();
+  std::int64_t budget = 0;
+  for (const auto& st : stage_list) {
+    budget += st.budget_trials;
+    stages.push_back({{"index", st.index}, {"name", st.name}, {"task", st.task}, {"algorithm", st.algorithm},
+                      {"state", st.state}, {"budget_trials", st.budget_trials}});
+  }
+  // Rate over the span the campaign has been producing results (to now while it runs).
+  const double end = c.state == "running" ? now : s.last_finished_at;
+  const double span_s = c.started_at > 0 ? end - c.started_at : 0.0;
+  const double per_minute = span_s > 0 ? 60.0 * static_cast<double>(s.counts.done) / span_s : 0.0;
+  return {{"id", c.id},
+          {"name", c.name},
+          {"state", c.state},
+          {"error", c.error},
+          {"seed", std::to_string(c.seed)},
+          {"created_at", c.created_at},
+          {"started_at", c.started_at},
+          {"finished_at", c.finished_at},
+          {"stages", stages},
+          {"budget_trials", budget},
+          {"counts", counts_json(s.counts)},
+          {"progress", budget > 0 ? static_cast<double>(s.counts.done + s.counts.failed) / static_cast<double>(budget) : 0.0},
+          {"trials_per_minute", per_minute},
+          {"done_last_minute", s.done_last_minute},
+          {"best_objective", optional_number(s.best_objective)},
+          {"strategies", s.strategies}};
+}
+
+Json trial_json(const store::TrialRecord& t, int stage_index) {
+  return {{"id", t.id},
+          {"stage_id", t.stage_id},
+          {"stage", stage_index},
+          {"index", t.index},
+          {"params", t.params},
+          {"context", t.context},
+          {"info", t.info},
+          {"seed", std::to_string(t.seed)},  // 64-bit: a JSON number would lose digits in JavaScript
+          {"state", t.state},
+          {"error", t.error},
+          {"attempts", t.attempts},
+          {"objectives", t.objectives},
+          {"features", t.features},
+          {"result_info", t.result_info},
+          {"strategy", t.strategy ? Json(*t.strategy) : Json(nullptr)},
+          {"created_at", t.created_at},
+          {"started_at", t.started_at},
+          {"finished_at", t.finished_at}};
+}
+
+std::map<std::int64_t, int> stage_indices(const Queries& q, std::int64_t campaign_id) {
+  std::map<std::int64_t, int> out;
+  for (const auto& st : q.store().stages(campaign_id)) out[st.id] = st.index;
+  return out;
+}
+
+// The campaign's run folder: the spec's run_dir, else <database>.runs/<id> (the orchestrator's
+// rule, campaign_run_dir(); repeated here because this layer depends on the store only).
+fs::path run_dir(const store::CampaignRecord& c, const fs::path& database) {
+  if (!c.run_dir.empty()) return c.run_dir;
+  return fs::absolute(database).string() + ".runs/" + std::to_string(c.id);
+}
+
+bool inside(const fs::path& child, const fs::path& parent) {
+  const auto [p, c] = std::mismatch(parent.begin(), parent.end(), child.begin(), child.end());
+  return p == parent.end() && c != child.end();
+}
+
+Json strategy_json(const std::vector<store::StrategySummary>& list) {
+  Json out = Json::array();
+  for (const auto& s : list)
+    out.push_back({{"strategy", s.strategy},
+                   {"trials", s.trials},
+                   {"representative_trial", s.representative_trial},
+                   {"best_objective", optional_number(s.best_objective)},
+                   {"features", s.representative_features}});
+  return out;
+}
+
+}  // namespace
+
+Json campaign_list(const Queries& q, double now) {
+  Json out = Json::array();
+  for (const auto& c : q.store().campaigns())
+    out.push_back(campaign_summary(c, q.summary(c.id, now), q.store().stages(c.id), now));
+  return out;
+}
+
+std::int64_t resolve_campaign(const Queries& q, const std::string& campaign) {
+  const auto c = q.store().find_campaign(campaign);
+  if (!c) throw HttpError(404, "no campaign \"" + campaign + "\"");
+  return c->id;
+}
+
+Json campaign_detail(const Queries& q, std::int64_t campaign_id, double now) {
+  const auto c = q.store().campaign(campaign_id);
+  if (!c) throw HttpError(404, "no campaign " + std::to_string(campaign_id));
+  const auto summary = q.summary(campaign_id, now);
+  const auto stage_list = q.store().stages(campaign_id);
+  Json out = campaign_summary(*c, summary, stage_list, now);
+  out["spec"] = c->spec;
+  out["podium_version"] = c->podium_version;
+  Json stages = Json::array();
+  for (const auto& st : stage_list) {
+    const auto counts = summary.stage_counts.find(st.id);
+    Json description = st.description;
+    description.erase("presets");  // every preset of the task: noise on this page
+    stages.push_back({{"id", st.id},
+                      {"index", st.index},
+                      {"name", st.name},
+                      {"task", st.task},
+                      {"algorithm", st.algorithm},
+                      {"state", st.state},
+                      {"search_config", st.search_config},
+                      {"task_config", st.task_config},
+                      {"description", description},
+                      {"inputs", st.inputs},
+                      {"budget_trials", st.budget_trials},
+                      {"budget_seconds", st.budget_seconds},
+                      {"elapsed_s", st.elapsed_s},
+                      {"counts", counts_json(counts == summary.stage_counts.end() ? store::TrialCounts{} : counts->second)}});
+  }
+  out["stages"] = stages;
+  out["strategy_table"] = strategy_json(summary.strategy_table);
+  return out;
+}
+
+Json trial_page(const Queries& q, std::int64_t campaign_id, const store::TrialFilter& filter) {
+  const auto page = q.trial_page(campaign_id, filter);
+  const auto stages = stage_indices(q, campaign_id);
+  Json trials = Json::array();
+  for (const auto& t : page.trials) trials.push_back(trial_json(t, stages.at(t.stage_id)));
+  return {{"total", page.total}, {"offset", filter.offset}, {"limit", filter.limit}, {"trials", trials}};
+}
+
+Json scatter_points(const Queries& q, std::int64_t campaign_id, std::int64_t max_points) {
+  std::int64_t total = 0;
+  const auto points = q.points(campaign_id, max_points, &total);
+  // Columns rather than objects: a 5,000-point scatter stays a small document.
+  Json id = Json::array(), stage = Json::array(), index = Json::array(), objective = Json::array(),
+       features = Json::array(), strategy = Json::array(), step = Json::array(), finished = Json::array();
+  for (const auto& p : points) {
+    id.push_back(p.id);
+    stage.push_back(p.stage_index);
+    index.push_back(p.index);
+    objective.push_back(std::isfinite(p.objective) ? Json(p.objective) : Json(nullptr));
+    features.push_back(p.features);
+    strategy.push_back(p.strategy ? Json(*p.strategy) : Json(nullptr));
+    step.push_back(p.step);
+    finished.push_back(p.finished_at);
+  }
+  return {{"total", total},
+          {"returned", points.size()},
+          {"columns",
+           {{"id", id}, {"stage", stage}, {"index", index}, {"objective", objective}, {"features", features},
+            {"strategy", strategy}, {"step", step}, {"finished_at", finished}}}};
+}
+
+Json strategy_table(const Queries& q, std::int64_t campaign_id) { return strategy_json(q.strategies(campaign_id)); }
+
+Json campaign_events(const Queries& q, std::int64_t campaign_id, std::size_t last_n) {
+  auto events = q.store().events(campaign_id);
+  const std::size_t skip = events.size() > last_n ? events.size() - last_n : 0;
+  return Json(std::vector<Json>(events.begin() + static_cast<std::ptrdiff_t>(skip), events.end()));
+}
+
+Json trial_detail(const Queries& q, std::int64_t trial_id) {
+  const auto t = q.trial(trial_id);
+  const auto campaign_id = q.trial_campaign(trial_id);
+  if (!t || !campaign_id) throw HttpError(404, "no trial " + std::to_string(trial_id));
+  const auto stages = q.store().stages(*campaign_id);
+  const auto stage = std::find_if(stages.begin(), stages.end(), [&](const auto& s) { return s.id == t->stage_id; });
+  Json out = trial_json(*t, stage->index);
+  out["campaign_id"] = *campaign_id;
+  out["stage_name"] = stage->name;
+  out["task"] = stage->task;
+  out["feature_names"] = Json::array();
+  for (const auto& f : stage->description.value("features", Json::array())) out["feature_names"].push_back(f.value("name", ""));
+  out["objective_names"] = stage->description.value("objectives", Json::array());
+  Json attempts = Json::array();
+  for (const auto& a : q.store().attempts(trial_id))
+    attempts.push_back({{"number", a.number},
+                        {"state", a.state},
+                        {"worker", a.worker},
+                        {"host", a.host},
+                        {"job_id", a.job_id},
+                        {"exit_code", a.exit_code ? Json(*a.exit_code) : Json(nullptr)},
+                        {"signal", a.signal ? Json(*a.signal) : Json(nullptr)},
+                        {"error", a.error},
+                        {"started_at", a.started_at},
+                        {"finished_at", a.finished_at}});
+  out["attempt_list"] = attempts;
+  Json artifacts = Json::array();
+  const auto list = q.store().artifacts(trial_id);
+  for (std::size_t i = 0; i < list.size(); ++i)
+    artifacts.push_back({{"name", list[i].name},
+                         {"path", list[i].path},
+                         {"sha256", list[i].sha256},
+                         {"size_bytes", list[i].size_bytes},
+                         {"url", "/api/trials/" + std::to_string(trial_id) + "/artifacts/" + std::to_string(i)}});
+  out["artifacts"] = artifacts;
+  return out;
+}
+
+Json metric_series(const Queries& q, std::int64_t trial_id, std::int64_t max_points,
+                   const std::optional<std::string>& name) {
+  if (!q.trial_campaign(trial_id)) throw HttpError(404, "no trial " + std::to_string(trial_id));
+  Json out = Json::array();
+  for (const auto& m : q.metric_series(trial_id, max_points, name)) {
+    Json values = Json::array();
+    for (double v : m.values) values.push_back(std::isfinite(v) ? Json(v) : Json(nullptr));
+    out.push_back({{"name", m.name}, {"attempt", m.attempt}, {"total_points", m.total_points}, {"steps", m.steps},
+                   {"values", values}});
+  }
+  return out;
+}
+
+std::size_t artifact_index(const Queries& q, std::int64_t trial_id, const std::string& name) {
+  const auto list = q.store().artifacts(trial_id);
+  for (std::size_t i = 0; i < list.size(); ++i)
+    if (list[i].name == name) return i;
+  throw HttpError(404, "trial " + std::to_string(trial_id) + " has no artifact \"" + name + "\"");
+}
+
+fs::path artifact_file(const Queries& q, const fs::path& database, std::int64_t trial_id, std::size_t index) {
+  const auto campaign_id = q.trial_campaign(trial_id);
+  if (!campaign_id) throw HttpError(404, "no trial " + std::to_string(trial_id));
+  const auto list = q.store().artifacts(trial_id);
+  if (index >= list.size())
+    throw HttpError(404, "trial " + std::to_string(trial_id) + " has no artifact " + std::to_string(index));
+  std::error_code ec;
+  const fs::path root = fs::weakly_canonical(run_dir(*q.store().campaign(*campaign_id), database), ec);
+  const fs::path file = fs::weakly_canonical(list[index].path, ec);
+  // A stored path is data, not trust: it must resolve (symlinks and ".." included) into the run folder.
+  if (ec || !inside(file, root)) throw HttpError(403, "artifact outside the campaign's run folder");
+  if (!fs::is_regular_file(file)) throw HttpError(404, "artifact file " + file.string() + " is missing");
+  return file;
+}
+
+}  // namespace podium::web_dashboard

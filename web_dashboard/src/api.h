@@ -1,0 +1,41 @@
+#pragma once
+// The JSON API's documents, built from store queries (no SQL here, no HTTP types either).
+// Endpoints and fields are documented in the top-level README, "The dashboard".
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "podium/base/json.h"
+#include "podium/store/queries.h"
+
+namespace podium::web_dashboard {
+
+using base::Json;
+
+/// A request the API refuses: HTTP status and a one-line reason.
+struct HttpError : std::runtime_error {
+  HttpError(int status, const std::string& message) : std::runtime_error(message), status(status) {}
+  int status;
+};
+
+Json campaign_list(const store::Queries& q, double now_unix_s);
+/// `campaign` is an id or a name (the newest campaign of that name); 404 if none.
+std::int64_t resolve_campaign(const store::Queries& q, const std::string& campaign);
+Json campaign_detail(const store::Queries& q, std::int64_t campaign_id, double now_unix_s);
+Json trial_page(const store::Queries& q, std::int64_t campaign_id, const store::TrialFilter& filter);
+Json scatter_points(const store::Queries& q, std::int64_t campaign_id, std::int64_t max_points);
+Json strategy_table(const store::Queries& q, std::int64_t campaign_id);
+Json campaign_events(const store::Queries& q, std::int64_t campaign_id, std::size_t last_n);
+Json trial_detail(const store::Queries& q, std::int64_t trial_id);
+Json metric_series(const store::Queries& q, std::int64_t trial_id, std::int64_t max_points,
+                   const std::optional<std::string>& name);
+
+/// The file of a trial's artifact number `index`, if it lies inside the campaign's run folder
+/// (resolving symlinks and ".."); 404 for an unknown trial or artifact, 403 outside the folder.
+std::filesystem::path artifact_file(const store::Queries& q, const std::filesystem::path& database,
+                                    std::int64_t trial_id, std::size_t index);
+/// The index of the trial's artifact called `name`; 404 if it has none.
+std::size_t artifact_index(const store::Queries& q, std::int64_t trial_id, const std::string& name);
+
+}  // namespace podium::web_dashboard

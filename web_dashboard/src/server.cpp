@@ -1,0 +1,291 @@
+#include "podium/web_dashboard/server.h"
+
+#include <httplib.h>
+#include <signal.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <charconv>
+#include <fstream>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "api.h"
+#include "podium/base/error.h"
+#include "podium/base/log.h"
+#include "pool.h"
+#include "static_files.h"
+
+namespace podium::web_dashboard {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const httplib::Headers kSecurityHeaders = {
+    {"X-Content-Type-Options", "nosniff"},
+    {"X-Frame-Options", "DENY"},
+    // Everything comes from this server: no CDN, no inline script, nothing framed.
+    {"Content-Security-Policy", "default-src 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'"},
+    {"Referrer-Policy", "no-referrer"}};
+
+std::int64_t parse_int(const std::string& text, const char* what, std::int64_t low, std::int64_t high) {
+  std::int64_t value = 0;
+  const auto* end = text.data() + text.size();
+  const auto [ptr, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || ptr != end || value < low || value > high)
+    throw HttpError(400, std::string(what) + ": \"" + text + "\" is not an integer in [" + std::to_string(low) + ", " +
+                             std::to_string(high) + "]");
+  return value;
+}
+
+std::optional<std::string> param(const httplib::Request& req, const char* name) {
+  if (!req.has_param(name)) return std::nullopt;
+  return req.get_param_value(name);
+}
+
+std::int64_t int_param(const httplib::Request& req, const char* name, std::int64_t fallback, std::int64_t low,
+                       std::int64_t high) {
+  const auto text = param(req, name);
+  return text ? parse_int(*text, name, low, high) : fallback;
+}
+
+store::TrialFilter trial_filter(const httplib::Request& req) {
+  store::TrialFilter f;
+  if (auto s = param(req, "stage")) f.stage_index = static_cast<int>(parse_int(*s, "stage", 0, 1'000'000));
+  if (auto s = param(req, "state")) {
+    static const std::set<std::string> kStates = {"pending", "running", "done", "failed", "interrupted", "cancelled"};
+    if (!kStates.count(*s)) throw HttpError(400, "state: \"" + *s + "\" is not a trial state");
+    f.state = *s;
+  }
+  if (auto s = param(req, "strategy")) f.strategy = parse_int(*s, "strategy", INT64_MIN, INT64_MAX);
+  f.offset = int_param(req, "offset", 0, 0, INT64_MAX);
+  f.limit = int_param(req, "limit", 100, 1, 1000);
+  if (auto s = param(req, "order")) {
+    if (*s == "index") f.order = store::TrialFilter::Order::index;
+    else if (*s == "objective") f.order = store::TrialFilter::Order::objective;
+    else if (*s == "finished") f.order = store::TrialFilter::Order::finished;
+    else throw HttpError(400, "order: \"" + *s + "\" is not one of index, objective, finished");
+  }
+  if (auto s = param(req, "desc")) f.descending = *s == "1" || *s == "true";
+  return f;
+}
+
+void send_json(httplib::Response& res, const Json& body) {
+  res.set_header("Cache-Control", "no-store");
+  res.set_content(body.dump(), "application/json");
+}
+
+// A file streamed in chunks (checkpoints can be large).
+void send_file(httplib::Response& res, const fs::path& file, const std::string& mime, bool attachment) {
+  const auto size = fs::file_size(file);
+  auto in = std::make_shared<std::ifstream>(file, std::ios::binary);
+  if (attachment) {
+    std::string name = file.filename().string();
+    for (char& c : name)
+      if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
+    res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
+  }
+  res.set_content_provider(size, mime, [in](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+    std::string buffer(std::min<std::size_t>(length, 1 << 16), '\0');
+    in->seekg(static_cast<std::streamoff>(offset));
+    in->read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    sink.write(buffer.data(), static_cast<std::size_t>(in->gcount()));
+    return in->gcount() > 0;
+  });
+}
+
+// Response bodies by URL, valid for one database version. Bounded: when full, it starts over.
+class ResponseCache {
+ public:
+  std::shared_ptr<const std::string> find(const std::string& key, std::int64_t version) {
+    std::lock_guard lock(mutex_);
+    const auto it = entries_.find(key);
+    return it != entries_.end() && it->second.first == version ? it->second.second : nullptr;
+  }
+  void put(const std::string& key, std::int64_t version, std::shared_ptr<const std::string> body) {
+    std::lock_guard lock(mutex_);
+    if (bytes_ + body->size() > kMaxBytes) {
+      entries_.clear();
+      bytes_ = 0;
+    }
+    bytes_ += body->size();
+    entries_[key] = {version, std::move(body)};
+  }
+
+ private:
+  static constexpr std::size_t kMaxBytes = 64u << 20;
+  std::mutex mutex_;
+  std::map<std::string, std::pair<std::int64_t, std::shared_ptr<const std::string>>> entries_;
+  std::size_t bytes_ = 0;
+};
+
+// The cache key: path and parameters in a canonical order.
+std::string cache_key(const httplib::Request& req) {
+  std::string key = req.path;
+  for (const auto& [name, value] : req.params) key += "\n" + name + "=" + value;  // a multimap: sorted
+  return key;
+}
+
+}  // namespace
+
+struct Server::Impl {
+  ServeOptions options;
+  QueriesPool pool;
+  std::mutex watch_mutex;
+  std::unique_ptr<store::Queries> watch;  // one connection, so its data_version is one sequence
+  StaticFiles files;
+  ResponseCache cache;
+  httplib::Server http;
+  int port = 0;
+
+  explicit Impl(const ServeOptions& o)
+      : options(o), pool(o.database), watch(store::Queries::open(o.database)), files(o.static_dir) {}
+
+  // Runs a handler; HttpError and any other exception become a JSON error response.
+  template <class Fn>
+  httplib::Server::Handler api(Fn fn) {
+    return [this, fn](const httplib::Request& req, httplib::Response& res) {
+      try {
+        fn(req, res);
+      } catch (const HttpError& e) {
+        res.status = e.status;
+        send_json(res, {{"error", e.what()}});
+      } catch (const std::exception& e) {
+        res.status = 500;
+        send_json(res, {{"error", e.what()}});
+      }
+    };
+  }
+
+  std::int64_t data_version() {
+    std::lock_guard lock(watch_mutex);
+    return watch->data_version();
+  }
+
+  // A JSON endpoint: build(req, queries) makes the document; the body is reused while the
+  // database version is unchanged. The version is read before the query, so a cached body is
+  // never older than its version.
+  template <class Build>
+  httplib::Server::Handler json(Build build) {
+    return api([this, build](const httplib::Request& req, httplib::Response& res) {
+      const std::int64_t version = data_version();
+      const std::string key = cache_key(req);
+      auto body = options.cache ? cache.find(key, version) : nullptr;
+      if (!body) {
+        auto q = pool.acquire();
+        body = std::make_shared<const std::string>(build(req, *q).dump());
+        if (options.cache) cache.put(key, version, body);
+      }
+      res.set_header("Cache-Control", "no-store");
+      res.set_content(*body, "application/json");
+    });
+  }
+
+  void routes() {
+    http.set_default_headers(kSecurityHeaders);
+    http.set_tcp_nodelay(true);  // headers and body go out in separate writes: no Nagle delay
+    http.set_keep_alive_timeout(2);  // an idle keep-alive connection holds a pool thread
+    http.set_payload_max_length(64 * 1024);
+    http.Get("/api/version", api([this](const auto&, auto& res) { send_json(res, {{"data_version", data_version()}}); }));
+    http.Get("/api/campaigns", json([](const auto&, const store::Queries& q) {
+      return campaign_list(q, store::now_unix_s());
+    }));
+    http.Get(R"(/api/campaigns/([^/]+))", json([](const auto& req, const store::Queries& q) {
+      return campaign_detail(q, resolve_campaign(q, req.matches[1]), store::now_unix_s());
+    }));
+    http.Get(R"(/api/campaigns/([^/]+)/trials)", json([](const auto& req, const store::Queries& q) {
+      const auto filter = trial_filter(req);
+      return trial_page(q, resolve_campaign(q, req.matches[1]), filter);
+    }));
+    http.Get(R"(/api/campaigns/([^/]+)/points)", json([](const auto& req, const store::Queries& q) {
+      const auto max_points = int_param(req, "max_points", 5000, 1, 1'000'000);
+      return scatter_points(q, resolve_campaign(q, req.matches[1]), max_points);
+    }));
+    http.Get(R"(/api/campaigns/([^/]+)/strategies)", json([](const auto& req, const store::Queries& q) {
+      return strategy_table(q, resolve_campaign(q, req.matches[1]));
+    }));
+    http.Get(R"(/api/campaigns/([^/]+)/events)", json([](const auto& req, const store::Queries& q) {
+      const auto last = int_param(req, "last", 200, 1, 10000);
+      return campaign_events(q, resolve_campaign(q, req.matches[1]), static_cast<std::size_t>(last));
+    }));
+    http.Get(R"(/api/trials/([^/]+))", json([](const auto& req, const store::Queries& q) {
+      return trial_detail(q, parse_int(req.matches[1], "trial", 1, INT64_MAX));
+    }));
+    http.Get(R"(/api/trials/([^/]+)/metrics)", json([](const auto& req, const store::Queries& q) {
+      const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+      const auto max_points = int_param(req, "max_points", 1000, 1, 1'000'000);
+      return metric_series(q, id, max_points, param(req, "name"));
+    }));
+    http.Get(R"(/api/trials/([^/]+)/artifacts/([^/]+))", api([this](const auto& req, auto& res) {
+      const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+      const auto index = static_cast<std::size_t>(parse_int(req.matches[2], "artifact", 0, 1'000'000));
+      send_file(res, artifact_file(*pool.acquire(), options.database, id, index), "application/octet-stream", true);
+    }));
+    http.Get(R"(/api/trials/([^/]+)/trajectory)", api([this](const auto& req, auto& res) {
+      const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+      auto q = pool.acquire();
+      send_file(res, artifact_file(*q, options.database, id, artifact_index(*q, id, "trajectory")),
+                "application/x-ndjson", false);  // sim/'s JSON-lines trajectory file
+    }));
+    http.Get(R"(/api/.*)", api([](const auto& req, auto&) -> void { throw HttpError(404, "no endpoint " + req.path); }));
+    http.Get(R"(/(.*))", [this](const httplib::Request& req, httplib::Response& res) {
+      const std::string path = req.matches[1].str().empty() ? "index.html" : req.matches[1].str();
+      if (const auto* f = files.find(path)) {
+        res.set_header("Cache-Control", "no-cache");
+        res.set_content(f->content, f->mime);
+      } else {
+        res.status = 404;
+        res.set_content("not found\n", "text/plain");
+      }
+    });
+  }
+};
+
+Server::Server(const ServeOptions& options) : impl_(std::make_unique<Impl>(options)) { impl_->routes(); }
+Server::~Server() = default;
+
+int Server::bind() {
+  const auto& o = impl_->options;
+  impl_->port = o.port == 0 ? impl_->http.bind_to_any_port(o.host) : (impl_->http.bind_to_port(o.host, o.port) ? o.port : -1);
+  if (impl_->port <= 0)
+    throw base::RuntimeError("podium serve: cannot listen on " + o.host + ":" + std::to_string(o.port) +
+                             " (address in use or not local?)");
+  return impl_->port;
+}
+
+void Server::run() { impl_->http.listen_after_bind(); }
+void Server::stop() { impl_->http.stop(); }
+int Server::port() const { return impl_->port; }
+
+fs::path default_static_dir(const fs::path& podium_binary) {
+  return podium_binary.parent_path().parent_path() / "share" / "podium" / "web";
+}
+
+int serve(const ServeOptions& options, std::ostream& out) {
+  // The dashboard is an observer: on a busy machine the scheduler and its trials come first.
+  // Set before any thread starts, so every server thread inherits it.
+  ::setpriority(PRIO_PROCESS, 0, std::min(19, ::getpriority(PRIO_PROCESS, 0) + 10));
+  // Signals are taken by a thread of our own, so stopping is ordinary code, not a handler.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  Server server(options);
+  const int port = server.bind();
+  out << "podium serve: http://" << options.host << ":" << port << "/ (database " << options.database.string()
+      << ", read-only)" << std::endl;
+  std::thread waiter([&] {
+    int signal = 0;
+    sigwait(&signals, &signal);
+    server.stop();
+  });
+  server.run();
+  pthread_kill(waiter.native_handle(), SIGTERM);  // wakes the waiter if run() ended on its own
+  waiter.join();
+  return 0;
+}
+
+}  // namespace podium::web_dashboard

@@ -1,0 +1,18 @@
+// Campaign list: state, stages, progress, trials per minute, best objective, strategies found.
+'use strict';
+
+async function refreshList() {
+  const campaigns = await podium.api('/api/campaigns');
+  document.getElementById('empty').hidden = campaigns.length > 0;
+  const rows = campaigns.slice().reverse().map(c => {
+    const bar = podium.el('span', { class: 'bar' }, podium.el('span', { style: `width:${Math.min(100, 100 * c.progress)}%` }));
+    return [c.id, podium.link(`campaign.html?id=${c.id}`, c.name), podium.el('span', { class: 'state-' + c.state }, c.state),
+      c.stages.map(s => `${s.name} (${s.task}, ${s.algorithm})`).join(' → '),
+      podium.el('span', {}, bar, ` ${c.counts.done}/${c.budget_trials}`), c.counts.failed, c.counts.running,
+      podium.num(c.trials_per_minute, 1), podium.num(c.best_objective), c.strategies, podium.time(c.created_at)];
+  });
+  podium.fill(document.getElementById('campaigns'),
+    ['id', 'name', 'state', 'stages', 'progress', 'failed', 'running', 'trials/min', 'best objective', 'strategies', 'created'], rows);
+}
+
+podium.live(refreshList);

@@ -1,0 +1,141 @@
+// 3D replay of recorded motion (sim/'s trajectory file, JSON lines: see sim/README.md; optional
+// header keys "props" and "ground" are this page's extension, web_dashboard/README.md):
+// bodies as capsules, boxes and spheres, ground and props; play, pause, scrub, speed, camera orbit;
+// with ?compare=ID a second trial side by side on the same clock.
+import * as THREE from './vendor/three.module.js';
+import { OrbitControls } from './vendor/OrbitControls.js';
+
+const params = new URLSearchParams(location.search);
+const ids = [params.get('trial'), params.get('compare')].filter(Boolean);
+const palette = [0x4e79a7, 0xf28e2b];
+const width = ids.length > 1 ? 560 : 900, height = 520;
+
+function geometry(g) {
+  if (g.type === 'capsule') {  // three's capsule runs along y; ours along the local z axis
+    const geo = new THREE.CapsuleGeometry(g.radius, 2 * g.half_length, 6, 12);
+    geo.rotateX(Math.PI / 2);
+    return geo;
+  }
+  if (g.type === 'box') return new THREE.BoxGeometry(2 * g.half_extents[0], 2 * g.half_extents[1], 2 * g.half_extents[2]);
+  if (g.type === 'sphere') return new THREE.SphereGeometry(g.radius, 16, 12);
+  throw new Error(`unknown geom type "${g.type}"`);
+}
+
+function place(object, pos = [0, 0, 0], quat = [1, 0, 0, 0]) {  // quaternions are w, x, y, z
+  object.position.set(pos[0], pos[1], pos[2]);
+  object.quaternion.set(quat[1], quat[2], quat[3], quat[0]);
+}
+
+function makeView(traj, label, colour) {
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0xf4f6f8);
+  scene.add(new THREE.HemisphereLight(0xffffff, 0x667788, 2.0));
+  const sun = new THREE.DirectionalLight(0xffffff, 1.5);
+  sun.position.set(3, -4, 6);
+  scene.add(sun);
+  if (traj.ground !== false) {
+    const grid = new THREE.GridHelper(20, 40, 0x90a4ae, 0xcfd8dc);
+    grid.rotateX(Math.PI / 2);  // z up
+    scene.add(grid);
+    const floor = new THREE.Mesh(new THREE.PlaneGeometry(20, 20), new THREE.MeshLambertMaterial({ color: 0xe3e8ec }));
+    floor.position.z = -0.001;
+    scene.add(floor);
+  }
+  for (const p of traj.props || []) {
+    const mesh = new THREE.Mesh(geometry(p), new THREE.MeshLambertMaterial({ color: 0x8d6e63 }));
+    place(mesh, p.pos, p.quat);
+    scene.add(mesh);
+  }
+  const material = new THREE.MeshLambertMaterial({ color: colour });
+  const bodies = traj.links.map(link => {
+    const group = new THREE.Group();
+    for (const g of link.shapes) {
+      const mesh = new THREE.Mesh(geometry(g), material);
+      place(mesh, g.pos, g.quat);
+      group.add(mesh);
+    }
+    scene.add(group);
+    return group;
+  });
+  const camera = new THREE.PerspectiveCamera(45, width / height, 0.01, 200);
+  camera.up.set(0, 0, 1);
+  const first = traj.frames[0].links;
+  const centre = new THREE.Vector3();
+  for (const p of first) centre.add(new THREE.Vector3(p[0], p[1], p[2]));
+  centre.divideScalar(Math.max(1, first.length));
+  camera.position.set(centre.x + 3, centre.y - 3.5, centre.z + 1.8);
+  const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+  renderer.setSize(width, height);
+  const holder = document.createElement('div');
+  holder.className = 'viewport';
+  holder.append(renderer.domElement);
+  const tag = document.createElement('span');
+  tag.className = 'label';
+  tag.textContent = label;
+  holder.append(tag);
+  document.getElementById('viewports').append(holder);
+  const controls = new OrbitControls(camera, renderer.domElement);
+  controls.target.copy(centre);
+  controls.update();
+  return {
+    traj, duration: traj.frames[traj.frames.length - 1].t,
+    show(frame) {
+      const poses = traj.frames[frame].links;
+      bodies.forEach((b, i) => place(b, poses[i].slice(0, 3), poses[i].slice(3, 7)));
+      renderer.render(scene, camera);
+    },
+    frameAt(t) {  // the last frame at or before t
+      let lo = 0, hi = traj.frames.length - 1;
+      while (lo < hi) { const mid = (lo + hi + 1) >> 1; if (traj.frames[mid].t <= t) lo = mid; else hi = mid - 1; }
+      return lo;
+    },
+  };
+}
+
+async function main() {
+  if (!ids.length) throw new Error('no trial given (replay.html?trial=ID[&compare=ID])');
+  document.getElementById('crumb-trial').href = `trial.html?id=${encodeURIComponent(ids[0])}`;
+  document.getElementById('crumb-trial').textContent = `trial #${ids[0]}`;
+  const trajs = await Promise.all(ids.map(async id => {
+    const r = await fetch(`/api/trials/${encodeURIComponent(id)}/trajectory`);
+    if (!r.ok) throw new Error(`trial ${id}: ${(await r.json()).error}`);
+    // Line 1: the header (links and their shapes); then one frame per line.
+    const lines = (await r.text()).split('\n').filter(l => l.trim());
+    const traj = JSON.parse(lines[0]);
+    if (traj.format !== 'podium-trajectory') throw new Error(`trial ${id}: not a podium trajectory`);
+    traj.frames = lines.slice(1).map(l => JSON.parse(l));
+    if (!traj.frames.length) throw new Error(`trial ${id}: trajectory has no frames`);
+    return traj;
+  }));
+  const views = trajs.map((t, i) => makeView(t, `trial #${ids[i]}`, palette[i]));
+  const main = views[0];
+  const frames = main.traj.frames.length, duration = Math.max(...views.map(v => v.duration));
+  const scrub = document.getElementById('scrub'), counter = document.getElementById('frame');
+  const playButton = document.getElementById('play'), speed = document.getElementById('speed');
+  scrub.max = frames - 1;
+  let playing = true, t = 0, last = performance.now();
+  window.podiumReplay = { frame: 0, frames, rendered: 0 };
+  const draw = () => {
+    for (const v of views) v.show(v.frameAt(Math.min(t, v.duration)));
+    const f = main.frameAt(Math.min(t, main.duration));
+    scrub.value = f;
+    counter.textContent = `frame ${f + 1} / ${frames} · t = ${t.toFixed(2)} s`;
+    window.podiumReplay.frame = f;
+    window.podiumReplay.rendered++;
+  };
+  playButton.onclick = () => { playing = !playing; playButton.textContent = playing ? 'pause' : 'play'; };
+  scrub.oninput = () => { playing = false; playButton.textContent = 'play'; t = main.traj.frames[+scrub.value].t; draw(); };
+  const loop = now => {
+    if (playing) {
+      t += (now - last) / 1000 * +speed.value;
+      if (t > duration) t = 0;
+      draw();
+    }
+    last = now;
+    requestAnimationFrame(loop);
+  };
+  draw();
+  requestAnimationFrame(loop);
+}
+
+main().catch(e => { document.getElementById('error').textContent = e.message; });

@@ -1,0 +1,66 @@
+// Trial page: parameters, context, result, learning and curriculum curves (metrics named
+// "curriculum/..." are curriculum curves), artifacts with download links, error and attempts.
+'use strict';
+
+const trialId = podium.param('id');
+const plots = new Map();  // metric name -> uPlot
+
+function renderCurves(series) {
+  const byName = new Map();
+  for (const s of series) { if (!byName.has(s.name)) byName.set(s.name, []); byName.get(s.name).push(s); }
+  document.getElementById('no-curves').hidden = byName.size > 0;
+  let curriculum = false;
+  for (const [name, attempts] of byName) {
+    // One x axis for every attempt of the metric: the union of steps, gaps as null.
+    const steps = [...new Set(attempts.flatMap(a => a.steps))].sort((a, b) => a - b);
+    const data = [steps, ...attempts.map(a => {
+      const m = new Map(a.steps.map((s, i) => [s, a.values[i]]));
+      return steps.map(s => m.has(s) ? m.get(s) : null);
+    })];
+    const isCurriculum = name.startsWith('curriculum');
+    curriculum ||= isCurriculum;
+    const key = name + '#' + attempts.length;
+    if (plots.has(key)) { plots.get(key).setData(data); continue; }
+    const holder = podium.el('div', { class: 'panel', 'data-metric': name });
+    document.getElementById(isCurriculum ? 'curriculum' : 'curves').append(holder);
+    const total = attempts.reduce((n, a) => n + a.total_points, 0);
+    plots.set(key, new uPlot({
+      title: `${name} (${total} points${total > data[0].length ? ', downsampled' : ''})`, width: 420, height: 240,
+      scales: { x: { time: false } }, axes: [{ label: 'step' }, {}],
+      series: [{}, ...attempts.map((a, i) => ({ label: `attempt ${a.attempt}`, stroke: podium.palette[i % 10], width: 1.5, spanGaps: true }))],
+    }, data, holder));
+  }
+  document.getElementById('curriculum-title').hidden = !curriculum;
+}
+
+async function refreshTrial() {
+  const [t, series] = await Promise.all([podium.api(`/api/trials/${encodeURIComponent(trialId)}`),
+    podium.api(`/api/trials/${encodeURIComponent(trialId)}/metrics?max_points=1000`)]);
+  document.title = `Podium · trial ${t.index}`;
+  document.getElementById('title').textContent = `Trial ${t.index} of stage ${t.stage_name} (#${t.id})`;
+  const crumb = document.getElementById('crumb-campaign');
+  crumb.href = `campaign.html?id=${t.campaign_id}`; crumb.textContent = `campaign ${t.campaign_id}`;
+  const names = t.feature_names;
+  document.getElementById('summary').replaceChildren(
+    podium.el('span', { class: 'state-' + t.state, id: 'state' }, t.state),
+    ` · task ${t.task} · ${t.attempts} attempt(s) · seed ${t.seed}`,
+    ` · objective ${t.objectives ? t.objectives.map(o => podium.num(o)).join(', ') : '–'}`,
+    ` · features ${t.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' ') || '–'}`,
+    ` · strategy ${t.strategy ?? '–'}`, t.info?.step ? ` · BDS step ${t.info.step}` : '');
+  document.getElementById('error').textContent = t.error;
+  document.getElementById('params').textContent = JSON.stringify(t.params, null, 2);
+  document.getElementById('context').textContent = JSON.stringify(t.context, null, 2);
+  document.getElementById('info').textContent = JSON.stringify(t.info, null, 2);
+  document.getElementById('result').textContent = JSON.stringify(t.result_info, null, 2);
+  podium.fill(document.getElementById('artifacts'), ['name', 'file', 'size', 'sha256'],
+    t.artifacts.map(a => [a.name, podium.link(a.url, a.path.split('/').pop()), a.size_bytes, podium.el('code', {}, a.sha256)]));
+  const trajectory = t.artifacts.some(a => a.name === 'trajectory');
+  document.getElementById('replay-link').hidden = !trajectory;
+  document.getElementById('replay-href').href = `replay.html?trial=${t.id}`;
+  podium.fill(document.getElementById('attempts'), ['#', 'state', 'worker', 'host', 'job', 'exit code', 'signal', 'started', 'finished', 'error'],
+    t.attempt_list.map(a => [a.number, a.state, a.worker, a.host, a.job_id, a.exit_code ?? '–', a.signal ?? '–',
+      podium.time(a.started_at), podium.time(a.finished_at), podium.el('span', { class: 'error' }, a.error)]));
+  renderCurves(series);
+}
+
+podium.live(refreshTrial, e => { document.getElementById('title').textContent = e.message; });

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "podium/base/error.h"
+#include "records.h"
 #include "sqlite.h"
 
 namespace podium::store {
@@ -19,41 +20,6 @@ struct Queries::Impl {
 };
 
 namespace {
-
-Json parse(const std::string& text) { return text.empty() ? Json(nullptr) : Json::parse(text); }
-
-std::vector<double> parse_features(const std::string& text) {
-  return text.empty() ? std::vector<double>{} : Json::parse(text).get<std::vector<double>>();
-}
-
-// The same columns as Store's trial reads; the features come as one JSON array per trial.
-constexpr const char* kTrialSelect =
-    "SELECT t.id, t.stage_id, t.idx, t.params, t.context, t.info, t.seed, t.state, t.attempts, t.objectives, "
-    "t.result_info, t.strategy, t.error, t.created_at, t.started_at, t.finished_at, "
-    "(SELECT json_group_array(value) FROM (SELECT value FROM features f WHERE f.trial_id = t.id ORDER BY idx)) "
-    "FROM trials t JOIN stages st ON st.id = t.stage_id ";
-
-TrialRecord read_trial(const Statement& s) {
-  TrialRecord t;
-  t.id = s.int64(0);
-  t.stage_id = s.int64(1);
-  t.index = s.int64(2);
-  t.params = parse(s.text(3));
-  t.context = parse(s.text(4));
-  t.info = parse(s.text(5));
-  t.seed = static_cast<std::uint64_t>(s.int64(6));
-  t.state = s.text(7);
-  t.attempts = static_cast<int>(s.int64(8));
-  t.objectives = s.is_null(9) ? Json(nullptr) : parse(s.text(9));
-  t.result_info = s.is_null(10) ? Json(nullptr) : parse(s.text(10));
-  if (!s.is_null(11)) t.strategy = s.int64(11);
-  t.error = s.text(12);
-  t.created_at = s.real(13);
-  t.started_at = s.real(14);
-  t.finished_at = s.real(15);
-  t.features = parse_features(s.text(16));
-  return t;
-}
 
 // Filters are fixed SQL with bound values: a NULL parameter disables its condition.
 constexpr const char* kTrialWhere =

@@ -6,6 +6,7 @@
 
 #include "podium/base/error.h"
 #include "podium/base/version.h"
+#include "records.h"
 #include "schema.h"
 #include "sqlite.h"
 
@@ -58,13 +59,12 @@ int read_version(sqlite3* db) {
 }
 
 std::string dump(const Json& j) { return j.dump(); }
-Json parse(const std::string& text) { return text.empty() ? Json(nullptr) : Json::parse(text); }
 
 CampaignRecord read_campaign(const Statement& s) {
   CampaignRecord c;
   c.id = s.int64(0);
   c.name = s.text(1);
-  c.spec = parse(s.text(2));
+  c.spec = parse_json(s.text(2));
   c.seed = static_cast<std::uint64_t>(s.int64(3));
   c.state = s.text(4);
   c.run_dir = s.text(5);
@@ -78,34 +78,6 @@ CampaignRecord read_campaign(const Statement& s) {
 constexpr const char* kCampaignColumns =
     "SELECT id, name, spec, seed, state, run_dir, podium_version, error, created_at, started_at, finished_at "
     "FROM campaigns ";
-
-constexpr const char* kTrialColumns =
-    "SELECT t.id, t.stage_id, t.idx, t.params, t.context, t.info, t.seed, t.state, t.attempts, t.objectives, "
-    "t.result_info, t.strategy, t.error, t.created_at, t.started_at, t.finished_at, "
-    "(SELECT json_group_array(value) FROM (SELECT value FROM features f WHERE f.trial_id = t.id ORDER BY idx)) "
-    "FROM trials t ";
-
-TrialRecord read_trial(const Statement& s) {
-  TrialRecord t;
-  t.id = s.int64(0);
-  t.stage_id = s.int64(1);
-  t.index = s.int64(2);
-  t.params = parse(s.text(3));
-  t.context = parse(s.text(4));
-  t.info = parse(s.text(5));
-  t.seed = static_cast<std::uint64_t>(s.int64(6));
-  t.state = s.text(7);
-  t.attempts = static_cast<int>(s.int64(8));
-  t.objectives = s.is_null(9) ? Json(nullptr) : parse(s.text(9));
-  t.result_info = s.is_null(10) ? Json(nullptr) : parse(s.text(10));
-  if (!s.is_null(11)) t.strategy = s.int64(11);
-  t.error = s.text(12);
-  t.created_at = s.real(13);
-  t.started_at = s.real(14);
-  t.finished_at = s.real(15);
-  t.features = Json::parse(s.text(16)).get<std::vector<double>>();
-  return t;
-}
 
 TrialCounts read_counts(Statement& s) {
   TrialCounts c;
@@ -269,14 +241,14 @@ std::vector<StageRecord> Store::stages(std::int64_t campaign_id) const {
     r.task = s.text(4);
     r.algorithm = s.text(5);
     r.state = s.text(6);
-    r.search_config = parse(s.text(7));
-    r.task_config = parse(s.text(8));
-    r.description = parse(s.text(9));
-    r.inputs = parse(s.text(10));
+    r.search_config = parse_json(s.text(7));
+    r.task_config = parse_json(s.text(8));
+    r.description = parse_json(s.text(9));
+    r.inputs = parse_json(s.text(10));
     r.budget_trials = s.int64(11);
     r.budget_seconds = s.real(12);
     r.elapsed_s = s.real(13);
-    if (!s.is_null(14)) r.search_state = parse(s.text(14));
+    if (!s.is_null(14)) r.search_state = parse_json(s.text(14));
     out.push_back(std::move(r));
   }
   return out;
@@ -302,7 +274,7 @@ std::int64_t Store::add_trial(std::int64_t stage_id, std::int64_t index, const J
 }
 
 std::vector<TrialRecord> Store::trials(std::int64_t stage_id) const {
-  Statement s(impl_->db, (std::string(kTrialColumns) + "WHERE t.stage_id = ? ORDER BY t.idx").c_str());
+  Statement s(impl_->db, (std::string(kTrialSelect) + "WHERE t.stage_id = ? ORDER BY t.idx").c_str());
   s.bind(1, stage_id);
   std::vector<TrialRecord> out;
   while (s.step()) out.push_back(read_trial(s));
@@ -310,7 +282,7 @@ std::vector<TrialRecord> Store::trials(std::int64_t stage_id) const {
 }
 
 std::vector<TrialRecord> Store::campaign_trials(std::int64_t campaign_id) const {
-  Statement s(impl_->db, (std::string(kTrialColumns) +
+  Statement s(impl_->db, (std::string(kTrialSelect) +
                           "JOIN stages st ON st.id = t.stage_id WHERE st.campaign_id = ? ORDER BY st.idx, t.idx")
                              .c_str());
   s.bind(1, campaign_id);
@@ -468,7 +440,7 @@ std::vector<Json> Store::events(std::int64_t campaign_id) const {
   Statement s(impl_->db, "SELECT time, kind, payload FROM events WHERE campaign_id = ? ORDER BY id");
   s.bind(1, campaign_id);
   std::vector<Json> out;
-  while (s.step()) out.push_back({{"time", s.real(0)}, {"kind", s.text(1)}, {"payload", parse(s.text(2))}});
+  while (s.step()) out.push_back({{"time", s.real(0)}, {"kind", s.text(1)}, {"payload", parse_json(s.text(2))}});
   return out;
 }
 

@@ -24,6 +24,13 @@ struct AttemptOrder {
   double timeout_s = 3600.0;
 };
 
+/// The order as the JSON a worker or a batch job reads (trial_runner.h: run_attempt).
+inline Json to_json(const AttemptOrder& o) {
+  return {{"key", o.key},         {"task", o.task},   {"config", o.config},
+          {"params", o.params},   {"context", o.context}, {"seed", o.seed},
+          {"trial_index", o.trial_index}, {"attempt", o.attempt}, {"work_dir", o.work_dir.string()}};
+}
+
 /// What comes back. Every submitted order ends with exactly one `finished` event.
 struct ExecutorEvent {
   enum class Kind { metric, progress, placed, finished };

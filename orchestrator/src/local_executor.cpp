@@ -31,16 +31,9 @@ std::string LocalExecutor::submit(const AttemptOrder& order) {
     slot.key = order.key;
     slot.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(order.timeout_s));
     slot.cancel_deadline = Clock::time_point::max();
-    slot.process->send({{"type", "run"},
-                        {"key", order.key},
-                        {"task", order.task},
-                        {"config", order.config},
-                        {"params", order.params},
-                        {"context", order.context},
-                        {"seed", order.seed},
-                        {"trial_index", order.trial_index},
-                        {"attempt", order.attempt},
-                        {"work_dir", order.work_dir.string()}});
+    Json message = to_json(order);
+    message["type"] = "run";
+    slot.process->send(message);
     // A failed send means the worker is dead; poll() sees the closed pipe and reports it.
     return "local:worker-" + std::to_string(slot.index) + "/pid " + std::to_string(slot.process->pid());
   }

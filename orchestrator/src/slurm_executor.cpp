@@ -45,15 +45,7 @@ std::string SlurmExecutor::submit(const AttemptOrder& order) {
   Job job(order);
   fs::remove_all(job.files.folder());  // leftovers of a run whose scheduler died before it was placed
   fs::create_directories(job.files.folder());
-  base::write_json_file_atomic(job.files.order(), Json{{"key", order.key},
-                                                       {"task", order.task},
-                                                       {"config", order.config},
-                                                       {"params", order.params},
-                                                       {"context", order.context},
-                                                       {"seed", order.seed},
-                                                       {"trial_index", order.trial_index},
-                                                       {"attempt", order.attempt},
-                                                       {"work_dir", order.work_dir.string()}});
+  base::write_json_file_atomic(job.files.order(), to_json(order));
   jobs_.emplace(order.key, std::move(job));
   unsubmitted_.push_back(order.key);
   return "slurm";

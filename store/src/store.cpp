@@ -331,9 +331,12 @@ void Store::finish_attempt(std::int64_t attempt_id, const std::string& state, co
 void Store::complete_trial(std::int64_t trial_id, const std::vector<double>& objectives,
                            const std::vector<std::string>& feature_names, const std::vector<double>& features,
                            const Json& result_info, const std::vector<ArtifactRecord>& artifacts) {
-  impl_->cached("UPDATE trials SET state = 'done', objectives = ?, result_info = ?, error = '', finished_at = ? "
-                "WHERE id = ?")
-      .bind(1, dump(Json(objectives))).bind(2, dump(result_info)).bind(3, now_unix_s()).bind(4, trial_id).run();
+  auto& t = impl_->cached(
+      "UPDATE trials SET state = 'done', objectives = ?, objective = ?, result_info = ?, error = '', finished_at = ? "
+      "WHERE id = ?");
+  t.bind(1, dump(Json(objectives)));
+  objectives.empty() ? t.bind_null(2) : t.bind(2, objectives[0]);
+  t.bind(3, dump(result_info)).bind(4, now_unix_s()).bind(5, trial_id).run();
   auto& f = impl_->cached("INSERT INTO features (trial_id, idx, name, value) VALUES (?, ?, ?, ?)");
   for (std::size_t i = 0; i < features.size(); ++i) {
     f.bind(1, trial_id).bind(2, static_cast<std::int64_t>(i));

@@ -58,7 +58,7 @@ TEST(Store, RefusesNewerSchemaWithoutTouchingTheFile) {
     Store::open(path, Store::Access::read_write);
     FAIL() << "expected an error";
   } catch (const base::RuntimeError& e) {
-    EXPECT_TRUE(::testing::internal::RE::PartialMatch(e.what(), "schema version 99 is newer than this podium supports \\(1\\)"))
+    EXPECT_TRUE(::testing::internal::RE::PartialMatch(e.what(), "schema version 99 is newer than this podium supports \\(2\\)"))
         << e.what();
   }
   EXPECT_EQ(file_bytes(path), before);
@@ -159,6 +159,47 @@ TEST(Store, ReadOnlyOpenNeverCreatesAFile) {
   TempDir dir;
   EXPECT_THROW(Store::open(dir / "missing.db", Store::Access::read_only), base::RuntimeError);
   EXPECT_FALSE(std::filesystem::exists(dir / "missing.db"));
+}
+
+}  // namespace
+}  // namespace podium::store
+
+namespace podium::store {
+namespace {
+
+// A database written by schema version 1 (tests/store/testdata/schema_v1.db: a 6-trial landscape
+// campaign) migrates forward with its data intact and the v2 objective column filled in.
+TEST(StoreMigration, SavedVersion1DatabaseMigratesToLatest) {
+  podium::testing::TempDir dir;
+  const auto path = dir / "v1.db";
+  std::filesystem::copy_file(std::filesystem::path(PODIUM_STORE_TESTDATA) / "schema_v1.db", path);
+  EXPECT_THROW(
+      {
+        try {
+          Store::open(path, Store::Access::read_only);
+        } catch (const base::RuntimeError& e) {
+          EXPECT_NE(std::string(e.what()).find("schema version 1 is older than"), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      base::RuntimeError);
+  auto store = Store::open(path, Store::Access::read_write);
+  EXPECT_EQ(store->schema_version(), Store::latest_schema_version());
+  const auto campaigns = store->campaigns();
+  ASSERT_EQ(campaigns.size(), 1u);
+  EXPECT_EQ(campaigns[0].name, "saved-v1");
+  const auto trials = store->campaign_trials(campaigns[0].id);
+  ASSERT_EQ(trials.size(), 6u);
+  for (const auto& t : trials) EXPECT_EQ(t.state, "done");
+
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  sqlite3_stmt* s = nullptr;
+  sqlite3_prepare_v2(db, "SELECT count(*) FROM trials WHERE objective = json_extract(objectives, '$[0]')", -1, &s, nullptr);
+  ASSERT_EQ(sqlite3_step(s), SQLITE_ROW);
+  EXPECT_EQ(sqlite3_column_int(s, 0), 6);
+  sqlite3_finalize(s);
+  sqlite3_close(db);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <nlopt.hpp>
 
 #include "config_reader.h"
+#include "eigen_json.h"
 #include "podium/base/error.h"
 #include "podium/search/strategies.h"
 
@@ -342,14 +343,6 @@ void BayesianDiversitySearch::tell(const std::vector<Observation>& observations)
     pending_.erase(it);
   }
 }
-
-namespace {
-Json vector_json(const VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
-VectorXd vector_from(const Json& j) {
-  const auto v = j.get<std::vector<double>>();
-  return Eigen::Map<const VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
-}  // namespace
 
 Json BayesianDiversitySearch::save() const {
   Json pending = Json::array(), told = Json::array(), theta = Json::array();

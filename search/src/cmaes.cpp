@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "config_reader.h"
+#include "eigen_json.h"
 #include "podium/base/error.h"
 
 namespace podium::search {
@@ -154,14 +155,6 @@ void Cmaes::update() {
   cov_ = 0.5 * (cov_ + cov_.transpose());
   sigma_ *= std::exp(c_sigma_ / d_sigma_ * (norm / chi_n_ - 1.0));  // eq. (44)
 }
-
-namespace {
-Json vector_json(const VectorXd& v) { return std::vector<double>(v.data(), v.data() + v.size()); }
-VectorXd vector_from(const Json& j) {
-  const auto v = j.get<std::vector<double>>();
-  return Eigen::Map<const VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
-}
-}  // namespace
 
 Json Cmaes::save() const {
   Json cov = Json::array(), samples = Json::array(), fitness = Json::array();

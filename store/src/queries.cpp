@@ -105,7 +105,7 @@ void count_state(TrialCounts& c, const std::string& state) {
 
 // One pass over a campaign's trials (columns only, no JSON functions): aggregates are summed here.
 constexpr const char* kScan =
-    "SELECT t.id, t.stage_id, t.state, t.objective, t.strategy, t.finished_at FROM trials t "
+    "SELECT t.id, t.stage_id, t.state, t.objective, t.strategy, t.finished_at, st.idx FROM trials t "
     "JOIN stages st ON st.id = t.stage_id WHERE st.campaign_id = ?";
 }  // namespace
 
@@ -147,7 +147,7 @@ std::vector<TrialPoint> Queries::points(std::int64_t campaign_id, std::int64_t m
 
 CampaignSummary Queries::summary(std::int64_t campaign_id, double now_unix_s) const {
   CampaignSummary out;
-  std::map<std::int64_t, StrategySummary> by_strategy;
+  std::map<std::pair<std::int64_t, std::int64_t>, StrategySummary> by_strategy;  // (stage index, id)
   Statement s(impl_->db, kScan);
   s.bind(1, campaign_id);
   while (s.step()) {
@@ -163,7 +163,7 @@ CampaignSummary Queries::summary(std::int64_t campaign_id, double now_unix_s) co
     if (finished >= now_unix_s - 60.0) ++out.done_last_minute;
     if (s.is_null(4)) continue;
     // A strategy's representative: the best objective, the earliest trial on ties.
-    auto& r = by_strategy[s.int64(4)];
+    auto& r = by_strategy[{s.int64(6), s.int64(4)}];
     const double value = objective.value_or(std::nan(""));
     if (r.trials++ == 0 || value > r.best_objective || std::isnan(r.best_objective)) {
       r.best_objective = value;
@@ -171,8 +171,9 @@ CampaignSummary Queries::summary(std::int64_t campaign_id, double now_unix_s) co
     }
   }
   Statement features(impl_->db, "SELECT value FROM features WHERE trial_id = ? ORDER BY idx");
-  for (auto& [strategy, r] : by_strategy) {
-    r.strategy = strategy;
+  for (auto& [key, r] : by_strategy) {
+    r.stage_index = key.first;
+    r.strategy = key.second;
     features.reset();
     features.bind(1, r.representative_trial);
     while (features.step()) r.representative_features.push_back(features.real(0));

@@ -182,3 +182,30 @@ TEST(Queries, NoReadTransactionOutlivesACall) {
 
 }  // namespace
 }  // namespace podium::store
+
+namespace podium::store {
+namespace {
+
+// Strategy ids are per stage: strategy 0 of stage 0 and strategy 0 of stage 1 are two strategies.
+TEST(Queries, StrategiesAreCountedPerStage) {
+  TempDir dir;
+  auto s = Store::open(dir / "s.db", Store::Access::read_write);
+  NewStage a{"a", "landscape", "random"}, b{"b", "landscape", "random"};
+  a.budget_trials = b.budget_trials = 2;
+  const auto campaign = s->add_campaign("s", Json::object(), 1, "", {a, b});
+  const auto stages = s->stages(campaign);
+  for (int stage = 0; stage < 2; ++stage) {
+    const auto id = s->add_trial(stages[stage].id, 0, Json::object(), Json::object(), Json::object(), 1);
+    s->complete_trial(id, {1.0}, {"f0"}, {0.5}, Json::object(), {});
+    s->set_trial_strategy(id, 0);
+  }
+  auto q = Queries::open(dir / "s.db");
+  const auto table = q->strategies(campaign);
+  ASSERT_EQ(table.size(), 2u);
+  EXPECT_EQ(table[0].stage_index, 0);
+  EXPECT_EQ(table[1].stage_index, 1);
+  EXPECT_EQ(q->summary(campaign, now_unix_s()).strategies, 2);
+}
+
+}  // namespace
+}  // namespace podium::store

@@ -90,7 +90,8 @@ bool inside(const fs::path& child, const fs::path& parent) {
 Json strategy_json(const std::vector<store::StrategySummary>& list) {
   Json out = Json::array();
   for (const auto& s : list)
-    out.push_back({{"strategy", s.strategy},
+    out.push_back({{"stage", s.stage_index},
+                   {"strategy", s.strategy},
                    {"trials", s.trials},
                    {"representative_trial", s.representative_trial},
                    {"best_objective", optional_number(s.best_objective)},

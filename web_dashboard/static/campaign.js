@@ -122,8 +122,8 @@ function renderHistory() {
 function renderStrategies(list) {
   document.getElementById('no-strategies').hidden = list.length > 0;
   const names = featureNames();
-  podium.fill(document.getElementById('strategies'), ['strategy', 'trials', 'best objective', 'representative trial', 'features', ''],
-    list.map(s => [podium.el('span', {}, podium.el('i', { style: `display:inline-block;width:10px;height:10px;background:${podium.colour(s.strategy)}` }), ` ${s.strategy}`),
+  podium.fill(document.getElementById('strategies'), ['stage', 'strategy', 'trials', 'best objective', 'representative trial', 'features', ''],
+    list.map(s => [s.stage, podium.el('span', {}, podium.el('i', { style: `display:inline-block;width:10px;height:10px;background:${podium.colour(s.strategy)}` }), ` ${s.strategy}`),
       s.trials, podium.num(s.best_objective), podium.link(`trial.html?id=${s.representative_trial}`, `#${s.representative_trial}`),
       s.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' '),
       podium.link(`replay.html?trial=${s.representative_trial}`, 'replay')]));

@@ -41,8 +41,9 @@ struct TrialPoint {
   double finished_at = 0;
 };
 
+/// Strategy ids are per stage (each stage groups its own trials), so a strategy is (stage, id).
 struct StrategySummary {
-  std::int64_t strategy = 0, trials = 0;
+  std::int64_t stage_index = 0, strategy = 0, trials = 0;
   std::int64_t representative_trial = 0;   ///< the trial with the best objective
   double best_objective = 0;
   std::vector<double> representative_features;

@@ -93,20 +93,16 @@ std::optional<double> optional_real(const Statement& s, int column) {
   return s.real(column);
 }
 
-void count_state(TrialCounts& c, const std::string& state) {
-  ++c.total;
-  if (state == "pending") ++c.pending;
-  else if (state == "running") ++c.running;
-  else if (state == "done") ++c.done;
-  else if (state == "failed") ++c.failed;
-  else if (state == "interrupted") ++c.interrupted;
-  else if (state == "cancelled") ++c.cancelled;
+void count_state(TrialCounts& c, const std::string& state, std::int64_t n) {
+  c.total += n;
+  if (state == "pending") c.pending += n;
+  else if (state == "running") c.running += n;
+  else if (state == "done") c.done += n;
+  else if (state == "failed") c.failed += n;
+  else if (state == "interrupted") c.interrupted += n;
+  else if (state == "cancelled") c.cancelled += n;
 }
 
-// One pass over a campaign's trials (columns only, no JSON functions): aggregates are summed here.
-constexpr const char* kScan =
-    "SELECT t.id, t.stage_id, t.state, t.objective, t.strategy, t.finished_at, st.idx FROM trials t "
-    "JOIN stages st ON st.id = t.stage_id WHERE st.campaign_id = ?";
 }  // namespace
 
 std::vector<TrialPoint> Queries::points(std::int64_t campaign_id, std::int64_t max_points, std::int64_t* total) const {
@@ -146,34 +142,44 @@ std::vector<TrialPoint> Queries::points(std::int64_t campaign_id, std::int64_t m
 }
 
 CampaignSummary Queries::summary(std::int64_t campaign_id, double now_unix_s) const {
+  // Aggregates only, each answered from one of the v2 covering indexes (no row is read).
   CampaignSummary out;
-  std::map<std::pair<std::int64_t, std::int64_t>, StrategySummary> by_strategy;  // (stage index, id)
-  Statement s(impl_->db, kScan);
-  s.bind(1, campaign_id);
-  while (s.step()) {
-    const std::string state = s.text(2);
-    count_state(out.counts, state);
-    count_state(out.stage_counts[s.int64(1)], state);
-    if (state != "done") continue;
-    const auto objective = optional_real(s, 3);
-    if (objective && (!out.best_objective || *objective > *out.best_objective)) out.best_objective = objective;
-    const double finished = s.real(5);
-    if (out.first_finished_at == 0 || finished < out.first_finished_at) out.first_finished_at = finished;
-    out.last_finished_at = std::max(out.last_finished_at, finished);
-    if (finished >= now_unix_s - 60.0) ++out.done_last_minute;
-    if (s.is_null(4)) continue;
-    // A strategy's representative: the best objective, the earliest trial on ties.
-    auto& r = by_strategy[{s.int64(6), s.int64(4)}];
-    const double value = objective.value_or(std::nan(""));
-    if (r.trials++ == 0 || value > r.best_objective || std::isnan(r.best_objective)) {
-      r.best_objective = value;
-      r.representative_trial = s.int64(0);
-    }
+  Statement counts(impl_->db,
+                   "SELECT t.stage_id, t.state, count(*) FROM stages st JOIN trials t ON t.stage_id = st.id "
+                   "WHERE st.campaign_id = ? GROUP BY t.stage_id, t.state");
+  counts.bind(1, campaign_id);
+  while (counts.step()) {
+    const std::string state = counts.text(1);
+    count_state(out.counts, state, counts.int64(2));
+    count_state(out.stage_counts[counts.int64(0)], state, counts.int64(2));
   }
+  Statement finish(impl_->db,
+                   "SELECT min(t.finished_at), max(t.finished_at), sum(t.finished_at >= ?) FROM stages st "
+                   "JOIN trials t ON t.stage_id = st.id WHERE st.campaign_id = ? AND t.state = 'done'");
+  finish.bind(1, now_unix_s - 60.0).bind(2, campaign_id);
+  if (finish.step() && !finish.is_null(0)) {
+    out.first_finished_at = finish.real(0);
+    out.last_finished_at = finish.real(1);
+    out.done_last_minute = finish.int64(2);
+  }
+  Statement best(impl_->db,
+                 "SELECT max(t.objective) FROM stages st JOIN trials t ON t.stage_id = st.id WHERE st.campaign_id = ?");
+  best.bind(1, campaign_id);
+  if (best.step()) out.best_objective = optional_real(best, 0);
+  // Per strategy: SQLite returns the bare column t.id from the row holding max(objective).
+  Statement strategies(impl_->db,
+                       "SELECT st.idx, t.strategy, count(*), max(t.objective), t.id FROM stages st "
+                       "JOIN trials t ON t.stage_id = st.id WHERE st.campaign_id = ? AND t.strategy IS NOT NULL "
+                       "GROUP BY st.idx, t.strategy ORDER BY st.idx, t.strategy");
+  strategies.bind(1, campaign_id);
   Statement features(impl_->db, "SELECT value FROM features WHERE trial_id = ? ORDER BY idx");
-  for (auto& [key, r] : by_strategy) {
-    r.stage_index = key.first;
-    r.strategy = key.second;
+  while (strategies.step()) {
+    StrategySummary r;
+    r.stage_index = strategies.int64(0);
+    r.strategy = strategies.int64(1);
+    r.trials = strategies.int64(2);
+    r.best_objective = optional_real(strategies, 3).value_or(std::nan(""));
+    r.representative_trial = strategies.int64(4);
     features.reset();
     features.bind(1, r.representative_trial);
     while (features.step()) r.representative_features.push_back(features.real(0));

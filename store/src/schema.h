@@ -108,13 +108,14 @@ CREATE TABLE events (
   payload TEXT NOT NULL
 );
 )sql",
-    // Version 2: the primary objective as a number, indexed with the strategy, so the dashboard
-    // sorts and summarises 100,000-trial campaigns without parsing JSON.
+    // Version 2: the primary objective as a number, and covering indexes, so the dashboard sorts
+    // and summarises 100,000-trial campaigns from indexes alone, without parsing JSON.
     R"sql(
 ALTER TABLE trials ADD COLUMN objective REAL;
 UPDATE trials SET objective = json_extract(objectives, '$[0]') WHERE objectives IS NOT NULL;
 CREATE INDEX trials_by_objective ON trials (stage_id, objective);
-CREATE INDEX trials_by_strategy ON trials (stage_id, strategy);
+CREATE INDEX trials_by_strategy ON trials (stage_id, strategy, objective);
+CREATE INDEX trials_by_finish ON trials (stage_id, state, finished_at);
 )sql",
 };
 

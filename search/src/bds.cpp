@@ -6,7 +6,7 @@
 #include <nlopt.hpp>
 
 #include "config_reader.h"
-#include "eigen_json.h"
+#include "eigen_helpers.h"
 #include "podium/base/error.h"
 #include "podium/search/strategies.h"
 
@@ -55,15 +55,7 @@ BayesianDiversitySearch::BayesianDiversitySearch(const SearchSetup& setup, const
   theta_.assign(features_.size(), prototype.default_theta());
 }
 
-std::vector<double> BayesianDiversitySearch::to_params(const VectorXd& u) const {
-  std::vector<double> x(space_.dim());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const auto& p = space_.params[i];
-    x[i] = std::clamp(p.low + u[static_cast<Eigen::Index>(i)] * (p.high - p.low), p.low, p.high);
-    if (p.integer) x[i] = std::clamp(std::round(x[i]), std::ceil(p.low), std::floor(p.high));
-  }
-  return x;
-}
+std::vector<double> BayesianDiversitySearch::to_params(const VectorXd& u) const { return unit_to_params(space_, u); }
 
 VectorXd BayesianDiversitySearch::to_unit(const std::vector<double>& x) const {
   VectorXd u(static_cast<Eigen::Index>(x.size()));

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "config_reader.h"
-#include "eigen_json.h"
+#include "eigen_helpers.h"
 #include "podium/base/error.h"
 
 namespace podium::search {
@@ -87,15 +87,7 @@ void Cmaes::start_generation() {
   fitness_.clear();
 }
 
-std::vector<double> Cmaes::to_params(const VectorXd& u) const {
-  std::vector<double> x(space_.dim());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const auto& p = space_.params[i];
-    x[i] = std::clamp(p.low + u[static_cast<Eigen::Index>(i)] * (p.high - p.low), p.low, p.high);
-    if (p.integer) x[i] = std::clamp(std::round(x[i]), std::ceil(p.low), std::floor(p.high));
-  }
-  return x;
-}
+std::vector<double> Cmaes::to_params(const VectorXd& u) const { return unit_to_params(space_, u); }
 
 std::vector<double> Cmaes::mean() const { return to_params(mean_); }
 

@@ -2,11 +2,13 @@
 // environment steps per second, the share of wall time spent in learner updates, and the
 // rollout's simulation throughput next to the raw simulation throughput of the same World
 // configuration stepped without learning (Benchmark B's protocol: random SPD targets, one core).
-// Usage: learn_humanoid_ppo_bench [ITERATIONS] [THREADS]
+// Usage: learn_humanoid_ppo_bench [ITERATIONS] [THREADS] [ROUNDS]
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <vector>
 
 #include "podium/learn/ppo.h"
 #include "podium/sim/starts.h"
@@ -71,9 +73,9 @@ class Humanoid21Balance final : public learn::Env {
 };
 
 // Raw simulation throughput of the same World: random SPD targets, ragdoll-free resets, 1 core.
-double raw_control_steps_per_s(const sim::ModelPtr& model) {
+double raw_control_steps_per_s(const sim::ModelPtr& model, std::uint64_t seed) {
   sim::World world(model, world_config());
-  base::Rng rng(1);
+  base::Rng rng(seed);
   const int steps = 2000;
   const auto t0 = Clock::now();
   for (int k = 0; k < steps; ++k) {
@@ -85,37 +87,69 @@ double raw_control_steps_per_s(const sim::ModelPtr& model) {
   return steps / std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-}  // namespace
+struct Round {
+  double raw = 0, rollout = 0, overall = 0, update_share = 0;
+};
 
-int main(int argc, char** argv) {
-  const int iterations = argc > 1 ? std::atoi(argv[1]) : 5;
-  const int threads = argc > 2 ? std::atoi(argv[2]) : 2;
-  const auto model = sim::load_shipped_model("humanoid21");
-  const double raw = raw_control_steps_per_s(model);
+// One round: raw simulation on one core, then PPO training with `threads` rollout threads.
+Round run_round(const sim::ModelPtr& model, int iterations, int threads, std::uint64_t seed) {
+  Round r;
+  r.raw = raw_control_steps_per_s(model, seed);
   std::vector<std::unique_ptr<learn::Env>> envs;
   for (int i = 0; i < 2 * threads; ++i) envs.push_back(std::make_unique<Humanoid21Balance>(model));
-  learn::VecEnv vec(std::move(envs), threads, 1);
+  learn::VecEnv vec(std::move(envs), threads, seed);
   learn::PpoConfig config;  // 2 × 512 samples per iteration, 256-256 networks
   config.hidden = {256, 256};
   config.rollout_steps = 1024 / int(vec.size());
   config.epochs = 5;
   config.minibatch_size = 256;
-  learn::Ppo ppo(config, vec.observation_space(), vec.action_space(), 1);
+  learn::Ppo ppo(config, vec.observation_space(), vec.action_space(), seed);
   double rollout_s = 0, update_s = 0;
   const auto t0 = Clock::now();
-  ppo.train_until(vec, std::int64_t(iterations) * config.rollout_steps * std::int64_t(vec.size()),
-                  [&](const learn::TrainStats& s) {
-                    rollout_s += s.rollout_seconds;
-                    update_s += s.update_seconds;
-                    std::printf("steps %lld mean return %.1f\n", static_cast<long long>(s.env_steps), s.mean_return);
-                  });
+  ppo.train_until(vec, std::int64_t(iterations) * config.rollout_steps * std::int64_t(vec.size()), [&](const learn::TrainStats& s) {
+    rollout_s += s.rollout_seconds;
+    update_s += s.update_seconds;
+  });
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
-  const double rollout_rate = double(ppo.env_steps()) / rollout_s;
-  std::printf("humanoid21 balance, PPO 256-256, %d rollout threads, %zu copies, 800 Hz sim / 40 Hz control\n", threads, vec.size());
-  std::printf("raw simulation (one core):   %8.0f control steps/s\n", raw);
-  std::printf("rollout (during training):   %8.0f control steps/s = %.0f%% of raw x %d threads\n", rollout_rate,
-              100.0 * rollout_rate / (raw * threads), threads);
-  std::printf("overall training:            %8.0f env steps/s; updates %.1f%% of wall time (bar: <= 25%%)\n",
-              double(ppo.env_steps()) / wall, 100.0 * update_s / wall);
+  r.rollout = double(ppo.env_steps()) / rollout_s;
+  r.overall = double(ppo.env_steps()) / wall;
+  r.update_share = update_s / wall;
+  return r;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+// Rounds alternate raw and training measurements so machine noise hits both alike; medians are
+// reported. Seeds 1..ROUNDS.
+int main(int argc, char** argv) {
+  const int iterations = argc > 1 ? std::atoi(argv[1]) : 5;
+  const int threads = argc > 2 ? std::atoi(argv[2]) : 2;
+  const int rounds = argc > 3 ? std::atoi(argv[3]) : 5;
+  const auto model = sim::load_shipped_model("humanoid21");
+  std::vector<double> raw, rollout, overall, share, per_core, per_thread;
+  std::printf("humanoid21 balance, PPO 256-256, %d rollout threads, %d copies, 800 Hz sim / 40 Hz control, %d iterations x 1024 steps\n",
+              threads, 2 * threads, iterations);
+  std::printf("%5s %12s %12s %12s %9s %14s %16s\n", "seed", "raw/s 1 core", "rollout/s", "overall/s", "updates", "rollout/raw", "per thread");
+  for (int k = 1; k <= rounds; ++k) {
+    const Round r = run_round(model, iterations, threads, std::uint64_t(k));
+    raw.push_back(r.raw);
+    rollout.push_back(r.rollout);
+    overall.push_back(r.overall);
+    share.push_back(r.update_share);
+    per_core.push_back(r.rollout / r.raw);
+    per_thread.push_back(r.rollout / (r.raw * threads));
+    std::printf("%5d %12.0f %12.0f %12.0f %8.1f%% %13.0f%% %15.0f%%\n", k, r.raw, r.rollout, r.overall, 100 * r.update_share,
+                100 * per_core.back(), 100 * per_thread.back());
+  }
+  const double share_m = median(share), per_core_m = median(per_core);
+  std::printf("median: raw %.0f control steps/s (one core), rollout %.0f, overall %.0f env steps/s\n", median(raw), median(rollout), median(overall));
+  std::printf("updates %.1f%% of wall time (bar <= 25%%: %s); rollout %.0f%% of one-core raw (bar >= 80%%: %s); %.0f%% per rollout thread\n",
+              100 * share_m, share_m <= 0.25 ? "met" : "NOT met", 100 * per_core_m, per_core_m >= 0.8 ? "met" : "NOT met",
+              100 * median(per_thread));
   return 0;
 }

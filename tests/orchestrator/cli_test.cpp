@@ -11,6 +11,7 @@
 #include "podium/base/json.h"
 #include "podium/base/rng.h"
 #include "podium/store/store.h"
+#include "campaign_spec.h"
 #include "process.h"
 
 namespace podium::orchestrator {
@@ -21,28 +22,12 @@ using podium::testing::run_podium;
 using podium::testing::TempDir;
 using podium::testing::write_file;
 
+// The CLI tests' campaign: random search over the smoke landscape.
 Json landscape_spec(int trials, const Json& config = Json::object(), int retries = 1, double timeout_s = 30) {
-  return {{"name", "test"},
-          {"seed", 11},
-          {"workers", 2},
-          {"retries", retries},
-          {"trial_timeout_s", timeout_s},
-          {"stages",
-           {{{"name", "explore"},
-             {"task", "landscape"},
-             {"preset", "smoke"},
-             {"config", config},
-             {"search", {{"algorithm", "random"}}},
-             {"budget", {{"trials", trials}}}}}}};
+  return podium::testing::stage_spec({.retries = retries, .trial_timeout_s = timeout_s, .config = config, .trials = trials});
 }
 
-// Submits a spec in `dir` and returns the campaign id printed by `podium submit`.
-std::string submit(const TempDir& dir, const Json& spec) {
-  write_file(dir / "spec.json", spec.dump());
-  const auto r = run_podium({"submit", "spec.json"}, dir.path());
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  return r.out.substr(0, r.out.find('\n'));
-}
+std::string submit(const TempDir& dir, const Json& spec) { return podium::testing::submit_spec(dir, spec); }
 
 Json export_json(const TempDir& dir, const std::string& campaign) {
   const auto r = run_podium({"export", campaign, "--format", "json"}, dir.path());

@@ -14,6 +14,7 @@
 
 #include "podium/base/json.h"
 #include "podium/store/store.h"
+#include "campaign_spec.h"
 #include "process.h"
 
 namespace podium::orchestrator {
@@ -63,27 +64,11 @@ Json spec_for(const std::string& executor, int trials, const Json& config, int w
     exec["max_jobs_in_queue"] = workers;
     for (const auto& [k, v] : extra.items()) exec[k] = v;
   }
-  return {{"name", "slurm-test"},
-          {"seed", 5},
-          {"workers", workers},
-          {"retries", 1},
-          {"trial_timeout_s", 300},
-          {"executor", exec},
-          {"stages",
-           {{{"name", "explore"},
-             {"task", "landscape"},
-             {"preset", "smoke"},
-             {"config", config},
-             {"search", {{"algorithm", "random"}}},
-             {"budget", {{"trials", trials}}}}}}};
+  return podium::testing::stage_spec(
+      {.name = "slurm-test", .seed = 5, .workers = workers, .trial_timeout_s = 300, .config = config, .executor = exec, .trials = trials});
 }
 
-std::string submit(const TempDir& dir, const Json& spec) {
-  write_file(dir / "spec.json", spec.dump());
-  const auto r = run_podium({"submit", "spec.json"}, dir.path());
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  return r.out.substr(0, r.out.find('\n'));
-}
+std::string submit(const TempDir& dir, const Json& spec) { return podium::testing::submit_spec(dir, spec); }
 
 std::set<std::string> results(const TempDir& dir, const std::string& id) {
   const auto r = run_podium({"export", id, "--format", "json"}, dir.path());

@@ -273,12 +273,22 @@ std::int64_t Store::add_trial(std::int64_t stage_id, std::int64_t index, const J
   return sqlite3_last_insert_rowid(impl_->db);
 }
 
+namespace {
+std::vector<TrialRecord> read_trials(sqlite3* db, Statement& s) {
+  Statement features(db, kTrialFeatures);
+  std::vector<TrialRecord> out;
+  while (s.step()) {
+    out.push_back(read_trial(s));
+    out.back().features = read_features(features, out.back().id);
+  }
+  return out;
+}
+}  // namespace
+
 std::vector<TrialRecord> Store::trials(std::int64_t stage_id) const {
   Statement s(impl_->db, (std::string(kTrialSelect) + "WHERE t.stage_id = ? ORDER BY t.idx").c_str());
   s.bind(1, stage_id);
-  std::vector<TrialRecord> out;
-  while (s.step()) out.push_back(read_trial(s));
-  return out;
+  return read_trials(impl_->db, s);
 }
 
 std::vector<TrialRecord> Store::campaign_trials(std::int64_t campaign_id) const {
@@ -286,21 +296,20 @@ std::vector<TrialRecord> Store::campaign_trials(std::int64_t campaign_id) const 
                           "JOIN stages st ON st.id = t.stage_id WHERE st.campaign_id = ? ORDER BY st.idx, t.idx")
                              .c_str());
   s.bind(1, campaign_id);
-  std::vector<TrialRecord> out;
-  while (s.step()) out.push_back(read_trial(s));
-  return out;
+  return read_trials(impl_->db, s);
 }
 
+// From the counts the triggers keep (schema v3): a few rows, not a scan of the trials.
 TrialCounts Store::trial_counts(std::int64_t campaign_id) const {
   Statement s(impl_->db,
-              "SELECT t.state, count(*) FROM trials t JOIN stages st ON st.id = t.stage_id "
-              "WHERE st.campaign_id = ? GROUP BY t.state");
+              "SELECT c.state, sum(c.trials) FROM stages st JOIN stage_state_counts c ON c.stage_id = st.id "
+              "WHERE st.campaign_id = ? GROUP BY c.state");
   s.bind(1, campaign_id);
   return read_counts(s);
 }
 
 TrialCounts Store::stage_trial_counts(std::int64_t stage_id) const {
-  Statement s(impl_->db, "SELECT state, count(*) FROM trials WHERE stage_id = ? GROUP BY state");
+  Statement s(impl_->db, "SELECT state, trials FROM stage_state_counts WHERE stage_id = ?");
   s.bind(1, stage_id);
   return read_counts(s);
 }

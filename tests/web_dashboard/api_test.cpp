@@ -2,9 +2,12 @@
 // checked against the store's own typed reads.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <set>
+#include <thread>
 
 #include "dashboard_support.h"
 #include "podium/store/store.h"
@@ -92,6 +95,18 @@ TEST_F(Api, PointsHaveOnePointPerDoneTrialAndStrideWhenCapped) {
   const Json capped = server_->get_json("/api/campaigns/smoke/points?max_points=50");
   EXPECT_EQ(capped["total"], 120);
   EXPECT_EQ(capped["columns"]["id"].size(), 40u);  // every 3rd of 120
+  // The columns are written as text: each value is exactly the trial's.
+  const Json& cols = all["columns"];
+  for (const std::size_t i : {0u, 57u, 119u}) {
+    const Json t = server_->get_json("/api/trials/" + std::to_string(cols["id"][i].get<std::int64_t>()));
+    EXPECT_EQ(cols["objective"][i], t["objectives"][0]);
+    EXPECT_EQ(cols["features"][i], t["features"]);
+    EXPECT_EQ(cols["strategy"][i], t["strategy"]);
+    EXPECT_EQ(cols["index"][i], t["index"]);
+    EXPECT_EQ(cols["stage"][i], t["stage"]);
+    EXPECT_EQ(cols["finished_at"][i], t["finished_at"]);
+    EXPECT_EQ(cols["step"][i], t["info"].value("step", ""));
+  }
 }
 
 TEST_F(Api, TrialDetailHasAttemptsArtifactsAndMetrics) {
@@ -167,6 +182,79 @@ TEST_F(Api, ServesTheFrontEndAndRefusesUnknownPaths) {
   EXPECT_EQ(client.Get("/nope.html")->status, 404);
   EXPECT_EQ(client.Get("/api/nope")->status, 404);
   EXPECT_EQ(client.Get("/api/trials/999999")->status, 404);
+}
+
+// A page lists each trial as the same document the trial's own endpoint gives (pages copy the
+// stored JSON text instead of building it).
+TEST_F(Api, PageTrialsAreTheTrialDocuments) {
+  const Json page = server_->get_json("/api/campaigns/smoke/trials?limit=5&offset=40");
+  ASSERT_EQ(page["trials"].size(), 5u);
+  for (const auto& t : page["trials"]) {
+    Json detail = server_->get_json("/api/trials/" + std::to_string(t["id"].get<std::int64_t>()));
+    Json listed = Json::object();
+    for (const auto& [key, value] : t.items()) listed[key] = detail.at(key);
+    EXPECT_EQ(t, listed);
+  }
+}
+
+// The dashboard reads counts and strategies from the count rows the store keeps; after a campaign
+// with retried, failed and cancelled trials they must equal a recount of the trials.
+TEST(ApiRecount, SummaryAndStrategiesEqualARecountAfterRetriesFailuresAndCancel) {
+  podium::testing::TempDir dir;
+  Json spec = testing::landscape_spec("faulty", 400, {{"sleep_s", 0.3},
+                                                      {"failures", {{{"mode", "throw"}, {"trials", {1, 4}}, {"attempts", 1}},
+                                                                    {{"mode", "throw"}, {"trials", {2}}},
+                                                                    {{"mode", "hang"}, {"trials", {3}}}}}});
+  podium::testing::write_file(dir / "spec.json", spec.dump());
+  const auto submit = podium::testing::run_podium({"submit", "spec.json"}, dir.path());
+  ASSERT_EQ(submit.exit_code, 0) << submit.err;
+  const std::string id = std::to_string(std::stoll(submit.out));
+  const pid_t scheduler = podium::testing::spawn_podium({"run", "--workers", "2"}, dir.path());
+  for (int i = 0; i < 600; ++i) {  // until trial 2 failed and 6 are done (at most a minute); trial 3 hangs
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const auto status = podium::testing::run_podium({"status", id, "--json"}, dir.path());
+    if (status.exit_code != 0) continue;
+    const Json s = Json::parse(status.out);
+    if (s.value("done", 0) >= 6 && s.value("failed", 0) >= 1) break;
+  }
+  ASSERT_EQ(podium::testing::run_podium({"cancel", id}, dir.path()).exit_code, 0);
+  ASSERT_EQ(podium::testing::wait_process(scheduler), 0);
+
+  const auto trials = store::Store::open(dir / "podium.db", store::Store::Access::read_only)->campaign_trials(std::stoll(id));
+  std::map<std::string, std::int64_t> states;
+  std::map<std::int64_t, std::pair<std::int64_t, const store::TrialRecord*>> strategies;  // size, best trial
+  double best = -1e300;
+  bool retried = false;
+  for (const auto& t : trials) {
+    ++states[t.state];
+    retried = retried || t.attempts > 1;
+    if (t.state == "done") best = std::max(best, t.objectives[0].get<double>());
+    if (!t.strategy) continue;
+    auto& [size, rep] = strategies[*t.strategy];
+    ++size;
+    if (!rep || t.objectives[0].get<double>() > rep->objectives[0].get<double>()) rep = &t;  // earliest of equals
+  }
+  EXPECT_TRUE(retried);
+  EXPECT_EQ(states["failed"], 1);
+  EXPECT_GE(states["cancelled"], 1) << Json(states).dump();
+
+  RunningServer server(dir / "podium.db");
+  const Json c = server.get_json("/api/campaigns/" + id);
+  EXPECT_EQ(c["state"], "cancelled");
+  EXPECT_EQ(c["counts"]["total"], static_cast<std::int64_t>(trials.size()));
+  for (const char* state : {"done", "failed", "cancelled", "running"}) EXPECT_EQ(c["counts"][state], states[state]) << state;
+  EXPECT_EQ(c["counts"]["pending"], states["pending"] + states["interrupted"]);
+  EXPECT_EQ(c["stages"][0]["counts"], c["counts"]);
+  EXPECT_DOUBLE_EQ(c["best_objective"].get<double>(), best);
+  const Json table = server.get_json("/api/campaigns/" + id + "/strategies");
+  EXPECT_EQ(c["strategies"], table.size());
+  ASSERT_EQ(table.size(), strategies.size());
+  for (const auto& row : table) {
+    const auto& [size, rep] = strategies.at(row["strategy"].get<std::int64_t>());
+    EXPECT_EQ(row["trials"], size);
+    EXPECT_EQ(row["representative_trial"], rep->id);
+    EXPECT_DOUBLE_EQ(row["best_objective"].get<double>(), rep->objectives[0].get<double>());
+  }
 }
 
 }  // namespace

@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 
 #include "podium/store/queries.h"
 #include "process.h"
@@ -69,12 +72,59 @@ TEST(Queries, TrialPageOrdersAndPages) {
   const auto page = q->trial_page(f.campaign, filter);
   EXPECT_EQ(page.total, 30);
   ASSERT_EQ(page.trials.size(), 3u);
-  EXPECT_EQ(page.trials[0].objectives[0], 28.0);  // 29 is first; offset 1
-  EXPECT_EQ(page.trials[2].objectives[0], 26.0);
+  EXPECT_EQ(Json::parse(page.trials[0].objectives)[0], 28.0);  // 29 is first; offset 1
+  EXPECT_EQ(Json::parse(page.trials[2].objectives)[0], 26.0);
   EXPECT_EQ(page.trials[0].features, (std::vector<double>{28.0, -28.0}));
   filter.descending = false;
   filter.offset = 0;
-  EXPECT_EQ(q->trial_page(f.campaign, filter).trials[0].objectives[0], 1.0);  // failed trials (no objective) last
+  EXPECT_EQ(Json::parse(q->trial_page(f.campaign, filter).trials[0].objectives)[0], 1.0);  // no objective: last
+}
+
+// Every order, direction, filter and offset against a brute-force sort of all trials: pages
+// merge the two stages' index walks into one order.
+TEST(Queries, TrialPagesMatchABruteForceSortAcrossStages) {
+  Fixture f;
+  {
+    auto s = Store::open(f.db, Store::Access::read_write);
+    s->set_trial_strategy(f.trials[17], 2);  // a strategy in stage 1 too
+  }
+  auto q = Queries::open(f.db);
+  const auto all = q->store().campaign_trials(f.campaign);
+  std::map<std::int64_t, int> stage_of;
+  for (const auto& st : q->store().stages(f.campaign)) stage_of[st.id] = st.index;
+  using Order = TrialFilter::Order;
+  for (const Order order : {Order::index, Order::objective, Order::finished})
+    for (const bool descending : {false, true})
+      for (const std::optional<std::string>& state : {std::optional<std::string>(), std::optional<std::string>("done")})
+        for (const std::optional<std::int64_t> strategy : {std::optional<std::int64_t>(), std::optional<std::int64_t>(2)}) {
+          std::vector<TrialRecord> expected;
+          for (const auto& t : all)
+            if ((!state || t.state == *state) && (!strategy || t.strategy == strategy)) expected.push_back(t);
+          const auto key = [&](const TrialRecord& t) {
+            const double sign = descending ? -1.0 : 1.0;
+            if (order == Order::index) return std::make_tuple(0, sign * stage_of[t.stage_id], sign * double(t.index));
+            if (order == Order::finished) return std::make_tuple(0, sign * t.finished_at, sign * double(t.id));
+            if (t.objectives.is_null()) return std::make_tuple(1, 0.0, double(t.id));
+            return std::make_tuple(0, sign * t.objectives[0].get<double>(), sign * double(t.id));
+          };
+          std::sort(expected.begin(), expected.end(), [&](const auto& a, const auto& b) { return key(a) < key(b); });
+          for (const std::int64_t offset : {0, 3, 12}) {
+            TrialFilter filter;
+            filter.order = order;
+            filter.descending = descending;
+            filter.state = state;
+            filter.strategy = strategy;
+            filter.offset = offset;
+            filter.limit = 7;
+            const auto page = q->trial_page(f.campaign, filter);
+            EXPECT_EQ(page.total, static_cast<std::int64_t>(expected.size()));
+            std::vector<std::int64_t> got, want;
+            for (const auto& t : page.trials) got.push_back(t.id);
+            for (std::size_t i = offset; i < expected.size() && i < std::size_t(offset + 7); ++i) want.push_back(expected[i].id);
+            EXPECT_EQ(got, want) << "order " << int(order) << " desc " << descending << " state " << state.value_or("-")
+                                 << " strategy " << strategy.value_or(-1) << " offset " << offset;
+          }
+        }
 }
 
 TEST(Queries, PointsAreDoneTrialsStridedWhenCapped) {

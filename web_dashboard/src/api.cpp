@@ -1,7 +1,11 @@
 #include "api.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <map>
+#include <type_traits>
+#include <string_view>
 
 namespace podium::web_dashboard {
 
@@ -67,6 +71,64 @@ Json trial_json(const store::TrialRecord& t, int stage_index) {
           {"created_at", t.created_at},
           {"started_at", t.started_at},
           {"finished_at", t.finished_at}};
+}
+
+// Writes one JSON object into a string: members given as JSON text are copied as they are.
+class ObjectText {
+ public:
+  explicit ObjectText(std::string& out) : out_(out) { out_ += '{'; }
+  ~ObjectText() { out_ += '}'; }
+  ObjectText(const ObjectText&) = delete;
+  ObjectText& operator=(const ObjectText&) = delete;
+  ObjectText& raw(const char* key, std::string_view json) {
+    out_ += first_ ? "\"" : ",\"";
+    first_ = false;
+    out_ += key;
+    out_ += "\":";
+    out_ += json;
+    return *this;
+  }
+  ObjectText& value(const char* key, const Json& j) { return raw(key, j.dump()); }
+
+ private:
+  std::string& out_;
+  bool first_ = true;
+};
+
+// Writes one JSON array into a string; numbers are written shortest-exact (std::to_chars, as
+// nlohmann::json does), non-finite ones as null.
+class ArrayText {
+ public:
+  ArrayText() : out_("[") {}
+  ArrayText& raw(std::string_view json) {
+    if (out_.size() > 1) out_ += ',';
+    out_ += json;
+    return *this;
+  }
+  template <class Number>
+  ArrayText& number(Number v) {
+    if constexpr (std::is_floating_point_v<Number>)
+      if (!std::isfinite(v)) return raw("null");
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, v).ptr;
+    return raw(std::string_view(text, static_cast<std::size_t>(end - text)));
+  }
+  /// The array's text (call once).
+  std::string close() { return std::move(out_ += ']'); }
+
+ private:
+  std::string out_;
+};
+
+// The same document as trial_json(), written from the stored JSON text (see store::TrialText).
+void append_trial(std::string& out, const store::TrialText& t, int stage_index) {
+  ObjectText o(out);
+  o.value("id", t.id).value("stage_id", t.stage_id).value("stage", stage_index).value("index", t.index);
+  o.raw("params", t.params).raw("context", t.context).raw("info", t.info);
+  o.value("seed", std::to_string(t.seed)).value("state", t.state).value("error", t.error).value("attempts", t.attempts);
+  o.raw("objectives", t.objectives).value("features", t.features).raw("result_info", t.result_info);
+  o.value("strategy", t.strategy ? Json(*t.strategy) : Json(nullptr));
+  o.value("created_at", t.created_at).value("started_at", t.started_at).value("finished_at", t.finished_at);
 }
 
 std::map<std::int64_t, int> stage_indices(const Queries& q, std::int64_t campaign_id) {
@@ -147,35 +209,46 @@ Json campaign_detail(const Queries& q, std::int64_t campaign_id, double now) {
   return out;
 }
 
-Json trial_page(const Queries& q, std::int64_t campaign_id, const store::TrialFilter& filter) {
+std::string trial_page(const Queries& q, std::int64_t campaign_id, const store::TrialFilter& filter) {
   const auto page = q.trial_page(campaign_id, filter);
   const auto stages = stage_indices(q, campaign_id);
-  Json trials = Json::array();
-  for (const auto& t : page.trials) trials.push_back(trial_json(t, stages.at(t.stage_id)));
-  return {{"total", page.total}, {"offset", filter.offset}, {"limit", filter.limit}, {"trials", trials}};
+  std::string trials = "[";
+  for (const auto& t : page.trials) {
+    if (trials.size() > 1) trials += ',';
+    append_trial(trials, t, stages.at(t.stage_id));
+  }
+  trials += ']';
+  std::string out;
+  ObjectText(out).value("total", page.total).value("offset", filter.offset).value("limit", filter.limit).raw("trials", trials);
+  return out;
 }
 
-Json scatter_points(const Queries& q, std::int64_t campaign_id, std::int64_t max_points) {
+std::string scatter_points(const Queries& q, std::int64_t campaign_id, std::int64_t max_points) {
   std::int64_t total = 0;
   const auto points = q.points(campaign_id, max_points, &total);
   // Columns rather than objects: a 5,000-point scatter stays a small document.
-  Json id = Json::array(), stage = Json::array(), index = Json::array(), objective = Json::array(),
-       features = Json::array(), strategy = Json::array(), step = Json::array(), finished = Json::array();
+  ArrayText id, stage, index, objective, features, strategy, step, finished;
+  std::map<std::string, std::string> step_json;  // a handful of distinct values
   for (const auto& p : points) {
-    id.push_back(p.id);
-    stage.push_back(p.stage_index);
-    index.push_back(p.index);
-    objective.push_back(std::isfinite(p.objective) ? Json(p.objective) : Json(nullptr));
-    features.push_back(p.features);
-    strategy.push_back(p.strategy ? Json(*p.strategy) : Json(nullptr));
-    step.push_back(p.step);
-    finished.push_back(p.finished_at);
+    id.number(p.id);
+    stage.number(p.stage_index);
+    index.number(p.index);
+    objective.number(p.objective);
+    ArrayText f;
+    for (double v : p.features) f.number(v);
+    features.raw(f.close());
+    p.strategy ? strategy.number(*p.strategy) : strategy.raw("null");
+    auto [it, added] = step_json.try_emplace(p.step);
+    if (added) it->second = Json(p.step).dump();
+    step.raw(it->second);
+    finished.number(p.finished_at);
   }
-  return {{"total", total},
-          {"returned", points.size()},
-          {"columns",
-           {{"id", id}, {"stage", stage}, {"index", index}, {"objective", objective}, {"features", features},
-            {"strategy", strategy}, {"step", step}, {"finished_at", finished}}}};
+  std::string columns, out;
+  ObjectText(columns).raw("id", id.close()).raw("stage", stage.close()).raw("index", index.close())
+      .raw("objective", objective.close()).raw("features", features.close()).raw("strategy", strategy.close())
+      .raw("step", step.close()).raw("finished_at", finished.close());
+  ObjectText(out).value("total", total).value("returned", points.size()).raw("columns", columns);
+  return out;
 }
 
 Json strategy_table(const Queries& q, std::int64_t campaign_id) { return strategy_json(q.strategies(campaign_id)); }

@@ -23,8 +23,10 @@ Json campaign_list(const store::Queries& q, double now_unix_s);
 /// `campaign` is an id or a name (the newest campaign of that name); 404 if none.
 std::int64_t resolve_campaign(const store::Queries& q, const std::string& campaign);
 Json campaign_detail(const store::Queries& q, std::int64_t campaign_id, double now_unix_s);
-Json trial_page(const store::Queries& q, std::int64_t campaign_id, const store::TrialFilter& filter);
-Json scatter_points(const store::Queries& q, std::int64_t campaign_id, std::int64_t max_points);
+/// JSON text: the trials' stored JSON columns are copied into the page, not parsed.
+std::string trial_page(const store::Queries& q, std::int64_t campaign_id, const store::TrialFilter& filter);
+/// JSON text (written directly: 5,000 points are 40,000 numbers).
+std::string scatter_points(const store::Queries& q, std::int64_t campaign_id, std::int64_t max_points);
 Json strategy_table(const store::Queries& q, std::int64_t campaign_id);
 Json campaign_events(const store::Queries& q, std::int64_t campaign_id, std::size_t last_n);
 Json trial_detail(const store::Queries& q, std::int64_t trial_id);

@@ -121,6 +121,10 @@ class ResponseCache {
   std::size_t bytes_ = 0;
 };
 
+// A response body: a document, or JSON text an endpoint wrote itself.
+std::string body_text(const Json& document) { return document.dump(); }
+std::string body_text(std::string text) { return text; }
+
 // The cache key: path and parameters in a canonical order.
 std::string cache_key(const httplib::Request& req) {
   std::string key = req.path;
@@ -164,7 +168,7 @@ struct Server::Impl {
     return watch->data_version();
   }
 
-  // A JSON endpoint: build(req, queries) makes the document; the body is reused while the
+  // A JSON endpoint: build(req, queries) makes the document (or its text); the body is reused while the
   // database version is unchanged. The version is read before the query, so a cached body is
   // never older than its version.
   template <class Build>
@@ -175,7 +179,7 @@ struct Server::Impl {
       auto body = options.cache ? cache.find(key, version) : nullptr;
       if (!body) {
         auto q = pool.acquire();
-        body = std::make_shared<const std::string>(build(req, *q).dump());
+        body = std::make_shared<const std::string>(body_text(build(req, *q)));
         if (options.cache) cache.put(key, version, body);
       }
       res.set_header("Cache-Control", "no-store");

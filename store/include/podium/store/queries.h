@@ -3,8 +3,12 @@
 /// points, strategy summaries, downsampled metric series and a cheap change token.
 ///
 /// A Queries object is one read-only connection (plus the typed reads of Store on another). Every
-/// call runs autocommit statements that are finished before it returns, so no read transaction is
-/// held between calls and a running scheduler is never blocked. One object per thread at a time.
+/// call reads one snapshot (its statements share one read transaction) that ends before it
+/// returns, so no read transaction is held between calls and a running scheduler is never
+/// blocked. One object per thread at a time.
+///
+/// Costs (schema v3): counts and summaries read the count rows the store's triggers keep and
+/// min/max index probes, never all trials; pages and the scatter walk an index, not the table.
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -26,9 +30,22 @@ struct TrialFilter {
   bool descending = false;
 };
 
+/// A trial as a page lists it: TrialRecord's fields, with the JSON columns as the JSON text the
+/// store wrote, so a page of 1,000 trials is written out without parsing and re-serialising them.
+struct TrialText {
+  std::int64_t id = 0, stage_id = 0, index = 0;
+  std::uint64_t seed = 0;
+  std::string state, error;
+  int attempts = 0;
+  std::string params, context, info, objectives, result_info;  ///< JSON text; "null" when absent
+  std::vector<double> features;
+  std::optional<std::int64_t> strategy;
+  double created_at = 0, started_at = 0, finished_at = 0;
+};
+
 struct TrialPage {
   std::int64_t total = 0;                  ///< trials matching the filter (before offset/limit)
-  std::vector<TrialRecord> trials;
+  std::vector<TrialText> trials;
 };
 
 /// One finished trial as a point of the strategy-feature scatter (no params or metrics).
@@ -56,7 +73,7 @@ struct CampaignSummary {
   std::int64_t strategies = 0;             ///< distinct strategy clusters
   double first_finished_at = 0, last_finished_at = 0;
   std::int64_t done_last_minute = 0;       ///< trials finished in the 60 s before `now`
-  std::vector<StrategySummary> strategy_table;  ///< what strategies() returns (same pass)
+  std::vector<StrategySummary> strategy_table;  ///< what strategies() returns (same snapshot)
 };
 
 
@@ -87,11 +104,11 @@ class Queries {
   /// The campaign a trial belongs to, or nullopt if there is no such trial.
   std::optional<std::int64_t> trial_campaign(std::int64_t trial_id) const;
 
-  /// Counts, best objective, rates and the strategy table in one pass over the campaign's trials.
+  /// Counts, best objective, rates and the strategy table (count rows and index probes per stage).
   CampaignSummary summary(std::int64_t campaign_id, double now_unix_s) const;
   TrialPage trial_page(std::int64_t campaign_id, const TrialFilter& filter) const;
-  /// Done trials as scatter points, in creation order; at most max_points, evenly strided when
-  /// there are more (`total` receives the number of done trials).
+  /// Done trials as scatter points, in stage and trial index order; at most max_points, evenly
+  /// strided when there are more (`total` receives the number of done trials).
   std::vector<TrialPoint> points(std::int64_t campaign_id, std::int64_t max_points, std::int64_t* total) const;
   std::vector<StrategySummary> strategies(std::int64_t campaign_id) const;
   /// Every metric (or only `name`) of a trial, each downsampled (see MetricSeries).

@@ -31,6 +31,25 @@ function renderSummary() {
     for (const st of c.stages) stageSelect.append(podium.el('option', { value: st.index }, st.name));
 }
 
+// Strategy ids are per stage (each stage groups its own trials), so colours belong to
+// (stage, id) pairs, numbered in stage-then-id order; scatter, legend, table and parallel
+// coordinates all colour through here.
+function indexStrategies() {
+  const pairs = new Map();
+  const cols = state.points.columns;
+  for (let i = 0; i < cols.id.length; i++) if (cols.strategy[i] !== null) pairs.set(`${cols.stage[i]}:${cols.strategy[i]}`, [cols.stage[i], cols.strategy[i]]);
+  for (const s of state.detail.strategy_table) pairs.set(`${s.stage}:${s.strategy}`, [s.stage, s.strategy]);
+  const sorted = [...pairs.entries()].sort(([, a], [, b]) => a[0] - b[0] || a[1] - b[1]);
+  state.strategies = sorted.map(([, pair]) => pair);
+  state.strategyIndex = new Map(sorted.map(([key], k) => [key, k]));
+}
+function strategyColour(stage, strategy) {
+  return podium.colour(strategy === null || strategy === undefined ? null : state.strategyIndex.get(`${stage}:${strategy}`));
+}
+function strategyLabel([stage, strategy]) {
+  return state.detail.stages.length > 1 ? `${state.detail.stages[stage]?.name ?? stage} · strategy ${strategy}` : `strategy ${strategy}`;
+}
+
 // Axis choices: every feature, then the objective.
 function axisValue(choice, i) {
   const cols = state.points.columns;
@@ -67,7 +86,7 @@ function renderScatter() {
   for (let i = 0; i < n; i++) {
     if (xs[i] === null || ys[i] === null) continue;
     const x = px(xs[i]), y = py(ys[i]);
-    ctx.fillStyle = podium.colour(cols.strategy[i] ?? (cols.strategy.every(s => s === null) ? null : -1));
+    ctx.fillStyle = strategyColour(cols.stage[i], cols.strategy[i]);
     ctx.strokeStyle = ctx.fillStyle;
     ctx.beginPath();
     if (cols.step[i] === 'diversity') {  // BDS diversity step: diamond
@@ -83,9 +102,9 @@ function renderScatter() {
   canvas.dataset.points = drawn;
   document.getElementById('scatter-count').textContent =
     `${drawn} points` + (state.points.total > state.points.returned ? ` (every ${Math.ceil(state.points.total / state.points.returned)}th of ${state.points.total})` : '');
-  const strategies = [...new Set(cols.strategy.filter(s => s !== null))].sort((a, b) => a - b);
+  const strategies = state.strategies;
   const legend = document.getElementById('legend');
-  legend.replaceChildren(...strategies.slice(0, 20).map(s => podium.el('span', {}, podium.el('i', { style: `background:${podium.colour(s)}` }), `strategy ${s}`)));
+  legend.replaceChildren(...strategies.slice(0, 20).map(p => podium.el('span', {}, podium.el('i', { style: `background:${strategyColour(...p)}` }), strategyLabel(p))));
   if (cols.step.some(s => s === 'explore' || s === 'diversity')) legend.append(podium.el('span', {}, '○ BDS exploration  ◆ BDS diversity'));
   if (!strategies.length) legend.append(podium.el('span', { class: 'muted' }, 'no strategy clusters yet'));
 }
@@ -123,7 +142,7 @@ function renderStrategies(list) {
   document.getElementById('no-strategies').hidden = list.length > 0;
   const names = featureNames();
   podium.fill(document.getElementById('strategies'), ['stage', 'strategy', 'trials', 'best objective', 'representative trial', 'features', ''],
-    list.map(s => [s.stage, podium.el('span', {}, podium.el('i', { style: `display:inline-block;width:10px;height:10px;background:${podium.colour(s.strategy)}` }), ` ${s.strategy}`),
+    list.map(s => [s.stage, podium.el('span', {}, podium.el('i', { style: `display:inline-block;width:10px;height:10px;background:${strategyColour(s.stage, s.strategy)}` }), ` ${s.strategy}`),
       s.trials, podium.num(s.best_objective), podium.link(`trial.html?id=${s.representative_trial}`, `#${s.representative_trial}`),
       s.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' '),
       podium.link(`replay.html?trial=${s.representative_trial}`, 'replay')]));
@@ -152,7 +171,7 @@ function renderParallel(trials) {
   const ax = i => pad + i * (W - 2 * pad) / Math.max(1, axes.length - 1);
   ctx.globalAlpha = 0.35;
   for (const t of trials) {
-    ctx.strokeStyle = podium.colour(t.strategy);
+    ctx.strokeStyle = strategyColour(t.stage, t.strategy);
     ctx.beginPath();
     axes.forEach((a, i) => { const y = H - pad - (a.get(t) - a.lo) / (a.hi - a.lo) * (H - 2 * pad); i ? ctx.lineTo(ax(i), y) : ctx.moveTo(ax(i), y); });
     ctx.stroke();
@@ -188,6 +207,7 @@ async function refreshCampaign() {
     podium.api(base), podium.api(`${base}/points`),
     podium.api(`${base}/trials?limit=1000&order=index&state=done`), podium.api(`${base}/events?last=50`)]);
   state.detail = detail; state.points = points;
+  indexStrategies();
   renderSummary(); renderScatter(); renderHistory(); renderStrategies(detail.strategy_table); renderParallel(parallel.trials);
   podium.fill(document.getElementById('events'), ['time', 'kind', 'details'],
     events.slice().reverse().map(e => [podium.time(e.time), e.kind, JSON.stringify(e.payload).slice(0, 160)]));

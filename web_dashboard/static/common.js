@@ -46,7 +46,7 @@ const podium = {
   },
   time(unix_s) { return unix_s > 0 ? new Date(unix_s * 1000).toLocaleString() : '–'; },
 
-  // Categorical palette (Tableau 10); strategy k gets colour k mod 10.
+  // Categorical palette (Tableau 10); colour k is entry k mod 10.
   palette: ['#4e79a7', '#f28e2b', '#e15759', '#76b7b2', '#59a14f', '#edc948', '#b07aa1', '#ff9da7', '#9c755f', '#bab0ac'],
   colour(k) { return k === null || k === undefined ? '#607d8b' : podium.palette[((k % 10) + 10) % 10]; },
 

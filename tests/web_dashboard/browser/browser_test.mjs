@@ -90,6 +90,8 @@ async function main() {
     await waitFor('trial rows', async () => (await page.locator('#trials tr').count()) === Math.min(done, 50) + 1);
     assert.equal(await page.locator('#history .uplot').count(), 1);
     assert.equal(await page.locator('#stages tr').count(), 2);
+    const strategies = (await api(`/api/campaigns/${id}`)).strategy_table.length;
+    if (id === landscape) assert.equal(await page.locator('#legend span').count(), Math.min(20, strategies), 'one legend entry per strategy');
   }
 
   step('trial page: learning curves, artifacts, attempts');

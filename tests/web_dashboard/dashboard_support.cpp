@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "campaign_spec.h"
+
 namespace podium::web_dashboard::testing {
 
 int raw_status(int port, const std::string& request_line) {
@@ -61,32 +63,12 @@ std::int64_t run_campaign(const std::filesystem::path& dir, const Json& spec) {
 Json landscape_spec(const std::string& name, int trials, const Json& extra_config) {
   Json config = {{"artifact", true}};
   config.update(extra_config);
-  return {{"name", name},
-          {"seed", 7},
-          {"workers", 2},
-          {"retries", 1},
-          {"trial_timeout_s", 30},
-          {"stages",
-           {{{"name", "explore"},
-             {"task", "landscape"},
-             {"preset", "smoke"},
-             {"config", config},
-             {"search", {{"algorithm", "random"}}},
-             {"budget", {{"trials", trials}}}}}}};
+  return podium::testing::stage_spec({.name = name, .seed = 7, .config = config, .trials = trials});
 }
 
 Json replay_fixture_spec(const std::string& name, int trials) {
-  return {{"name", name},
-          {"seed", 3},
-          {"workers", 2},
-          {"retries", 0},
-          {"trial_timeout_s", 30},
-          {"stages",
-           {{{"name", "swing"},
-             {"task", "web_replay_fixture"},
-             {"preset", "smoke"},
-             {"search", {{"algorithm", "random"}}},
-             {"budget", {{"trials", trials}}}}}}};
+  return podium::testing::stage_spec(
+      {.name = name, .seed = 3, .retries = 0, .task = "web_replay_fixture", .stage = "swing", .config = nullptr, .trials = trials});
 }
 
 }  // namespace podium::web_dashboard::testing

@@ -3,8 +3,9 @@
 ///
 /// Serves the JSON API (`/api/...`, documented in the top-level README "The dashboard") and the
 /// static front end, both GET only. The database is opened read-only; every request borrows a
-/// connection from a small pool and runs autocommit statements only, so no read transaction
-/// outlives a request and a running scheduler is never blocked. API responses are cached by URL
+/// connection from a small pool and reads in one short read transaction that ends before the
+/// response is sent, so no read transaction outlives a request and a running scheduler (WAL
+/// mode) is never blocked. Server threads run at a lower CPU priority (nice +10) than the scheduler. API responses are cached by URL
 /// and database version (SQLite's data_version): repeated requests cost nothing until a commit.
 #include <filesystem>
 #include <memory>

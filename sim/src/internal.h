@@ -10,5 +10,7 @@ void velocity_pass(const CharacterModel& model, CharacterData& data);
 Vector6d root_gravity_accel(const CharacterData& data);
 /// SPD spring-damper term Q (thesis eq. 2.20) into data.Q; root entries 0.
 void spd_spring_term(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
+/// stable_pd_maba for data whose link poses already match data.q (forward_kinematics done).
+void stable_pd_maba_posed(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
 
 }  // namespace podium::sim::internal

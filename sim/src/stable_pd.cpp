@@ -107,6 +107,10 @@ void stable_pd_dense(const CharacterModel& model, CharacterData& data, const Gai
 
 void stable_pd_maba(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s) {
   forward_kinematics(model, data);
+  internal::stable_pd_maba_posed(model, data, gains, target, dt_s);
+}
+
+void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s) {
   internal::velocity_pass(model, data);
   internal::spd_spring_term(model, data, gains, target, dt_s);
   const auto& links = model.links();

@@ -15,10 +15,12 @@
 #include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "bullet_character.h"
+#include "internal.h"
 #include "podium/base/error.h"
 
 namespace podium::sim {
@@ -47,10 +49,49 @@ std::unique_ptr<btCollisionShape> make_shape(const Geom& g) {
   return nullptr;
 }
 
+// A lone sphere, or capsule along a principal axis, centred on the link's COM needs no compound
+// wrapper (which costs a child-algorithm layer per pair and step); nullptr otherwise.
+std::unique_ptr<btCollisionShape> make_direct_shape(const Geom& g, const btTransform& local) {
+  if (local.getOrigin().length() > 1e-9) return nullptr;
+  if (g.type == ShapeType::sphere) return std::make_unique<btSphereShape>(g.radius);
+  if (g.type != ShapeType::capsule) return nullptr;
+  const btVector3 axis = local.getBasis().getColumn(2);
+  const double height = 2.0 * g.half_length;
+  if (std::abs(axis.x()) > 1 - 1e-12) return std::make_unique<btCapsuleShapeX>(g.radius, height);
+  if (std::abs(axis.y()) > 1 - 1e-12) return std::make_unique<btCapsuleShape>(g.radius, height);  // along y
+  if (std::abs(axis.z()) > 1 - 1e-12) return std::make_unique<btCapsuleShapeZ>(g.radius, height);
+  return nullptr;
+}
+
+// Bullet's default pools (4096 manifolds of 1.5 kB each in double precision, 4096 algorithms) are
+// allocated and touched on every reset; one character needs far fewer, and Bullet falls back to
+// the heap if they run out.
+btDefaultCollisionConstructionInfo small_pools() {
+  btDefaultCollisionConstructionInfo info;
+  info.m_defaultMaxPersistentManifoldPoolSize = 256;
+  info.m_defaultMaxCollisionAlgorithmPoolSize = 256;
+  return info;
+}
+
+// Manifold points farther apart than this are not touching: observe() does not report them and the
+// solver gets no rows for them (Bullet's default feeds every cached point within the contact-breaking
+// distance as a speculative contact: about half of benchmark B's contact rows, each row an O(n) pass
+// over the articulated body).
+constexpr double kTouchingM = 1e-3;
+
+// Contact error reduction per step (Baumgarte) such that penetration decays with the time constant
+// of MuJoCo's contacts in humanoid.xml (solref 0.015 s), which MuJoCo clamps to ≥ 2Δt: erp =
+// Δt/max(τ, 2Δt). Bullet's fixed 0.2 gives a decay time of 5Δt instead: 83 ms at 60 Hz, where
+// bodies stayed up to 10 cm deep for several steps after landing.
+double contact_erp(double dt_s) {
+  constexpr double kContactTimeConstantS = 0.015;
+  return dt_s / std::max(kContactTimeConstantS, 2.0 * dt_s);
+}
+
 }  // namespace
 
 struct World::Bullet {
-  btDefaultCollisionConfiguration collision_config;
+  btDefaultCollisionConfiguration collision_config{small_pools()};
   btCollisionDispatcher dispatcher{&collision_config};
   btDbvtBroadphase broadphase;
   btMultiBodyConstraintSolver solver;
@@ -103,6 +144,7 @@ void World::build_bullet() {
   b.filter.model = model_.get();
   b.filter.self_collision = config_.self_collision;
   b.world->getPairCache()->setOverlapFilterCallback(&b.filter);
+  b.world->getSolverInfo().m_erp2 = contact_erp(dt_s());
 
   // Character.
   b.character = std::make_unique<BulletCharacter>(*model_);
@@ -115,24 +157,30 @@ void World::build_bullet() {
     const Link& l = links[i];
     if (l.geoms.empty()) continue;
     const Eigen::Quaterniond P = b.character->principal(static_cast<int>(i));
-    auto compound = std::make_unique<btCompoundShape>();
-    for (std::size_t k = 0; k < l.geoms.size(); ++k) {
-      const Geom& g = l.geoms[k];
-      auto shape = make_shape(g);
-      // Child pose in Bullet's link frame (at the COM, along principal axes).
-      const btTransform local(to_bt(Eigen::Quaterniond(P.conjugate() * g.rot)), to_bt(Eigen::Vector3d(P.conjugate() * (g.pos - l.com))));
-      compound->addChildShape(local, shape.get());
-      b.shapes.push_back(std::move(shape));
-      b.child_body[i].push_back(g.body);
+    // Geom poses in Bullet's link frame (at the COM, along principal axes).
+    auto local = [&](const Geom& g) {
+      return btTransform(to_bt(Eigen::Quaterniond(P.conjugate() * g.rot)), to_bt(Eigen::Vector3d(P.conjugate() * (g.pos - l.com))));
+    };
+    std::unique_ptr<btCollisionShape> shape = l.geoms.size() == 1 ? make_direct_shape(l.geoms[0], local(l.geoms[0])) : nullptr;
+    if (!shape) {
+      auto compound = std::make_unique<btCompoundShape>();
+      for (const Geom& g : l.geoms) {
+        auto child = make_shape(g);
+        compound->addChildShape(local(g), child.get());
+        b.shapes.push_back(std::move(child));
+      }
+      shape = std::move(compound);
     }
+    for (const Geom& g : l.geoms) b.child_body[i].push_back(g.body);
     auto collider = std::make_unique<btMultiBodyLinkCollider>(&body, static_cast<int>(i) - 1);
-    collider->setCollisionShape(compound.get());
+    collider->setCollisionShape(shape.get());
     collider->setFriction(config_.friction);
+    collider->setContactProcessingThreshold(kTouchingM);
     collider->setRestitution(0.0);
     b.world->addCollisionObject(collider.get(), btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
     if (i == 0) body.setBaseCollider(collider.get());
     else body.getLink(static_cast<int>(i) - 1).m_collider = collider.get();
-    b.shapes.push_back(std::move(compound));
+    b.shapes.push_back(std::move(shape));
     b.objects.push_back(std::move(collider));
   }
   if (config_.joint_limits) {
@@ -220,7 +268,8 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
     case Control::torque: data_.tau = command; break;
     case Control::pd: pd_torques(*model_, data_, gains_, command); break;
     case Control::spd_dense: stable_pd_dense(*model_, data_, gains_, command, dt_s()); break;
-    case Control::spd_maba: stable_pd_maba(*model_, data_, gains_, command, dt_s()); break;
+    // data_ is posed: set_state and every step end with forward_kinematics.
+    case Control::spd_maba: internal::stable_pd_maba_posed(*model_, data_, gains_, command, dt_s()); break;
   }
   if (mode == Control::torque) data_.tau.head<6>().setZero();
   if (config_.torque_limits) {
@@ -277,13 +326,14 @@ Observation World::observe() {
     const auto* col = btMultiBodyLinkCollider::upcast(obj);
     if (!col || col->m_multiBody != &bullet_->character->body()) return;
     const auto& owners = bullet_->child_body[col->m_link + 1];
+    if (owners.size() == 1) child = 0;  // a direct shape reports no child index
     if (child >= 0 && child < static_cast<int>(owners.size())) o.body_contacts[owners[child]] = 1;
   };
   for (int k = 0; k < dispatcher->getNumManifolds(); ++k) {
     const btPersistentManifold* mf = dispatcher->getManifoldByIndexInternal(k);
     for (int p = 0; p < mf->getNumContacts(); ++p) {
       const btManifoldPoint& pt = mf->getContactPoint(p);
-      if (pt.getDistance() > 1e-3) continue;
+      if (pt.getDistance() > kTouchingM) continue;
       mark(mf->getBody0(), pt.m_index0);
       mark(mf->getBody1(), pt.m_index1);
     }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <nlopt.hpp>
+#include <set>
 
 #include "config_reader.h"
 #include "eigen_helpers.h"
@@ -19,20 +20,27 @@ BdsParams BdsParams::from_json(const Json& config, const std::string& path) {
   ConfigReader r(config, path);
   BdsParams p;
   p.initial_samples = r.integer("initial_samples", p.initial_samples, 1, 100000);
+  p.initial_design = r.choice("initial_design", p.initial_design, {"random", "maximin"});
   p.n_exp = r.integer("n_exp", p.n_exp, 0, 1000);
   p.n_opt = r.integer("n_opt", p.n_opt, 0, 1000);
+  p.explore_until = r.integer("explore_until", p.explore_until, 0, 1000000);
   if (p.n_exp + p.n_opt == 0) throw base::UserError(path + ": n_exp and n_opt are both 0; one must be >= 1");
   p.mc_samples = r.integer("mc_samples", p.mc_samples, 1, 100000);
   p.explore_candidates = r.integer("explore_candidates", p.explore_candidates, 1, 1000000);
   p.explore_starts = r.integer("explore_starts", p.explore_starts, 1, 1000);
   p.direct_evals = r.integer("direct_evals", p.direct_evals, 10, 10000000);
   p.fit_starts = r.integer("fit_starts", p.fit_starts, 0, 1000);
-  p.acquisition = r.choice("acquisition", p.acquisition, {"expected_distance", "capped_distance", "new_strategy"});
+  p.acquisition = r.choice("acquisition", p.acquisition, {"expected_distance", "capped_distance", "new_strategy", "plateau_new_strategy"});
+  p.ucb_beta = r.number("ucb_beta", p.ucb_beta, 0.0, 1e6);
   p.length_scale_min = r.number("length_scale_min", p.length_scale_min, 1e-6, 1e6);
   p.length_scale_max = r.number("length_scale_max", p.length_scale_max, p.length_scale_min, 1e6);
   p.noise_min = r.number("noise_min", p.noise_min, 1e-9, 0.5);
   p.strategy_threshold = r.number("strategy_threshold", p.strategy_threshold, 0.0, 1e300);
   p.snap = r.boolean("snap", p.snap);
+  p.snap_tolerance = r.number("snap_tolerance", p.snap_tolerance, 0.0, 1e300);
+  p.plateau_neighbours = r.integer("plateau_neighbours", p.plateau_neighbours, 0, 1000);
+  p.plateau_radius = r.number("plateau_radius", p.plateau_radius, 0.0, 1e6);
+  p.between_neighbours = r.integer("between_neighbours", p.between_neighbours, 0, 1000);
   r.finish();
   return p;
 }
@@ -80,17 +88,18 @@ std::vector<Proposal> BayesianDiversitySearch::ask(std::size_t n) {
 }
 
 VectorXd BayesianDiversitySearch::propose(std::string& step) {
-  const int d = static_cast<int>(space_.dim());
   const bool any_ok = std::any_of(told_.begin(), told_.end(), [](const Told& t) { return t.ok; });
   if (next_id_ < static_cast<std::uint64_t>(params_.initial_samples) || !any_ok) {
     step = "initial";
-    VectorXd u(d);
-    for (int i = 0; i < d; ++i) u[i] = rng_.uniform();
-    return u;
+    return initial_point();
   }
   fit_if_needed();
   std::vector<std::vector<double>> believer_features;
   const auto gps = conditioned_gps(believer_features);
+  if (told_.size() + pending_.size() < static_cast<std::size_t>(params_.explore_until)) {
+    step = "explore";
+    return explore(gps);
+  }
   // Algorithm 1 line 4: t mod (N_exp + N_opt) < N_exp → exploration.
   const bool exploring = steps_ % static_cast<std::uint64_t>(params_.n_exp + params_.n_opt) <
                          static_cast<std::uint64_t>(params_.n_exp);
@@ -104,6 +113,25 @@ VectorXd BayesianDiversitySearch::propose(std::string& step) {
   for (const auto& t : told_)
     if (t.ok) targets.push_back(t.features);
   return diversify(gps, targets);
+}
+
+VectorXd BayesianDiversitySearch::initial_point() {
+  const int d = static_cast<int>(space_.dim());
+  const int candidates = params_.initial_design == "maximin" ? params_.explore_candidates : 1;
+  VectorXd best;
+  double best_distance = -1.0;
+  for (int c = 0; c < candidates; ++c) {
+    VectorXd u(d);
+    for (int i = 0; i < d; ++i) u[i] = rng_.uniform();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& t : told_) nearest = std::min(nearest, (u - t.u).norm());
+    for (const auto& [id, p] : pending_) nearest = std::min(nearest, (u - p).norm());
+    if (nearest > best_distance) {
+      best_distance = nearest;
+      best = u;
+    }
+  }
+  return best;
 }
 
 void BayesianDiversitySearch::fit_if_needed() {
@@ -126,6 +154,32 @@ void BayesianDiversitySearch::fit_if_needed() {
   fitted_on_ = ok.size();
 }
 
+std::vector<std::pair<VectorXd, double>> BayesianDiversitySearch::plateau_points(std::size_t feature) const {
+  std::vector<std::pair<VectorXd, double>> out;
+  if (params_.plateau_neighbours == 0) return out;
+  std::vector<const Told*> ok;
+  for (const auto& t : told_)
+    if (t.ok) ok.push_back(&t);
+  const double range = features_[feature].high - features_[feature].low;
+  std::set<std::pair<std::size_t, std::size_t>> pairs;  // each pair once, whichever side lists it
+  for (std::size_t a = 0; a < ok.size(); ++a) {
+    std::vector<std::pair<double, std::size_t>> near;
+    for (std::size_t b = 0; b < ok.size(); ++b)
+      if (b != a) near.emplace_back((ok[a]->u - ok[b]->u).norm(), b);
+    const auto k = std::min<std::size_t>(near.size(), static_cast<std::size_t>(params_.plateau_neighbours));
+    std::partial_sort(near.begin(), near.begin() + static_cast<long>(k), near.end());
+    for (std::size_t i = 0; i < k; ++i) {
+      const auto [distance, b] = near[i];
+      if (distance <= params_.plateau_radius &&
+          std::abs(ok[a]->features[feature] - ok[b]->features[feature]) <= 1e-9 * range)
+        pairs.emplace(std::min(a, b), std::max(a, b));
+    }
+  }
+  for (const auto& [a, b] : pairs)
+    out.emplace_back(0.5 * (ok[a]->u + ok[b]->u), (ok[a]->features[feature] - features_[feature].low) / range);
+  return out;
+}
+
 std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(
     std::vector<std::vector<double>>& believer_features) const {
   const int d = static_cast<int>(space_.dim());
@@ -133,26 +187,33 @@ std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(
   for (const auto& t : told_) (t.ok ? xs : believers).push_back(t.u);
   const std::size_t failed = believers.size();
   for (const auto& [id, u] : pending_) believers.push_back(u);
-  const auto n_ok = static_cast<Eigen::Index>(xs.size());
-  const auto n_all = n_ok + static_cast<Eigen::Index>(believers.size());
-  MatrixXd x(n_all, d);
-  for (Eigen::Index i = 0; i < n_ok; ++i) x.row(i) = xs[static_cast<std::size_t>(i)].transpose();
-  for (std::size_t b = 0; b < believers.size(); ++b) x.row(n_ok + static_cast<Eigen::Index>(b)) = believers[b].transpose();
   believer_features.assign(believers.size() - failed, std::vector<double>(features_.size()));
 
   std::vector<GaussianProcess> gps;
   for (std::size_t j = 0; j < features_.size(); ++j) {
     const double range = features_[j].high - features_[j].low;
+    const auto plateau = plateau_points(j);
+    const auto n_known = static_cast<Eigen::Index>(xs.size() + plateau.size());
+    const auto n_all = n_known + static_cast<Eigen::Index>(believers.size());
+    MatrixXd x(n_all, d);
     VectorXd y(n_all);
     Eigen::Index i = 0;
     for (const auto& t : told_)
-      if (t.ok) y[i++] = (t.features[j] - features_[j].low) / range;
+      if (t.ok) {
+        x.row(i) = t.u.transpose();
+        y[i++] = (t.features[j] - features_[j].low) / range;
+      }
+    for (const auto& [u, value] : plateau) {
+      x.row(i) = u.transpose();
+      y[i++] = value;
+    }
+    for (const auto& u : believers) x.row(i++) = u.transpose();
     GaussianProcess base(d, 0.5);
-    base.set(x.topRows(n_ok), y.head(n_ok), theta_[j]);
+    base.set(x.topRows(n_known), y.head(n_known), theta_[j]);
     for (std::size_t b = 0; b < believers.size(); ++b) {
       double mean = 0.0, var = 0.0;
       base.predict(believers[b], mean, var);
-      y[n_ok + static_cast<Eigen::Index>(b)] = mean;
+      y[n_known + static_cast<Eigen::Index>(b)] = mean;
       if (b >= failed) believer_features[b - failed][j] = features_[j].low + mean * range;
     }
     GaussianProcess gp(d, 0.5);
@@ -235,10 +296,53 @@ struct DiversityContext {
   const std::vector<Feature>* features;
   const std::vector<std::vector<double>>* targets;
   const MatrixXd* eps;  // mc_samples × features: common random numbers for every x
-  int acquisition;      // 0 expected distance, 1 capped distance, 2 new strategy
+  int acquisition;      // 0 expected distance, 1 capped distance, 2 new strategy, 3 plateau new strategy
   double threshold;
+  double snap_tolerance;
   const std::vector<std::vector<double>>* levels;  // per feature: sorted observed values (empty: no snapping)
+  const std::vector<Eigen::VectorXd>* observed_u;  // successful observations (plateau_new_strategy)
+  const std::vector<MatrixXd>* same_value;         // per feature: observations × strategies, 1 where within τ
+  double ucb_beta;
 };
+
+// Per feature j: observations × observed strategies (leaders of group_strategies), 1 where the
+// observation's value of feature j is within τ of the strategy's.
+std::vector<MatrixXd> plateau_membership(const std::vector<Feature>& features,
+                                         const std::vector<std::vector<double>>& observed, double threshold) {
+  const auto group = group_strategies(features, observed, threshold);
+  std::vector<std::vector<double>> leaders;
+  for (std::size_t i = 0; i < group.size(); ++i)
+    if (group[i] == static_cast<int>(leaders.size())) leaders.push_back(observed[i]);
+  std::vector<MatrixXd> out;
+  for (std::size_t j = 0; j < features.size(); ++j) {
+    MatrixXd m(static_cast<Eigen::Index>(observed.size()), static_cast<Eigen::Index>(leaders.size()));
+    for (std::size_t i = 0; i < observed.size(); ++i)
+      for (std::size_t g = 0; g < leaders.size(); ++g)
+        m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(g)) =
+            feature_distance({features[j]}, {observed[i][j]}, {leaders[g][j]}) <= threshold;
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+// P(new strategy at u) under the plateau predictive (BdsParams::acquisition "plateau_new_strategy").
+double plateau_new_strategy(const DiversityContext& c, const VectorXd& u) {
+  const std::size_t nf = c.features->size();
+  const auto n = static_cast<Eigen::Index>(c.observed_u->size());
+  Eigen::VectorXd p_old = Eigen::VectorXd::Ones((*c.same_value)[0].cols());
+  for (std::size_t j = 0; j < nf; ++j) {
+    const auto& gp = (*c.gps)[j];
+    double mean = 0.0, var = 0.0;
+    gp.predict(u, mean, var);
+    const double explained = std::clamp(1.0 - var / gp.prior_variance(), 0.0, 1.0);
+    Eigen::VectorXd k(n);
+    for (Eigen::Index i = 0; i < n; ++i) k[i] = gp.kernel(u, (*c.observed_u)[static_cast<std::size_t>(i)]);
+    const double total = k.sum();
+    if (total <= 0.0) return 1.0;
+    p_old.array() *= (explained / total) * ((*c.same_value)[j].transpose() * k).array();
+  }
+  return 1.0 - std::min(1.0, p_old.sum());
+}
 
 // Snaps v to the nearest of `levels` when within `tolerance` (plateau recognition).
 double snap_to_level(double v, const std::vector<double>& levels, double tolerance) {
@@ -252,6 +356,7 @@ double snap_to_level(double v, const std::vector<double>& levels, double toleran
 
 // Thesis eq. 3.7: E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖], by Monte Carlo.
 double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
+  if (c.acquisition == 3) return plateau_new_strategy(c, u);
   const std::size_t nf = c.features->size();
   std::vector<double> mean(nf), sigma(nf);
   for (std::size_t j = 0; j < nf; ++j) {
@@ -265,7 +370,7 @@ double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
   std::vector<double> sample(nf);
   for (Eigen::Index s = 0; s < c.eps->rows(); ++s) {
     for (std::size_t j = 0; j < nf; ++j)
-      sample[j] = snap_to_level(mean[j] + sigma[j] * (*c.eps)(s, static_cast<Eigen::Index>(j)), (*c.levels)[j], c.threshold);
+      sample[j] = snap_to_level(mean[j] + sigma[j] * (*c.eps)(s, static_cast<Eigen::Index>(j)), (*c.levels)[j], c.snap_tolerance);
     // The strategies' own distance (angular features wrap), so "diverse" means what the store counts.
     double nearest = std::numeric_limits<double>::infinity();
     for (const auto& target : *c.targets) nearest = std::min(nearest, feature_distance(*c.features, sample, target));
@@ -273,7 +378,9 @@ double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
     else if (c.acquisition == 1) total += std::min(nearest, c.threshold);
     else total += nearest > c.threshold ? 1.0 : 0.0;
   }
-  return total / static_cast<double>(c.eps->rows());
+  double spread = 0.0;
+  for (double v : sigma) spread += v;
+  return total / static_cast<double>(c.eps->rows()) + c.ucb_beta * spread;
 }
 }  // namespace
 
@@ -283,10 +390,24 @@ VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& 
   MatrixXd eps(params_.mc_samples, static_cast<Eigen::Index>(features_.size()));
   for (Eigen::Index s = 0; s < eps.rows(); ++s)
     for (Eigen::Index j = 0; j < eps.cols(); ++j) eps(s, j) = rng_.normal();
-  const int acquisition = params_.acquisition == "expected_distance" ? 0 : params_.acquisition == "capped_distance" ? 1 : 2;
+  const int acquisition = params_.acquisition == "expected_distance" ? 0
+                          : params_.acquisition == "capped_distance" ? 1
+                          : params_.acquisition == "new_strategy"    ? 2
+                                                                     : 3;
+  // Successful observations, for the plateau predictive.
+  std::vector<VectorXd> observed_u;
+  std::vector<std::vector<double>> observed_f;
+  for (const auto& t : told_)
+    if (t.ok) {
+      observed_u.push_back(t.u);
+      observed_f.push_back(t.features);
+    }
+  const auto same_value = acquisition == 3 ? plateau_membership(features_, observed_f, params_.strategy_threshold)
+                                           : std::vector<MatrixXd>{};
   // Plateau levels: the distinct observed values of each feature (believers' predictions are snapped too).
   std::vector<std::vector<double>> levels(features_.size());
   std::vector<std::vector<double>> snapped_targets = targets;
+  const double snap_tolerance = params_.snap_tolerance > 0.0 ? params_.snap_tolerance : params_.strategy_threshold;
   if (params_.snap) {
     for (const auto& t : told_)
       if (t.ok)
@@ -296,9 +417,10 @@ VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& 
       l.erase(std::unique(l.begin(), l.end()), l.end());
     }
     for (auto& t : snapped_targets)
-      for (std::size_t j = 0; j < features_.size(); ++j) t[j] = snap_to_level(t[j], levels[j], params_.strategy_threshold);
+      for (std::size_t j = 0; j < features_.size(); ++j) t[j] = snap_to_level(t[j], levels[j], snap_tolerance);
   }
-  DiversityContext ctx{&gps, &features_, &snapped_targets, &eps, acquisition, params_.strategy_threshold, &levels};
+  DiversityContext ctx{&gps,    &features_,  &snapped_targets, &eps,    acquisition,      params_.strategy_threshold,
+                       snap_tolerance, &levels, &observed_u,      &same_value, params_.ucb_beta};
   auto objective = [](const std::vector<double>& x, std::vector<double>&, void* data) {
     return expected_min_distance(*static_cast<DiversityContext*>(data),
                                  Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())));
@@ -315,7 +437,36 @@ VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& 
   } catch (const std::exception&) {
     // DIRECT's best point so far is in x even when it stops early.
   }
-  return Eigen::Map<const VectorXd>(x.data(), d).cwiseMax(0.0).cwiseMin(1.0);
+  VectorXd best = Eigen::Map<const VectorXd>(x.data(), d).cwiseMax(0.0).cwiseMin(1.0);
+  double best_value = expected_min_distance(ctx, best);
+  for (const auto& u : between_candidates()) {
+    const double v = expected_min_distance(ctx, u);
+    if (v > best_value) {
+      best_value = v;
+      best = u;
+    }
+  }
+  return best;
+}
+
+std::vector<VectorXd> BayesianDiversitySearch::between_candidates() const {
+  std::vector<VectorXd> out;
+  if (params_.between_neighbours == 0) return out;
+  std::vector<const Told*> ok;
+  for (const auto& t : told_)
+    if (t.ok) ok.push_back(&t);
+  for (const auto* a : ok) {
+    std::vector<std::pair<double, const Told*>> near;
+    for (const auto* b : ok)
+      if (feature_distance(features_, a->features, b->features) > params_.strategy_threshold)
+        near.emplace_back((a->u - b->u).norm(), b);
+    const auto k = std::min<std::size_t>(near.size(), static_cast<std::size_t>(params_.between_neighbours));
+    std::partial_sort(near.begin(), near.begin() + static_cast<long>(k), near.end(),
+                      [](const auto& l, const auto& r) { return l.first < r.first; });
+    for (std::size_t i = 0; i < k; ++i)
+      for (double t : {1.0 / 3.0, 0.5, 2.0 / 3.0}) out.push_back(a->u + t * (near[i].second->u - a->u));
+  }
+  return out;
 }
 
 void BayesianDiversitySearch::tell(const std::vector<Observation>& observations) {

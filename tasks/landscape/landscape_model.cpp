@@ -39,12 +39,14 @@ LandscapeModel::LandscapeModel(const LandscapeOptions& options) : options_(optio
       weights_.push_back(rng.uniform(0.0, 0.05));   // additive weights make cells unequal
       values_.push_back(random_feature());
     }
-  } else if (options.family == "plateaus") {
+  } else if (options.family == "plateaus" || options.family == "plateaus_rough") {
+    const double max_frequency =
+        options.max_frequency > 0.0 ? options.max_frequency : options.family == "plateaus" ? 1.0 : 1.5;
     for (int f = 0; f < kFeatureDim; ++f) {
       std::vector<Cosine> trend;
       for (int c = 0; c < 3; ++c) {
         Cosine cos_term;
-        for (int i = 0; i < d; ++i) cos_term.frequency.push_back(rng.uniform(-1.5, 1.5));
+        for (int i = 0; i < d; ++i) cos_term.frequency.push_back(rng.uniform(-max_frequency, max_frequency));
         cos_term.phase = rng.uniform(0.0, 2.0 * std::numbers::pi);
         cos_term.amplitude = rng.uniform(0.5, 1.0);
         trend.push_back(cos_term);
@@ -57,7 +59,7 @@ LandscapeModel::LandscapeModel(const LandscapeOptions& options) : options_(optio
       thresholds_.push_back(cuts);
     }
   } else {
-    throw base::UserError("landscape: family \"" + options.family + "\" is not one of basins, plateaus, voronoi");
+    throw base::UserError("landscape: family \"" + options.family + "\" is not one of basins, plateaus, plateaus_rough, voronoi");
   }
 }
 
@@ -82,7 +84,22 @@ std::vector<double> LandscapeModel::feature(const std::vector<double>& x) const 
     }
     return values_[best];
   }
-  // plateaus: squash the trend into (0,1), then report the centre of its level.
+  // plateaus: report the centre of the squashed trend's level.
+  const auto squashed = trend(x);
+  std::vector<double> out(kFeatureDim);
+  for (int f = 0; f < kFeatureDim; ++f) {
+    const auto& cuts = thresholds_[f];
+    const auto level = std::upper_bound(cuts.begin(), cuts.end(), squashed[f]) - cuts.begin();
+    const double lo = level == 0 ? 0.0 : cuts[level - 1];
+    const double hi = level == static_cast<long>(cuts.size()) ? 1.0 : cuts[level];
+    out[f] = 0.5 * (lo + hi);
+  }
+  return out;
+}
+
+std::vector<double> LandscapeModel::trend(const std::vector<double>& x) const {
+  PODIUM_CHECK(static_cast<int>(x.size()) == options_.dim, "landscape: x has the wrong dimension");
+  if (trends_.empty()) throw base::UserError("landscape: trend() is defined for the plateau families only");
   std::vector<double> out(kFeatureDim);
   for (int f = 0; f < kFeatureDim; ++f) {
     double t = 0.0;
@@ -91,12 +108,7 @@ std::vector<double> LandscapeModel::feature(const std::vector<double>& x) const 
       for (std::size_t i = 0; i < x.size(); ++i) phase += 2.0 * std::numbers::pi * c.frequency[i] * x[i];
       t += c.amplitude * std::cos(phase);
     }
-    const double squashed = 0.5 + 0.5 * std::tanh(t);
-    const auto& cuts = thresholds_[f];
-    const auto level = std::upper_bound(cuts.begin(), cuts.end(), squashed) - cuts.begin();
-    const double lo = level == 0 ? 0.0 : cuts[level - 1];
-    const double hi = level == static_cast<long>(cuts.size()) ? 1.0 : cuts[level];
-    out[f] = 0.5 * (lo + hi);
+    out[f] = 0.5 + 0.5 * std::tanh(t);
   }
   return out;
 }

@@ -6,9 +6,16 @@
 // Families (all >= 1-D, feature of 2 dimensions in [0,1]):
 //  - "basins":   one base feature over most of the box, plus a few small Gaussian-shaped basins of
 //                distinct feature values (rare strategies).
-//  - "plateaus": a smooth random trend per feature dimension (sum of random cosines), quantised
+//  - "plateaus": a smooth random trend per feature dimension (sum of 3 random cosines, each
+//                frequency uniform in ±1 cycle per unit on each axis), squashed and quantised
 //                into levels of unequal width: strategies are plateaus, and the feature has
-//                structure a surrogate can learn (as take-off velocities shape a jump).
+//                structure a surrogate can learn (as take-off velocities shape a jump). The
+//                frequency bound is the roughest (on a grid of 0.25) that meets a criterion involving
+//                no search algorithm: a GP fitted to 20 random samples explains median R² ≥ 0.5 of
+//                the squashed trend (bench/search/landscape_smoothness_bench.cpp, landscapes
+//                1001–1020: R² 0.58 at ±1, 0.32 at ±1.25, 0.13 at ±1.5).
+//  - "plateaus_rough": the same construction with frequencies in ±1.5 (the first version of
+//                "plateaus"; a GP on 20 samples explains median R² ≈ 0.2 of it), kept for comparison.
 //  - "voronoi":  weighted-Voronoi regions of constant random feature: no structure beyond space.
 #include <cstdint>
 #include <string>
@@ -21,6 +28,9 @@ struct LandscapeOptions {
   int dim = 3;
   std::uint64_t landscape_seed = 1;
   int regions = 6;       // basins, quantisation levels per feature, or Voronoi cells
+  /// Plateau families: bound of the trend's cosine frequencies (cycles per unit per axis); 0 means
+  /// the family's own (1.0 for "plateaus", 1.5 for "plateaus_rough"). For smoothness studies.
+  double max_frequency = 0.0;
 };
 
 class LandscapeModel {
@@ -28,11 +38,13 @@ class LandscapeModel {
   explicit LandscapeModel(const LandscapeOptions& options);
   /// Strategy feature at x (x in [0,1]^dim), 2 values in [0,1].
   std::vector<double> feature(const std::vector<double>& x) const;
+  /// Plateau families: the squashed trend in (0,1) per feature dimension, before quantisation.
+  std::vector<double> trend(const std::vector<double>& x) const;
   /// A smooth objective to maximise (peak 0 at a seeded optimum), for optimisers like CMA-ES.
   double objective(const std::vector<double>& x) const;
   int dim() const { return options_.dim; }
   static constexpr int kFeatureDim = 2;
-  static std::vector<std::string> families() { return {"basins", "plateaus", "voronoi"}; }
+  static std::vector<std::string> families() { return {"basins", "plateaus", "plateaus_rough", "voronoi"}; }
 
  private:
   struct Cosine { std::vector<double> frequency; double phase, amplitude; };

@@ -22,7 +22,7 @@ using plugins::Sink;
 namespace {
 
 const Json kDefaults = {
-    {"family", "basins"},    // basins | plateaus | voronoi
+    {"family", "basins"},    // basins | plateaus | plateaus_rough | voronoi
     {"dim", 3},
     {"landscape_seed", 1},
     {"regions", 6},

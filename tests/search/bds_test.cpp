@@ -36,7 +36,7 @@ double min_pairwise_distance(const std::vector<Proposal>& ps) {
 }
 
 TEST(Bds, AlternatesExplorationAndDiversityAfterInitialSamples) {
-  auto search = make_search("bds", unit_box(3, {{"initial_samples", 2}, {"n_exp", 2}, {"n_opt", 1}}));
+  auto search = make_search("bds", unit_box(3, {{"initial_samples", 2}, {"explore_until", 0}, {"n_exp", 2}, {"n_opt", 1}}));
   std::vector<std::string> steps;
   for (int t = 0; t < 8; ++t) {
     const auto p = search->ask(1).at(0);
@@ -72,8 +72,8 @@ TEST(Bds, FailedTrialsAreKeptOutAndNotProposedAgain) {
 }
 
 TEST(Bds, AcquisitionVariantsProposeDistinctPointsInsideTheBox) {
-  for (const char* acquisition : {"capped_distance", "new_strategy"}) {
-    auto search = make_search("bds", unit_box(3, {{"initial_samples", 3}, {"n_exp", 0}, {"acquisition", acquisition},
+  for (const char* acquisition : {"capped_distance", "new_strategy", "plateau_new_strategy"}) {
+    auto search = make_search("bds", unit_box(3, {{"initial_samples", 3}, {"explore_until", 0}, {"n_exp", 0}, {"acquisition", acquisition},
                                                   {"snap", true}, {"direct_evals", 200}}));
     std::vector<Proposal> all;
     for (int t = 0; t < 8; ++t) {
@@ -85,6 +85,38 @@ TEST(Bds, AcquisitionVariantsProposeDistinctPointsInsideTheBox) {
     EXPECT_EQ(all.back().info.at("step"), "diversity");
     EXPECT_GT(min_pairwise_distance(all), 1e-3) << acquisition;
   }
+}
+
+TEST(Bds, ExploresUntilTheScheduleSaysThenRunsRounds) {
+  auto search = make_search("bds", unit_box(3, {{"initial_samples", 2}, {"explore_until", 5}, {"n_exp", 1}, {"n_opt", 1}}));
+  std::vector<std::string> steps;
+  for (int t = 0; t < 8; ++t) {
+    const auto p = search->ask(1).at(0);
+    steps.push_back(p.info.at("step"));
+    search->tell({run(p)});
+  }
+  EXPECT_EQ(steps, (std::vector<std::string>{"initial", "initial", "explore", "explore", "explore", "explore", "diversity",
+                                             "explore"}));
+}
+
+TEST(Bds, MaximinInitialDesignSpreadsTheInitialSamples) {
+  auto spread = [](const char* design) {
+    auto search = make_search("bds", unit_box(3, {{"initial_samples", 8}, {"initial_design", design}}));
+    return min_pairwise_distance(search->ask(8));
+  };
+  EXPECT_GT(spread("maximin"), 1.5 * spread("random"));
+}
+
+TEST(Bds, PlateauBelieversAndBetweenCandidatesKeepProposalsDistinct) {
+  auto search = make_search("bds", unit_box(3, {{"initial_samples", 6}, {"plateau_neighbours", 3}, {"plateau_radius", 1.0},
+                                                {"between_neighbours", 2}, {"ucb_beta", 0.1}, {"direct_evals", 200}}));
+  std::vector<Proposal> all;
+  for (int t = 0; t < 12; ++t) {
+    const auto p = search->ask(1).at(0);
+    all.push_back(p);
+    search->tell({run(p)});
+  }
+  EXPECT_GT(min_pairwise_distance(all), 1e-3);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <map>
 
 #include "landscape_model.h"
@@ -71,6 +72,28 @@ TEST(LandscapeModel, EveryFamilyHasSeveralFlatRegions) {
     EXPECT_GE(counts.size(), 2u) << family;
     EXPECT_GE(largest, 400) << family;
   }
+}
+
+// "plateaus" is "plateaus_rough" with frequencies scaled by 1/1.5 (same random draws otherwise):
+// its trend changes less over a short step, which is what makes it learnable from few samples.
+TEST(LandscapeModel, PlateausTrendIsSmootherThanTheRoughOne) {
+  for (std::uint64_t seed : {1u, 2u, 3u}) {
+    const LandscapeModel smooth({"plateaus", 3, seed, 6}), rough({"plateaus_rough", 3, seed, 6});
+    base::Rng rng(seed);
+    double smooth_change = 0.0, rough_change = 0.0;
+    for (int i = 0; i < 500; ++i) {
+      const std::vector<double> a = {rng.uniform(0.0, 0.95), rng.uniform(0.0, 0.95), rng.uniform(0.0, 0.95)};
+      const std::vector<double> b = {a[0] + 0.05, a[1], a[2]};
+      smooth_change += std::abs(smooth.trend(a)[0] - smooth.trend(b)[0]);
+      rough_change += std::abs(rough.trend(a)[0] - rough.trend(b)[0]);
+    }
+    EXPECT_LT(smooth_change, rough_change) << seed;
+  }
+}
+
+TEST(LandscapeModel, TrendNeedsAPlateauFamily) {
+  const LandscapeModel voronoi({"voronoi", 3, 1, 6});
+  EXPECT_THROW(voronoi.trend({0.1, 0.2, 0.3}), base::UserError);
 }
 
 }  // namespace

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <nlopt.hpp>
-#include <set>
 
 #include "config_reader.h"
 #include "eigen_helpers.h"
@@ -30,17 +29,10 @@ BdsParams BdsParams::from_json(const Json& config, const std::string& path) {
   p.explore_starts = r.integer("explore_starts", p.explore_starts, 1, 1000);
   p.direct_evals = r.integer("direct_evals", p.direct_evals, 10, 10000000);
   p.fit_starts = r.integer("fit_starts", p.fit_starts, 0, 1000);
-  p.acquisition = r.choice("acquisition", p.acquisition, {"expected_distance", "capped_distance", "new_strategy", "plateau_new_strategy"});
   p.ucb_beta = r.number("ucb_beta", p.ucb_beta, 0.0, 1e6);
   p.length_scale_min = r.number("length_scale_min", p.length_scale_min, 1e-6, 1e6);
   p.length_scale_max = r.number("length_scale_max", p.length_scale_max, p.length_scale_min, 1e6);
   p.noise_min = r.number("noise_min", p.noise_min, 1e-9, 0.5);
-  p.strategy_threshold = r.number("strategy_threshold", p.strategy_threshold, 0.0, 1e300);
-  p.snap = r.boolean("snap", p.snap);
-  p.snap_tolerance = r.number("snap_tolerance", p.snap_tolerance, 0.0, 1e300);
-  p.plateau_neighbours = r.integer("plateau_neighbours", p.plateau_neighbours, 0, 1000);
-  p.plateau_radius = r.number("plateau_radius", p.plateau_radius, 0.0, 1e6);
-  p.between_neighbours = r.integer("between_neighbours", p.between_neighbours, 0, 1000);
   r.finish();
   return p;
 }
@@ -154,32 +146,6 @@ void BayesianDiversitySearch::fit_if_needed() {
   fitted_on_ = ok.size();
 }
 
-std::vector<std::pair<VectorXd, double>> BayesianDiversitySearch::plateau_points(std::size_t feature) const {
-  std::vector<std::pair<VectorXd, double>> out;
-  if (params_.plateau_neighbours == 0) return out;
-  std::vector<const Told*> ok;
-  for (const auto& t : told_)
-    if (t.ok) ok.push_back(&t);
-  const double range = features_[feature].high - features_[feature].low;
-  std::set<std::pair<std::size_t, std::size_t>> pairs;  // each pair once, whichever side lists it
-  for (std::size_t a = 0; a < ok.size(); ++a) {
-    std::vector<std::pair<double, std::size_t>> near;
-    for (std::size_t b = 0; b < ok.size(); ++b)
-      if (b != a) near.emplace_back((ok[a]->u - ok[b]->u).norm(), b);
-    const auto k = std::min<std::size_t>(near.size(), static_cast<std::size_t>(params_.plateau_neighbours));
-    std::partial_sort(near.begin(), near.begin() + static_cast<long>(k), near.end());
-    for (std::size_t i = 0; i < k; ++i) {
-      const auto [distance, b] = near[i];
-      if (distance <= params_.plateau_radius &&
-          std::abs(ok[a]->features[feature] - ok[b]->features[feature]) <= 1e-9 * range)
-        pairs.emplace(std::min(a, b), std::max(a, b));
-    }
-  }
-  for (const auto& [a, b] : pairs)
-    out.emplace_back(0.5 * (ok[a]->u + ok[b]->u), (ok[a]->features[feature] - features_[feature].low) / range);
-  return out;
-}
-
 std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(
     std::vector<std::vector<double>>& believer_features) const {
   const int d = static_cast<int>(space_.dim());
@@ -192,8 +158,7 @@ std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(
   std::vector<GaussianProcess> gps;
   for (std::size_t j = 0; j < features_.size(); ++j) {
     const double range = features_[j].high - features_[j].low;
-    const auto plateau = plateau_points(j);
-    const auto n_known = static_cast<Eigen::Index>(xs.size() + plateau.size());
+    const auto n_known = static_cast<Eigen::Index>(xs.size());
     const auto n_all = n_known + static_cast<Eigen::Index>(believers.size());
     MatrixXd x(n_all, d);
     VectorXd y(n_all);
@@ -203,10 +168,6 @@ std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(
         x.row(i) = t.u.transpose();
         y[i++] = (t.features[j] - features_[j].low) / range;
       }
-    for (const auto& [u, value] : plateau) {
-      x.row(i) = u.transpose();
-      y[i++] = value;
-    }
     for (const auto& u : believers) x.row(i++) = u.transpose();
     GaussianProcess base(d, 0.5);
     base.set(x.topRows(n_known), y.head(n_known), theta_[j]);
@@ -296,67 +257,11 @@ struct DiversityContext {
   const std::vector<Feature>* features;
   const std::vector<std::vector<double>>* targets;
   const MatrixXd* eps;  // mc_samples × features: common random numbers for every x
-  int acquisition;      // 0 expected distance, 1 capped distance, 2 new strategy, 3 plateau new strategy
-  double threshold;
-  double snap_tolerance;
-  const std::vector<std::vector<double>>* levels;  // per feature: sorted observed values (empty: no snapping)
-  const std::vector<Eigen::VectorXd>* observed_u;  // successful observations (plateau_new_strategy)
-  const std::vector<MatrixXd>* same_value;         // per feature: observations × strategies, 1 where within τ
   double ucb_beta;
 };
 
-// Per feature j: observations × observed strategies (leaders of group_strategies), 1 where the
-// observation's value of feature j is within τ of the strategy's.
-std::vector<MatrixXd> plateau_membership(const std::vector<Feature>& features,
-                                         const std::vector<std::vector<double>>& observed, double threshold) {
-  const auto group = group_strategies(features, observed, threshold);
-  std::vector<std::vector<double>> leaders;
-  for (std::size_t i = 0; i < group.size(); ++i)
-    if (group[i] == static_cast<int>(leaders.size())) leaders.push_back(observed[i]);
-  std::vector<MatrixXd> out;
-  for (std::size_t j = 0; j < features.size(); ++j) {
-    MatrixXd m(static_cast<Eigen::Index>(observed.size()), static_cast<Eigen::Index>(leaders.size()));
-    for (std::size_t i = 0; i < observed.size(); ++i)
-      for (std::size_t g = 0; g < leaders.size(); ++g)
-        m(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(g)) =
-            feature_distance({features[j]}, {observed[i][j]}, {leaders[g][j]}) <= threshold;
-    out.push_back(std::move(m));
-  }
-  return out;
-}
-
-// P(new strategy at u) under the plateau predictive (BdsParams::acquisition "plateau_new_strategy").
-double plateau_new_strategy(const DiversityContext& c, const VectorXd& u) {
-  const std::size_t nf = c.features->size();
-  const auto n = static_cast<Eigen::Index>(c.observed_u->size());
-  Eigen::VectorXd p_old = Eigen::VectorXd::Ones((*c.same_value)[0].cols());
-  for (std::size_t j = 0; j < nf; ++j) {
-    const auto& gp = (*c.gps)[j];
-    double mean = 0.0, var = 0.0;
-    gp.predict(u, mean, var);
-    const double explained = std::clamp(1.0 - var / gp.prior_variance(), 0.0, 1.0);
-    Eigen::VectorXd k(n);
-    for (Eigen::Index i = 0; i < n; ++i) k[i] = gp.kernel(u, (*c.observed_u)[static_cast<std::size_t>(i)]);
-    const double total = k.sum();
-    if (total <= 0.0) return 1.0;
-    p_old.array() *= (explained / total) * ((*c.same_value)[j].transpose() * k).array();
-  }
-  return 1.0 - std::min(1.0, p_old.sum());
-}
-
-// Snaps v to the nearest of `levels` when within `tolerance` (plateau recognition).
-double snap_to_level(double v, const std::vector<double>& levels, double tolerance) {
-  if (levels.empty()) return v;
-  auto it = std::lower_bound(levels.begin(), levels.end(), v);
-  double best = v, gap = tolerance;
-  if (it != levels.end() && *it - v <= gap) { best = *it; gap = *it - v; }
-  if (it != levels.begin() && v - *(it - 1) <= gap) best = *(it - 1);
-  return best;
-}
-
-// Thesis eq. 3.7: E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖], by Monte Carlo.
+// Thesis eq. 3.7: E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖], by Monte Carlo, plus eq. 3.8's β·Σ_j σ_j(x).
 double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
-  if (c.acquisition == 3) return plateau_new_strategy(c, u);
   const std::size_t nf = c.features->size();
   std::vector<double> mean(nf), sigma(nf);
   for (std::size_t j = 0; j < nf; ++j) {
@@ -370,13 +275,11 @@ double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
   std::vector<double> sample(nf);
   for (Eigen::Index s = 0; s < c.eps->rows(); ++s) {
     for (std::size_t j = 0; j < nf; ++j)
-      sample[j] = snap_to_level(mean[j] + sigma[j] * (*c.eps)(s, static_cast<Eigen::Index>(j)), (*c.levels)[j], c.snap_tolerance);
+      sample[j] = mean[j] + sigma[j] * (*c.eps)(s, static_cast<Eigen::Index>(j));
     // The strategies' own distance (angular features wrap), so "diverse" means what the store counts.
     double nearest = std::numeric_limits<double>::infinity();
     for (const auto& target : *c.targets) nearest = std::min(nearest, feature_distance(*c.features, sample, target));
-    if (c.acquisition == 0) total += nearest;
-    else if (c.acquisition == 1) total += std::min(nearest, c.threshold);
-    else total += nearest > c.threshold ? 1.0 : 0.0;
+    total += nearest;
   }
   double spread = 0.0;
   for (double v : sigma) spread += v;
@@ -390,37 +293,7 @@ VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& 
   MatrixXd eps(params_.mc_samples, static_cast<Eigen::Index>(features_.size()));
   for (Eigen::Index s = 0; s < eps.rows(); ++s)
     for (Eigen::Index j = 0; j < eps.cols(); ++j) eps(s, j) = rng_.normal();
-  const int acquisition = params_.acquisition == "expected_distance" ? 0
-                          : params_.acquisition == "capped_distance" ? 1
-                          : params_.acquisition == "new_strategy"    ? 2
-                                                                     : 3;
-  // Successful observations, for the plateau predictive.
-  std::vector<VectorXd> observed_u;
-  std::vector<std::vector<double>> observed_f;
-  for (const auto& t : told_)
-    if (t.ok) {
-      observed_u.push_back(t.u);
-      observed_f.push_back(t.features);
-    }
-  const auto same_value = acquisition == 3 ? plateau_membership(features_, observed_f, params_.strategy_threshold)
-                                           : std::vector<MatrixXd>{};
-  // Plateau levels: the distinct observed values of each feature (believers' predictions are snapped too).
-  std::vector<std::vector<double>> levels(features_.size());
-  std::vector<std::vector<double>> snapped_targets = targets;
-  const double snap_tolerance = params_.snap_tolerance > 0.0 ? params_.snap_tolerance : params_.strategy_threshold;
-  if (params_.snap) {
-    for (const auto& t : told_)
-      if (t.ok)
-        for (std::size_t j = 0; j < features_.size(); ++j) levels[j].push_back(t.features[j]);
-    for (auto& l : levels) {
-      std::sort(l.begin(), l.end());
-      l.erase(std::unique(l.begin(), l.end()), l.end());
-    }
-    for (auto& t : snapped_targets)
-      for (std::size_t j = 0; j < features_.size(); ++j) t[j] = snap_to_level(t[j], levels[j], snap_tolerance);
-  }
-  DiversityContext ctx{&gps,    &features_,  &snapped_targets, &eps,    acquisition,      params_.strategy_threshold,
-                       snap_tolerance, &levels, &observed_u,      &same_value, params_.ucb_beta};
+  DiversityContext ctx{&gps, &features_, &targets, &eps, params_.ucb_beta};
   auto objective = [](const std::vector<double>& x, std::vector<double>&, void* data) {
     return expected_min_distance(*static_cast<DiversityContext*>(data),
                                  Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())));
@@ -437,36 +310,7 @@ VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& 
   } catch (const std::exception&) {
     // DIRECT's best point so far is in x even when it stops early.
   }
-  VectorXd best = Eigen::Map<const VectorXd>(x.data(), d).cwiseMax(0.0).cwiseMin(1.0);
-  double best_value = expected_min_distance(ctx, best);
-  for (const auto& u : between_candidates()) {
-    const double v = expected_min_distance(ctx, u);
-    if (v > best_value) {
-      best_value = v;
-      best = u;
-    }
-  }
-  return best;
-}
-
-std::vector<VectorXd> BayesianDiversitySearch::between_candidates() const {
-  std::vector<VectorXd> out;
-  if (params_.between_neighbours == 0) return out;
-  std::vector<const Told*> ok;
-  for (const auto& t : told_)
-    if (t.ok) ok.push_back(&t);
-  for (const auto* a : ok) {
-    std::vector<std::pair<double, const Told*>> near;
-    for (const auto* b : ok)
-      if (feature_distance(features_, a->features, b->features) > params_.strategy_threshold)
-        near.emplace_back((a->u - b->u).norm(), b);
-    const auto k = std::min<std::size_t>(near.size(), static_cast<std::size_t>(params_.between_neighbours));
-    std::partial_sort(near.begin(), near.begin() + static_cast<long>(k), near.end(),
-                      [](const auto& l, const auto& r) { return l.first < r.first; });
-    for (std::size_t i = 0; i < k; ++i)
-      for (double t : {1.0 / 3.0, 0.5, 2.0 / 3.0}) out.push_back(a->u + t * (near[i].second->u - a->u));
-  }
-  return out;
+  return Eigen::Map<const VectorXd>(x.data(), d).cwiseMax(0.0).cwiseMin(1.0);
 }
 
 void BayesianDiversitySearch::tell(const std::vector<Observation>& observations) {

@@ -23,9 +23,9 @@ namespace podium::search {
 
 /// BDS options (spec: search.config). Defaults are the thesis's where it gives one, plus a
 /// schedule in front of Algorithm 1's rounds (maximin initial design, exploration until 10
-/// points), which measured best on the issue-5 landscapes (bench/search/README.md). The other
-/// acquisition variants, `snap`, plateau believers, between-candidates and `ucb_beta` were measured
-/// not to help there and stay selectable for tasks whose features behave differently.
+/// points), which measured best on the issue-5 landscapes (bench/search/README.md). Other
+/// acquisitions, plateau snapping, plateau believers and between-candidates measured no better
+/// there and were removed (one way to do each thing); that README says where they live in history.
 struct BdsParams {
   int initial_samples = 4;       ///< random proposals before the GP is used (Algorithm 1 line 2)
   /// How the initial samples are drawn: "random" (uniform) or "maximin" (the farthest from all
@@ -42,16 +42,6 @@ struct BdsParams {
   int explore_starts = 5;        ///< L-BFGS starts (the best candidates)
   int direct_evals = 800;        ///< DIRECT-L evaluations per diversity step
   int fit_starts = 2;            ///< random hyperparameter starts besides the previous optimum
-  /// Diversity acquisition: "expected_distance" (eq. 3.7, E[min_i ‖f − f_i‖]), "capped_distance"
-  /// (E[min(min_i ‖f − f_i‖, τ)]), "new_strategy" (P(min_i ‖f − f_i‖ > τ)), τ = strategy_threshold, or
-  /// "plateau_new_strategy": P(new strategy) under a predictive that knows features are flat in
-  /// regions: feature j at x is one of the observed values, voted by the GP's kernel weights
-  /// k_j(x, x_i) (Nadaraya–Watson), with the share of prior variance the GP has explained at x,
-  /// 1 − σ_j²(x)/(s_j² + η_j²); the rest is an unseen value. So a point between two observed
-  /// plateaus is predicted to be on one of them (not on the in-between mean value eq. 3.7 rewards),
-  /// a point between (a0, a1) and (b0, b1) may be the unseen mix (a0, b1), and far from data every
-  /// point is new (exploration by the GP's own length scales).
-  std::string acquisition = "expected_distance";
   /// Thesis eq. 3.8: the diversity acquisition plus β·Σ_j σ_j(x) (σ in feature units), so diversity
   /// steps keep some of the exploration's spread. 0 is the thesis's choice (pure eq. 3.7).
   double ucb_beta = 0.0;
@@ -61,25 +51,6 @@ struct BdsParams {
   double length_scale_min = 0.1;
   double length_scale_max = 1.0;
   double noise_min = 1e-3;         ///< lower bound of the GP noise variance η² (features scaled to [0,1])
-  double strategy_threshold = 0.05;  ///< τ, in feature units (the stage's distinct-strategy threshold)
-  /// Plateau snapping: a posterior sample of feature j within τ of a value observed for feature j
-  /// counts as that value (observed values within τ are one plateau), so a point between two
-  /// plateaus is predicted to be on one of them, not on an in-between value that may not exist.
-  bool snap = false;
-  /// How far (feature units) a sample may be from an observed value to snap to it; 0 means τ.
-  /// Plateaus are wider than τ in feature value when levels are coarse, as on tasks/landscape.
-  double snap_tolerance = 0.0;
-  /// Flat-region recognition: two observations among each other's `plateau_neighbours` nearest (in
-  /// the unit box), within `plateau_radius` and with the same value of feature j, imply a plateau of
-  /// feature j between them: that feature's GP is conditioned on a virtual observation of the value
-  /// at their midpoint (not fitted on), so σ collapses there and no step aims at it. 0 turns it off.
-  int plateau_neighbours = 0;
-  double plateau_radius = 0.3;
-  /// Candidate generation for diversity steps: features are continuous in x, so new strategies lie
-  /// between observations of different strategies. Besides DIRECT-L's optimum, the acquisition is
-  /// scored at 1/3, 1/2 and 2/3 of the way from each observation to each of its `between_neighbours`
-  /// nearest observations of a different strategy (feature distance > τ), and the best point wins.
-  int between_neighbours = 0;
   static BdsParams from_json(const Json& config, const std::string& path);
 };
 
@@ -103,10 +74,8 @@ class BayesianDiversitySearch final : public Search {
   Eigen::VectorXd initial_point();
   void fit_if_needed();
   std::vector<GaussianProcess> conditioned_gps(std::vector<std::vector<double>>& believer_features) const;
-  std::vector<std::pair<Eigen::VectorXd, double>> plateau_points(std::size_t feature) const;
   Eigen::VectorXd explore(const std::vector<GaussianProcess>& gps);
   Eigen::VectorXd diversify(const std::vector<GaussianProcess>& gps, const std::vector<std::vector<double>>& targets);
-  std::vector<Eigen::VectorXd> between_candidates() const;
   std::vector<double> to_params(const Eigen::VectorXd& u) const;
   Eigen::VectorXd to_unit(const std::vector<double>& x) const;
 

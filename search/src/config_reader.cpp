@@ -38,13 +38,6 @@ int ConfigReader::integer(const std::string& key, int fallback, int min, int max
   return static_cast<int>(v);
 }
 
-bool ConfigReader::boolean(const std::string& key, bool fallback) {
-  const Json* j = raw(key);
-  if (!j) return fallback;
-  if (!j->is_boolean()) throw UserError(path(key) + ": " + j->dump() + " is not true or false");
-  return j->get<bool>();
-}
-
 std::string ConfigReader::choice(const std::string& key, const std::string& fallback,
                                  const std::vector<std::string>& allowed) {
   const Json* j = raw(key);

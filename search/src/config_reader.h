@@ -15,7 +15,6 @@ class ConfigReader {
   ConfigReader(const base::Json& config, std::string path);
   int integer(const std::string& key, int fallback, int min, int max);
   double number(const std::string& key, double fallback, double min, double max);
-  bool boolean(const std::string& key, bool fallback);
   std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed);
   /// The raw value, or null when absent (for fields with their own parser).
   const base::Json* raw(const std::string& key);

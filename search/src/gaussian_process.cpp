@@ -158,12 +158,6 @@ double GaussianProcess::fit(base::Rng& rng, int extra_starts, const GpBounds& bo
   return ctx.best_value;
 }
 
-double GaussianProcess::kernel(const VectorXd& a, const VectorXd& b) const {
-  const VectorXd inv_len2 = (-2.0 * theta_.segment(1, dim_).array()).exp();
-  const double r = std::sqrt(((a - b).array().square() * inv_len2.array()).sum());
-  return std::exp(theta_[0]) * (1.0 + kSqrt5 * r + 5.0 / 3.0 * r * r) * std::exp(-kSqrt5 * r);
-}
-
 void GaussianProcess::predict(const VectorXd& x, double& mean, double& var, VectorXd* dmean, VectorXd* dvar) const {
   const int n = size();
   const double s2 = std::exp(theta_[0]);

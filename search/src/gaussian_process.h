@@ -42,10 +42,6 @@ class GaussianProcess {
   /// `bounds` (drawn from `rng`), then set()s the best θ. Returns its log marginal likelihood.
   double fit(base::Rng& rng, int extra_starts, const GpBounds& bounds, int max_evals = 200);
 
-  /// Prior covariance k(a, b) (Matérn 5/2 ARD, no noise) under the current θ.
-  double kernel(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const;
-  /// Prior variance of an observation, s² + η².
-  double prior_variance() const { return std::exp(theta_[0]) + std::exp(theta_[dim_ + 1]); }
   /// Posterior mean and variance (observation noise included, as in eq. 3.6) at x; with
   /// `dmean`/`dvar` also their gradients with respect to x.
   void predict(const Eigen::VectorXd& x, double& mean, double& var, Eigen::VectorXd* dmean = nullptr,

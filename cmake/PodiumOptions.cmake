@@ -49,7 +49,7 @@ endfunction()
 
 # A GoogleTest executable registered with CTest; LABELS default to "unit".
 function(podium_test name)
-  cmake_parse_arguments(ARG "" "TIMEOUT;RESOURCE_LOCK" "SOURCES;DEPS;LABELS" ${ARGN})
+  cmake_parse_arguments(ARG "SERIAL" "TIMEOUT;RESOURCE_LOCK" "SOURCES;DEPS;LABELS" ${ARGN})
   add_executable(${name} ${ARG_SOURCES})
   # podium_test_main (tests/support) sets PODIUM_BIN, PODIUM_PLUGIN_PATH and PODIUM_SHARED_DIR.
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} GTest::gtest podium_test_main)
@@ -64,6 +64,10 @@ function(podium_test name)
   set(lock)
   if(ARG_RESOURCE_LOCK)
     set(lock RESOURCE_LOCK ${ARG_RESOURCE_LOCK})
+  endif()
+  # SERIAL: the test measures throughput, so nothing else may run beside it.
+  if(ARG_SERIAL)
+    list(APPEND lock RUN_SERIAL TRUE)
   endif()
   gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT} ${lock} DISCOVERY_TIMEOUT 60)
 endfunction()

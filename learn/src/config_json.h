@@ -37,3 +37,21 @@ class ConfigReader {
 };
 
 }  // namespace podium::learn::detail
+
+/// Defines Config::to_json and Config::from_json (via ConfigReader, errors prefixed by `where`)
+/// from an X-macro list of the config's fields, so every learner config reads and writes alike.
+#define PODIUM_CONFIG_JSON(Config, FIELDS, where)      \
+  base::Json Config::to_json() const {                  \
+    base::Json j;                                       \
+    FIELDS(PODIUM_CONFIG_WRITE_FIELD)                   \
+    return j;                                           \
+  }                                                     \
+  Config Config::from_json(const base::Json& json) {    \
+    Config c;                                           \
+    detail::ConfigReader r(where, json);                \
+    FIELDS(PODIUM_CONFIG_READ_FIELD)                    \
+    r.finish();                                         \
+    return c;                                           \
+  }
+#define PODIUM_CONFIG_WRITE_FIELD(f) j[#f] = f;
+#define PODIUM_CONFIG_READ_FIELD(f) r.read(#f, c.f);

@@ -44,23 +44,7 @@ PpoConfig PpoConfig::paper() {
   X(policy_lr_end) X(value_lr_start) X(value_lr_end) X(lr_anneal_steps) X(sigma_start) X(sigma_end)                 \
   X(sigma_anneal_steps) X(max_grad_norm) X(normalize_observations) X(normalize_advantages) X(reward_scale)
 
-base::Json PpoConfig::to_json() const {
-  base::Json j;
-#define X(f) j[#f] = f;
-  PODIUM_PPO_FIELDS(X)
-#undef X
-  return j;
-}
-
-PpoConfig PpoConfig::from_json(const base::Json& json) {
-  PpoConfig c;
-  detail::ConfigReader r("ppo config", json);
-#define X(f) r.read(#f, c.f);
-  PODIUM_PPO_FIELDS(X)
-#undef X
-  r.finish();
-  return c;
-}
+PODIUM_CONFIG_JSON(PpoConfig, PODIUM_PPO_FIELDS, "ppo config")
 
 struct Ppo::Impl {
   PpoConfig config;

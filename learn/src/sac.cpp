@@ -46,23 +46,7 @@ SacConfig SacConfig::paper() {
   X(gamma) X(batch_size) X(updates_per_step) X(warmup_steps) X(buffer_capacity) X(reward_scale) X(max_grad_norm)       \
   X(normalize_observations) X(target_entropy) X(action_bound) X(log_interval_steps)
 
-base::Json SacConfig::to_json() const {
-  base::Json j;
-#define X(f) j[#f] = f;
-  PODIUM_SAC_FIELDS(X)
-#undef X
-  return j;
-}
-
-SacConfig SacConfig::from_json(const base::Json& json) {
-  SacConfig c;
-  detail::ConfigReader r("sac config", json);
-#define X(f) r.read(#f, c.f);
-  PODIUM_SAC_FIELDS(X)
-#undef X
-  r.finish();
-  return c;
-}
+PODIUM_CONFIG_JSON(SacConfig, PODIUM_SAC_FIELDS, "sac config")
 
 namespace {
 void check_bound(double beta) {

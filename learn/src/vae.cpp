@@ -26,23 +26,7 @@ VaeConfig VaeConfig::conditional() {
 
 #define PODIUM_VAE_FIELDS(X) X(latent_size) X(hidden) X(beta) X(learning_rate) X(batch_size) X(epochs)
 
-base::Json VaeConfig::to_json() const {
-  base::Json j;
-#define X(f) j[#f] = f;
-  PODIUM_VAE_FIELDS(X)
-#undef X
-  return j;
-}
-
-VaeConfig VaeConfig::from_json(const base::Json& json) {
-  VaeConfig c;
-  detail::ConfigReader r("vae config", json);
-#define X(f) r.read(#f, c.f);
-  PODIUM_VAE_FIELDS(X)
-#undef X
-  r.finish();
-  return c;
-}
+PODIUM_CONFIG_JSON(VaeConfig, PODIUM_VAE_FIELDS, "vae config")
 
 struct PoseVae::Impl {
   VaeConfig config;

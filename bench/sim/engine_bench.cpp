@@ -105,6 +105,17 @@ double lowest_geom_point(const mjModel* m, const mjData* d) {
   return z;
 }
 
+// PD through the motors toward joint targets: kp = gear (the seed's torque limit), kd = kp/10, as
+// in Podium's model, clamped to the motor range.
+void motor_pd(const mjModel* m, mjData* d, const std::vector<double>& target) {
+  for (int a = 0; a < m->nu; ++a) {
+    const int j = m->actuator_trnid[2 * a];
+    const double gear = m->actuator_gear[6 * a];
+    const double tau = gear * (target[a] - d->qpos[m->jnt_qposadr[j]]) - 0.1 * gear * d->qvel[m->jnt_dofadr[j]];
+    d->ctrl[a] = std::clamp(tau / gear, -1.0, 1.0);
+  }
+}
+
 // The standing check of Podium's row, in MuJoCo: from humanoid.xml's standing qpos0 the motors
 // hold the joints at 0 with the workload's PD (kp = gear, kd = kp/10, clamped to the motor range);
 // the root assist is MuJoCo's own implicit form of Podium's root servo, a weld of the torso to the
@@ -116,14 +127,10 @@ bool mujoco_standing_holds(mjModel* welded, double dt) {
   mj_forward(welded, d);
   const int head = mj_name2id(welded, mjOBJ_BODY, "head");
   const double h0 = d->xpos[3 * head + 2];
+  const std::vector<double> standing(welded->nu, 0.0);
   bool holds = true;
   for (int s = 0; s < static_cast<int>(10.0 / dt) && holds; ++s) {
-    for (int a = 0; a < welded->nu; ++a) {
-      const int j = welded->actuator_trnid[2 * a];
-      const double gear = welded->actuator_gear[6 * a];
-      const double tau = -gear * d->qpos[welded->jnt_qposadr[j]] - 0.1 * gear * d->qvel[welded->jnt_dofadr[j]];
-      d->ctrl[a] = std::clamp(tau / gear, -1.0, 1.0);
-    }
+    motor_pd(welded, d, standing);
     mj_step(welded, d);
     holds = std::isfinite(d->qvel[0]) && d->warning[mjWARN_BADQACC].number == 0 && d->xpos[3 * head + 2] > 0.9 * h0;
   }
@@ -172,13 +179,7 @@ Result run_mujoco(const mjModel* m, std::uint64_t seed) {
         target[a] = rng.uniform(m->jnt_range[2 * j], m->jnt_range[2 * j + 1]);
       }
     }
-    // PD through the motors: kp = gear (the seed's torque limit), kd = kp/10, as in Podium's model.
-    for (int a = 0; a < m->nu; ++a) {
-      const int j = m->actuator_trnid[2 * a];
-      const double gear = m->actuator_gear[6 * a];
-      const double tau = gear * (target[a] - d->qpos[m->jnt_qposadr[j]]) - 0.1 * gear * d->qvel[m->jnt_dofadr[j]];
-      d->ctrl[a] = std::clamp(tau / gear, -1.0, 1.0);
-    }
+    motor_pd(m, d, target);
     mj_step(m, d);
     r.lowest_m = std::min(r.lowest_m, lowest_geom_point(m, d));
     if ((s + 1) % per_control == 0) r.max_energy = std::max(r.max_energy, kinetic_energy(m, d));

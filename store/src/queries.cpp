@@ -134,15 +134,6 @@ std::optional<double> optional_real(const Statement& s, int column) {
   return s.real(column);
 }
 
-void count_state(TrialCounts& c, const std::string& state, std::int64_t n) {
-  c.total += n;
-  if (state == "pending") c.pending += n;
-  else if (state == "running") c.running += n;
-  else if (state == "done") c.done += n;
-  else if (state == "failed") c.failed += n;
-  else if (state == "interrupted") c.interrupted += n;
-  else if (state == "cancelled") c.cancelled += n;
-}
 
 
 }  // namespace
@@ -241,8 +232,8 @@ CampaignSummary Queries::summary(std::int64_t campaign_id, double now_unix_s) co
   counts.bind(1, campaign_id);
   while (counts.step()) {
     const std::string state = counts.text(1);
-    count_state(out.counts, state, counts.int64(2));
-    count_state(out.stage_counts[counts.int64(0)], state, counts.int64(2));
+    add_to_counts(out.counts, state, counts.int64(2));
+    add_to_counts(out.stage_counts[counts.int64(0)], state, counts.int64(2));
   }
   Statement probe(impl_->db,
                   "SELECT (SELECT max(objective) FROM trials WHERE stage_id = ?1), "

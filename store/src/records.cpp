@@ -51,4 +51,14 @@ std::vector<double> read_features(Statement& features, std::int64_t trial_id) {
   return out;
 }
 
+void add_to_counts(TrialCounts& c, const std::string& state, std::int64_t n) {
+  c.total += n;
+  if (state == "pending") c.pending += n;
+  else if (state == "running") c.running += n;
+  else if (state == "done") c.done += n;
+  else if (state == "failed") c.failed += n;
+  else if (state == "interrupted") c.interrupted += n;
+  else if (state == "cancelled") c.cancelled += n;
+}
+
 }  // namespace podium::store

@@ -28,5 +28,7 @@ TrialRecord read_trial(const Statement& s);
 TrialText read_trial_text(const Statement& s);
 /// A trial's features from a kTrialFeatures statement.
 std::vector<double> read_features(Statement& features, std::int64_t trial_id);
+/// Adds n trials in `state` to the counts (total and the state's own count).
+void add_to_counts(TrialCounts& counts, const std::string& state, std::int64_t n);
 
 }  // namespace podium::store

@@ -81,17 +81,7 @@ constexpr const char* kCampaignColumns =
 
 TrialCounts read_counts(Statement& s) {
   TrialCounts c;
-  while (s.step()) {
-    const std::string state = s.text(0);
-    const std::int64_t n = s.int64(1);
-    c.total += n;
-    if (state == "pending") c.pending = n;
-    else if (state == "running") c.running = n;
-    else if (state == "done") c.done = n;
-    else if (state == "failed") c.failed = n;
-    else if (state == "interrupted") c.interrupted = n;
-    else if (state == "cancelled") c.cancelled = n;
-  }
+  while (s.step()) add_to_counts(c, s.text(0), s.int64(1));  // one row per state
   return c;
 }
 

@@ -27,7 +27,7 @@ Json landscape_spec(int trials, const Json& config = Json::object(), int retries
   return podium::testing::stage_spec({.retries = retries, .trial_timeout_s = timeout_s, .config = config, .trials = trials});
 }
 
-std::string submit(const TempDir& dir, const Json& spec) { return podium::testing::submit_spec(dir, spec); }
+std::string submit(const TempDir& dir, const Json& spec) { return podium::testing::submit_spec(dir.path(), spec); }
 
 Json export_json(const TempDir& dir, const std::string& campaign) {
   const auto r = run_podium({"export", campaign, "--format", "json"}, dir.path());

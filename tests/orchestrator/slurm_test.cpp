@@ -68,7 +68,7 @@ Json spec_for(const std::string& executor, int trials, const Json& config, int w
       {.name = "slurm-test", .seed = 5, .workers = workers, .trial_timeout_s = 300, .config = config, .executor = exec, .trials = trials});
 }
 
-std::string submit(const TempDir& dir, const Json& spec) { return podium::testing::submit_spec(dir, spec); }
+std::string submit(const TempDir& dir, const Json& spec) { return podium::testing::submit_spec(dir.path(), spec); }
 
 std::set<std::string> results(const TempDir& dir, const std::string& id) {
   const auto r = run_podium({"export", id, "--format", "json"}, dir.path());

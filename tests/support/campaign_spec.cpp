@@ -18,9 +18,9 @@ nlohmann::json stage_spec(const StageSpec& s) {
   return spec;
 }
 
-std::string submit_spec(const TempDir& dir, const nlohmann::json& spec) {
+std::string submit_spec(const std::filesystem::path& dir, const nlohmann::json& spec) {
   write_file(dir / "spec.json", spec.dump());
-  const auto r = run_podium({"submit", "spec.json"}, dir.path());
+  const auto r = run_podium({"submit", "spec.json"}, dir);
   if (r.exit_code != 0) throw std::runtime_error("podium submit failed: " + r.err);
   return r.out.substr(0, r.out.find('\n'));
 }

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 
 #include "process.h"
@@ -29,6 +30,6 @@ nlohmann::json stage_spec(const StageSpec& s);
 
 /// Writes `spec` to `dir/spec.json`, runs `podium submit` there and returns the campaign id it
 /// prints; an error (with podium's stderr) if the submission fails.
-std::string submit_spec(const TempDir& dir, const nlohmann::json& spec);
+std::string submit_spec(const std::filesystem::path& dir, const nlohmann::json& spec);
 
 }  // namespace podium::testing

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <thread>
 
+#include "campaign_spec.h"
 #include "dashboard_support.h"
 
 namespace podium::web_dashboard {
@@ -58,9 +59,7 @@ int read_port(const fs::path& out) {
 // Returns trials per second of the scheduler run.
 double run_once(bool hammered, Hammer* totals) {
   podium::testing::TempDir dir;
-  podium::testing::write_file(dir / "spec.json", testing::landscape_spec("load", kTrials, {{"artifact", false}}).dump());
-  const auto submit = podium::testing::run_podium({"submit", "spec.json"}, dir.path());
-  EXPECT_EQ(submit.exit_code, 0) << submit.err;
+  podium::testing::submit_spec(dir.path(), testing::landscape_spec("load", kTrials, {{"artifact", false}}));
   pid_t serve = 0;
   std::atomic<bool> stop = false;
   std::thread client;

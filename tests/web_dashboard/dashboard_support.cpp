@@ -52,12 +52,10 @@ std::string url_encode(const std::string& text) {
 }
 
 std::int64_t run_campaign(const std::filesystem::path& dir, const Json& spec) {
-  podium::testing::write_file(dir / "spec.json", spec.dump());
-  const auto submit = podium::testing::run_podium({"submit", "spec.json"}, dir);
-  if (submit.exit_code != 0) throw std::runtime_error("podium submit: " + submit.err);
+  const std::string id = podium::testing::submit_spec(dir, spec);
   const auto run = podium::testing::run_podium({"run", "--workers", "2"}, dir);
   if (run.exit_code != 0) throw std::runtime_error("podium run: " + run.err);
-  return std::stoll(submit.out);
+  return std::stoll(id);
 }
 
 Json landscape_spec(const std::string& name, int trials, const Json& extra_config) {

@@ -26,6 +26,8 @@ class BulletCharacter {
   const Eigen::Quaterniond& principal(int link) const { return principal_[link]; }
 
   void set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
+  /// Sets only the velocities (qd), for the pose q Bullet already holds.
+  void set_velocity(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
   void get_state(Eigen::VectorXd& q, Eigen::VectorXd& qd) const;
   /// Adds joint torques (nv; root entries ignored) to Bullet's accumulators.
   void add_joint_torques(const Eigen::VectorXd& tau);

@@ -96,6 +96,10 @@ void forward_kinematics(const CharacterModel& model, CharacterData& data) {
 
 void mass_matrix(const CharacterModel& model, CharacterData& data) {
   forward_kinematics(model, data);
+  internal::mass_matrix_posed(model, data);
+}
+
+void internal::mass_matrix_posed(const CharacterModel& model, CharacterData& data) {
   const auto& links = model.links();
   const int n = static_cast<int>(links.size());
   for (int i = 0; i < n; ++i) data.links[i].I = data.links[i].I_body;

@@ -9,10 +9,7 @@
 #include <BulletCollision/CollisionShapes/btCapsuleShape.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
-#include <BulletCollision/CollisionShapes/btStaticPlaneShape.h>
-#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
-#include <BulletDynamics/Featherstone/btMultiBodyJointLimitConstraint.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include <algorithm>
@@ -20,6 +17,7 @@
 #include <string>
 
 #include "bullet_character.h"
+#include "contact_solver.h"
 #include "internal.h"
 #include "podium/base/error.h"
 
@@ -73,10 +71,8 @@ btDefaultCollisionConstructionInfo small_pools() {
   return info;
 }
 
-// Manifold points farther apart than this are not touching: observe() does not report them and the
-// solver gets no rows for them (Bullet's default feeds every cached point within the contact-breaking
-// distance as a speculative contact: about half of benchmark B's contact rows, each row an O(n) pass
-// over the articulated body).
+// Contact points farther apart than this are not touching: observe() does not report them and the
+// solver gets no rows for them (Bullet keeps manifold points up to its contact-breaking distance).
 constexpr double kTouchingM = 1e-3;
 
 // Contact error reduction per step (Baumgarte) such that penetration decays with the time constant
@@ -94,17 +90,16 @@ struct World::Bullet {
   btDefaultCollisionConfiguration collision_config{small_pools()};
   btCollisionDispatcher dispatcher{&collision_config};
   btDbvtBroadphase broadphase;
-  btMultiBodyConstraintSolver solver;
-  SelfCollisionFilter filter;  // declared before the world, which points to it
-  std::unique_ptr<btMultiBodyDynamicsWorld> world;
+  // Declared before the world, which points to them.
   std::unique_ptr<BulletCharacter> character;
+  std::unique_ptr<ContactSolver> solver;
+  SelfCollisionFilter filter;
+  std::unique_ptr<btMultiBodyDynamicsWorld> world;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btCollisionObject>> objects;  // colliders and terrain
-  std::vector<std::unique_ptr<btMultiBodyConstraint>> limits;
   std::vector<std::vector<int>> child_body;  // per link: body of each compound child
 
   ~Bullet() {
-    for (auto& c : limits) world->removeMultiBodyConstraint(c.get());
     for (auto& o : objects) world->removeCollisionObject(o.get());
     if (character) world->removeMultiBody(&character->body());
   }
@@ -139,15 +134,23 @@ World::~World() = default;
 void World::build_bullet() {
   bullet_ = std::make_unique<Bullet>();
   Bullet& b = *bullet_;
-  b.world = std::make_unique<btMultiBodyDynamicsWorld>(&b.dispatcher, &b.broadphase, &b.solver, &b.collision_config);
+  b.character = std::make_unique<BulletCharacter>(*model_);
+  // The ground plane is the solver's (no Bullet object): it generates those contacts itself.
+  const TerrainConfig& t = config_.terrain;
+  ContactSolverConfig contacts;
+  if (t.kind == TerrainConfig::Kind::slope) contacts.ground_normal = Eigen::Vector3d(-std::sin(t.slope_rad), 0.0, std::cos(t.slope_rad));
+  contacts.friction = config_.friction;  // the character's μ times the ground's 1.0
+  contacts.joint_limits = config_.joint_limits;
+  contacts.erp = contact_erp(dt_s());
+  contacts.touching_m = kTouchingM;
+  b.solver = std::make_unique<ContactSolver>(*model_, *b.character, contacts);
+  b.world = std::make_unique<btMultiBodyDynamicsWorld>(&b.dispatcher, &b.broadphase, b.solver.get(), &b.collision_config);
   b.world->setGravity(to_bt(config_.gravity));
   b.filter.model = model_.get();
   b.filter.self_collision = config_.self_collision;
   b.world->getPairCache()->setOverlapFilterCallback(&b.filter);
-  b.world->getSolverInfo().m_erp2 = contact_erp(dt_s());
 
   // Character.
-  b.character = std::make_unique<BulletCharacter>(*model_);
   btMultiBody& body = b.character->body();
   body.setHasSelfCollision(config_.self_collision);
   b.world->addMultiBody(&body);
@@ -175,7 +178,6 @@ void World::build_bullet() {
     auto collider = std::make_unique<btMultiBodyLinkCollider>(&body, static_cast<int>(i) - 1);
     collider->setCollisionShape(shape.get());
     collider->setFriction(config_.friction);
-    collider->setContactProcessingThreshold(kTouchingM);
     collider->setRestitution(0.0);
     b.world->addCollisionObject(collider.get(), btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
     if (i == 0) body.setBaseCollider(collider.get());
@@ -183,24 +185,8 @@ void World::build_bullet() {
     b.shapes.push_back(std::move(shape));
     b.objects.push_back(std::move(collider));
   }
-  if (config_.joint_limits) {
-    for (std::size_t i = 1; i < links.size(); ++i) {
-      const Link& l = links[i];
-      if (l.joint != JointType::revolute || !(l.lower < l.upper)) continue;
-      auto c = std::make_unique<btMultiBodyJointLimitConstraint>(&body, static_cast<int>(i) - 1, l.lower, l.upper);
-      b.world->addMultiBodyConstraint(c.get());
-      b.limits.push_back(std::move(c));
-    }
-  }
 
-  // Terrain: ground plane (or slope), tiles, boxes. The character's μ times the ground's 1.0 is μ.
-  const TerrainConfig& t = config_.terrain;
-  if (t.kind == TerrainConfig::Kind::slope) {
-    const Eigen::Vector3d n(-std::sin(t.slope_rad), 0.0, std::cos(t.slope_rad));
-    b.add_static(std::make_unique<btStaticPlaneShape>(to_bt(n), 0.0), btTransform::getIdentity(), 1.0);
-  } else {
-    b.add_static(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0), btTransform::getIdentity(), 1.0);
-  }
+  // Props: tiles, boxes.
   if (t.kind == TerrainConfig::Kind::rough) {
     const int n = t.tiles_per_side;
     for (int i = 0; i < n; ++i) {
@@ -281,6 +267,7 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
   body.clearForcesAndTorques();
   bullet_->character->add_joint_torques(data_.tau);
   bullet_->character->add_root_wrench(data_.q, data_.tau.head<6>());
+  bullet_->solver->begin_step(dt_s());
   bullet_->world->stepSimulation(dt_s(), 0, dt_s());
   ++step_count_;
   bullet_->character->get_state(data_.q, data_.qd);
@@ -319,8 +306,11 @@ Observation World::observe() {
   o.root_quat = data_.q.segment<4>(3);
   const LinkData& root = data_.links[0];
   for (int e : m.end_effector_bodies()) o.end_effectors.push_back(root.R.transpose() * (body_point(m, data_, e, Eigen::Vector3d::Zero()) - root.p));
-  // Contacts from Bullet's manifolds, mapped through compound child indices to bodies.
+  // Ground contacts from the geoms; the rest from Bullet's manifolds, mapped through compound child indices to bodies.
   o.body_contacts.assign(m.bodies().size(), 0);
+  for_each_plane_point(m, data_, bullet_->solver->ground_normal(), [&](int, const Geom& g, int, const Eigen::Vector3d&, double distance) {
+    if (distance <= kTouchingM) o.body_contacts[g.body] = 1;
+  });
   btDispatcher* dispatcher = bullet_->world->getDispatcher();
   auto mark = [&](const btCollisionObject* obj, int child) {
     const auto* col = btMultiBodyLinkCollider::upcast(obj);

@@ -1,0 +1,99 @@
+#pragma once
+// Contacts and joint limits of one character, solved on the dense Delassus matrix.
+//
+// Bullet's btMultiBodyConstraintSolver builds each contact row's response by its own O(n)
+// articulated-body pass (calcAccelerationDeltasMultiDof): measured as 64% of a get-up-like step
+// (sim/README.md, Benchmark B). A humanoid has few DoF and few contacts, so this solver instead
+// factors the joint-space inertia once per step (CRBA + Cholesky), forms A = J M⁻¹ Jᵀ for all rows
+// at once and runs projected Gauss–Seidel on A (a few hundred flops per sweep), as MuJoCo does
+// for small systems. Hand-written: no packaged library solves multibody contact LCPs on our model.
+//
+// Rows per step: ground contacts generated here from the model's geoms against the terrain's
+// plane (speculative: a point joins when it touches or would reach the plane within the step, so
+// fast impacts stop at the surface instead of sinking a step's travel deep); Bullet's manifold
+// points for everything else (self-collision, boxes, tiles) that touch; revolute limits that are
+// violated or would be crossed within the step. Each contact has a normal row (λ ≥ 0) and two
+// friction rows (|λ_t| ≤ μ λ_n, Bullet's friction pyramid), warm-started from the last step.
+#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+
+#include <Eigen/Core>
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "bullet_character.h"
+#include "podium/sim/data.h"
+#include "podium/sim/model.h"
+
+namespace podium::sim {
+
+struct ContactSolverConfig {
+  Eigen::Vector3d ground_normal = Eigen::Vector3d::UnitZ();  // plane n·x = 0
+  double friction = 1.0;     // μ against the ground
+  bool joint_limits = true;  // revolute angle limits
+  double erp = 0.2;          // fraction of a penetration or limit violation removed per step
+  double touching_m = 1e-3;  // contact points farther apart than this touch nothing
+  // Gauss–Seidel sweeps (at most; Bullet's default 10) and the early stop: no row's velocity
+  // moved by more than `tolerance` m/s in a sweep. With warm starts, 30 sweeps to 1e-9 changed
+  // Benchmark B's deepest penetration by < 1 cm and cost 9% more per step.
+  int iterations = 10;
+  double tolerance = 1e-6;
+  double regularization = 1e-3;  // relative addition to the Delassus diagonal (see solve_rows)
+};
+
+/// Calls visit(link, geom, geom_point, surface_point, distance) for each point of the model's geoms
+/// that can touch the plane n·x = 0 first: a sphere's centre, both ends of a capsule's axis, a
+/// box's corners; `surface_point` is the geom's point nearest the plane, `distance` its height
+/// above it (negative: below). `geom_point` numbers these points in model order. Needs
+/// forward_kinematics.
+void for_each_plane_point(const CharacterModel& model, const CharacterData& data, const Eigen::Vector3d& normal,
+                          const std::function<void(int link, const Geom& geom, int geom_point, const Eigen::Vector3d& surface_point, double distance)>& visit);
+
+class ContactSolver final : public btMultiBodyConstraintSolver {
+ public:
+  ContactSolver(const CharacterModel& model, BulletCharacter& character, const ContactSolverConfig& config);
+  /// Arms one solve for the next stepSimulation (Bullet may call the solver once per island).
+  void begin_step(double dt_s) { dt_ = dt_s, armed_ = true; }
+  const Eigen::Vector3d& ground_normal() const { return config_.ground_normal; }
+
+  void solveMultiBodyGroup(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifold, int numManifolds,
+                           btTypedConstraint** constraints, int numConstraints, btMultiBodyConstraint** multiBodyConstraints,
+                           int numMultiBodyConstraints, const btContactSolverInfo& info, btIDebugDraw* debugDrawer,
+                           btDispatcher* dispatcher) override;
+
+ private:
+  void add_ground_contacts();
+  void add_manifold_contacts(btDispatcher* dispatcher);
+  void add_limits();
+  // A contact's normal and two friction rows; links −1 are static; the normal points from b to a.
+  void add_contact(int link_a, const Eigen::Vector3d& point_a, int link_b, const Eigen::Vector3d& point_b, const Eigen::Vector3d& normal,
+                   double distance, double friction, const std::array<double*, 3>& warm);
+  int add_row(double target, double lo, double hi, int normal_row, double* warm);
+  void add_point_jacobian(int row, int link, const Eigen::Vector3d& point, const Eigen::Vector3d& direction, double sign);
+  Eigen::Vector3d point_velocity(int link, const Eigen::Vector3d& point) const;
+  void solve_rows();  // needs data_.llt of M; from the velocities in data_.qd
+
+  const CharacterModel& model_;
+  BulletCharacter& character_;
+  ContactSolverConfig config_;
+  CharacterData data_;  // state at the start of the step; velocities after external forces
+  double dt_ = 0.0;
+  bool armed_ = false;
+
+  // This step's rows: Jacobians as columns of jt_ (nv × capacity), the velocity each row must at
+  // least reach, impulse bounds (a friction row's scale with its normal row's impulse: normal_of_),
+  // and where each impulse persists for the next step's warm start.
+  Eigen::MatrixXd jt_;
+  Eigen::MatrixXd y_, a_;  // solve_rows' scratch, sized to jt_'s capacity
+  Eigen::VectorXd lambda_, v_, du_;
+  std::vector<double> target_, lo_, hi_;
+  std::vector<int> normal_of_;
+  std::vector<double*> warm_;
+  int rows_ = 0;
+  std::vector<std::array<double, 3>> ground_warm_;  // per geom point
+  std::vector<char> ground_included_;               // per geom point: has rows this step
+  Eigen::VectorXd qd_free_;                         // velocities before the contact impulses
+  std::vector<double> limit_warm_;                  // per DoF and side
+};
+
+}  // namespace podium::sim

@@ -55,36 +55,25 @@ BulletCharacter::BulletCharacter(const CharacterModel& model) : model_(model) {
 
 void BulletCharacter::set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
   const auto& links = model_.links();
+  const Link& root = links[0];
   const Eigen::Quaterniond R0q = Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized();
-  body_->setBasePos(to_bt(Eigen::Vector3d(q.head<3>() + R0q * links[0].com)));
+  const Eigen::Matrix3d R0 = R0q.toRotationMatrix();
+  const Eigen::Vector3d w = qd.head<3>(), v = qd.segment<3>(3);
+  body_->setBasePos(to_bt(Eigen::Vector3d(q.head<3>() + R0 * root.com)));
   body_->setWorldToBaseRot(to_bt((R0q * principal_[0]).conjugate()));
+  body_->setBaseOmega(to_bt(Eigen::Vector3d(R0 * w)));
+  body_->setBaseVel(to_bt(Eigen::Vector3d(R0 * (v + w.cross(root.com)))));
   for (std::size_t i = 1; i < links.size(); ++i) {
     const Link& l = links[i];
     const int b = static_cast<int>(i) - 1;
     if (l.joint == JointType::revolute) {
       body_->setJointPos(b, q(l.q_index));
+      body_->setJointVel(b, qd(l.v_index));
     } else {
       const Eigen::Quaterniond qf(q(l.q_index), q(l.q_index + 1), q(l.q_index + 2), q(l.q_index + 3));
       const Eigen::Quaterniond qb = principal_[i].conjugate() * qf.normalized() * principal_[i];
       btScalar pos[4] = {qb.x(), qb.y(), qb.z(), qb.w()};
       body_->setJointPosMultiDof(b, pos);
-    }
-  }
-  set_velocity(q, qd);
-}
-
-void BulletCharacter::set_velocity(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
-  const auto& links = model_.links();
-  const Eigen::Matrix3d R0 = Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized().toRotationMatrix();
-  const Eigen::Vector3d w = qd.head<3>(), v = qd.segment<3>(3);
-  body_->setBaseOmega(to_bt(Eigen::Vector3d(R0 * w)));
-  body_->setBaseVel(to_bt(Eigen::Vector3d(R0 * (v + w.cross(links[0].com)))));
-  for (std::size_t i = 1; i < links.size(); ++i) {
-    const Link& l = links[i];
-    const int b = static_cast<int>(i) - 1;
-    if (l.joint == JointType::revolute) {
-      body_->setJointVel(b, qd(l.v_index));
-    } else {
       const Eigen::Vector3d wb = principal_[i].conjugate() * Eigen::Vector3d(qd.segment<3>(l.v_index));
       btScalar vel[3] = {wb.x(), wb.y(), wb.z()};
       body_->setJointVelMultiDof(b, vel);
@@ -131,15 +120,6 @@ void BulletCharacter::add_joint_torques(const Eigen::VectorXd& tau) {
       for (int k = 0; k < 3; ++k) body_->addJointTorqueMultiDof(b, k, tb(k));
     }
   }
-}
-
-void BulletCharacter::add_root_wrench(const Eigen::VectorXd& q, const Eigen::Matrix<double, 6, 1>& wrench) {
-  if (wrench.isZero(0.0)) return;
-  const Eigen::Matrix3d R0 = Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized().toRotationMatrix();
-  const Eigen::Vector3d f = wrench.tail<3>();
-  // Bullet takes world-frame force and torque about the base COM: τ_com = τ_origin − c × f.
-  body_->addBaseForce(to_bt(Eigen::Vector3d(R0 * f)));
-  body_->addBaseTorque(to_bt(Eigen::Vector3d(R0 * (wrench.head<3>() - model_.links()[0].com.cross(f)))));
 }
 
 void BulletCharacter::add_gravity(const Eigen::Vector3d& g) {

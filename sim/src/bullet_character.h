@@ -26,13 +26,9 @@ class BulletCharacter {
   const Eigen::Quaterniond& principal(int link) const { return principal_[link]; }
 
   void set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
-  /// Sets only the velocities (qd), for the pose q Bullet already holds.
-  void set_velocity(const Eigen::VectorXd& q, const Eigen::VectorXd& qd);
   void get_state(Eigen::VectorXd& q, Eigen::VectorXd& qd) const;
   /// Adds joint torques (nv; root entries ignored) to Bullet's accumulators.
   void add_joint_torques(const Eigen::VectorXd& tau);
-  /// Adds a spatial force [n; f] given at the root origin in root coordinates (q: current state).
-  void add_root_wrench(const Eigen::VectorXd& q, const Eigen::Matrix<double, 6, 1>& wrench);
   /// Adds m·g at every link's centre of mass (Bullet's world does this when stepping).
   void add_gravity(const Eigen::Vector3d& g);
   /// Bullet's articulated-body forward dynamics for the current state and accumulated forces,

@@ -43,21 +43,29 @@ void for_each_plane_point(const CharacterModel& model, const CharacterData& data
   }
 }
 
-ContactSolver::ContactSolver(const CharacterModel& model, BulletCharacter& character, const ContactSolverConfig& config)
-    : model_(model), character_(character), config_(config), data_(model), limit_warm_(2 * model.nv(), 0.0) {
+ContactSolver::ContactSolver(const CharacterModel& model, const btMultiBody& body, const ContactSolverConfig& config)
+    : model_(model), body_(body), config_(config), limit_warm_(2 * model.nv(), 0.0) {
   int points = 0;
-  for_each_plane_point(model, data_, config_.ground_normal, [&](int, const Geom&, int, const Eigen::Vector3d&, double) { ++points; });
+  for_each_plane_point(model, CharacterData(model), config_.ground_normal, [&](int, const Geom&, int, const Eigen::Vector3d&, double) { ++points; });
   ground_warm_.assign(points, {0.0, 0.0, 0.0});
   ground_included_.assign(points, 0);
 }
 
-void ContactSolver::solveMultiBodyGroup(btCollisionObject**, int, btPersistentManifold**, int, btTypedConstraint**, int, btMultiBodyConstraint**, int,
-                                        const btContactSolverInfo&, btIDebugDraw*, btDispatcher* dispatcher) {
-  if (!armed_) return;  // all rows of the step are solved together in the first call
-  armed_ = false;
-  character_.get_state(data_.q, data_.qd);
-  forward_kinematics(model_, data_);
-  internal::velocity_pass(model_, data_);
+void ContactSolver::step(CharacterData& data, double dt_s, btDispatcher* dispatcher) {
+  data_ = &data;
+  dt_ = dt_s;
+  internal::mass_matrix_posed(model_, data);
+  data.llt.compute(data.M);
+  internal::bias_forces_posed(model_, data);  // also the link velocities at the start
+  data.qdd = data.tau - data.C;
+  data.llt.solveInPlace(data.qdd);
+  // Root velocities in the frame of the step's start (what J and integrate() use): the COM
+  // velocity integrates its classical acceleration, as Bullet integrates a base, so the origin's
+  // velocity also gains ω × v + ω × (ω × c) over the spatial acceleration.
+  const Eigen::Vector3d w = data.qd.head<3>(), v = data.qd.segment<3>(3), c = model_.links()[0].com;
+  data.qd += dt_ * data.qdd;
+  data.qd.segment<3>(3) += dt_ * (w.cross(v) + w.cross(w.cross(c)));
+  internal::velocity_pass(model_, data);  // link velocities of the free motion (speculative test)
   rows_ = 0;
   target_.clear(), lo_.clear(), hi_.clear(), normal_of_.clear(), warm_.clear();
   std::fill(ground_included_.begin(), ground_included_.end(), 0);
@@ -65,31 +73,28 @@ void ContactSolver::solveMultiBodyGroup(btCollisionObject**, int, btPersistentMa
   add_manifold_contacts(dispatcher);
   if (config_.joint_limits) add_limits();
   if (rows_ == 0) return;
-  internal::mass_matrix_posed(model_, data_);
-  data_.llt.compute(data_.M);
-  qd_free_ = data_.qd;
+  qd_free_ = data.qd;
   solve_rows();
   // The impulses can drive a point that was neither touching nor approaching into the ground (a
   // foot whipped by the leg's impact): such points join, and the step is solved again from the
   // free velocities, warm-started with the impulses just found.
   const int before = rows_;
-  internal::velocity_pass(model_, data_);
+  internal::velocity_pass(model_, data);
   add_ground_contacts();
   if (rows_ > before) {
-    data_.qd = qd_free_;
+    data.qd = qd_free_;
     solve_rows();
   }
-  character_.set_velocity(data_.q, data_.qd);
 }
 
 Eigen::Vector3d ContactSolver::point_velocity(int link, const Eigen::Vector3d& point) const {
-  const LinkData& d = data_.links[link];
+  const LinkData& d = data_->links[link];
   return d.R * d.v.tail<3>() + (d.R * d.v.head<3>()).cross(point - d.p);
 }
 
 void ContactSolver::add_ground_contacts() {
   const Eigen::Vector3d& n = config_.ground_normal;
-  for_each_plane_point(model_, data_, n, [&](int link, const Geom&, int k, const Eigen::Vector3d& p, double distance) {
+  for_each_plane_point(model_, *data_, n, [&](int link, const Geom&, int k, const Eigen::Vector3d& p, double distance) {
     if (ground_included_[k]) return;
     auto& warm = ground_warm_[k];
     // Touching, or reaching the plane within this step at the current velocity (speculative).
@@ -103,10 +108,9 @@ void ContactSolver::add_ground_contacts() {
 }
 
 void ContactSolver::add_manifold_contacts(btDispatcher* dispatcher) {
-  const btMultiBody* body = &character_.body();
   auto link_of = [&](const btCollisionObject* obj) {
     const auto* col = btMultiBodyLinkCollider::upcast(obj);
-    return col && col->m_multiBody == body ? col->m_link + 1 : -1;
+    return col && col->m_multiBody == &body_ ? col->m_link + 1 : -1;
   };
   for (int m = 0; m < dispatcher->getNumManifolds(); ++m) {
     btPersistentManifold* mf = dispatcher->getManifoldByIndexInternal(m);
@@ -127,7 +131,7 @@ void ContactSolver::add_limits() {
   for (const Link& l : links) {
     if (l.joint != JointType::revolute || !(l.lower < l.upper)) continue;
     const int k = l.v_index;
-    const double q = data_.q(l.q_index), u = data_.qd(k);
+    const double q = data_->q(l.q_index), u = data_->qd(k);
     // gap ≥ 0 inside the range; a row when the gap is violated or would close within the step.
     const double gaps[2] = {q - l.lower, l.upper - q}, signs[2] = {1.0, -1.0};
     for (int side = 0; side < 2; ++side) {
@@ -178,7 +182,7 @@ int ContactSolver::add_row(double target, double lo, double hi, int normal_row, 
 void ContactSolver::add_point_jacobian(int row, int link, const Eigen::Vector3d& point, const Eigen::Vector3d& direction, double sign) {
   const auto& links = model_.links();
   for (int k = link; k >= 0; k = links[k].parent) {
-    const LinkData& d = data_.links[k];
+    const LinkData& d = data_->links[k];
     const Eigen::Vector3d lin = d.R.transpose() * direction, ang = d.R.transpose() * (point - d.p).cross(direction);
     for (int j = 0; j < links[k].nv; ++j)
       jt_(links[k].v_index + j, row) += sign * (d.S.col(j).head<3>().dot(ang) + d.S.col(j).tail<3>().dot(lin));
@@ -199,8 +203,8 @@ void ContactSolver::solve_rows() {
   auto A = a_.topLeftCorner(m, m);
   auto lambda = lambda_.head(m), v = v_.head(m);  // v: row velocities
   Y = jt_.leftCols(m);
-  v.noalias() = Y.transpose() * data_.qd;
-  data_.llt.matrixL().solveInPlace(Y);
+  v.noalias() = Y.transpose() * data_->qd;
+  data_->llt.matrixL().solveInPlace(Y);
   A.noalias() = Y.transpose() * Y;
   // Regularisation: a closed loop (a hand pressed on the torso with the elbow at its limit) makes
   // rows dependent, and Gauss–Seidel then lets the squeezing impulses grow without bound from
@@ -227,8 +231,8 @@ void ContactSolver::solve_rows() {
   }
   for (int r = 0; r < m; ++r) *warm_[r] = lambda(r);
   du_.noalias() = Y * lambda;
-  data_.llt.matrixU().solveInPlace(du_);
-  data_.qd += du_;
+  data_->llt.matrixU().solveInPlace(du_);
+  data_->qd += du_;
 }
 
 }  // namespace podium::sim

@@ -1,12 +1,16 @@
 #pragma once
-// Contacts and joint limits of one character, solved on the dense Delassus matrix.
+// The velocity update of one simulation step: free motion, then contacts and joint limits solved
+// on the dense Delassus matrix. Bullet keeps the rest (collision detection, position integration).
 //
 // Bullet's btMultiBodyConstraintSolver builds each contact row's response by its own O(n)
 // articulated-body pass (calcAccelerationDeltasMultiDof): measured as 64% of a get-up-like step
-// (sim/README.md, Benchmark B). A humanoid has few DoF and few contacts, so this solver instead
-// factors the joint-space inertia once per step (CRBA + Cholesky), forms A = J M⁻¹ Jᵀ for all rows
-// at once and runs projected Gauss–Seidel on A (a few hundred flops per sweep), as MuJoCo does
-// for small systems. Hand-written: no packaged library solves multibody contact LCPs on our model.
+// (sim/README.md, Benchmark B), and its world repeats the forward dynamics our SPD has just done.
+// A humanoid has few DoF and few contacts, so this solver factors the joint-space inertia once per
+// step (CRBA + Cholesky), takes the free acceleration M⁻¹(τ − C) from it (RNEA for C), forms
+// A = J M⁻¹ Jᵀ for all rows at once and runs projected Gauss–Seidel on A (a few hundred flops per
+// sweep), as MuJoCo does for small systems. Semi-implicit Euler as Bullet's: q̇ ← q̇ + Δt q̈ + M⁻¹Jᵀλ,
+// then the caller integrates q with the new q̇. Hand-written: no packaged library solves
+// multibody contact LCPs on our model.
 //
 // Rows per step: ground contacts generated here from the model's geoms against the terrain's
 // plane (speculative: a point joins when it touches or would reach the plane within the step, so
@@ -14,7 +18,7 @@
 // points for everything else (self-collision, boxes, tiles) that touch; revolute limits that are
 // violated or would be crossed within the step. Each contact has a normal row (λ ≥ 0) and two
 // friction rows (|λ_t| ≤ μ λ_n, Bullet's friction pyramid), warm-started from the last step.
-#include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
+#include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 
 #include <Eigen/Core>
 #include <array>
@@ -49,17 +53,14 @@ struct ContactSolverConfig {
 void for_each_plane_point(const CharacterModel& model, const CharacterData& data, const Eigen::Vector3d& normal,
                           const std::function<void(int link, const Geom& geom, int geom_point, const Eigen::Vector3d& surface_point, double distance)>& visit);
 
-class ContactSolver final : public btMultiBodyConstraintSolver {
+class ContactSolver {
  public:
-  ContactSolver(const CharacterModel& model, BulletCharacter& character, const ContactSolverConfig& config);
-  /// Arms one solve for the next stepSimulation (Bullet may call the solver once per island).
-  void begin_step(double dt_s) { dt_ = dt_s, armed_ = true; }
+  ContactSolver(const CharacterModel& model, const btMultiBody& body, const ContactSolverConfig& config);
+  /// Advances data.qd by one step of dt_s under data.tau, gravity, the contacts in `dispatcher`'s
+  /// manifolds (found at the current pose) and the joint limits. data must be posed
+  /// (forward_kinematics at data.q); writes data.qdd (free acceleration), M, llt, C and link caches.
+  void step(CharacterData& data, double dt_s, btDispatcher* dispatcher);
   const Eigen::Vector3d& ground_normal() const { return config_.ground_normal; }
-
-  void solveMultiBodyGroup(btCollisionObject** bodies, int numBodies, btPersistentManifold** manifold, int numManifolds,
-                           btTypedConstraint** constraints, int numConstraints, btMultiBodyConstraint** multiBodyConstraints,
-                           int numMultiBodyConstraints, const btContactSolverInfo& info, btIDebugDraw* debugDrawer,
-                           btDispatcher* dispatcher) override;
 
  private:
   void add_ground_contacts();
@@ -74,11 +75,10 @@ class ContactSolver final : public btMultiBodyConstraintSolver {
   void solve_rows();  // needs data_.llt of M; from the velocities in data_.qd
 
   const CharacterModel& model_;
-  BulletCharacter& character_;
+  const btMultiBody& body_;
   ContactSolverConfig config_;
-  CharacterData data_;  // state at the start of the step; velocities after external forces
+  CharacterData* data_ = nullptr;  // the step's data: posed at the start, q̇ free, then final
   double dt_ = 0.0;
-  bool armed_ = false;
 
   // This step's rows: Jacobians as columns of jt_ (nv × capacity), the velocity each row must at
   // least reach, impulse bounds (a friction row's scale with its normal row's impulse: normal_of_),

@@ -124,6 +124,10 @@ void internal::mass_matrix_posed(const CharacterModel& model, CharacterData& dat
 
 void bias_forces(const CharacterModel& model, CharacterData& data) {
   forward_kinematics(model, data);
+  internal::bias_forces_posed(model, data);
+}
+
+void internal::bias_forces_posed(const CharacterModel& model, CharacterData& data) {
   velocity_pass(model, data);
   const auto& links = model.links();
   const int n = static_cast<int>(links.size());
@@ -148,6 +152,31 @@ void forward_dynamics_dense(const CharacterModel& model, CharacterData& data, co
   data.llt.compute(data.M);
   data.qdd = tau - data.C;
   data.llt.solveInPlace(data.qdd);
+}
+
+void integrate(const CharacterModel& model, Eigen::VectorXd& q, Eigen::VectorXd& qd, double dt_s) {
+  auto rotate = [&](int qi, const Eigen::Vector3d& omega_body) {
+    const double angle = omega_body.norm() * dt_s;
+    const Eigen::Quaterniond step = angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega_body.normalized())) : Eigen::Quaterniond::Identity();
+    const Eigen::Quaterniond r = (quat_at(q, qi) * step).normalized();
+    q.segment<4>(qi) << r.w(), r.x(), r.y(), r.z();
+  };
+  for (const Link& l : model.links()) {
+    switch (l.joint) {
+      case JointType::free: {
+        // ω is unchanged in the rotated frame (a rotation about ω leaves it fixed).
+        const Eigen::Vector3d w = qd.segment<3>(l.v_index), com_vel = quat_at(q, l.q_index + 3) * Eigen::Vector3d(qd.segment<3>(l.v_index + 3) + w.cross(l.com));
+        const Eigen::Vector3d com = q.head<3>() + quat_at(q, l.q_index + 3) * l.com + dt_s * com_vel;
+        rotate(l.q_index + 3, w);
+        const Eigen::Quaterniond R1 = quat_at(q, l.q_index + 3);
+        q.head<3>() = com - R1 * l.com;
+        qd.segment<3>(l.v_index + 3) = R1.conjugate() * com_vel - w.cross(l.com);
+        break;
+      }
+      case JointType::spherical: rotate(l.q_index, qd.segment<3>(l.v_index)); break;
+      case JointType::revolute: q(l.q_index) += dt_s * qd(l.v_index); break;
+    }
+  }
 }
 
 Eigen::Vector3d body_point(const CharacterModel& model, const CharacterData& data, int body, const Eigen::Vector3d& local) {

@@ -10,6 +10,8 @@ void velocity_pass(const CharacterModel& model, CharacterData& data);
 Vector6d root_gravity_accel(const CharacterData& data);
 /// mass_matrix for data whose link poses already match data.q.
 void mass_matrix_posed(const CharacterModel& model, CharacterData& data);
+/// bias_forces for posed data (runs velocity_pass).
+void bias_forces_posed(const CharacterModel& model, CharacterData& data);
 /// SPD spring-damper term Q (thesis eq. 2.20) into data.Q; root entries 0.
 void spd_spring_term(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
 /// stable_pd_maba for data whose link poses already match data.q (forward_kinematics done).

@@ -1,5 +1,6 @@
-// World: a CharacterModel in a btMultiBodyDynamicsWorld with terrain, contacts, joint limits and
-// motor control (torque, PD, SPD dense/MABA) applied every simulation step.
+// World: a CharacterModel as a Bullet btMultiBody in a btCollisionWorld with terrain, and motor
+// control (torque, PD, SPD dense/MABA) applied every simulation step. Bullet finds contacts and
+// integrates positions; ContactSolver advances velocities (free motion, contacts, joint limits).
 #include "podium/sim/world.h"
 
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
@@ -9,7 +10,7 @@
 #include <BulletCollision/CollisionShapes/btCapsuleShape.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
-#include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
+#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include <algorithm>
@@ -94,14 +95,15 @@ struct World::Bullet {
   std::unique_ptr<BulletCharacter> character;
   std::unique_ptr<ContactSolver> solver;
   SelfCollisionFilter filter;
-  std::unique_ptr<btMultiBodyDynamicsWorld> world;
+  std::unique_ptr<btCollisionWorld> world;
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btCollisionObject>> objects;  // colliders and terrain
   std::vector<std::vector<int>> child_body;  // per link: body of each compound child
+  btAlignedObjectArray<btQuaternion> scratch_q;  // for updateCollisionObjectWorldTransforms
+  btAlignedObjectArray<btVector3> scratch_m;
 
   ~Bullet() {
     for (auto& o : objects) world->removeCollisionObject(o.get());
-    if (character) world->removeMultiBody(&character->body());
   }
 
   void add_static(std::unique_ptr<btCollisionShape> shape, const btTransform& pose, double friction) {
@@ -143,9 +145,8 @@ void World::build_bullet() {
   contacts.joint_limits = config_.joint_limits;
   contacts.erp = contact_erp(dt_s());
   contacts.touching_m = kTouchingM;
-  b.solver = std::make_unique<ContactSolver>(*model_, *b.character, contacts);
-  b.world = std::make_unique<btMultiBodyDynamicsWorld>(&b.dispatcher, &b.broadphase, b.solver.get(), &b.collision_config);
-  b.world->setGravity(to_bt(config_.gravity));
+  b.solver = std::make_unique<ContactSolver>(*model_, b.character->body(), contacts);
+  b.world = std::make_unique<btCollisionWorld>(&b.dispatcher, &b.broadphase, &b.collision_config);
   b.filter.model = model_.get();
   b.filter.self_collision = config_.self_collision;
   b.world->getPairCache()->setOverlapFilterCallback(&b.filter);
@@ -153,7 +154,6 @@ void World::build_bullet() {
   // Character.
   btMultiBody& body = b.character->body();
   body.setHasSelfCollision(config_.self_collision);
-  b.world->addMultiBody(&body);
   const auto& links = model_->links();
   b.child_body.resize(links.size());
   for (std::size_t i = 0; i < links.size(); ++i) {
@@ -216,9 +216,7 @@ void World::set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
     throw base::UserError("sim: set_state: q has " + std::to_string(q.size()) + " entries and qd " + std::to_string(qd.size()) + " but model " +
                           model_->name() + " has nq " + std::to_string(model_->nq()) + " and nv " + std::to_string(model_->nv()));
   bullet_->character->set_state(q, qd);
-  btAlignedObjectArray<btQuaternion> scratch_q;
-  btAlignedObjectArray<btVector3> scratch_m;
-  bullet_->character->body().updateCollisionObjectWorldTransforms(scratch_q, scratch_m);
+  bullet_->character->body().updateCollisionObjectWorldTransforms(bullet_->scratch_q, bullet_->scratch_m);
   bullet_->character->get_state(data_.q, data_.qd);
   forward_kinematics(*model_, data_);
   failure_ = StepReport{};
@@ -263,14 +261,16 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
     const int nj = model_->nv() - 6;  // the root servo (if any) is not a motor: no limit
     data_.tau.tail(nj) = data_.tau.tail(nj).cwiseMax(-limits_.tail(nj)).cwiseMin(limits_.tail(nj));
   }
-  btMultiBody& body = bullet_->character->body();
-  body.clearForcesAndTorques();
-  bullet_->character->add_joint_torques(data_.tau);
-  bullet_->character->add_root_wrench(data_.q, data_.tau.head<6>());
-  bullet_->solver->begin_step(dt_s());
-  bullet_->world->stepSimulation(dt_s(), 0, dt_s());
+  Bullet& b = *bullet_;
+  b.world->performDiscreteCollisionDetection();  // contacts at the pose the step starts from
+  b.solver->step(data_, dt_s(), b.world->getDispatcher());
+  // Positions in our coordinates: Bullet keeps base velocities in world frame at the COM, and a
+  // round trip through them loses the ω × v and ω × (ω × c) terms of a step (measured: ragdolls
+  // gained hundreds of joules). Bullet gets the new pose for collision detection only.
+  integrate(*model_, data_.q, data_.qd, dt_s());
+  b.character->set_state(data_.q, data_.qd);
+  b.character->body().updateCollisionObjectWorldTransforms(b.scratch_q, b.scratch_m);
   ++step_count_;
-  bullet_->character->get_state(data_.q, data_.qd);
   for (int i = 0; i < model_->nv(); ++i) {
     if (!std::isfinite(data_.qd(i))) {
       failure_ = StepReport{false, i, step_count_};

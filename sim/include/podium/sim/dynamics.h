@@ -36,6 +36,12 @@ void stable_pd_maba(const CharacterModel& model, CharacterData& data, const Gain
 /// Plain PD: τ = −Kp(q − q̄) − Kd q̇ (explicit). Writes data.tau.
 void pd_torques(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target);
 
+/// q ← q ⊕ Δt·q̇, the position half of semi-implicit Euler (q̇ already advanced): ball-joint and
+/// root quaternions by the exponential of their body-frame ω, hinge angles by Δt·q̇, and the
+/// root as Bullet integrates a base: its centre of mass moves with its world velocity, which then
+/// stays constant while q̇'s root entries are re-expressed in the rotated root frame.
+void integrate(const CharacterModel& model, Eigen::VectorXd& q, Eigen::VectorXd& qd, double dt_s);
+
 /// World position of a point given in a body's frame (after forward_kinematics).
 Eigen::Vector3d body_point(const CharacterModel& model, const CharacterData& data, int body, const Eigen::Vector3d& local);
 /// Lowest world z of any geom (m); needs forward_kinematics.

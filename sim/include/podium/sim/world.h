@@ -1,6 +1,7 @@
 #pragma once
-/// World: one character in a Bullet btMultiBody world (double precision) with terrain, contacts,
-/// joint limits, and motor control stepped at a simulation and a control frequency. One World per
+/// World: one character (a Bullet btMultiBody, double precision, for collision detection) with
+/// terrain, contacts, joint limits, and motor control stepped at a simulation and a control
+/// frequency; the step's dynamics are ours (sim/README.md "Stepping"). One World per
 /// rollout thread; many Worlds may share one ModelPtr. Bullet types stay behind the pimpl.
 #include <Eigen/Core>
 #include <memory>

@@ -31,16 +31,36 @@ inline Vector6d force_to_parent(const Eigen::Matrix3d& E, const Eigen::Vector3d&
   return out;
 }
 
-/// Xᵀ I X: an inertia from child to parent coordinates, by 3×3 blocks (a quarter of the cost of
-/// two dense 6×6 products). With I' = diag(Eᵀ, Eᵀ) I diag(E, E) = [A B; Bᵀ C] and R = r×:
-/// Xᵀ I X = [A − B R + R Bᵀ − R C R,  B + R C;  Bᵀ − C R,  C].
+/// r × M, column by column (= skew(r) M without the zeros).
+inline Eigen::Matrix3d cross_columns(const Eigen::Vector3d& r, const Eigen::Matrix3d& M) {
+  Eigen::Matrix3d out;
+  for (int c = 0; c < 3; ++c) out.col(c) = r.cross(M.col(c));
+  return out;
+}
+
+/// Eᵀ S E for symmetric S, exactly symmetric.
+inline Eigen::Matrix3d rotate_symmetric(const Eigen::Matrix3d& E, const Eigen::Matrix3d& S) {
+  const Eigen::Matrix3d T = S * E;
+  Eigen::Matrix3d out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) out(i, j) = out(j, i) = E.col(i).dot(T.col(j));
+  return out;
+}
+
+/// Xᵀ I X for a symmetric spatial inertia: from child to parent coordinates, added to `parent`,
+/// by 3×3 blocks. With I' = diag(Eᵀ, Eᵀ) I diag(E, E) = [A B; Bᵀ C] and R = r×:
+/// Xᵀ I X = [A − B R + R Bᵀ − R C R,  B + R C;  Bᵀ − C R,  C], where −B R = (R Bᵀ)ᵀ and
+/// R C R = (R C) R is symmetric: cross products and symmetric halves instead of 3×3 products
+/// (MABA's and CRBA's hot spot).
 inline void add_inertia_to_parent(const Eigen::Matrix3d& E, const Eigen::Vector3d& r, const Matrix6d& I, Matrix6d& parent) {
-  const Eigen::Matrix3d A = E.transpose() * I.topLeftCorner<3, 3>() * E;
-  const Eigen::Matrix3d B = E.transpose() * I.topRightCorner<3, 3>() * E;
-  const Eigen::Matrix3d C = E.transpose() * I.bottomRightCorner<3, 3>() * E;
-  const Eigen::Matrix3d R = skew(r);
-  const Eigen::Matrix3d RC = R * C;
-  parent.topLeftCorner<3, 3>() += A - B * R + R * B.transpose() - RC * R;
+  const Eigen::Matrix3d A = rotate_symmetric(E, I.topLeftCorner<3, 3>());
+  const Eigen::Matrix3d B = E.transpose() * (Eigen::Matrix3d(I.topRightCorner<3, 3>()) * E);
+  const Eigen::Matrix3d C = rotate_symmetric(E, I.bottomRightCorner<3, 3>());
+  const Eigen::Matrix3d RBt = cross_columns(r, B.transpose());
+  const Eigen::Matrix3d RC = cross_columns(r, C);
+  // (R C) R = −(R (R C)ᵀ)ᵀ = −R (R C)ᵀ since the result is symmetric.
+  const Eigen::Matrix3d RCR = -cross_columns(r, RC.transpose());
+  parent.topLeftCorner<3, 3>() += A + RBt + RBt.transpose() - RCR;
   parent.topRightCorner<3, 3>() += B + RC;
   parent.bottomLeftCorner<3, 3>() += B.transpose() + RC.transpose();
   parent.bottomRightCorner<3, 3>() += C;

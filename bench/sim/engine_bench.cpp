@@ -193,10 +193,24 @@ Result run_mujoco(const mjModel* m, std::uint64_t seed) {
   return r;
 }
 
+// One seed's workload repeated kRepetitions times (deterministic, so the checks repeat exactly):
+// the fastest repetition is the timing. 30 simulated s take well under 0.1 s of wall time at
+// these rates, too short for one run to time reliably on a shared machine.
+constexpr int kRepetitions = 5;
+template <class Run>
+Result fastest_of_repetitions(Run&& run, std::uint64_t seed) {
+  Result best = run(seed);
+  for (int k = 1; k < kRepetitions; ++k) {
+    const Result r = run(seed);
+    if (r.rtf > best.rtf) best.rtf = r.rtf, best.steps_per_s = r.steps_per_s;
+  }
+  return best;
+}
+
 // Median real-time factor over seeds 1..3 (the worst workload check counts).
 template <class Run>
 Result median_of_3(Run&& run) {
-  Result rs[3] = {run(1), run(2), run(3)};
+  Result rs[3] = {fastest_of_repetitions(run, 1), fastest_of_repetitions(run, 2), fastest_of_repetitions(run, 3)};
   std::sort(std::begin(rs), std::end(rs), [](const Result& a, const Result& b) { return a.rtf < b.rtf; });
   Result r = rs[1];
   for (const Result& x : rs) {
@@ -215,8 +229,8 @@ int main(int argc, char** argv) {
   if (argc > 1) rates.assign(argc - 1, 0.0);
   for (int i = 1; i < argc; ++i) rates[i - 1] = std::stod(argv[i]);
   const ModelPtr model = load_shipped_model("humanoid21");
-  std::printf("Benchmark B: humanoid21, random SPD targets every 1/%g s, ragdoll drop every %g s, %g simulated s per row (median of seeds 1-3), one core\n", kControlHz,
-              kEpisodeSeconds, kSimSeconds);
+  std::printf("Benchmark B: humanoid21, random SPD targets every 1/%g s, ragdoll drop every %g s, %g simulated s per row (median of seeds 1-3, fastest of %d repetitions each), one core\n",
+              kControlHz, kEpisodeSeconds, kSimSeconds, kRepetitions);
   std::printf("%-8s %8s %10s %12s %10s %9s %10s %10s\n", "engine", "dt (ms)", "standing", "workload ok", "steps/s", "x real", "max KE J", "lowest m");
   double best_rtf = 0, best_dt = 0;
   for (double hz : rates) {
@@ -260,8 +274,12 @@ int main(int argc, char** argv) {
       mj_best_dt = dt;
     }
   }
-  std::printf("largest admissible dt: podium %.2f ms, %.1fx real time; MuJoCo %.2f ms, %.1fx; ratio %.2f; bar (>= MuJoCo): %s\n", best_dt * 1000, best_rtf,
-              mj_best_dt * 1000, mj_best.rtf, best_rtf / mj_best.rtf, best_rtf >= mj_best.rtf ? "met" : "NOT met");
+  if (best_dt == 0 || mj_best_dt == 0) {
+    std::printf("largest admissible dt: %s has none among the rates run; no verdict\n", best_dt == 0 ? "podium" : "MuJoCo");
+  } else {
+    std::printf("largest admissible dt: podium %.2f ms, %.1fx real time; MuJoCo %.2f ms, %.1fx; ratio %.2f; bar (>= MuJoCo): %s\n", best_dt * 1000, best_rtf,
+                mj_best_dt * 1000, mj_best.rtf, best_rtf / mj_best.rtf, best_rtf >= mj_best.rtf ? "met" : "NOT met");
+  }
   std::printf("MuJoCo at its default %.1f ms: %.1fx; podium / that: %.2f\n", default_dt * 1000, mj_default.rtf, best_rtf / mj_default.rtf);
   mj_deleteModel(welded);
   mj_deleteModel(m);

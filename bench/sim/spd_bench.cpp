@@ -59,7 +59,7 @@ int main() {
       {"chain72", make_chain(23), "snake2 (72): 5,099 / 8,334 fps; 39.9% / 2.5%"},
       {"chain195", make_chain(64), "snake3 (195): 1,036 / 3,036 fps; 64.4% / 3.7%"},
   };
-  std::printf("Benchmark A: SPD per call (median of 7 runs, seed 1), full Bullet step with MABA SPD at 600 Hz, lying on flat ground\n");
+  std::printf("Benchmark A: SPD per call (median of 7 runs, seed 1), full simulation step with MABA SPD at 600 Hz, lying on flat ground\n");
   std::printf("%-11s %4s %11s %11s %7s %12s %9s %10s   thesis (PhysX, DF / MABA)\n", "model", "nv", "dense ns", "MABA ns", "ratio", "step ns",
               "MABA %", "allocs");
   for (const Row& row : rows) {

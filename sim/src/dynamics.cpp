@@ -29,6 +29,7 @@ CharacterData::CharacterData(const CharacterModel& model)
     if (l.joint == JointType::free) d.S = Matrix6d::Identity();
     if (l.joint == JointType::spherical) d.S.topRows<3>().setIdentity();
     if (l.joint == JointType::revolute) d.S.col(0).head<3>() = l.axis;
+    d.S_world = Matrix6Xd::Zero(6, l.nv);
     d.U = Matrix6Xd::Zero(6, l.nv);
     d.D_inv = MatrixJd::Zero(l.nv, l.nv);
     d.u = VectorJd::Zero(l.nv);

@@ -82,13 +82,14 @@ inline Vector6d cross_force(const Vector6d& v, const Vector6d& f) {
   return out;
 }
 
-/// Spatial inertia about the frame origin of a body with mass m, COM c and inertia Ic about c.
+/// Spatial inertia about the frame origin of a body with mass m, COM c and inertia Ic about c
+/// (c× c×ᵀ = |c|² 1 − c cᵀ).
 inline Matrix6d inertia(double m, const Eigen::Vector3d& c, const Eigen::Matrix3d& Ic) {
   const Eigen::Matrix3d cx = skew(c);
   Matrix6d I;
-  I.topLeftCorner<3, 3>() = Ic + m * cx * cx.transpose();
+  I.topLeftCorner<3, 3>() = Ic + m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
   I.topRightCorner<3, 3>() = m * cx;
-  I.bottomLeftCorner<3, 3>() = m * cx.transpose();
+  I.bottomLeftCorner<3, 3>() = -m * cx;
   I.bottomRightCorner<3, 3>() = m * Eigen::Matrix3d::Identity();
   return I;
 }

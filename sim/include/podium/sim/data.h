@@ -26,9 +26,12 @@ struct LinkData {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();      // link origin in world, m; forward_kinematics
   Vector6d v = Vector6d::Zero();   // spatial velocity; velocity pass
   Vector6d c = Vector6d::Zero();   // velocity-product acceleration v × S q̇
-  Vector6d a = Vector6d::Zero();   // spatial acceleration
-  Vector6d f = Vector6d::Zero();   // spatial force (RNEA) / bias force p^A (MABA)
-  Matrix6d I = Matrix6d::Zero();   // composite (CRBA) / articulated (MABA) inertia
+  Vector6d a = Vector6d::Zero();   // spatial acceleration (MABA: world coordinates)
+  Vector6d f = Vector6d::Zero();   // spatial force (RNEA) / bias force p^A (MABA, world coordinates)
+  Matrix6d I = Matrix6d::Zero();   // composite (CRBA) / articulated (MABA, world coordinates) inertia
+  Matrix6Xd S_world;               // motion subspace in world coordinates at the world origin (MABA)
+  Vector6d v_world = Vector6d::Zero();  // velocity and velocity-product term, world coordinates (MABA)
+  Vector6d c_world = Vector6d::Zero();
   Matrix6Xd U;                     // I^A S (MABA)
   MatrixJd D_inv;                  // (Sᵀ I^A S + K)⁻¹ (MABA, thesis eq. 2.18)
   VectorJd u;                      // Q − Sᵀ p^A (MABA)

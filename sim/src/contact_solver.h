@@ -1,6 +1,6 @@
 #pragma once
 // The velocity update of one simulation step: free motion, then contacts and joint limits solved
-// on the dense Delassus matrix. Bullet keeps the rest (collision detection, position integration).
+// on the dense Delassus matrix. Bullet keeps collision detection; World integrates positions.
 //
 // Bullet's btMultiBodyConstraintSolver builds each contact row's response by its own O(n)
 // articulated-body pass (calcAccelerationDeltasMultiDof): measured as 64% of a get-up-like step

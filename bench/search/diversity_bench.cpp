@@ -5,12 +5,15 @@
 // Strategies are counted with search/strategies.h (the stored definition) at --threshold.
 // Bars: BDS never below random beyond noise (paired mean difference > −2 standard errors) on either
 // family at any budget, and BDS ≥ 1.2× random at 20 evaluations on "plateaus".
-// Seed split: `--split test` (landscape seeds 1..L, search seeds 0..S−1) is the one the bars are
-// reported on; `--split dev` (landscape seeds 1001.., search seeds 100..) is for tuning.
+// Seed split: `--split dev` (landscape seeds 1001.., search seeds 100..) is for tuning; `--split
+// test` (landscape seeds 1..L, search seeds 0..S−1) is the one the bars were first reported on (and
+// has informed choices since); `--split holdout` (landscape seeds 3001.., search seeds 300..) is
+// for a final config's one run and must never inform a choice (bench/search/README.md).
 //
-// Usage: search_diversity_bench [--split test] [--landscapes 20] [--seeds 10] [--dim 3] [--regions 6]
-//          [--threshold 0.05] [--max-frequency 0] [--batch 1] [--threads 1] [--bds-config '{"n_exp": 3}'] [--novelty-config '{}']
-//          [--families plateaus,voronoi,plateaus_rough] [--algorithms bds,random,novelty]
+// Usage: search_diversity_bench [--split test|dev|holdout] [--landscapes 20] [--seeds 10] [--dim 3] [--regions 6]
+//          [--threshold 0.05] [--max-frequency 0] [--batch 1] [--threads 1] [--bds-config '{"stall": 0}'] [--novelty-config '{}']
+//          [--families plateaus,voronoi,plateaus_rough] [--algorithms bds,random,novelty] [--budgets 10,20,50]
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -27,8 +30,6 @@
 using podium::search::Json;
 
 namespace {
-const std::vector<int> kBudgets = {10, 20, 50};
-
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
   std::stringstream in(s);
@@ -44,6 +45,7 @@ struct Options {
   double max_frequency = 0.0;  // plateau families' trend frequency bound; 0 = the family's own
   Json bds_config = Json::object(), novelty_config = Json::object();
   std::vector<std::string> families = {"plateaus", "voronoi", "plateaus_rough"}, algorithms = {"bds", "random", "novelty"};
+  std::vector<int> budgets = {10, 20, 50};  // ascending; runs stop at the last (e.g. 10,20 for quick tuning on plateaus)
 };
 
 // Distinct strategies after each budget for one (algorithm, landscape, seed) run.
@@ -64,8 +66,8 @@ std::vector<int> run(const Options& o, const std::string& family, const std::str
   setup.seed = 1000003ull * static_cast<std::uint64_t>(landscape) + static_cast<std::uint64_t>(seed);
   auto search = podium::search::make_search(algorithm, setup);
   std::vector<std::vector<double>> found;
-  while (static_cast<int>(found.size()) < kBudgets.back()) {
-    const auto proposals = search->ask(static_cast<std::size_t>(std::min<int>(o.batch, kBudgets.back() - static_cast<int>(found.size()))));
+  while (static_cast<int>(found.size()) < o.budgets.back()) {
+    const auto proposals = search->ask(static_cast<std::size_t>(std::min<int>(o.batch, o.budgets.back() - static_cast<int>(found.size()))));
     std::vector<podium::search::Observation> observations;
     for (const auto& p : proposals) {
       observations.push_back({p.id, true, {model.objective(p.x)}, model.feature(p.x)});
@@ -74,7 +76,7 @@ std::vector<int> run(const Options& o, const std::string& family, const std::str
     search->tell(observations);
   }
   std::vector<int> counts;
-  for (int b : kBudgets)
+  for (int b : o.budgets)
     counts.push_back(podium::search::count_strategies(setup.features, {found.begin(), found.begin() + b}, o.threshold));
   return counts;
 }
@@ -113,16 +115,27 @@ int main(int argc, char** argv) {
     else if (key == "--novelty-config") o.novelty_config = Json::parse(value);
     else if (key == "--families") o.families = split(value);
     else if (key == "--algorithms") o.algorithms = split(value);
+    else if (key == "--budgets") {
+      o.budgets.clear();
+      for (const auto& b : split(value)) o.budgets.push_back(std::stoi(b));
+    }
     else {
       std::fprintf(stderr, "unknown option %s\n", key.c_str());
       return 2;
     }
   }
+  if (o.budgets.empty() || !std::is_sorted(o.budgets.begin(), o.budgets.end()) || o.budgets.front() < 1) {
+    std::fprintf(stderr, "--budgets must be ascending positive evaluation counts\n");
+    return 2;
+  }
   if (o.split == "dev") {
     o.first_landscape = 1001;
     o.first_seed = 100;
+  } else if (o.split == "holdout") {
+    o.first_landscape = 3001;
+    o.first_seed = 300;
   } else if (o.split != "test") {
-    std::fprintf(stderr, "--split must be test or dev\n");
+    std::fprintf(stderr, "--split must be test, dev or holdout\n");
     return 2;
   }
   std::printf("split %s (landscape seeds %d.., search seeds %d..): ", o.split.c_str(), o.first_landscape, o.first_seed);
@@ -163,16 +176,16 @@ int main(int argc, char** argv) {
     std::printf("\nfamily %s: distinct strategies, mean ± standard error over %d runs\n", f.c_str(), o.landscapes * o.seeds);
     for (const auto& a : o.algorithms) {
       std::printf("  %-8s", a.c_str());
-      for (std::size_t b = 0; b < kBudgets.size(); ++b) {
+      for (std::size_t b = 0; b < o.budgets.size(); ++b) {
         std::vector<double> v;
         for (const auto& r : results[f][a]) v.push_back(r[b]);
         const Stat st = stat(v);
-        std::printf("  @%d: %5.2f ± %.2f", kBudgets[b], st.mean, st.se);
+        std::printf("  @%d: %5.2f ± %.2f", o.budgets[b], st.mean, st.se);
       }
       std::printf("\n");
     }
     if (!results[f].count("bds") || !results[f].count("random")) continue;
-    for (std::size_t b = 0; b < kBudgets.size(); ++b) {
+    for (std::size_t b = 0; b < o.budgets.size(); ++b) {
       std::vector<double> diff, bds, rnd;
       for (std::size_t r = 0; r < results[f]["bds"].size(); ++r) {
         diff.push_back(results[f]["bds"][r][b] - results[f]["random"][r][b]);
@@ -182,12 +195,12 @@ int main(int argc, char** argv) {
       const Stat d = stat(diff);
       const double ratio = stat(bds).mean / stat(rnd).mean;
       const bool not_below = d.mean >= -2.0 * d.se;
-      const bool ratio_ok = !(f == "plateaus" && kBudgets[b] == 20) || ratio >= 1.2;
+      const bool ratio_ok = !(f == "plateaus" && o.budgets[b] == 20) || ratio >= 1.2;
       const bool has_bar = f == "plateaus" || f == "voronoi";
       if (has_bar) pass = pass && not_below && ratio_ok;
-      std::printf("  bds vs random @%d: ratio %.3f, paired difference %+.2f ± %.2f%s%s\n", kBudgets[b], ratio, d.mean, d.se,
+      std::printf("  bds vs random @%d: ratio %.3f, paired difference %+.2f ± %.2f%s%s\n", o.budgets[b], ratio, d.mean, d.se,
                   not_below ? "" : has_bar ? "  FAIL (below random beyond noise)" : "  (below random beyond noise; no bar)",
-                  (f == "plateaus" && kBudgets[b] == 20) ? (ratio_ok ? "  (bar >= 1.2: PASS)" : "  (bar >= 1.2: FAIL)") : "");
+                  (f == "plateaus" && o.budgets[b] == 20) ? (ratio_ok ? "  (bar >= 1.2: PASS)" : "  (bar >= 1.2: FAIL)") : "");
     }
   }
   std::printf("\n%s\n", pass ? "PASS" : "FAIL");

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <nlopt.hpp>
+#include <numbers>
+#include <set>
 
 #include "config_reader.h"
 #include "eigen_helpers.h"
@@ -20,10 +22,10 @@ BdsParams BdsParams::from_json(const Json& config, const std::string& path) {
   BdsParams p;
   p.initial_samples = r.integer("initial_samples", p.initial_samples, 1, 100000);
   p.initial_design = r.choice("initial_design", p.initial_design, {"random", "maximin"});
-  p.n_exp = r.integer("n_exp", p.n_exp, 0, 1000);
-  p.n_opt = r.integer("n_opt", p.n_opt, 0, 1000);
+  p.acquisition = r.choice("acquisition", p.acquisition, {"new_combination", "expected_distance"});
   p.explore_until = r.integer("explore_until", p.explore_until, 0, 1000000);
-  if (p.n_exp + p.n_opt == 0) throw base::UserError(path + ": n_exp and n_opt are both 0; one must be >= 1");
+  p.stall = r.integer("stall", p.stall, 0, 1000000);
+  p.stall_explore = r.integer("stall_explore", p.stall_explore, 1, 1000000);
   p.mc_samples = r.integer("mc_samples", p.mc_samples, 1, 100000);
   p.explore_candidates = r.integer("explore_candidates", p.explore_candidates, 1, 1000000);
   p.explore_starts = r.integer("explore_starts", p.explore_starts, 1, 1000);
@@ -73,7 +75,7 @@ std::vector<Proposal> BayesianDiversitySearch::ask(std::size_t n) {
     p.id = next_id_++;
     p.x = to_params(u);
     p.info = {{"step", step}};
-    pending_[p.id] = to_unit(p.x);
+    pending_[p.id] = {to_unit(p.x), step};
     out.push_back(std::move(p));
   }
   return out;
@@ -92,11 +94,8 @@ VectorXd BayesianDiversitySearch::propose(std::string& step) {
     step = "explore";
     return explore(gps);
   }
-  // Algorithm 1 line 4: t mod (N_exp + N_opt) < N_exp → exploration.
-  const bool exploring = steps_ % static_cast<std::uint64_t>(params_.n_exp + params_.n_opt) <
-                         static_cast<std::uint64_t>(params_.n_exp);
-  ++steps_;
-  if (exploring) {
+  if (fallback_left_ > 0) {
+    --fallback_left_;
     step = "explore";
     return explore(gps);
   }
@@ -117,7 +116,7 @@ VectorXd BayesianDiversitySearch::initial_point() {
     for (int i = 0; i < d; ++i) u[i] = rng_.uniform();
     double nearest = std::numeric_limits<double>::infinity();
     for (const auto& t : told_) nearest = std::min(nearest, (u - t.u).norm());
-    for (const auto& [id, p] : pending_) nearest = std::min(nearest, (u - p).norm());
+    for (const auto& [id, p] : pending_) nearest = std::min(nearest, (u - p.u).norm());
     if (nearest > best_distance) {
       best_distance = nearest;
       best = u;
@@ -152,7 +151,7 @@ std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(
   std::vector<VectorXd> xs, believers;
   for (const auto& t : told_) (t.ok ? xs : believers).push_back(t.u);
   const std::size_t failed = believers.size();
-  for (const auto& [id, u] : pending_) believers.push_back(u);
+  for (const auto& [id, p] : pending_) believers.push_back(p.u);
   believer_features.assign(believers.size() - failed, std::vector<double>(features_.size()));
 
   std::vector<GaussianProcess> gps;
@@ -252,25 +251,113 @@ VectorXd BayesianDiversitySearch::explore(const std::vector<GaussianProcess>& gp
 }
 
 namespace {
+// Levels of one feature: the distinct values it has taken, each owning the cell of values nearest
+// to it (on the circle for angular features).
+struct Levels {
+  std::vector<double> low, high;  // cell bounds, in feature units (−∞/+∞ at the ends of a Euclidean feature)
+};
+
 struct DiversityContext {
   const std::vector<GaussianProcess>* gps;
   const std::vector<Feature>* features;
+  double ucb_beta;
+  // "expected_distance" (eq. 3.7):
   const std::vector<std::vector<double>>* targets;
   const MatrixXd* eps;  // mc_samples × features: common random numbers for every x
-  double ucb_beta;
+  // "new_combination":
+  std::vector<Levels> levels;               // per feature
+  std::vector<std::vector<std::size_t>> tuples;  // distinct observed strategies as level indices
 };
 
-// Thesis eq. 3.7: E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖], by Monte Carlo, plus eq. 3.8's β·Σ_j σ_j(x).
-double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
+double wrap_angle(double a) {
+  a = std::fmod(a, 2.0 * std::numbers::pi);
+  return a < 0.0 ? a + 2.0 * std::numbers::pi : a;
+}
+
+Levels make_levels(const Feature& f, std::vector<double> values) {
+  const bool angular = f.metric == FeatureMetric::angular;
+  if (angular)
+    for (auto& v : values) v = wrap_angle(v);
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end()), values.end());
+  Levels l;
+  const std::size_t m = values.size();
+  const double inf = std::numeric_limits<double>::infinity(), period = 2.0 * std::numbers::pi;
+  for (std::size_t a = 0; a < m; ++a) {
+    if (angular && m == 1) {
+      l.low.push_back(values[a] - 0.5 * period);
+      l.high.push_back(values[a] + 0.5 * period);
+      continue;
+    }
+    const double prev = a > 0 ? values[a - 1] : angular ? values[m - 1] - period : -inf;
+    const double next = a + 1 < m ? values[a + 1] : angular ? values[0] + period : inf;
+    l.low.push_back(std::isinf(prev) ? prev : 0.5 * (prev + values[a]));
+    l.high.push_back(std::isinf(next) ? next : 0.5 * (values[a] + next));
+  }
+  return l;
+}
+
+// Index of the level whose cell holds v.
+std::size_t level_of(const Feature& f, const Levels& l, double v) {
+  const bool angular = f.metric == FeatureMetric::angular;
+  if (angular) v = wrap_angle(v);
+  for (std::size_t a = 0; a < l.low.size(); ++a)
+    for (double shift : {0.0, 2.0 * std::numbers::pi, -2.0 * std::numbers::pi})
+      if ((shift == 0.0 || angular) && v + shift >= l.low[a] && v + shift < l.high[a]) return a;
+  return l.low.size() - 1;  // round-off at the seam of an angular feature's last cell
+}
+
+// Whether two feature vectors are the same level combination (angles compared on the circle).
+bool same_levels(const std::vector<Feature>& features, const std::vector<double>& a, const std::vector<double>& b) {
+  for (std::size_t j = 0; j < features.size(); ++j) {
+    const bool angular = features[j].metric == FeatureMetric::angular;
+    if ((angular ? wrap_angle(a[j]) != wrap_angle(b[j]) : a[j] != b[j])) return false;
+  }
+  return true;
+}
+
+// P(low ≤ f < high) for f ~ N(mean, σ²); on a circle, the mass of every 2π copy of the cell.
+double cell_mass(bool angular, double mean, double sigma, double low, double high) {
+  const double scale = std::max(sigma, 1e-12) * std::numbers::sqrt2;
+  auto cdf = [&](double z) { return 0.5 * std::erfc(-(z - mean) / scale); };
+  if (!angular) return cdf(high) - cdf(low);
+  const double period = 2.0 * std::numbers::pi;
+  double mass = 0.0;
+  for (double k = std::floor((mean - 8.0 * sigma - high) / period); k <= std::ceil((mean + 8.0 * sigma - low) / period); ++k)
+    mass += cdf(high + k * period) - cdf(low + k * period);
+  return mass;
+}
+
+// The diversity acquisition at u (see BdsParams::acquisition), plus eq. 3.8's β·Σ_j σ_j(u).
+double diversity_acquisition(const DiversityContext& c, const VectorXd& u) {
   const std::size_t nf = c.features->size();
   std::vector<double> mean(nf), sigma(nf);
+  double spread = 0.0;
   for (std::size_t j = 0; j < nf; ++j) {
     const auto& f = (*c.features)[j];
     double m = 0.0, var = 0.0;
     (*c.gps)[j].predict(u, m, var);
     mean[j] = f.low + m * (f.high - f.low);
     sigma[j] = std::sqrt(var) * (f.high - f.low);
+    spread += sigma[j];
   }
+  if (!c.levels.empty()) {
+    std::vector<std::vector<double>> mass(nf);
+    for (std::size_t j = 0; j < nf; ++j) {
+      const bool angular = (*c.features)[j].metric == FeatureMetric::angular;
+      for (std::size_t a = 0; a < c.levels[j].low.size(); ++a)
+        mass[j].push_back(cell_mass(angular, mean[j], sigma[j], c.levels[j].low[a], c.levels[j].high[a]));
+    }
+    // Level cells of one feature are disjoint, so the strategies' events are too: the sum is exact.
+    double repeat = 0.0;
+    for (const auto& t : c.tuples) {
+      double p = 1.0;
+      for (std::size_t j = 0; j < nf; ++j) p *= mass[j][t[j]];
+      repeat += p;
+    }
+    return 1.0 - repeat + c.ucb_beta * spread;
+  }
+  // Thesis eq. 3.7: E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖], by Monte Carlo.
   double total = 0.0;
   std::vector<double> sample(nf);
   for (Eigen::Index s = 0; s < c.eps->rows(); ++s) {
@@ -281,8 +368,6 @@ double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
     for (const auto& target : *c.targets) nearest = std::min(nearest, feature_distance(*c.features, sample, target));
     total += nearest;
   }
-  double spread = 0.0;
-  for (double v : sigma) spread += v;
   return total / static_cast<double>(c.eps->rows()) + c.ucb_beta * spread;
 }
 }  // namespace
@@ -290,12 +375,31 @@ double expected_min_distance(const DiversityContext& c, const VectorXd& u) {
 VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& gps,
                                             const std::vector<std::vector<double>>& targets) {
   const int d = static_cast<int>(space_.dim());
-  MatrixXd eps(params_.mc_samples, static_cast<Eigen::Index>(features_.size()));
-  for (Eigen::Index s = 0; s < eps.rows(); ++s)
-    for (Eigen::Index j = 0; j < eps.cols(); ++j) eps(s, j) = rng_.normal();
-  DiversityContext ctx{&gps, &features_, &targets, &eps, params_.ucb_beta};
+  MatrixXd eps;
+  DiversityContext ctx{&gps, &features_, params_.ucb_beta, &targets, &eps, {}, {}};
+  if (params_.acquisition == "new_combination") {
+    // Levels come from real observations only; believers' predicted features are read as their
+    // nearest levels, so a pending point claims an observed combination, not a new level.
+    for (std::size_t j = 0; j < features_.size(); ++j) {
+      std::vector<double> values;
+      for (const auto& t : told_)
+        if (t.ok) values.push_back(t.features[j]);
+      ctx.levels.push_back(make_levels(features_[j], values));
+    }
+    std::set<std::vector<std::size_t>> tuples;
+    for (const auto& target : targets) {
+      std::vector<std::size_t> tuple;
+      for (std::size_t j = 0; j < features_.size(); ++j) tuple.push_back(level_of(features_[j], ctx.levels[j], target[j]));
+      tuples.insert(tuple);
+    }
+    ctx.tuples.assign(tuples.begin(), tuples.end());
+  } else {
+    eps.resize(params_.mc_samples, static_cast<Eigen::Index>(features_.size()));
+    for (Eigen::Index s = 0; s < eps.rows(); ++s)
+      for (Eigen::Index j = 0; j < eps.cols(); ++j) eps(s, j) = rng_.normal();
+  }
   auto objective = [](const std::vector<double>& x, std::vector<double>&, void* data) {
-    return expected_min_distance(*static_cast<DiversityContext*>(data),
+    return diversity_acquisition(*static_cast<DiversityContext*>(data),
                                  Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())));
   };
   nlopt::opt opt(nlopt::GN_DIRECT_L, static_cast<unsigned>(d));
@@ -326,31 +430,47 @@ void BayesianDiversitySearch::tell(const std::vector<Observation>& observations)
       for (double v : o.features)
         if (!std::isfinite(v))
           throw base::UserError(name() + ": trial " + std::to_string(o.id) + " reported a non-finite feature value");
-    told_.push_back({o.id, it->second, o.ok, o.ok ? o.features : std::vector<double>{}});
+    const bool new_strategy = o.ok && std::none_of(told_.begin(), told_.end(), [&](const Told& t) {
+      return t.ok && same_levels(features_, t.features, o.features);
+    });
+    // The self-correcting schedule (bds.h): stalled diversity steps trigger exploration, which
+    // stops at its first new strategy.
+    if (it->second.step == "diversity" && params_.stall > 0) {
+      stalled_ = new_strategy ? 0 : stalled_ + 1;
+      if (stalled_ >= params_.stall) {
+        fallback_left_ = params_.stall_explore;
+        stalled_ = 0;
+      }
+    } else if (it->second.step == "explore" && new_strategy) {
+      fallback_left_ = 0;
+    }
+    told_.push_back({o.id, it->second.u, o.ok, o.ok ? o.features : std::vector<double>{}});
     pending_.erase(it);
   }
 }
 
 Json BayesianDiversitySearch::save() const {
   Json pending = Json::array(), told = Json::array(), theta = Json::array();
-  for (const auto& [id, u] : pending_) pending.push_back({{"id", id}, {"u", vector_json(u)}});
+  for (const auto& [id, p] : pending_) pending.push_back({{"id", id}, {"u", vector_json(p.u)}, {"step", p.step}});
   for (const auto& t : told_)
     told.push_back({{"id", t.id}, {"u", vector_json(t.u)}, {"ok", t.ok}, {"features", t.features}});
   for (const auto& t : theta_) theta.push_back(vector_json(t));
-  return {{"rng", rng_.save()}, {"next_id", next_id_}, {"steps", steps_}, {"fitted_on", fitted_on_},
-          {"theta", theta},     {"pending", pending},  {"told", told}};
+  return {{"rng", rng_.save()},   {"next_id", next_id_}, {"stalled", stalled_}, {"fallback_left", fallback_left_},
+          {"fitted_on", fitted_on_}, {"theta", theta},     {"pending", pending}, {"told", told}};
 }
 
 void BayesianDiversitySearch::load(const Json& state) {
   rng_.load(state.at("rng").get<std::string>());
   next_id_ = state.at("next_id").get<std::uint64_t>();
-  steps_ = state.at("steps").get<std::uint64_t>();
+  stalled_ = state.at("stalled").get<int>();
+  fallback_left_ = state.at("fallback_left").get<int>();
   fitted_on_ = state.at("fitted_on").get<std::size_t>();
   theta_.clear();
   for (const auto& t : state.at("theta")) theta_.push_back(vector_from(t));
   PODIUM_CHECK(theta_.size() == features_.size(), "bds: saved state has a different number of features");
   pending_.clear();
-  for (const auto& p : state.at("pending")) pending_[p.at("id").get<std::uint64_t>()] = vector_from(p.at("u"));
+  for (const auto& p : state.at("pending"))
+    pending_[p.at("id").get<std::uint64_t>()] = {vector_from(p.at("u")), p.at("step").get<std::string>()};
   told_.clear();
   for (const auto& t : state.at("told"))
     told_.push_back({t.at("id").get<std::uint64_t>(), vector_from(t.at("u")), t.at("ok").get<bool>(),

@@ -13,40 +13,10 @@
 
 namespace podium::sim {
 
-void for_each_plane_point(const CharacterModel& model, const CharacterData& data, const Eigen::Vector3d& normal,
-                          const std::function<void(int, const Geom&, int, const Eigen::Vector3d&, double)>& visit) {
-  int k = 0;
-  const auto& links = model.links();
-  for (std::size_t i = 0; i < links.size(); ++i) {
-    const LinkData& d = data.links[i];
-    const int link = static_cast<int>(i);
-    for (const Geom& g : links[i].geoms) {
-      const Eigen::Vector3d c = d.p + d.R * g.pos;
-      const Eigen::Matrix3d R = d.R * g.rot.toRotationMatrix();
-      auto rounded = [&](const Eigen::Vector3d& centre, double radius) {
-        visit(link, g, k++, centre - radius * normal, normal.dot(centre) - radius);
-      };
-      switch (g.type) {
-        case ShapeType::sphere: rounded(c, g.radius); break;
-        case ShapeType::capsule:
-          rounded(c + g.half_length * R.col(2), g.radius);
-          rounded(c - g.half_length * R.col(2), g.radius);
-          break;
-        case ShapeType::box:
-          for (int corner = 0; corner < 8; ++corner) {
-            const Eigen::Vector3d s((corner & 1) ? 1 : -1, (corner & 2) ? 1 : -1, (corner & 4) ? 1 : -1);
-            rounded(c + R * s.cwiseProduct(g.half_extents), 0.0);
-          }
-          break;
-      }
-    }
-  }
-}
-
 ContactSolver::ContactSolver(const CharacterModel& model, const btMultiBody& body, const ContactSolverConfig& config)
     : model_(model), body_(body), config_(config), limit_warm_(2 * model.nv(), 0.0) {
   int points = 0;
-  for_each_plane_point(model, CharacterData(model), config_.ground_normal, [&](int, const Geom&, int, const Eigen::Vector3d&, double) { ++points; });
+  internal::for_each_plane_point(model, CharacterData(model), config_.ground_normal, [&](int, const Geom&, int, const Eigen::Vector3d&, double) { ++points; });
   ground_warm_.assign(points, {0.0, 0.0, 0.0});
   ground_included_.assign(points, 0);
 }
@@ -94,7 +64,7 @@ Eigen::Vector3d ContactSolver::point_velocity(int link, const Eigen::Vector3d& p
 
 void ContactSolver::add_ground_contacts() {
   const Eigen::Vector3d& n = config_.ground_normal;
-  for_each_plane_point(model_, *data_, n, [&](int link, const Geom&, int k, const Eigen::Vector3d& p, double distance) {
+  internal::for_each_plane_point(model_, *data_, n, [&](int link, const Geom&, int k, const Eigen::Vector3d& p, double distance) {
     if (ground_included_[k]) return;
     auto& warm = ground_warm_[k];
     // Touching, or reaching the plane within this step at the current velocity (speculative).

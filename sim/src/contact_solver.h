@@ -22,7 +22,6 @@
 
 #include <Eigen/Core>
 #include <array>
-#include <functional>
 #include <vector>
 
 #include "bullet_character.h"
@@ -44,14 +43,6 @@ struct ContactSolverConfig {
   double tolerance = 1e-6;
   double regularization = 1e-3;  // relative addition to the Delassus diagonal (see solve_rows)
 };
-
-/// Calls visit(link, geom, geom_point, surface_point, distance) for each point of the model's geoms
-/// that can touch the plane n·x = 0 first: a sphere's centre, both ends of a capsule's axis, a
-/// box's corners; `surface_point` is the geom's point nearest the plane, `distance` its height
-/// above it (negative: below). `geom_point` numbers these points in model order. Needs
-/// forward_kinematics.
-void for_each_plane_point(const CharacterModel& model, const CharacterData& data, const Eigen::Vector3d& normal,
-                          const std::function<void(int link, const Geom& geom, int geom_point, const Eigen::Vector3d& surface_point, double distance)>& visit);
 
 class ContactSolver {
  public:

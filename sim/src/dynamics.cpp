@@ -203,20 +203,41 @@ void center_of_mass(const CharacterModel& model, CharacterData& data, Eigen::Vec
 
 double lowest_geom_point(const CharacterModel& model, const CharacterData& data) {
   double z = 1e9;
-  for (std::size_t i = 0; i < model.links().size(); ++i) {
+  internal::for_each_plane_point(model, data, Eigen::Vector3d::UnitZ(), [&](int, const Geom&, int, const Eigen::Vector3d&, double height) {
+    z = std::min(z, height);
+  });
+  return z;
+}
+
+void internal::for_each_plane_point(const CharacterModel& model, const CharacterData& data, const Eigen::Vector3d& normal,
+                          const std::function<void(int, const Geom&, int, const Eigen::Vector3d&, double)>& visit) {
+  int k = 0;
+  const auto& links = model.links();
+  for (std::size_t i = 0; i < links.size(); ++i) {
     const LinkData& d = data.links[i];
-    for (const Geom& g : model.links()[i].geoms) {
+    const int link = static_cast<int>(i);
+    for (const Geom& g : links[i].geoms) {
       const Eigen::Vector3d c = d.p + d.R * g.pos;
-      if (g.type == ShapeType::box) {
-        const Eigen::Matrix3d R = d.R * g.rot.toRotationMatrix();
-        z = std::min(z, c.z() - R.row(2).cwiseAbs().dot(g.half_extents));
-      } else {
-        const Eigen::Vector3d axis = d.R * (g.rot * Eigen::Vector3d::UnitZ());
-        z = std::min(z, c.z() - std::abs(axis.z()) * g.half_length - g.radius);
+      const Eigen::Matrix3d R = d.R * g.rot.toRotationMatrix();
+      auto rounded = [&](const Eigen::Vector3d& centre, double radius) {
+        visit(link, g, k++, centre - radius * normal, normal.dot(centre) - radius);
+      };
+      switch (g.type) {
+        case ShapeType::sphere: rounded(c, g.radius); break;
+        case ShapeType::capsule:
+          rounded(c + g.half_length * R.col(2), g.radius);
+          rounded(c - g.half_length * R.col(2), g.radius);
+          break;
+        case ShapeType::box:
+          for (int corner = 0; corner < 8; ++corner) {
+            const Eigen::Vector3d s((corner & 1) ? 1 : -1, (corner & 2) ? 1 : -1, (corner & 4) ? 1 : -1);
+            rounded(c + R * s.cwiseProduct(g.half_extents), 0.0);
+          }
+          break;
       }
     }
   }
-  return z;
 }
+
 
 }  // namespace podium::sim

@@ -1,5 +1,7 @@
 #pragma once
 // Passes shared by the dynamics files (not public API).
+#include <functional>
+
 #include "podium/sim/data.h"
 #include "podium/sim/dynamics.h"
 #include "podium/sim/model.h"
@@ -16,5 +18,13 @@ void bias_forces_posed(const CharacterModel& model, CharacterData& data);
 void spd_spring_term(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
 /// stable_pd_maba for data whose link poses already match data.q (forward_kinematics done).
 void stable_pd_maba_posed(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
+
+/// Calls visit(link, geom, geom_point, surface_point, distance) for each point of the model's geoms
+/// that can touch the plane n·x = 0 first: a sphere's centre, both ends of a capsule's axis, a
+/// box's corners; `surface_point` is the geom's point nearest the plane, `distance` its height
+/// above it (negative: below). `geom_point` numbers these points in model order. Needs
+/// forward_kinematics.
+void for_each_plane_point(const CharacterModel& model, const CharacterData& data, const Eigen::Vector3d& normal,
+                          const std::function<void(int link, const Geom& geom, int geom_point, const Eigen::Vector3d& surface_point, double distance)>& visit);
 
 }  // namespace podium::sim::internal

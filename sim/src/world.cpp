@@ -1,6 +1,6 @@
 // World: a CharacterModel as a Bullet btMultiBody in a btCollisionWorld with terrain, and motor
-// control (torque, PD, SPD dense/MABA) applied every simulation step. Bullet finds contacts and
-// integrates positions; ContactSolver advances velocities (free motion, contacts, joint limits).
+// control (torque, PD, SPD dense/MABA) applied every simulation step. Bullet finds contacts;
+// ContactSolver advances velocities (free motion, contacts, joint limits); integrate() moves q.
 #include "podium/sim/world.h"
 
 #include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
@@ -308,7 +308,7 @@ Observation World::observe() {
   for (int e : m.end_effector_bodies()) o.end_effectors.push_back(root.R.transpose() * (body_point(m, data_, e, Eigen::Vector3d::Zero()) - root.p));
   // Ground contacts from the geoms; the rest from Bullet's manifolds, mapped through compound child indices to bodies.
   o.body_contacts.assign(m.bodies().size(), 0);
-  for_each_plane_point(m, data_, bullet_->solver->ground_normal(), [&](int, const Geom& g, int, const Eigen::Vector3d&, double distance) {
+  internal::for_each_plane_point(m, data_, bullet_->solver->ground_normal(), [&](int, const Geom& g, int, const Eigen::Vector3d&, double distance) {
     if (distance <= kTouchingM) o.body_contacts[g.body] = 1;
   });
   btDispatcher* dispatcher = bullet_->world->getDispatcher();

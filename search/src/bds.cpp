@@ -307,15 +307,6 @@ std::size_t level_of(const Feature& f, const Levels& l, double v) {
   return l.low.size() - 1;  // round-off at the seam of an angular feature's last cell
 }
 
-// Whether two feature vectors are the same level combination (angles compared on the circle).
-bool same_levels(const std::vector<Feature>& features, const std::vector<double>& a, const std::vector<double>& b) {
-  for (std::size_t j = 0; j < features.size(); ++j) {
-    const bool angular = features[j].metric == FeatureMetric::angular;
-    if ((angular ? wrap_angle(a[j]) != wrap_angle(b[j]) : a[j] != b[j])) return false;
-  }
-  return true;
-}
-
 // P(low ≤ f < high) for f ~ N(mean, σ²); on a circle, the mass of every 2π copy of the cell.
 double cell_mass(bool angular, double mean, double sigma, double low, double high) {
   const double scale = std::max(sigma, 1e-12) * std::numbers::sqrt2;
@@ -431,7 +422,7 @@ void BayesianDiversitySearch::tell(const std::vector<Observation>& observations)
         if (!std::isfinite(v))
           throw base::UserError(name() + ": trial " + std::to_string(o.id) + " reported a non-finite feature value");
     const bool new_strategy = o.ok && std::none_of(told_.begin(), told_.end(), [&](const Told& t) {
-      return t.ok && same_levels(features_, t.features, o.features);
+      return t.ok && feature_distance(features_, t.features, o.features) == 0.0;  // strategies.h's metric
     });
     // The self-correcting schedule (bds.h): stalled diversity steps trigger exploration, which
     // stops at its first new strategy.

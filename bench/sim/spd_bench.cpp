@@ -60,7 +60,7 @@ int main() {
       {"chain195", make_chain(64), "snake3 (195): 1,036 / 3,036 fps; 64.4% / 3.7%"},
   };
   std::printf("Benchmark A: SPD per call (median of 7 runs, seed 1), full simulation step with MABA SPD at 600 Hz, lying on flat ground\n");
-  std::printf("%-11s %4s %11s %11s %7s %12s %9s %10s   thesis (PhysX, DF / MABA)\n", "model", "nv", "dense ns", "MABA ns", "ratio", "step ns",
+  std::printf("%-11s %4s %11s %11s %7s %8s %12s %9s %10s   thesis (PhysX, DF / MABA)\n", "model", "nv", "dense ns", "MABA ns", "ratio", "FK ns", "step ns",
               "MABA %", "allocs");
   for (const Row& row : rows) {
     const CharacterModel& m = *row.model;
@@ -86,6 +86,7 @@ int main() {
     const int reps = std::max(200, 200000 / m.nv());
     const double dense = median_ns([&] { stable_pd_dense(m, data, gains, target, 1.0 / 600); }, reps / 4);
     const double maba = median_ns([&] { stable_pd_maba(m, data, gains, target, 1.0 / 600); }, reps);
+    const double fk = median_ns([&] { forward_kinematics(m, data); }, reps);
     const long long before = g_allocations.load();
     stable_pd_maba(m, data, gains, target, 1.0 / 600);
     const long long spd_allocs = g_allocations.load() - before;
@@ -93,7 +94,7 @@ int main() {
     world.sim_step(Control::spd_maba, target);
     const long long step_allocs = g_allocations.load() - before_step;
     const double step = median_ns([&] { world.sim_step(Control::spd_maba, target); }, 100, 7);
-    std::printf("%-11s %4d %11.0f %11.0f %6.1fx %12.0f %8.1f%% %4lld/%-5lld   %s%s\n", row.label, m.nv(), dense, maba, dense / maba, step, 100.0 * maba / step,
+    std::printf("%-11s %4d %11.0f %11.0f %6.1fx %8.0f %12.0f %8.1f%% %4lld/%-5lld   %s%s\n", row.label, m.nv(), dense, maba, dense / maba, fk, step, 100.0 * (maba - fk) / step,
                 spd_allocs, step_allocs, row.thesis, world.data().qd.allFinite() ? "" : "  (STATE NOT FINITE: step time invalid)");
   }
   std::printf("allocs: C++ heap allocations (operator new) in one MABA SPD call / in one full step; Bullet allocates through malloc and is not counted\n");

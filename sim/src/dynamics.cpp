@@ -24,15 +24,11 @@ CharacterData::CharacterData(const CharacterModel& model)
   for (std::size_t i = 0; i < links.size(); ++i) {
     const Link& l = model.links()[i];
     LinkData& d = links[i];
-    d.I_body = spatial::inertia(l.mass, l.com, l.inertia);
+    spatial::inertia(l.mass, l.com, l.inertia, d.I_body);
     d.S = Matrix6Xd::Zero(6, l.nv);
     if (l.joint == JointType::free) d.S = Matrix6d::Identity();
     if (l.joint == JointType::spherical) d.S.topRows<3>().setIdentity();
     if (l.joint == JointType::revolute) d.S.col(0).head<3>() = l.axis;
-    d.S_world = Matrix6Xd::Zero(6, l.nv);
-    d.U = Matrix6Xd::Zero(6, l.nv);
-    d.D_inv = MatrixJd::Zero(l.nv, l.nv);
-    d.u = VectorJd::Zero(l.nv);
   }
 }
 

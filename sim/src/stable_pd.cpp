@@ -28,6 +28,10 @@ void internal::spd_spring_term(const CharacterModel& model, CharacterData& data,
   for (const Link& l : model.links()) {
     if (l.joint == JointType::free) {
       // Optional "hand-of-God" root servo (thesis §2.4.1): errors and velocity in the root frame.
+      if (gains.kp.head<6>().isZero() && gains.kd.head<6>().isZero()) {  // no servo (the default)
+        data.Q.head<6>().setZero();
+        continue;
+      }
       const Eigen::Vector3d w = data.qd.head<3>(), v = data.qd.segment<3>(3);
       const Eigen::Matrix3d R = Eigen::Quaterniond(data.q(3), data.q(4), data.q(5), data.q(6)).normalized().toRotationMatrix();
       const Eigen::Vector3d e_pos = R.transpose() * (data.q.head<3>() - target.head<3>());
@@ -53,32 +57,84 @@ namespace {
 // congruence transform that dominated the link-coordinate version (measured on humanoid21, best of
 // 7 × 20000 calls: 4.7 µs in link coordinates, 3.9–4.3 µs in world coordinates).
 
+// L⁻¹ for the Cholesky factor L of a symmetric positive-definite N×N block (D = L Lᵀ, so
+// D⁻¹ = L⁻ᵀ L⁻¹), in plain loops the compiler unrolls. Eigen's fixed-size inverse beyond 4×4 runs a
+// pivoted LU with blocked triangular solves: the root's 6×6 block cost 15% of humanoid21's MABA
+// that way (callgrind instruction count).
+template <int N>
+Eigen::Matrix<double, N, N> inverse_cholesky_factor(const Eigen::Matrix<double, N, N>& D) {
+  Eigen::Matrix<double, N, N> L = Eigen::Matrix<double, N, N>::Zero(), Linv = L;
+  for (int j = 0; j < N; ++j) {
+    double djj = D(j, j);
+    for (int k = 0; k < j; ++k) djj -= L(j, k) * L(j, k);
+    L(j, j) = std::sqrt(djj);
+    for (int i = j + 1; i < N; ++i) {
+      double dij = D(i, j);
+      for (int k = 0; k < j; ++k) dij -= L(i, k) * L(j, k);
+      L(i, j) = dij / L(j, j);
+    }
+  }
+  for (int j = 0; j < N; ++j) {  // forward substitution, column by column
+    Linv(j, j) = 1.0 / L(j, j);
+    for (int i = j + 1; i < N; ++i) {
+      double sum = 0.0;
+      for (int k = j; k < i; ++k) sum -= L(i, k) * Linv(k, j);
+      Linv(i, j) = sum / L(i, i);
+    }
+  }
+  return Linv;
+}
+
+template <int N>
+void maba_pass1(const Link& l, CharacterData& data, LinkData& d) {
+  // Hinge and ball joints sit at the link origin (S = [axes; 0] in the link frame), so the world
+  // subspace is [R·axes; p × R·axes]; the root's S is the identity in its own frame.
+  Eigen::Matrix<double, 6, N> S;
+  for (int j = 0; j < N; ++j) {
+    const Eigen::Vector3d w = d.R * d.S.col(j).template head<3>();
+    S.col(j).template head<3>() = w;
+    S.col(j).template tail<3>() = d.p.cross(w);
+    if constexpr (N == 6) S.col(j).template tail<3>() += d.R * d.S.col(j).template tail<3>();
+  }
+  d.S_world.template leftCols<N>() = S;
+  const Vector6d vj = S * data.qd.template segment<N>(l.v_index);
+  d.v_world = l.parent < 0 ? vj : Vector6d(data.links[l.parent].v_world + vj);
+  d.c_world = spatial::cross_motion(d.v_world, vj);
+  const Eigen::Vector3d com = d.p + d.R * l.com;
+  const Eigen::Matrix3d I_com = spatial::rotate_symmetric(d.R.transpose(), l.inertia);
+  spatial::inertia(l.mass, com, I_com, d.I);
+  // p = v ×* (I v) from the momentum, without the 6×6 product: h = m (v_O + ω × c), L_O = I_c ω + c × h.
+  const Eigen::Vector3d w = d.v_world.head<3>();
+  const Eigen::Vector3d h = l.mass * (d.v_world.tail<3>() + w.cross(com));
+  Vector6d momentum;
+  momentum << I_com * w + com.cross(h), h;
+  d.f = spatial::cross_force(d.v_world, momentum);
+}
+
 template <int N>
 void maba_pass2(const Link& l, CharacterData& data, const Gains& gains, double dt_s, LinkData& d) {
   using MatS = Eigen::Matrix<double, 6, N>;
   using MatD = Eigen::Matrix<double, N, N>;
-  const MatS S = d.S_world;
+  const MatS S = d.S_world.template leftCols<N>();
   const MatS U = d.I * S;
   MatD D = S.transpose() * U;
   D.diagonal() += gains.kd.template segment<N>(l.v_index) * dt_s;  // thesis eq. 2.19: K_i = Kd,i Δt (zero for the root)
-  const MatD D_inv = D.inverse();
+  const MatD L_inv = inverse_cholesky_factor<N>(D);
+  const MatD D_inv = L_inv.transpose() * L_inv;
   const Eigen::Matrix<double, N, 1> u = data.Q.template segment<N>(l.v_index) - S.transpose() * d.f;
-  d.U = U;
-  // Element-wise copies: GCC 12 reports a false array-bounds error on Eigen's vectorised 1×1 copy.
-  for (int r = 0; r < N; ++r) {
-    d.u(r) = u(r);
-    for (int c = 0; c < N; ++c) d.D_inv(r, c) = D_inv(r, c);
-  }
+  d.U.template leftCols<N>() = U;
+  d.D_inv.template topLeftCorner<N, N>() = D_inv;
+  d.u.template head<N>() = u;
   if (l.parent < 0) return;
-  // thesis eqs. 2.24–2.25: I^a = I^A − U D⁻¹ Uᵀ; p^a = p^A + I^a c + U D⁻¹ (Q − Sᵀ p^A)
-  Matrix6d Ia = d.I - U * D_inv * U.transpose();
-  // Keep I^a exactly symmetric: asymmetric round-off grows geometrically along long chains
-  // (measured: 1e2 relative error at 195 DoF without this line, 1e-10 with it).
-  Ia = 0.5 * (Ia + Ia.transpose()).eval();
-  // thesis eqs. 2.26–2.29: accumulate into the parent (same coordinates: no transform)
+  // thesis eqs. 2.24–2.29: I^a = I^A − U D⁻¹ Uᵀ and p^a = p^A + I^a c + U D⁻¹ (Q − Sᵀ p^A), added
+  // to the parent (same coordinates: no transform). U D⁻¹ Uᵀ = V Vᵀ with V = U L⁻ᵀ is exactly
+  // symmetric in floating point (each entry's products and sums commute), so I^A stays symmetric
+  // without a symmetrising pass (asymmetric round-off grows geometrically along long chains:
+  // 1e2 relative error at 195 DoF).
+  const MatS V = U * L_inv.transpose();
   LinkData& p = data.links[l.parent];
-  p.I += Ia;
-  p.f += d.f + Ia * d.c_world + U * (D_inv * u);
+  p.I += d.I - V * V.transpose();
+  p.f += d.f + d.I * d.c_world + U * (D_inv * (u - U.transpose() * d.c_world));
 }
 
 template <int N>
@@ -86,9 +142,9 @@ void maba_pass3(const Link& l, CharacterData& data, const Gains& gains, double d
   Vector6d a_in = Vector6d::Zero();
   if (l.parent < 0) a_in.tail<3>() = -data.gravity;  // the fictitious upward acceleration
   else a_in = data.links[l.parent].a + d.c_world;
-  const Eigen::Matrix<double, 6, N> U = d.U, S = d.S_world;
-  const Eigen::Matrix<double, N, N> D_inv = d.D_inv;
-  const Eigen::Matrix<double, N, 1> u = d.u;
+  const Eigen::Matrix<double, 6, N> U = d.U.template leftCols<N>(), S = d.S_world.template leftCols<N>();
+  const Eigen::Matrix<double, N, N> D_inv = d.D_inv.template topLeftCorner<N, N>();
+  const Eigen::Matrix<double, N, 1> u = d.u.template head<N>();
   const Eigen::Matrix<double, N, 1> qdd = D_inv * (u - U.transpose() * a_in);
   data.qdd.template segment<N>(l.v_index) = qdd;
   d.a = a_in + S * qdd;
@@ -125,17 +181,11 @@ void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& 
   // products c_i = v_i × S_i q̇_i, rigid-body inertias and bias forces p_i = v_i ×* I_i v_i, all
   // in world coordinates.
   for (int i = 0; i < n; ++i) {
-    const Link& l = links[i];
-    LinkData& d = data.links[i];
-    for (int j = 0; j < l.nv; ++j) {
-      const Eigen::Vector3d w = d.R * d.S.col(j).head<3>();
-      d.S_world.col(j) << w, d.R * d.S.col(j).tail<3>() + d.p.cross(w);
+    switch (links[i].nv) {
+      case 1: maba_pass1<1>(links[i], data, data.links[i]); break;
+      case 3: maba_pass1<3>(links[i], data, data.links[i]); break;
+      default: maba_pass1<6>(links[i], data, data.links[i]); break;
     }
-    const Vector6d vj = d.S_world * data.qd.segment(l.v_index, l.nv);
-    d.v_world = l.parent < 0 ? vj : Vector6d(data.links[l.parent].v_world + vj);
-    d.c_world = spatial::cross_motion(d.v_world, vj);
-    d.I = spatial::inertia(l.mass, d.p + d.R * l.com, spatial::rotate_symmetric(d.R.transpose(), l.inertia));
-    d.f = spatial::cross_force(d.v_world, d.I * d.v_world);
   }
   // Pass 2 (leaves → root): articulated inertias and bias forces with the SPD term, with
   // fixed-size blocks per joint type (N = 1, 3, 6 DoF) so Eigen unrolls them.

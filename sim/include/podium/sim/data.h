@@ -29,12 +29,14 @@ struct LinkData {
   Vector6d a = Vector6d::Zero();   // spatial acceleration (MABA: world coordinates)
   Vector6d f = Vector6d::Zero();   // spatial force (RNEA) / bias force p^A (MABA, world coordinates)
   Matrix6d I = Matrix6d::Zero();   // composite (CRBA) / articulated (MABA, world coordinates) inertia
-  Matrix6Xd S_world;               // motion subspace in world coordinates at the world origin (MABA)
-  Vector6d v_world = Vector6d::Zero();  // velocity and velocity-product term, world coordinates (MABA)
+  // MABA caches, world coordinates. The per-joint blocks (6 × nv, nv × nv, nv) sit in the top-left
+  // corner of fixed 6-wide storage: fixed sizes keep the O(n) passes free of size checks.
+  Matrix6d S_world = Matrix6d::Zero();  // motion subspace at the world origin
+  Vector6d v_world = Vector6d::Zero();  // velocity and velocity-product term
   Vector6d c_world = Vector6d::Zero();
-  Matrix6Xd U;                     // I^A S (MABA)
-  MatrixJd D_inv;                  // (Sᵀ I^A S + K)⁻¹ (MABA, thesis eq. 2.18)
-  VectorJd u;                      // Q − Sᵀ p^A (MABA)
+  Matrix6d U = Matrix6d::Zero();       // I^A S
+  Matrix6d D_inv = Matrix6d::Zero();   // (Sᵀ I^A S + K)⁻¹ (thesis eq. 2.18)
+  Vector6d u = Vector6d::Zero();       // Q − Sᵀ p^A
 };
 
 class CharacterData {

@@ -1,6 +1,10 @@
 // Benchmark A: stable-PD cost per simulation step, MABA vs dense factorisation, on humanoid21,
 // humanoid34 and chains of 36, 72 and 195 DoF, beside the thesis's Tables 2.2/2.3. Also counts
 // heap allocations inside SPD and inside a full step (STYLE.md: none expected inside SPD).
+// "dense" and "MABA" are the public calls, each with its forward kinematics, so they compare like
+// with like. "SPD %" is SPD's share of the step as the step runs it: World::sim_step ends with
+// forward kinematics (collision detection and observations need the pose), and the next step's
+// MABA reuses that pose, so SPD adds MABA minus FK to a step.
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -61,7 +65,7 @@ int main() {
   };
   std::printf("Benchmark A: SPD per call (median of 7 runs, seed 1), full simulation step with MABA SPD at 600 Hz, lying on flat ground\n");
   std::printf("%-11s %4s %11s %11s %7s %8s %12s %9s %10s   thesis (PhysX, DF / MABA)\n", "model", "nv", "dense ns", "MABA ns", "ratio", "FK ns", "step ns",
-              "MABA %", "allocs");
+              "SPD %", "allocs");
   for (const Row& row : rows) {
     const CharacterModel& m = *row.model;
     podium::base::Rng rng(1);
@@ -97,6 +101,7 @@ int main() {
     std::printf("%-11s %4d %11.0f %11.0f %6.1fx %8.0f %12.0f %8.1f%% %4lld/%-5lld   %s%s\n", row.label, m.nv(), dense, maba, dense / maba, fk, step, 100.0 * (maba - fk) / step,
                 spd_allocs, step_allocs, row.thesis, world.data().qd.allFinite() ? "" : "  (STATE NOT FINITE: step time invalid)");
   }
+  std::printf("SPD %%: (MABA - FK) / step, SPD's share of a step that already has its pose\n");
   std::printf("allocs: C++ heap allocations (operator new) in one MABA SPD call / in one full step; Bullet allocates through malloc and is not counted\n");
   return 0;
 }

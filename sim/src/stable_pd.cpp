@@ -11,14 +11,17 @@ namespace podium::sim {
 
 namespace {
 
-// Rotation vector of q̄⁻¹ q: the spherical joint's "q − q̄" in the child frame.
+// Rotation vector of q̄⁻¹ q: the spherical joint's "q − q̄" in the child frame. Written out
+// (2 atan2(|v|, w) v/|v| on the shortest arc) instead of through Eigen::AngleAxis, whose
+// conversion cost humanoid34's SPD about 12% (callgrind).
 Eigen::Vector3d rotation_error(const Eigen::VectorXd& q, const Eigen::VectorXd& target, int i) {
   const Eigen::Quaterniond cur(q(i), q(i + 1), q(i + 2), q(i + 3));
   const Eigen::Quaterniond tgt(target(i), target(i + 1), target(i + 2), target(i + 3));
   Eigen::Quaterniond d = tgt.normalized().conjugate() * cur.normalized();
   if (d.w() < 0) d.coeffs() = -d.coeffs();  // shortest arc
-  const Eigen::AngleAxisd aa(d);
-  return aa.angle() * aa.axis();
+  const double s = d.vec().norm();
+  // sin(θ/2) = s: below 1e-12 the angle's series 2 s / w is exact to round-off.
+  return (s < 1e-12 ? 2.0 / d.w() : 2.0 * std::atan2(s, d.w()) / s) * d.vec();
 }
 
 }  // namespace

@@ -68,7 +68,7 @@ TEST(StablePdMaba, MatchesDenseWithRootServo) {
   EXPECT_LE(relative_error(maba.tau, dense.tau), 1e-8);
 }
 
-TEST(StablePd, TorquesSatisfyEquationsOfMotionAndSpdLaw) {
+TEST(StablePd, TorquesSatisfyEquationsOfMotionAndSpdLawOnHingesAndBalls) {
   const ModelPtr model = load_shipped_model("humanoid34");
   base::Rng rng(17);
   CharacterData data(*model);
@@ -91,6 +91,23 @@ TEST(StablePd, TorquesSatisfyEquationsOfMotionAndSpdLaw) {
     const double expected = -gains.kp(v) * (data.q(l.q_index) + dt * data.qd(v) - target(l.q_index)) - gains.kd(v) * (data.qd(v) + dt * qdd(v));
     EXPECT_NEAR(tau(v), expected, 1e-9 * std::max(1.0, std::abs(expected)));
   }
+  // Ball joints obey it with q − q̄ read as the rotation vector of q̄⁻¹q (shortest arc), here by
+  // Eigen's angle-axis conversion.
+  int balls = 0;
+  for (const Link& l : model->links()) {
+    if (l.joint != JointType::spherical) continue;
+    ++balls;
+    const int v = l.v_index, i = l.q_index;
+    const Eigen::Quaterniond cur(data.q(i), data.q(i + 1), data.q(i + 2), data.q(i + 3));
+    const Eigen::Quaterniond tgt(target(i), target(i + 1), target(i + 2), target(i + 3));
+    Eigen::Quaterniond d = tgt.normalized().conjugate() * cur.normalized();
+    if (d.w() < 0) d.coeffs() = -d.coeffs();
+    const Eigen::AngleAxisd aa(d);
+    const Eigen::Vector3d w = data.qd.segment<3>(v), wd = qdd.segment<3>(v);
+    const Eigen::Vector3d expected = -gains.kp.segment<3>(v).cwiseProduct(aa.angle() * aa.axis() + dt * w) - gains.kd.segment<3>(v).cwiseProduct(w + dt * wd);
+    EXPECT_LE((tau.segment<3>(v) - expected).norm(), 1e-9 * std::max(1.0, expected.norm()));
+  }
+  EXPECT_EQ(balls, 8);
   EXPECT_EQ(tau.head<6>().norm(), 0.0);  // the root is unactuated
 }
 

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "internal.h"
 #include "spatial.h"
 
@@ -25,6 +27,15 @@ CharacterData::CharacterData(const CharacterModel& model)
     const Link& l = model.links()[i];
     LinkData& d = links[i];
     spatial::inertia(l.mass, l.com, l.inertia, d.I_body);
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> principal(l.inertia);  // ascending moments
+    d.inertia_mid = principal.eigenvalues()(1);
+    for (int k : {0, 2}) {
+      // Differences below 1e-12 of the largest moment are round-off of a symmetric shape.
+      const double w = principal.eigenvalues()(k) - d.inertia_mid;
+      if (std::abs(w) <= 1e-12 * principal.eigenvalues()(2)) continue;
+      d.inertia_axis.col(d.inertia_axes) = principal.eigenvectors().col(k);
+      d.inertia_weight(d.inertia_axes++) = w;
+    }
     d.S = Matrix6Xd::Zero(6, l.nv);
     if (l.joint == JointType::free) d.S = Matrix6d::Identity();
     if (l.joint == JointType::spherical) d.S.topRows<3>().setIdentity();

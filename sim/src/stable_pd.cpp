@@ -66,25 +66,26 @@ namespace {
 // that way (callgrind instruction count).
 template <int N>
 Eigen::Matrix<double, N, N> inverse_cholesky_factor(const Eigen::Matrix<double, N, N>& D) {
+  // L column by column, then L⁻¹ by forward substitution; one division per column (the diagonal's
+  // reciprocal, which is also L⁻¹'s diagonal), since divisions are slow and serial.
   Eigen::Matrix<double, N, N> L = Eigen::Matrix<double, N, N>::Zero(), Linv = L;
   for (int j = 0; j < N; ++j) {
     double djj = D(j, j);
     for (int k = 0; k < j; ++k) djj -= L(j, k) * L(j, k);
     L(j, j) = std::sqrt(djj);
+    Linv(j, j) = 1.0 / L(j, j);
     for (int i = j + 1; i < N; ++i) {
       double dij = D(i, j);
       for (int k = 0; k < j; ++k) dij -= L(i, k) * L(j, k);
-      L(i, j) = dij / L(j, j);
+      L(i, j) = dij * Linv(j, j);
     }
   }
-  for (int j = 0; j < N; ++j) {  // forward substitution, column by column
-    Linv(j, j) = 1.0 / L(j, j);
+  for (int j = 0; j < N; ++j)
     for (int i = j + 1; i < N; ++i) {
       double sum = 0.0;
       for (int k = j; k < i; ++k) sum -= L(i, k) * Linv(k, j);
-      Linv(i, j) = sum / L(i, i);
+      Linv(i, j) = sum * Linv(i, i);
     }
-  }
   return Linv;
 }
 
@@ -104,7 +105,11 @@ void maba_pass1(const Link& l, CharacterData& data, LinkData& d) {
   d.v_world = l.parent < 0 ? vj : Vector6d(data.links[l.parent].v_world + vj);
   d.c_world = spatial::cross_motion(d.v_world, vj);
   const Eigen::Vector3d com = d.p + d.R * l.com;
-  const Eigen::Matrix3d I_com = spatial::rotate_symmetric(d.R.transpose(), l.inertia);
+  Eigen::Matrix3d I_com = d.inertia_mid * Eigen::Matrix3d::Identity();
+  for (int k = 0; k < d.inertia_axes; ++k) {
+    const Eigen::Vector3d e = d.R * d.inertia_axis.col(k);
+    I_com += (d.inertia_weight(k) * e) * e.transpose();
+  }
   spatial::inertia(l.mass, com, I_com, d.I);
   // p = v ×* (I v) from the momentum, without the 6×6 product: h = m (v_O + ω × c), L_O = I_c ω + c × h.
   const Eigen::Vector3d w = d.v_world.head<3>();
@@ -155,6 +160,22 @@ void maba_pass3(const Link& l, CharacterData& data, const Gains& gains, double d
   data.tau.template segment<N>(l.v_index) = data.Q.template segment<N>(l.v_index) - (gains.kd.template segment<N>(l.v_index) * dt_s).cwiseProduct(qdd);
 }
 
+// The free root without servo damping (K = 0, the default): its S (world) is invertible, so eq.
+// 2.18 for the root reduces to a = (I^A)⁻¹(S⁻ᵀQ − p^A) in world coordinates and q̈ = S⁻¹(a − a_in),
+// one 6×6 Cholesky instead of forming Sᵀ I^A S (the generic block measured 12% of humanoid21's
+// MABA time, perf). S = [R 0; p×R R] maps root to world coordinates: S⁻¹ is spatial::motion and
+// S⁻ᵀ spatial::force_to_parent with E = Rᵀ, r = p.
+void maba_root_undamped(CharacterData& data, LinkData& d) {
+  const Eigen::Matrix3d E = d.R.transpose();
+  const Vector6d f = spatial::force_to_parent(E, d.p, data.Q.head<6>()) - d.f;
+  const Matrix6d L_inv = inverse_cholesky_factor<6>(d.I);
+  d.a = L_inv.transpose() * (L_inv * f);
+  Vector6d a_in = Vector6d::Zero();
+  a_in.tail<3>() = -data.gravity;  // the fictitious upward acceleration
+  data.qdd.head<6>() = spatial::motion(E, d.p, d.a - a_in);
+  data.tau.head<6>() = data.Q.head<6>();
+}
+
 }  // namespace
 
 void stable_pd_dense(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s) {
@@ -192,11 +213,14 @@ void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& 
   }
   // Pass 2 (leaves → root): articulated inertias and bias forces with the SPD term, with
   // fixed-size blocks per joint type (N = 1, 3, 6 DoF) so Eigen unrolls them.
+  const bool root_undamped = gains.kd.head<6>().isZero();
   for (int i = n - 1; i >= 0; --i) {
     switch (links[i].nv) {
       case 1: maba_pass2<1>(links[i], data, gains, dt_s, data.links[i]); break;
       case 3: maba_pass2<3>(links[i], data, gains, dt_s, data.links[i]); break;
-      default: maba_pass2<6>(links[i], data, gains, dt_s, data.links[i]); break;
+      default:
+        if (!root_undamped) maba_pass2<6>(links[i], data, gains, dt_s, data.links[i]);
+        break;
     }
   }
   // Pass 3 (root → leaves): thesis eq. 2.18 for q̈_i, eq. 2.13 for a_i.
@@ -204,7 +228,10 @@ void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& 
     switch (links[i].nv) {
       case 1: maba_pass3<1>(links[i], data, gains, dt_s, data.links[i]); break;
       case 3: maba_pass3<3>(links[i], data, gains, dt_s, data.links[i]); break;
-      default: maba_pass3<6>(links[i], data, gains, dt_s, data.links[i]); break;
+      default:
+        if (root_undamped) maba_root_undamped(data, data.links[i]);
+        else maba_pass3<6>(links[i], data, gains, dt_s, data.links[i]);
+        break;
     }
   }
 }

@@ -51,13 +51,15 @@ TEST(StablePdMaba, MatchesDenseOn195DofChain) {
 }
 TEST(StablePdMaba, MatchesDenseOnRevoluteChain) { expect_maba_matches_dense(make_chain(30, JointType::revolute), 16); }
 
-TEST(StablePdMaba, MatchesDenseWithRootServo) {
+// The root servo with and without its damper: MABA solves an undamped root in world coordinates
+// and a damped one through Sᵀ I^A S + K (stable_pd.cpp), so both paths are checked.
+void expect_maba_matches_dense_with_root_servo(double root_kd, std::uint64_t seed) {
   const ModelPtr model = load_shipped_model("humanoid21");
-  base::Rng rng(19);
+  base::Rng rng(seed);
   CharacterData dense(*model), maba(*model);
   Gains gains = Gains::from_model(*model);
   gains.kp.head<6>().setConstant(20000.0);  // thesis §2.4.1 root servo
-  gains.kd.head<6>().setConstant(2000.0);
+  gains.kd.head<6>().setConstant(root_kd);
   random_state(*model, rng, dense.q, dense.qd);
   maba.q = dense.q;
   maba.qd = dense.qd;
@@ -66,7 +68,11 @@ TEST(StablePdMaba, MatchesDenseWithRootServo) {
   stable_pd_maba(*model, maba, gains, target, 1.0 / 60.0);
   EXPECT_GT(dense.tau.head<6>().norm(), 1.0);
   EXPECT_LE(relative_error(maba.tau, dense.tau), 1e-8);
+  EXPECT_LE(relative_error(maba.qdd, dense.qdd), 1e-8);
 }
+
+TEST(StablePdMaba, MatchesDenseWithRootServo) { expect_maba_matches_dense_with_root_servo(2000.0, 19); }
+TEST(StablePdMaba, MatchesDenseWithUndampedRootSpring) { expect_maba_matches_dense_with_root_servo(0.0, 20); }
 
 TEST(StablePd, TorquesSatisfyEquationsOfMotionAndSpdLawOnHingesAndBalls) {
   const ModelPtr model = load_shipped_model("humanoid34");

@@ -20,6 +20,13 @@ using VectorJd = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 /// Per-link caches. Spatial vectors are [angular; linear] in the link frame (Featherstone).
 struct LinkData {
   Matrix6d I_body = Matrix6d::Zero();  // link spatial inertia about its origin (constant)
+  // The COM inertia as λ_mid·1 + Σ_k w_k e_k e_kᵀ over the principal axes whose moment differs from
+  // the middle one (w_k = λ_k − λ_mid, link frame; 0 axes for a sphere, 1 for a capsule): rotating
+  // it to world is λ_mid·1 + Σ_k w_k (R e_k)(R e_k)ᵀ, cheaper than R I Rᵀ (MABA does it per link per call).
+  double inertia_mid = 0.0;
+  Eigen::Matrix<double, 3, 2> inertia_axis = Eigen::Matrix<double, 3, 2>::Zero();
+  Eigen::Vector2d inertia_weight = Eigen::Vector2d::Zero();
+  int inertia_axes = 0;
   Matrix6Xd S;                          // motion subspace in link frame, 6 × nv (constant)
   Eigen::Matrix3d E = Eigen::Matrix3d::Identity();  // rotation parent→link coordinates; forward_kinematics
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // link orientation in world; forward_kinematics

@@ -91,17 +91,22 @@ Eigen::Matrix<double, N, N> inverse_cholesky_factor(const Eigen::Matrix<double, 
 
 template <int N>
 void maba_pass1(const Link& l, CharacterData& data, LinkData& d) {
-  // Hinge and ball joints sit at the link origin (S = [axes; 0] in the link frame), so the world
-  // subspace is [R·axes; p × R·axes]; the root's S is the identity in its own frame.
-  Eigen::Matrix<double, 6, N> S;
-  for (int j = 0; j < N; ++j) {
-    const Eigen::Vector3d w = d.R * d.S.col(j).template head<3>();
-    S.col(j).template head<3>() = w;
-    S.col(j).template tail<3>() = d.p.cross(w);
-    if constexpr (N == 6) S.col(j).template tail<3>() += d.R * d.S.col(j).template tail<3>();
+  Vector6d vj;
+  if constexpr (N == 6) {
+    // The free root (ω and v in its own frame): vj = S q̇ = [R ω; p × R ω + R v] without forming S.
+    const Eigen::Vector3d w = d.R * data.qd.template head<3>();
+    vj << w, d.p.cross(w) + d.R * data.qd.template segment<3>(3);
+  } else {
+    // Hinge and ball joints sit at the link origin (S = [axes; 0] in the link frame), so the world
+    // subspace is [R·axes; p × R·axes].
+    Eigen::Matrix<double, 6, N> S;
+    for (int j = 0; j < N; ++j) {
+      const Eigen::Vector3d w = d.R * d.S.col(j).template head<3>();
+      S.col(j) << w, d.p.cross(w);
+    }
+    d.S_world.template leftCols<N>() = S;
+    vj = S * data.qd.template segment<N>(l.v_index);
   }
-  d.S_world.template leftCols<N>() = S;
-  const Vector6d vj = S * data.qd.template segment<N>(l.v_index);
   d.v_world = l.parent < 0 ? vj : Vector6d(data.links[l.parent].v_world + vj);
   d.c_world = spatial::cross_motion(d.v_world, vj);
   const Eigen::Vector3d com = d.p + d.R * l.com;
@@ -123,6 +128,9 @@ template <int N>
 void maba_pass2(const Link& l, CharacterData& data, const Gains& gains, double dt_s, LinkData& d) {
   using MatS = Eigen::Matrix<double, 6, N>;
   using MatD = Eigen::Matrix<double, N, N>;
+  if constexpr (N == 6) {  // the damped root: S = [R 0; p×R R] (world from root coordinates)
+    d.S_world << d.R, Eigen::Matrix3d::Zero(), spatial::cross_columns(d.p, d.R), d.R;
+  }
   const MatS S = d.S_world.template leftCols<N>();
   const MatS U = d.I * S;
   MatD D = S.transpose() * U;

@@ -8,9 +8,11 @@
 // Seed split: `--split dev` (landscape seeds 1001.., search seeds 100..) is for tuning; `--split
 // test` (landscape seeds 1..L, search seeds 0..S−1) is the one the bars were first reported on (and
 // has informed choices since); `--split holdout` (landscape seeds 3001.., search seeds 300..) is
-// for a final config's one run and must never inform a choice (bench/search/README.md).
+// for a final config's one run and must never inform a choice (bench/search/README.md); `--split
+// final` (landscape seeds 5001.., search seeds 500..) was added in session 4 and never used for a
+// decision: it is run once, by the lead engineer, on the config session 4 chose.
 //
-// Usage: search_diversity_bench [--split test|dev|holdout] [--landscapes 20] [--seeds 10] [--dim 3] [--regions 6]
+// Usage: search_diversity_bench [--split test|dev|holdout|final] [--landscapes 20] [--seeds 10] [--dim 3] [--regions 6]
 //          [--threshold 0.05] [--max-frequency 0] [--batch 1] [--threads 1] [--bds-config '{"stall": 0}'] [--novelty-config '{}']
 //          [--families plateaus,voronoi,plateaus_rough] [--algorithms bds,random,novelty] [--budgets 10,20,50]
 #include <algorithm>
@@ -134,8 +136,11 @@ int main(int argc, char** argv) {
   } else if (o.split == "holdout") {
     o.first_landscape = 3001;
     o.first_seed = 300;
+  } else if (o.split == "final") {
+    o.first_landscape = 5001;
+    o.first_seed = 500;
   } else if (o.split != "test") {
-    std::fprintf(stderr, "--split must be test, dev or holdout\n");
+    std::fprintf(stderr, "--split must be test, dev, holdout or final\n");
     return 2;
   }
   std::printf("split %s (landscape seeds %d.., search seeds %d..): ", o.split.c_str(), o.first_landscape, o.first_seed);

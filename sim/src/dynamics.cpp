@@ -67,17 +67,18 @@ void velocity_pass(const CharacterModel& model, CharacterData& data) {
   }
 }
 
+}  // namespace internal
+
+using internal::velocity_pass;
+
+namespace {
 // The fictitious upward acceleration −g that accounts for gravity, in root coordinates.
 Vector6d root_gravity_accel(const CharacterData& data) {
   Vector6d a = Vector6d::Zero();
   a.tail<3>() = -(data.links[0].E * data.gravity);
   return a;
 }
-
-}  // namespace internal
-
-using internal::root_gravity_accel;
-using internal::velocity_pass;
+}  // namespace
 
 void forward_kinematics(const CharacterModel& model, CharacterData& data) {
   const auto& links = model.links();

@@ -9,7 +9,6 @@
 namespace podium::sim::internal {
 
 void velocity_pass(const CharacterModel& model, CharacterData& data);
-Vector6d root_gravity_accel(const CharacterData& data);
 /// mass_matrix for data whose link poses already match data.q.
 void mass_matrix_posed(const CharacterModel& model, CharacterData& data);
 /// bias_forces for posed data (runs velocity_pass).

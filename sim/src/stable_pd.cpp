@@ -153,11 +153,17 @@ void maba_pass2(const Link& l, CharacterData& data, const Gains& gains, double d
   p.f += d.f + d.I * d.c_world + U * (D_inv * (u - U.transpose() * d.c_world));
 }
 
+// The fictitious upward acceleration −g that accounts for gravity, in world coordinates (the root's
+// a_in in MABA's frame).
+Vector6d world_gravity_accel(const CharacterData& data) {
+  Vector6d a = Vector6d::Zero();
+  a.tail<3>() = -data.gravity;
+  return a;
+}
+
 template <int N>
 void maba_pass3(const Link& l, CharacterData& data, const Gains& gains, double dt_s, LinkData& d) {
-  Vector6d a_in = Vector6d::Zero();
-  if (l.parent < 0) a_in.tail<3>() = -data.gravity;  // the fictitious upward acceleration
-  else a_in = data.links[l.parent].a + d.c_world;
+  const Vector6d a_in = l.parent < 0 ? world_gravity_accel(data) : Vector6d(data.links[l.parent].a + d.c_world);
   const Eigen::Matrix<double, 6, N> U = d.U.template leftCols<N>(), S = d.S_world.template leftCols<N>();
   const Eigen::Matrix<double, N, N> D_inv = d.D_inv.template topLeftCorner<N, N>();
   const Eigen::Matrix<double, N, 1> u = d.u.template head<N>();
@@ -178,9 +184,7 @@ void maba_root_undamped(CharacterData& data, LinkData& d) {
   const Vector6d f = spatial::force_to_parent(E, d.p, data.Q.head<6>()) - d.f;
   const Matrix6d L_inv = inverse_cholesky_factor<6>(d.I);
   d.a = L_inv.transpose() * (L_inv * f);
-  Vector6d a_in = Vector6d::Zero();
-  a_in.tail<3>() = -data.gravity;  // the fictitious upward acceleration
-  data.qdd.head<6>() = spatial::motion(E, d.p, d.a - a_in);
+  data.qdd.head<6>() = spatial::motion(E, d.p, d.a - world_gravity_accel(data));
   data.tau.head<6>() = data.Q.head<6>();
 }
 

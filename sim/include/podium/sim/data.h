@@ -14,8 +14,6 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 /// 6 × (≤ 6) and (≤ 6) × (≤ 6) per-joint blocks, stored inline (no heap).
 using Matrix6Xd = Eigen::Matrix<double, 6, Eigen::Dynamic, 0, 6, 6>;
-using MatrixJd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
-using VectorJd = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 
 /// Per-link caches. Spatial vectors are [angular; linear] in the link frame (Featherstone).
 struct LinkData {

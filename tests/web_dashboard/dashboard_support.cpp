@@ -13,7 +13,7 @@
 
 namespace podium::web_dashboard::testing {
 
-int raw_status(int port, const std::string& request_line) {
+int raw_status(int port, const std::string& request_line, const std::string& host) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
   sockaddr_in addr{};
   addr.sin_family = AF_INET;
@@ -23,7 +23,7 @@ int raw_status(int port, const std::string& request_line) {
     ::close(fd);
     throw std::runtime_error("cannot connect to port " + std::to_string(port));
   }
-  const std::string request = request_line + "\r\nHost: 127.0.0.1\r\nConnection: close\r\n\r\n";
+  const std::string request = request_line + "\r\nHost: " + host + "\r\nConnection: close\r\n\r\n";
   if (::send(fd, request.data(), request.size(), 0) != static_cast<ssize_t>(request.size())) {
     ::close(fd);
     throw std::runtime_error("send failed");

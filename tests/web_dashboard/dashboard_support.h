@@ -18,9 +18,10 @@ using base::Json;
 
 class RunningServer {
  public:
-  explicit RunningServer(const std::filesystem::path& database) {
+  explicit RunningServer(const std::filesystem::path& database, double header_timeout_s = 5.0) {
     ServeOptions options;
     options.database = database;
+    options.header_timeout_s = header_timeout_s;
     options.port = 0;
     options.static_dir = PODIUM_TEST_WEB_DIR;
     server_ = std::make_unique<Server>(options);
@@ -52,8 +53,9 @@ class RunningServer {
   std::thread thread_;
 };
 
-/// Sends `request_line` (e.g. "GET /../x HTTP/1.1") verbatim; returns the response's status code.
-int raw_status(int port, const std::string& request_line);
+/// Sends `request_line` (e.g. "GET /../x HTTP/1.1") verbatim with the given Host header; returns
+/// the response's status code.
+int raw_status(int port, const std::string& request_line, const std::string& host = "127.0.0.1");
 
 /// Percent-encodes every byte but RFC 3986's unreserved characters.
 std::string url_encode(const std::string& text);

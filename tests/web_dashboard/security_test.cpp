@@ -3,11 +3,19 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <fstream>
 #include <thread>
 
 #include "dashboard_support.h"
+#include "podium/base/error.h"
 #include "podium/store/store.h"
 
 namespace podium::web_dashboard {
@@ -32,6 +40,7 @@ struct ArtifactFixture {
     podium::testing::write_file(runs / "trial-0" / "ok.txt", "inside\n");
     podium::testing::write_file(dir / "secret.txt", "outside\n");
     fs::create_symlink(dir / "secret.txt", runs / "trial-0" / "link.txt");
+    fs::create_hard_link(dir / "secret.txt", runs / "trial-0" / "hard.txt");
     auto s = store::Store::open(db, store::Store::Access::read_write);
     store::NewStage stage{"s", "landscape", "random"};
     stage.budget_trials = 1;
@@ -43,7 +52,8 @@ struct ArtifactFixture {
                        {"dotdot", (runs / "trial-0" / ".." / ".." / "secret.txt").string(), "", 8},
                        {"symlink", (runs / "trial-0" / "link.txt").string(), "", 8},
                        {"system", "/etc/passwd", "", 1},
-                       {"prefix", (dir / "runs-evil" / "x").string(), "", 1}});
+                       {"prefix", (dir / "runs-evil" / "x").string(), "", 1},
+                       {"hardlink", (runs / "trial-0" / "hard.txt").string(), "", 8}});
   }
 };
 
@@ -66,7 +76,7 @@ TEST(Security, ArtifactsOutsideTheRunFolderAreRefused) {
   ASSERT_TRUE(ok);
   EXPECT_EQ(ok->status, 200);
   EXPECT_EQ(ok->body, "inside\n");
-  for (int i = 1; i <= 5; ++i) {
+  for (int i = 1; i <= 6; ++i) {
     const auto r = client.Get((base + std::to_string(i)).c_str());
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 403) << "artifact " << i;
@@ -77,6 +87,115 @@ TEST(Security, ArtifactsOutsideTheRunFolderAreRefused) {
     const int status = raw_status(server.port(), "GET " + base + hostile + " HTTP/1.1");
     EXPECT_TRUE(status == 400 || status == 404) << hostile << " -> " << status;
   }
+}
+
+// A Range past the end of a streamed artifact is 416, as for the in-memory static files
+// (it was 206 with Content-Length 18446743973709551733).
+TEST(Security, UnsatisfiableRangesAre416OnArtifactsAndStaticFiles) {
+  ArtifactFixture f;
+  RunningServer server(f.db);
+  const std::string artifact = "GET /api/trials/" + std::to_string(f.trial) + "/artifacts/0 HTTP/1.1";
+  EXPECT_EQ(raw_status(server.port(), artifact + "\r\nRange: bytes=99999999999-"), 416);
+  EXPECT_EQ(raw_status(server.port(), artifact + "\r\nRange: bytes=7-"), 416);  // ok.txt has 7 bytes
+  EXPECT_EQ(raw_status(server.port(), artifact + "\r\nRange: bytes=2-3"), 206);
+  EXPECT_EQ(raw_status(server.port(), "GET /index.html HTTP/1.1\r\nRange: bytes=99999999999-"), 416);
+}
+
+// DNS rebinding: a page of evil.example resolving to 127.0.0.1 sends Host: evil.example.
+TEST(Security, OnlyTheBoundHostNamesAreServed) {
+  ArtifactFixture f;
+  RunningServer server(f.db);
+  const std::string port = std::to_string(server.port());
+  for (const std::string& host : std::vector<std::string>{"evil.example", "evil.example:" + port, "127.0.0.1.evil.example", "", "10.0.0.1"})
+    EXPECT_EQ(raw_status(server.port(), "GET /api/campaigns HTTP/1.1", host), 403) << "Host: " << host;
+  for (const std::string& host : std::vector<std::string>{"127.0.0.1", "127.0.0.1:" + port, "localhost:" + port, "LOCALHOST", "[::1]:" + port})
+    EXPECT_EQ(raw_status(server.port(), "GET /api/campaigns HTTP/1.1", host), 200) << "Host: " << host;
+}
+
+// A client that starts a request header; send_byte() adds one more byte of it.
+class SlowClient {
+ public:
+  explicit SlowClient(int port) : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
+    sockaddr_in addr{};
+    addr.sin_family = AF_INET;
+    addr.sin_port = htons(static_cast<std::uint16_t>(port));
+    addr.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) == 0;
+    const std::string start = "GET /api/campaigns HTTP/1.1\r\nHost: 127.0.0.1\r\nX-Slow: ";
+    if (connected_) connected_ = ::send(fd_, start.data(), start.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(start.size());
+  }
+  ~SlowClient() { ::close(fd_); }
+  bool connected() const { return connected_; }
+  void send_byte() { connected_ = connected_ && ::send(fd_, "a", 1, MSG_NOSIGNAL) == 1; }
+  /// True once the server has closed the connection (recv gives 0 or an error, not "no data yet").
+  bool closed_by_server() const {
+    char c;
+    const ssize_t n = ::recv(fd_, &c, 1, MSG_DONTWAIT);
+    return n == 0 || (n < 0 && errno != EAGAIN && errno != EWOULDBLOCK);
+  }
+
+ private:
+  int fd_;
+  bool connected_ = false;
+};
+
+// Eight clients trickling a header (one byte every 200 ms) kept 9/9 normal GETs unanswered:
+// they held all of httplib's 8 threads, and its per-recv timeout never fired.
+TEST(Serve, SlowHeaderClientsLeaveWorkersForFreshRequests) {
+  ArtifactFixture f;
+  RunningServer server(f.db, 600.0);  // no deadline during this test: the slow clients stay
+  std::vector<std::unique_ptr<SlowClient>> slow;
+  for (int i = 0; i < 8; ++i) slow.push_back(std::make_unique<SlowClient>(server.port()));
+  std::atomic<bool> stop = false;
+  std::thread trickle([&] {
+    while (!stop) {
+      for (auto& c : slow) c->send_byte();
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+  });
+  int answered = 0;
+  for (int i = 0; i < 9; ++i) {
+    auto client = server.client();
+    client.set_read_timeout(20);
+    const auto r = client.Get("/api/version");
+    answered += r && r->status == 200;
+  }
+  stop = true;
+  trickle.join();
+  EXPECT_EQ(answered, 9);
+  for (const auto& c : slow) EXPECT_TRUE(c->connected() && !c->closed_by_server()) << "a slow client was cut off early";
+}
+
+TEST(Serve, AHeaderNotWholeWithinTheDeadlineClosesTheConnection) {
+  ArtifactFixture f;
+  RunningServer server(f.db, 0.5);
+  SlowClient c(server.port());
+  ASSERT_TRUE(c.connected());
+  int bytes = 0;
+  for (; bytes < 100 && !c.closed_by_server(); ++bytes) {
+    c.send_byte();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(c.closed_by_server()) << "still open after a 10 s header";
+  auto client = server.client();
+  const auto r = client.Get("/api/version");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+}
+
+TEST(Serve, ATakenPortIsAnError) {
+  ArtifactFixture f;
+  RunningServer first(f.db);
+  ServeOptions options;
+  options.database = f.db;
+  options.port = first.port();
+  options.static_dir = PODIUM_TEST_WEB_DIR;
+  Server second(options);
+  EXPECT_THROW(second.bind(), base::RuntimeError);
+  const auto r = podium::testing::run_podium({"serve", "--db", f.db.string(), "--port", std::to_string(first.port())},
+                                             f.dir.path());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find(std::to_string(first.port())), std::string::npos) << r.err;
 }
 
 TEST(Security, HostileParametersAreBoundNeverSpliced) {

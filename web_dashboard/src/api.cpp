@@ -329,6 +329,8 @@ fs::path artifact_file(const Queries& q, const fs::path& database, std::int64_t 
   // A stored path is data, not trust: it must resolve (symlinks and ".." included) into the run folder.
   if (ec || !inside(file, root)) throw HttpError(403, "artifact outside the campaign's run folder");
   if (!fs::is_regular_file(file)) throw HttpError(404, "artifact file " + file.string() + " is missing");
+  // A hard link cannot be told from the file it shares: only a file with no other name is served.
+  if (fs::hard_link_count(file, ec) != 1) throw HttpError(403, "artifact has other hard links (maybe outside the run folder)");
   return file;
 }
 

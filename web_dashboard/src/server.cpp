@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "api.h"
+#include "guarded_http.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "pool.h"
@@ -77,9 +78,24 @@ void send_json(httplib::Response& res, const Json& body) {
   res.set_content(body.dump(), "application/json");
 }
 
+// True if every requested byte range starts inside a file of `size` bytes (RFC 9110 §14.1.2;
+// httplib checks this for in-memory bodies but not for streamed ones).
+bool satisfiable(const httplib::Ranges& ranges, std::uintmax_t size) {
+  for (const auto& [first, last] : ranges) {
+    if (first < 0 ? last <= 0 : static_cast<std::uintmax_t>(first) >= size || (last >= 0 && last < first)) return false;
+  }
+  return true;
+}
+
 // A file streamed in chunks (checkpoints can be large).
-void send_file(httplib::Response& res, const fs::path& file, const std::string& mime, bool attachment) {
+void send_file(const httplib::Request& req, httplib::Response& res, const fs::path& file, const std::string& mime,
+               bool attachment) {
   const auto size = fs::file_size(file);
+  if (!satisfiable(req.ranges, size)) {
+    res.status = 416;
+    res.set_header("Content-Range", "bytes */" + std::to_string(size));
+    return;
+  }
   auto in = std::make_shared<std::ifstream>(file, std::ios::binary);
   if (attachment) {
     std::string name = file.filename().string();
@@ -141,11 +157,16 @@ struct Server::Impl {
   std::unique_ptr<store::Queries> watch;  // one connection, so its data_version is one sequence
   StaticFiles files;
   ResponseCache cache;
-  httplib::Server http;
+  GuardedHttpServer http;
   int port = 0;
 
+  // 16 threads: slow clients hold one each until the header deadline, fresh requests get the rest.
   explicit Impl(const ServeOptions& o)
-      : options(o), pool(o.database), watch(store::Queries::open(o.database)), files(o.static_dir) {}
+      : options(o),
+        pool(o.database),
+        watch(store::Queries::open(o.database)),
+        files(o.static_dir),
+        http(o.host, o.header_timeout_s, 16) {}
 
   // Runs a handler; HttpError and any other exception become a JSON error response.
   template <class Fn>
@@ -192,6 +213,12 @@ struct Server::Impl {
     http.set_tcp_nodelay(true);  // headers and body go out in separate writes: no Nagle delay
     http.set_keep_alive_timeout(2);  // an idle keep-alive connection holds a pool thread
     http.set_payload_max_length(64 * 1024);
+    // SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, which lets a second `podium serve`
+    // share the port (and answer half the requests from another database).
+    http.set_socket_options([](socket_t sock) {
+      int yes = 1;
+      ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
     http.Get("/api/version", api([this](const auto&, auto& res) { send_json(res, {{"data_version", data_version()}}); }));
     http.Get("/api/campaigns", json([](const auto&, const store::Queries& q) {
       return campaign_list(q, store::now_unix_s());
@@ -225,12 +252,12 @@ struct Server::Impl {
     http.Get(R"(/api/trials/([^/]+)/artifacts/([^/]+))", api([this](const auto& req, auto& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
       const auto index = static_cast<std::size_t>(parse_int(req.matches[2], "artifact", 0, 1'000'000));
-      send_file(res, artifact_file(*pool.acquire(), options.database, id, index), "application/octet-stream", true);
+      send_file(req, res, artifact_file(*pool.acquire(), options.database, id, index), "application/octet-stream", true);
     }));
     http.Get(R"(/api/trials/([^/]+)/trajectory)", api([this](const auto& req, auto& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
       auto q = pool.acquire();
-      send_file(res, artifact_file(*q, options.database, id, artifact_index(*q, id, "trajectory")),
+      send_file(req, res, artifact_file(*q, options.database, id, artifact_index(*q, id, "trajectory")),
                 "application/x-ndjson", false);  // sim/'s JSON-lines trajectory file
     }));
     http.Get(R"(/api/.*)", api([](const auto& req, auto&) -> void { throw HttpError(404, "no endpoint " + req.path); }));

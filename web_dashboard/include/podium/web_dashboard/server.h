@@ -7,6 +7,8 @@
 /// response is sent, so no read transaction outlives a request and a running scheduler (WAL
 /// mode) is never blocked. Server threads run at a lower CPU priority (nice +10) than the scheduler. API responses are cached by URL
 /// and database version (SQLite's data_version): repeated requests cost nothing until a commit.
+/// A request header must arrive whole within header_timeout_s (slow clients are cut off); the
+/// Host header must name the bound address (see guarded_http.h); a taken port is an error.
 #include <filesystem>
 #include <memory>
 #include <ostream>
@@ -20,6 +22,7 @@ struct ServeOptions {
   int port = 8080;                  ///< 0: any free port (see Server::port())
   std::filesystem::path static_dir; ///< the built front end (index.html, vendor/...)
   bool cache = true;                ///< reuse an API response while the database is unchanged
+  double header_timeout_s = 5.0;    ///< a request header must arrive whole within this time
 };
 
 class Server {

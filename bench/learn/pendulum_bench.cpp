@@ -1,6 +1,7 @@
 // Trains PPO or SAC on the pendulum swing-up and prints the learning curve, wall-time split
 // (rollout vs update) and the final deterministic evaluation.
 // Usage: learn_pendulum_bench ppo|sac SEED ENV_STEPS [COPIES] [THREADS] [CONFIG_JSON]
+// e.g. the update-to-data ratio: learn_pendulum_bench sac 1 6000 1 1 '{"updates_per_step": 0.25}'
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>

@@ -4,6 +4,7 @@
 
 #include <mutex>
 
+#include "podium/base/config.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/learn/ppo.h"
@@ -15,7 +16,6 @@ namespace {
 
 // Applies `overrides` on top of a preset's JSON, so unknown fields are still reported.
 base::Json merged(base::Json preset, const base::Json& overrides) {
-  if (!overrides.is_object()) throw base::UserError("learner spec: config: " + overrides.dump() + " is not an object");
   for (const auto& [key, value] : overrides.items()) preset[key] = value;
   return preset;
 }
@@ -24,25 +24,19 @@ base::Json merged(base::Json preset, const base::Json& overrides) {
 
 std::unique_ptr<Learner> make_learner(const base::Json& spec, const BoxSpace& observation_space,
                                       const BoxSpace& action_space, std::uint64_t seed) {
-  const std::string algorithm = spec.value("algorithm", "");
-  const std::string preset = spec.value("preset", "quick");
-  if (preset != "quick" && preset != "paper")
-    throw base::UserError("learner spec: preset: \"" + preset + "\" is not one of quick, paper");
-  const base::Json overrides = spec.value("config", base::Json::object());
-  for (const auto& [key, value] : spec.items())
-    if (key != "algorithm" && key != "preset" && key != "config")
-      throw base::UserError("learner spec: unknown field \"" + key + "\"");
-  if (algorithm == "ppo") {
-    const PpoConfig base_config = preset == "paper" ? PpoConfig::paper() : PpoConfig{};
-    return std::make_unique<Ppo>(PpoConfig::from_json(merged(base_config.to_json(), overrides)), observation_space,
-                                 action_space, seed);
-  }
+  base::ConfigReader r(spec, "", "learner spec");
+  const std::string algorithm = r.choice("algorithm", base::required, {"ppo", "sac"});
+  const std::string preset = r.choice("preset", "quick", {"quick", "paper"});
+  const base::Json overrides = r.raw_object("config");
+  r.finish();
   if (algorithm == "sac") {
     const SacConfig base_config = preset == "paper" ? SacConfig::paper() : SacConfig::quick();
     return std::make_unique<Sac>(SacConfig::from_json(merged(base_config.to_json(), overrides)), observation_space,
                                  action_space, seed);
   }
-  throw base::UserError("learner spec: algorithm: \"" + algorithm + "\" is not one of ppo, sac");
+  const PpoConfig base_config = preset == "paper" ? PpoConfig::paper() : PpoConfig{};  // "ppo", the other choice
+  return std::make_unique<Ppo>(PpoConfig::from_json(merged(base_config.to_json(), overrides)), observation_space,
+                               action_space, seed);
 }
 
 std::vector<double> evaluate(Learner& learner, Env& env, int episodes, bool deterministic) {
@@ -54,7 +48,7 @@ std::vector<double> evaluate(Learner& learner, Env& env, int episodes, bool dete
     env.reset(observation);
     double total = 0.0;
     do {
-      learner.act(observation, action, deterministic);
+      learner.act(observation, action, deterministic, env.action_scale());
       env.step(action, result);
       total += result.reward;
       observation = result.observation;

@@ -7,6 +7,7 @@
 #include <torch/serialize/archive.h>
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,9 @@ torch::Tensor normalized_batch(const RunningNormalizer& normalizer, const std::v
 
 /// Polyak averaging target ← (1 − τ)·target + τ·source.
 void soft_update(torch::nn::Module& target, const torch::nn::Module& source, double tau);
+/// Makes glibc keep freed memory for reuse instead of returning it to the system (process-wide,
+/// once): per-update tensors then stop page-faulting. Results do not change.
+void keep_freed_memory();
 /// Copies `source`'s parameters into `target` (same architecture).
 void hard_update(torch::nn::Module& target, const torch::nn::Module& source);
 /// Sets the learning rate of every parameter group of an Adam optimiser.
@@ -56,8 +60,14 @@ struct PolicyHead {
   double bound = 1.0;           // β
   std::vector<double> low, high;  // the environment's action box
 };
-/// Builds and saves a torch::jit::Module computing the deterministic policy.
+/// The deterministic action of `net` for one observation, as every act() computes it: normalise
+/// (float64) → network (float32) → β·s·tanh(mean) or clip(mean, −1, 1) → the action box, with
+/// β = head.bound and s = `scale`. Thread-safe for concurrent callers sharing `net`.
+void deterministic_action(Mlp net, const RunningNormalizer* normalizer, const PolicyHead& head,
+                          std::span<const double> observation, std::span<double> action, double scale);
+/// Builds and saves a torch::jit::Module computing the deterministic policy; `record` (the
+/// policy_record() of policy_file.h) is stored in it as the string attribute "podium_policy".
 void export_policy(const std::filesystem::path& path, const Mlp& net, const RunningNormalizer* normalizer,
-                   std::size_t observation_size, const PolicyHead& head);
+                   std::size_t observation_size, const PolicyHead& head, const base::Json& record);
 
 }  // namespace podium::learn::detail

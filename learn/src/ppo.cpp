@@ -15,6 +15,7 @@
 
 #include "config_json.h"
 #include "nets.h"
+#include "policy_file.h"
 #include "podium/base/error.h"
 
 namespace podium::learn {
@@ -76,8 +77,20 @@ struct Ppo::Impl {
     setup_blas();
     detail::init_mlp(policy, rng, 0.01);
     detail::init_mlp(value, rng, 1.0);
-    policy_opt = std::make_unique<torch::optim::Adam>(policy->parameters(), torch::optim::AdamOptions(c.policy_lr_start));
-    value_opt = std::make_unique<torch::optim::Adam>(value->parameters(), torch::optim::AdamOptions(c.value_lr_start));
+    make_optimizers();
+  }
+
+  void make_optimizers() {
+    policy_opt = std::make_unique<torch::optim::Adam>(policy->parameters(), torch::optim::AdamOptions(config.policy_lr_start));
+    value_opt = std::make_unique<torch::optim::Adam>(value->parameters(), torch::optim::AdamOptions(config.value_lr_start));
+  }
+  const RunningNormalizer* used_normalizer() const { return config.normalize_observations ? &normalizer : nullptr; }
+  detail::PolicyHead head() const { return {int(n_act), false, 1.0, action_space.low, action_space.high}; }
+  base::Json record() const { return detail::policy_record("ppo", policy, n_obs, action_space, 1.0, used_normalizer()); }
+  static void check_scale(double scale, const char* where) {
+    if (scale != 1.0)
+      throw base::UserError(std::string("ppo: ") + where + ": action_scale " + std::to_string(scale) +
+                            " is not 1; per-copy action bounds are SAC's (get-up seed §5)");
   }
 
   static double schedule(double start, double end, std::int64_t step, std::int64_t span) {
@@ -111,6 +124,7 @@ struct Ppo::Impl {
     {
       torch::NoGradGuard no_grad;
       for (std::int64_t t = 0; t < T; ++t) {
+        for (std::size_t i = 0; i < envs.size(); ++i) check_scale(envs.action_scale(i), "environment copy");
         auto obs = observe(envs, true);
         auto mu = policy->forward(obs);
         auto v = value->forward(obs).reshape({K});
@@ -208,9 +222,10 @@ struct Ppo::Impl {
     stats.update_seconds += std::chrono::duration<double>(t2 - t1).count();
   }
 
-  base::Json state_json(const VecEnv& envs) const {
+  base::Json state_json(const VecEnv& envs, const base::Json& user_state) const {
     return {{"config", config.to_json()}, {"env_steps", env_steps}, {"iteration", iteration},
-            {"rng", rng.save()}, {"normalizer", normalizer.save()}, {"envs", envs.save_state()}};
+            {"rng", rng.save()}, {"normalizer", normalizer.save()}, {"envs", envs.save_state()},
+            {"policy", record()}, {"user_state", user_state}};
   }
 };
 
@@ -239,18 +254,20 @@ void Ppo::train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCal
   }
 }
 
-void Ppo::act(std::span<const double> observation, std::span<double> action, bool deterministic) {
+void Ppo::act(std::span<const double> observation, std::span<double> action, bool deterministic, double action_scale) {
   auto& m = *impl_;
   PODIUM_CHECK(observation.size() == m.n_obs && action.size() == m.n_act, "ppo act: observation/action sizes");
+  m.check_scale(action_scale, "act");
+  if (deterministic) return detail::deterministic_action(m.policy, m.used_normalizer(), m.head(), observation, action, 1.0);
   torch::NoGradGuard no_grad;
   auto mu = m.policy->forward(m.batch(std::vector<double>(observation.begin(), observation.end()), 1));
-  if (!deterministic) mu = mu + m.sigma() * detail::normal_tensor(m.rng, {1, std::int64_t(m.n_act)});
+  mu = mu + m.sigma() * detail::normal_tensor(m.rng, {1, std::int64_t(m.n_act)});
   auto p = mu.accessor<float, 2>();
   for (std::size_t j = 0; j < m.n_act; ++j)
     action[j] = m.center[j] + m.half[j] * std::clamp<double>(p[0][std::int64_t(j)], -1.0, 1.0);
 }
 
-void Ppo::save_checkpoint(const std::filesystem::path& path, const VecEnv& envs) const {
+void Ppo::save_checkpoint(const std::filesystem::path& path, const VecEnv& envs, const base::Json& user_state) const {
   torch::serialize::OutputArchive archive, policy, value, policy_opt, value_opt;
   impl_->policy->save(policy);
   impl_->value->save(value);
@@ -260,11 +277,11 @@ void Ppo::save_checkpoint(const std::filesystem::path& path, const VecEnv& envs)
   archive.write("value", value);
   archive.write("policy_opt", policy_opt);
   archive.write("value_opt", value_opt);
-  detail::write_json(archive, "state", impl_->state_json(envs));
+  detail::write_json(archive, "state", impl_->state_json(envs, user_state));
   archive.save_to(path.string());
 }
 
-void Ppo::load_checkpoint(const std::filesystem::path& path, VecEnv& envs) {
+base::Json Ppo::load_checkpoint(const std::filesystem::path& path, VecEnv& envs) {
   torch::serialize::InputArchive archive, policy, value, policy_opt, value_opt;
   archive.load_from(path.string());
   const base::Json state = detail::read_json(archive, "state");
@@ -284,12 +301,27 @@ void Ppo::load_checkpoint(const std::filesystem::path& path, VecEnv& envs) {
   impl_->rng.load(state.at("rng").get<std::string>());
   impl_->normalizer.load(state.at("normalizer"));
   envs.load_state(state.at("envs"));
+  return state.at("user_state");
+}
+
+void Ppo::warm_start(const std::filesystem::path& policy) {
+  auto& m = *impl_;
+  auto source = detail::read_policy_file(policy);
+  detail::check_warm_start(source, m.record(), policy);
+  detail::hard_update(*m.policy, *source.net);
+  if (source.normalizer) m.normalizer = *source.normalizer;
+  if (source.checkpoint) {
+    torch::serialize::InputArchive value;
+    source.archive.read("value", value);
+    m.value->load(value);
+  }
+  m.make_optimizers();
+  m.env_steps = 0;
+  m.iteration = 0;
 }
 
 void Ppo::export_torchscript(const std::filesystem::path& path) const {
-  detail::PolicyHead head{int(impl_->n_act), false, 1.0, impl_->action_space.low, impl_->action_space.high};
-  detail::export_policy(path, impl_->policy, impl_->config.normalize_observations ? &impl_->normalizer : nullptr,
-                        impl_->n_obs, head);
+  detail::export_policy(path, impl_->policy, impl_->used_normalizer(), impl_->n_obs, impl_->head(), impl_->record());
 }
 
 std::vector<float> Ppo::parameters() const {

@@ -158,11 +158,18 @@ std::vector<double> PoseVae::train(const PoseDataset& data) {
   return losses;
 }
 
-std::vector<double> PoseVae::encode(std::span<const double> pose, std::span<const double> condition) const {
+PoseVae::Posterior PoseVae::posterior(std::span<const double> pose, std::span<const double> condition) const {
   auto& m = *impl_;
   torch::NoGradGuard no_grad;
-  auto mu = m.encode(m.vec(pose, m.n_pose, "pose"), m.vec(condition, m.n_cond, "condition")).first.contiguous();
-  return {mu.data_ptr<float>(), mu.data_ptr<float>() + m.n_latent};
+  auto [mu, log_var] = m.encode(m.vec(pose, m.n_pose, "pose"), m.vec(condition, m.n_cond, "condition"));
+  // The same σ as the reparameterisation in train().
+  auto mean = mu.contiguous(), std = torch::exp(0.5 * log_var).contiguous();
+  return {{mean.data_ptr<float>(), mean.data_ptr<float>() + m.n_latent},
+          {std.data_ptr<float>(), std.data_ptr<float>() + m.n_latent}};
+}
+
+std::vector<double> PoseVae::encode(std::span<const double> pose, std::span<const double> condition) const {
+  return posterior(pose, condition).mean;
 }
 
 std::vector<double> PoseVae::decode(std::span<const double> latent, std::span<const double> condition) const {
@@ -220,14 +227,6 @@ void PoseVae::load(const std::filesystem::path& path) {
   m.cond_mean = mean;
   m.cond_std = std;
   m.rng.load(state.at("rng").get<std::string>());
-}
-
-double naturalness_reward(std::span<const double> offsets, double max_offset) {
-  if (!(max_offset > 0)) throw base::UserError("naturalness_reward: max_offset " + std::to_string(max_offset) + " is not > 0");
-  double l1 = 0.0;
-  for (double o : offsets) l1 += std::abs(o);
-  const double r = l1 / max_offset;
-  return 1.0 - std::clamp(r * r, 0.0, 1.0);
 }
 
 std::vector<double> pose_action_to_target(const PoseVae& vae, std::span<const double> action,

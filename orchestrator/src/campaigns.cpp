@@ -1,8 +1,10 @@
 #include "podium/orchestrator/campaigns.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
+#include "podium/base/config.h"
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
 #include "podium/orchestrator/spec.h"
@@ -16,7 +18,24 @@ namespace podium::orchestrator {
 using base::Json;
 using base::UserError;
 
-std::int64_t submit_campaign(store::Store& store, const Json& spec_json, const std::string& source,
+namespace {
+
+// What a stage's inputs need of the earlier stages they select from (described just before).
+void check_inputs(const InputsSpec& inputs, const std::vector<store::NewStage>& earlier, const std::string& path) {
+  for (const auto& name : inputs.stages) {
+    const auto& from = *std::find_if(earlier.begin(), earlier.end(), [&](const auto& e) { return e.name == name; });
+    const std::string which = "stage \"" + name + "\" (task " + from.task + ")";
+    if (inputs.select == "best_per_strategy" && from.description.value("features", Json::array()).empty())
+      throw UserError(path + ".select: \"best_per_strategy\" needs strategy features, but " + which + " declares none");
+    if (inputs.select != "all" && from.description.value("objectives", Json::array()).empty())
+      throw UserError(path + ".select: \"" + inputs.select + "\" ranks trials by their primary objective, but " + which +
+                      " declares no objectives");
+  }
+}
+
+}  // namespace
+
+std::int64_t submit_campaign(const std::filesystem::path& database, const Json& spec_json, const std::string& source,
                              const std::filesystem::path& worker_binary) {
   const CampaignSpec spec = parse_spec(spec_json, source);
   if (spec.executor.kind == "slurm") SlurmExecutor::check_cluster(spec.executor, source + ": executor");
@@ -42,9 +61,12 @@ std::int64_t submit_campaign(store::Store& store, const Json& spec_json, const s
       config.update(presets[s.preset]);
     }
     config.update(s.config);
+    // The task validates its resolved config: a value it rejects is named by its JSON path.
     Json description;
     try {
       description = describe_task_isolated(worker_binary, s.task, config);
+    } catch (const base::ConfigError& e) {
+      throw UserError(base::json_path_join(path + ".config", e.path()) + ": " + e.problem());
     } catch (const UserError& e) {
       throw UserError(path + ".config: " + e.what());
     }
@@ -66,11 +88,17 @@ std::int64_t submit_campaign(store::Store& store, const Json& spec_json, const s
     setup.space = search::Space::from_json(description.at("params"), path + " (task params)");
     setup.features = search::Feature::list_from_json(description.at("features"), path + " (task features)");
     setup.config = s.search_config;
-    search::make_search(s.algorithm, setup, path + ".search");
-    stages.push_back({s.name, s.task, s.algorithm, s.search_config, config, description, s.inputs, s.budget_trials,
-                      s.budget_seconds});
+    search::check_search(s.algorithm, setup, s.inputs.has_value(), path + ".search");
+    if (s.inputs) check_inputs(*s.inputs, stages, path + ".inputs");
+    stages.push_back({s.name, s.task, s.algorithm, s.search_config, config, description,
+                      s.inputs ? to_json(*s.inputs) : Json(nullptr), s.budget_trials, s.budget_seconds});
   }
-  return store.add_campaign(spec.name, spec_json, spec.seed, spec.run_dir, stages);
+  // A relative run_dir is relative to the spec file, resolved once: every command finds it.
+  std::string run_dir = spec.run_dir;
+  if (!run_dir.empty() && std::filesystem::path(run_dir).is_relative())
+    run_dir = (std::filesystem::absolute(source).parent_path() / run_dir).lexically_normal().string();
+  auto store = store::Store::open(database, store::Store::Access::read_write);
+  return store->add_campaign(spec.name, spec_json, spec.seed, run_dir, stages);
 }
 
 void control_campaign(store::Store& store, const std::string& id_or_name, const std::string& action) {
@@ -90,8 +118,51 @@ void control_campaign(store::Store& store, const std::string& id_or_name, const 
   });
 }
 
+Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage,
+                          std::int64_t add_trials) {
+  Extension out;
+  store.transaction([&] {  // read and written under the write lock: no scheduler moves in between
+    const auto campaign = store.find_campaign(id_or_name);
+    if (!campaign) throw UserError("no campaign \"" + id_or_name + "\" in " + store.path().string());
+    const std::string which = "campaign " + std::to_string(campaign->id) + " (" + campaign->name + ")";
+    if (campaign->state != "done") {
+      const bool ended = campaign->state == "failed" || campaign->state == "cancelled";
+      throw UserError(which + " is " + campaign->state + ": extend continues a done campaign (" +
+                      (ended ? "submit its spec again with a larger budget" : "let it finish, then extend it") + ")");
+    }
+    const auto stages = store.stages(campaign->id);
+    const store::StageRecord& last = stages.back();
+    if (!stage.empty() && stage != last.name) {
+      std::string names;
+      for (const auto& st : stages) names += (names.empty() ? "" : ", ") + st.name;
+      if (std::none_of(stages.begin(), stages.end(), [&](const auto& st) { return st.name == stage; }))
+        throw UserError(which + " has no stage \"" + stage + "\" (stages: " + names + ")");
+      // Its later stages ran from what it had then; continuing it would leave them behind.
+      throw UserError("stage \"" + stage + "\" of " + which + " is followed by stages that have run (" + names +
+                      "): only the last stage, \"" + last.name + "\", can be extended");
+    }
+    if (last.budget_seconds > 0 && last.elapsed_s >= last.budget_seconds)
+      throw UserError("stage \"" + last.name + "\" of " + which + " spent its wall-time budget (" +
+                      Json(last.budget_seconds).dump() + " s): no new trial would start");
+    const std::int64_t room = kMaxTrials - last.budget_trials;
+    if (add_trials < 1 || add_trials > room)
+      throw UserError("--add-trials: " + std::to_string(add_trials) + " is not in [1, " + std::to_string(room) +
+                      "] (stage \"" + last.name + "\" has " + std::to_string(last.budget_trials) + " of at most " +
+                      std::to_string(kMaxTrials) + " trials)");
+    out = {campaign->id, campaign->name, last.name, last.budget_trials, last.budget_trials + add_trials};
+    store.set_stage_budget(last.id, out.budget_after);
+    store.set_stage_state(last.id, "running");
+    store.set_campaign_state(campaign->id, "queued");
+    store.add_event(campaign->id, "extended",
+                    {{"stage", last.name}, {"budget_trials_before", out.budget_before}, {"budget_trials", out.budget_after}});
+  });
+  return out;
+}
+
 std::filesystem::path campaign_run_dir(const std::filesystem::path& database, const store::CampaignRecord& campaign) {
-  if (!campaign.run_dir.empty()) return campaign.run_dir;
+  // Submit stores run_dir absolute; one stored relative by an older podium is relative to the database.
+  if (!campaign.run_dir.empty())
+    return (std::filesystem::absolute(database).parent_path() / campaign.run_dir).lexically_normal();
   return std::filesystem::absolute(database).string() + ".runs/" + std::to_string(campaign.id);
 }
 
@@ -111,6 +182,8 @@ std::string number(const Json& v) {
 }
 }  // namespace
 
+std::string trial_name(const std::string& stage, std::int64_t index) { return stage + "/" + std::to_string(index); }
+
 std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format) {
   if (format != "csv" && format != "json") throw UserError("--format: \"" + format + "\" is not one of csv, json");
   const auto stages = store.stages(campaign_id);
@@ -118,7 +191,8 @@ std::string export_campaign(const store::Store& store, std::int64_t campaign_id,
   for (const auto& st : stages) {
     const auto& features = st.description.at("features");
     for (const auto& t : store.trials(st.id)) {
-      Json row = {{"campaign", campaign_id}, {"stage", st.name},   {"trial", t.index},
+      Json row = {{"campaign", campaign_id}, {"name", trial_name(st.name, t.index)}, {"id", t.id},
+                  {"stage", st.name},        {"trial", t.index},
                   {"state", t.state},        {"attempts", t.attempts}, {"seed", t.seed},
                   {"params", t.params},      {"objectives", t.objectives}, {"error", t.error}};
       Json f = Json::object();

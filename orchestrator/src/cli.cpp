@@ -1,21 +1,25 @@
-// The `podium` command line: submit, run, status, trials, pause, resume, cancel, export (and the
-// internal `worker`). Exit codes: 0 ok, 1 runtime failure, 2 usage or spec error.
+// The `podium` command line: submit, run, status, trials, pause, resume, cancel, extend, export,
+// serve, tasks (and the internal `worker`). Exit codes: 0 ok, 1 runtime failure, 2 usage or spec error.
 #include <unistd.h>
 
+#include <algorithm>
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/program_options.hpp>
 #include <cstdio>
 #include <iostream>
 #include <map>
-#include <sstream>
+#include <vector>
 
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/base/version.h"
 #include "podium/orchestrator/campaigns.h"
 #include "podium/orchestrator/scheduler.h"
+#include "podium/orchestrator/spec.h"
 #include "podium/store/store.h"
+#include "podium/store/writer_lock.h"
 #include "podium/web_dashboard/server.h"
+#include "task_listing.h"
 #include "trial_runner.h"
 #include "worker.h"
 
@@ -26,6 +30,8 @@ using podium::store::Store;
 
 namespace {
 
+std::string error_line(const std::string& what);
+
 constexpr const char* kUsage = R"(usage: podium <command> [options]
 
 commands:
@@ -35,9 +41,12 @@ commands:
   status [CAMPAIGN] [--json] campaigns and their progress
   trials CAMPAIGN [--json]   the trials of a campaign
   pause|resume|cancel CAMPAIGN
+  extend CAMPAIGN [--stage NAME] --add-trials N
+                             raise a done campaign's last stage's trial budget and queue it again
   export CAMPAIGN --format csv|json
+  tasks [NAME] [--json]      installed task plugins: params, features, metrics, presets, config keys
   serve [--port N] [--host H] the read-only web dashboard (default http://127.0.0.1:8080/)
-  version
+  version | --version
 
 every command takes --db PATH (default ./podium.db) and --help.
 )";
@@ -81,7 +90,9 @@ std::string fmt_time(double unix_s) {
   return buffer;
 }
 
-Json status_json(const Store& store, const podium::store::CampaignRecord& c, const fs::path& db) {
+// `alive`: a scheduler holds the database's writer lock. Without one, a "running" campaign is
+// stopped and its local attempts shown running died with the scheduler that ran them.
+Json status_json(const Store& store, const podium::store::CampaignRecord& c, const fs::path& db, bool alive) {
   const auto counts = store.trial_counts(c.id);
   Json stages = Json::array();
   std::int64_t budget = 0;
@@ -92,17 +103,21 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
     for (const auto& t : store.trials(st.id)) index_of[t.id] = t.index;
     Json running = Json::array();
     for (const auto& a : store.running_attempts(st.id))
-      running.push_back({{"trial", index_of[a.trial_id]}, {"attempt", a.number}, {"worker", a.worker},
-                         {"host", a.host}, {"job_id", a.job_id}, {"started_at", a.started_at}});
+      running.push_back({{"name", podium::orchestrator::trial_name(st.name, index_of[a.trial_id])},
+                         {"trial", index_of[a.trial_id]}, {"attempt", a.number}, {"worker", a.worker},
+                         {"host", a.host}, {"job_id", a.job_id}, {"started_at", a.started_at},
+                         {"interrupted", !alive && a.job_id.empty()}});
     stages.push_back({{"index", st.index},     {"name", st.name},     {"task", st.task},
-                      {"algorithm", st.algorithm}, {"state", st.state}, {"budget_trials", st.budget_trials},
+                      {"algorithm", st.algorithm}, {"state", podium::store::shown_stage_state(c.state, st.state)},
+                      {"budget_trials", st.budget_trials},
                       {"done", sc.done},       {"failed", sc.failed}, {"running", sc.running},
                       {"pending", sc.pending + sc.interrupted}, {"cancelled", sc.cancelled},
-                      {"elapsed_s", st.elapsed_s}, {"running_attempts", running}});
+                      {"elapsed_s", st.elapsed_s}, {"error", st.error}, {"running_attempts", running}});
   }
   return {{"id", c.id},
           {"name", c.name},
           {"state", c.state},
+          {"scheduler", alive ? "alive" : "none"},
           {"seed", c.seed},
           {"budget_trials", budget},
           {"done", counts.done},
@@ -125,10 +140,27 @@ int cmd_submit(int argc, char** argv) {
   if (!parse(cmd, "submit", "SPEC.json [--db PATH]", argc, argv)) return 0;
   const std::string file = cmd.vm["spec"].as<std::string>();
   const Json spec = podium::base::read_json_file(file);
-  auto store = Store::open(cmd.vm["db"].as<std::string>(), Store::Access::read_write);
-  const auto id = podium::orchestrator::submit_campaign(*store, spec, file, worker_binary());
+  const auto id = podium::orchestrator::submit_campaign(cmd.vm["db"].as<std::string>(), spec, file, worker_binary());
   std::cout << id << "\n";
+  // A name already used is not refused, but the older campaign stops answering to it.
+  auto store = Store::open(cmd.vm["db"].as<std::string>(), Store::Access::read_only);
+  const std::string name = store->campaign(id)->name;
+  std::string older;
+  for (const auto& c : store->campaigns())
+    if (c.name == name && c.id != id) older += (older.empty() ? "" : ", ") + std::to_string(c.id);
+  if (!older.empty())
+    std::cerr << "podium: note: campaign " << id << " has the name \"" << name << "\" of campaign " << older
+              << "; a CAMPAIGN name means the newest campaign of that name, so \"" << name << "\" is now campaign "
+              << id << " (the older stay reachable by id)\n";
   return 0;
+}
+
+// Whether `podium run` has work: a campaign the scheduler takes up (queued, or running when a
+// scheduler stopped).
+bool has_runnable_campaign(const Store& store) {
+  for (const auto& c : store.campaigns())
+    if (c.state == "queued" || c.state == "running") return true;
+  return false;
 }
 
 int cmd_run(int argc, char** argv) {
@@ -137,7 +169,9 @@ int cmd_run(int argc, char** argv) {
       "follow", "keep waiting for new campaigns")("log-json", "machine-readable events on stdout instead of progress");
   if (!parse(cmd, "run", "[--workers N] [--follow] [--log-json] [--db PATH]", argc, argv)) return 0;
   const int workers = cmd.vm["workers"].as<int>();
-  if (workers < 1) throw podium::base::UserError("--workers: " + std::to_string(workers) + " is not >= 1");
+  if (workers < 1 || workers > podium::orchestrator::kMaxWorkers)
+    throw podium::base::UserError("--workers: " + std::to_string(workers) + " is not in [1, " +
+                                  std::to_string(podium::orchestrator::kMaxWorkers) + "]");
   podium::orchestrator::SchedulerOptions options;
   options.workers = static_cast<std::size_t>(workers);
   options.follow = cmd.vm.count("follow") > 0;
@@ -145,16 +179,36 @@ int cmd_run(int argc, char** argv) {
   options.progress = !options.log_json && ::isatty(STDERR_FILENO);
   options.worker_binary = worker_binary();
   options.database = cmd.vm["db"].as<std::string>();
+  if (!options.follow && !fs::exists(options.database)) {
+    std::cerr << "nothing to run: no database " << options.database.string() << " (podium submit creates it)\n";
+    return 0;
+  }
+  if (!fs::exists(options.database)) Store::open(options.database, Store::Access::read_write);  // --follow
+  // One scheduler per database file, whatever path reaches it; taken before the store is opened
+  // for writing, so a second one never touches the file.
+  const podium::store::WriterLock lock(options.database);
   auto store = Store::open(options.database, Store::Access::read_write);
-  podium::orchestrator::run_scheduler(*store, options);
+  if (!options.follow && !has_runnable_campaign(*store)) {
+    std::cerr << "nothing to run: no queued or running campaign in " << options.database.string()
+              << " (podium status lists them; podium resume continues a paused one)\n";
+    return 0;
+  }
+  const int code = podium::orchestrator::run_scheduler(*store, options);
   if (!options.log_json) {
     for (const auto& c : store->campaigns()) {
-      if (c.state != "done" || c.finished_at < podium::store::now_unix_s() - 5) continue;
+      if (c.finished_at < podium::store::now_unix_s() - 5) continue;
+      if (c.state == "failed") std::cerr << "campaign " << c.id << " (" << c.name << ") failed: " << c.error << "\n";
+      if (c.state != "done") continue;
       std::cerr << "campaign " << c.id << " (" << c.name << ") done; results in " << store->path().string()
                 << ", trial folders in " << podium::orchestrator::campaign_run_dir(options.database, c).string() << "\n";
     }
   }
-  return 0;
+  return code;
+}
+
+// A running campaign or stage with no scheduler alive is shown "stopped" (`podium run` resumes it).
+std::string shown_state(const Json& state, const Json& campaign) {
+  return state == "running" && campaign["scheduler"] == "none" ? "stopped" : state.get<std::string>();
 }
 
 int cmd_status(int argc, char** argv) {
@@ -168,7 +222,8 @@ int cmd_status(int argc, char** argv) {
   if (cmd.vm.count("campaign")) list.push_back(*store->campaign(campaign_id(*store, cmd.vm["campaign"].as<std::string>())));
   else list = store->campaigns();
   Json out = Json::array();
-  for (const auto& c : list) out.push_back(status_json(*store, c, db));
+  const bool alive = podium::store::WriterLock::held(db);
+  for (const auto& c : list) out.push_back(status_json(*store, c, db, alive));
   if (cmd.vm.count("json")) {
     std::cout << (cmd.vm.count("campaign") ? out[0] : out).dump(2) << "\n";
     return 0;
@@ -177,24 +232,33 @@ int cmd_status(int argc, char** argv) {
   for (const auto& c : out) {
     const std::string done = std::to_string(c["done"].get<long>()) + "/" + std::to_string(c["budget_trials"].get<long>());
     std::printf("%-5lld %-24s %-10s %9s %7ld %7ld %7ld  %s\n", c["id"].get<long long>(), c["name"].get<std::string>().c_str(),
-                c["state"].get<std::string>().c_str(), done.c_str(), c["failed"].get<long>(), c["running"].get<long>(),
+                shown_state(c["state"], c).c_str(), done.c_str(), c["failed"].get<long>(), c["running"].get<long>(),
                 c["pending"].get<long>(), fmt_time(c["created_at"].get<double>()).c_str());
+    if (!c["error"].get<std::string>().empty()) std::printf("  error: %s\n", c["error"].get<std::string>().c_str());
     if (!cmd.vm.count("campaign")) continue;
     std::printf("  run folder: %s\n", c["run_dir"].get<std::string>().c_str());
     for (const auto& s : c["stages"]) {
       std::printf("  stage %d %-16s %-10s task=%s search=%s %ld/%ld done, %ld failed, %ld running, %.1f s\n",
-                  s["index"].get<int>(), s["name"].get<std::string>().c_str(), s["state"].get<std::string>().c_str(),
+                  s["index"].get<int>(), s["name"].get<std::string>().c_str(), shown_state(s["state"], c).c_str(),
                   s["task"].get<std::string>().c_str(), s["algorithm"].get<std::string>().c_str(), s["done"].get<long>(),
                   s["budget_trials"].get<long>(), s["failed"].get<long>(), s["running"].get<long>(), s["elapsed_s"].get<double>());
       for (const auto& a : s["running_attempts"]) {
         const std::string where = a["job_id"].get<std::string>().empty() ? a["worker"].get<std::string>()
                                                                          : "slurm job " + a["job_id"].get<std::string>();
-        std::printf("    trial %lld attempt %d on %s (%s)\n", a["trial"].get<long long>(), a["attempt"].get<int>(),
-                    a["host"].get<std::string>().empty() ? "?" : a["host"].get<std::string>().c_str(), where.c_str());
+        std::printf("    trial %s attempt %d on %s (%s)%s\n", a["name"].get<std::string>().c_str(), a["attempt"].get<int>(),
+                    a["host"].get<std::string>().empty() ? "?" : a["host"].get<std::string>().c_str(), where.c_str(),
+                    a["interrupted"].get<bool>() ? ": interrupted, its scheduler is gone" : "");
       }
     }
   }
   return 0;
+}
+
+// `value` to `digits` significant digits.
+std::string significant(double value, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return text;
 }
 
 int cmd_trials(int argc, char** argv) {
@@ -208,15 +272,30 @@ int cmd_trials(int argc, char** argv) {
     std::cout << podium::orchestrator::export_campaign(*store, id, "json");
     return 0;
   }
-  std::printf("%-12s %6s %-11s %8s %14s  %s\n", "stage", "trial", "state", "attempts", "objective", "features / error");
+  // One row per trial, columns padded to their widest cell; the last one (features or error) is not.
+  std::vector<std::vector<std::string>> rows = {
+      {"trial", "state", "attempts", "objective", "strategy", "id", "features / error"}};
   for (const auto& st : store->stages(id)) {
     for (const auto& t : store->trials(st.id)) {
-      std::ostringstream features;
-      for (double f : t.features) features << f << " ";
-      const std::string objective = t.objectives.is_array() && !t.objectives.empty() ? t.objectives[0].dump() : "-";
-      std::printf("%-12s %6lld %-11s %8d %14s  %s\n", st.name.c_str(), static_cast<long long>(t.index), t.state.c_str(),
-                  t.attempts, objective.c_str(), t.error.empty() ? features.str().c_str() : t.error.c_str());
+      std::string features;
+      for (double f : t.features) features += (features.empty() ? "" : " ") + significant(f, 3);
+      const bool has_objective = t.objectives.is_array() && !t.objectives.empty() && t.objectives[0].is_number();
+      rows.push_back({podium::orchestrator::trial_name(st.name, t.index), t.state, std::to_string(t.attempts),
+                      has_objective ? significant(t.objectives[0].get<double>(), 4) : "-",
+                      t.strategy ? std::to_string(*t.strategy) : "-", std::to_string(t.id),
+                      t.error.empty() ? features : error_line(t.error)});
     }
+  }
+  std::vector<std::size_t> width(rows[0].size() - 1, 0);
+  for (const auto& row : rows)
+    for (std::size_t i = 0; i < width.size(); ++i) width[i] = std::max(width[i], row[i].size());
+  for (const auto& row : rows) {
+    std::string line;
+    for (std::size_t i = 0; i < width.size(); ++i) {
+      const std::string pad(width[i] - row[i].size(), ' ');
+      line += i < 2 ? row[i] + pad + "  " : pad + row[i] + "  ";  // names and states left, numbers right
+    }
+    std::printf("%s%s\n", line.c_str(), row.back().c_str());
   }
   return 0;
 }
@@ -226,8 +305,36 @@ int cmd_control(const std::string& action, int argc, char** argv) {
   cmd.options.add_options()("campaign", po::value<std::string>()->required(), "campaign id or name");
   cmd.positional.add("campaign", 1);
   if (!parse(cmd, action, "CAMPAIGN [--db PATH]", argc, argv)) return 0;
-  auto store = Store::open(cmd.vm["db"].as<std::string>(), Store::Access::read_write);
-  podium::orchestrator::control_campaign(*store, cmd.vm["campaign"].as<std::string>(), action);
+  const std::string db = cmd.vm["db"].as<std::string>();
+  if (!fs::exists(db)) throw podium::base::UserError(db + ": no such database (podium submit creates it)");
+  auto store = Store::open(db, Store::Access::read_write);
+  const std::string& name = cmd.vm["campaign"].as<std::string>();
+  podium::orchestrator::control_campaign(*store, name, action);
+  const auto c = store->find_campaign(name);
+  const std::map<std::string, std::string> what = {
+      {"pause", "paused: no new trials start, running ones finish"},
+      {"resume", "queued again: podium run continues it"},
+      {"cancel", "cancelled: running trials are stopped, no new ones start"}};
+  std::cout << "campaign " << c->id << " (" << c->name << ") " << what.at(action) << "\n";
+  return 0;
+}
+
+int cmd_extend(int argc, char** argv) {
+  Command cmd;
+  cmd.options.add_options()("campaign", po::value<std::string>()->required(), "campaign id or name")(
+      "stage", po::value<std::string>(), "the stage to extend (default and only choice: the last)")(
+      "add-trials", po::value<std::int64_t>()->required(), "trials to add to the stage's budget");
+  cmd.positional.add("campaign", 1);
+  if (!parse(cmd, "extend", "CAMPAIGN [--stage NAME] --add-trials N [--db PATH]", argc, argv)) return 0;
+  const std::string db = cmd.vm["db"].as<std::string>();
+  if (!fs::exists(db)) throw podium::base::UserError(db + ": no such database (podium submit creates it)");
+  auto store = Store::open(db, Store::Access::read_write);
+  const auto e = podium::orchestrator::extend_campaign(*store, cmd.vm["campaign"].as<std::string>(),
+                                                       cmd.vm.count("stage") ? cmd.vm["stage"].as<std::string>() : "",
+                                                       cmd.vm["add-trials"].as<std::int64_t>());
+  std::cout << "campaign " << e.campaign_id << " (" << e.campaign_name << ") stage \"" << e.stage
+            << "\": budget raised from " << e.budget_before << " to " << e.budget_after
+            << " trials; queued again: podium run continues its search where it stopped\n";
   return 0;
 }
 
@@ -240,6 +347,19 @@ int cmd_export(int argc, char** argv) {
   auto store = open_read(cmd);
   std::cout << podium::orchestrator::export_campaign(*store, campaign_id(*store, cmd.vm["campaign"].as<std::string>()),
                                                      cmd.vm["format"].as<std::string>());
+  return 0;
+}
+
+int cmd_tasks(int argc, char** argv) {
+  Command cmd;
+  cmd.options.add_options()("task", po::value<std::string>(), "task name (default: every installed task)")(
+      "json", "print JSON");
+  cmd.positional.add("task", 1);
+  if (!parse(cmd, "tasks", "[NAME] [--json]", argc, argv)) return 0;
+  const Json tasks =
+      podium::orchestrator::list_tasks(worker_binary(), cmd.vm.count("task") ? cmd.vm["task"].as<std::string>() : "");
+  if (cmd.vm.count("json")) std::cout << (cmd.vm.count("task") ? tasks[0] : tasks).dump(2) << "\n";
+  else std::cout << podium::orchestrator::format_tasks(tasks);
   return 0;
 }
 
@@ -266,12 +386,14 @@ int dispatch(const std::string& command, int argc, char** argv) {
   if (command == "status") return cmd_status(argc, argv);
   if (command == "trials") return cmd_trials(argc, argv);
   if (command == "pause" || command == "resume" || command == "cancel") return cmd_control(command, argc, argv);
+  if (command == "extend") return cmd_extend(argc, argv);
   if (command == "export") return cmd_export(argc, argv);
   if (command == "serve") return cmd_serve(argc, argv);
+  if (command == "tasks") return cmd_tasks(argc, argv);
   if (command == "worker") return podium::orchestrator::run_worker();
   if (command == "trial" && argc == 3 && std::string(argv[1]) == "--batch")
     return podium::orchestrator::run_batch_trial(argv[2]);  // inside a Slurm job
-  if (command == "version") {
+  if (command == "version" || command == "--version") {
     std::cout << "podium " << podium::base::version() << " (" << podium::base::compiler_id() << ", "
               << podium::base::build_type() << ")\n";
     return 0;
@@ -282,6 +404,27 @@ int dispatch(const std::string& command, int argc, char** argv) {
   }
   std::cerr << "podium: unknown command \"" << command << "\"\n" << kUsage;
   return 2;
+}
+
+// An error as one bounded line: control characters (a newline in a JSON key, a terminal escape)
+// escaped, and anything past 1000 bytes cut at a character boundary.
+std::string error_line(const std::string& what) {
+  constexpr std::size_t kMax = 1000;
+  std::string out;
+  for (const char ch : what) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (c >= 0x20 && c != 0x7F) {
+      out += ch;
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02X", c);
+      out += escaped;
+    }
+  }
+  if (out.size() <= kMax) return out;
+  std::size_t cut = kMax;
+  while (cut > 0 && (static_cast<unsigned char>(out[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 sequence
+  return out.substr(0, cut) + "... (" + std::to_string(out.size()) + " bytes in all)";
 }
 
 }  // namespace
@@ -295,13 +438,13 @@ int main(int argc, char** argv) {
   try {
     return dispatch(command, argc - 1, argv + 1);
   } catch (const po::error& e) {
-    std::cerr << "podium " << command << ": " << e.what() << " (see podium " << command << " --help)\n";
+    std::cerr << "podium " << command << ": " << error_line(e.what()) << " (see podium " << command << " --help)\n";
     return 2;
   } catch (const podium::base::UserError& e) {
-    std::cerr << "podium: " << e.what() << "\n";
+    std::cerr << "podium: " << error_line(e.what()) << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "podium: " << e.what() << "\n";
+    std::cerr << "podium: " << error_line(e.what()) << "\n";
     return 1;
   }
 }

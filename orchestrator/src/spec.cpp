@@ -1,158 +1,134 @@
 #include "podium/orchestrator/spec.h"
 
-#include <set>
+#include <algorithm>
 
-#include "podium/base/error.h"
+#include "podium/base/config.h"
 
 namespace podium::orchestrator {
 
-using base::UserError;
+using base::ConfigReader;
+using base::required;
 
 namespace {
 
-// Reads fields of one JSON object, remembering which keys were consumed so that unknown keys
-// can be reported with their path.
-class Fields {
- public:
-  Fields(const Json& j, std::string path, std::string source) : j_(j), path_(std::move(path)), source_(std::move(source)) {
-    if (!j.is_object()) fail(path_.empty() ? "(top level)" : path_, j, "is not an object");
-  }
+// The ranges of the spec's numbers (README "The campaign spec" and campaign.schema.json list
+// them): wide enough for any real campaign, narrow enough that nothing downstream overflows
+// (a timeout becomes steady_clock nanoseconds, which overflow past 9.2e9 s) or allocates per unit.
+constexpr double kMaxSeconds = 365.0 * 24 * 3600;   // trial_timeout_s, budget.wall_time_s: a year
+constexpr std::int64_t kMaxRetries = 100;
+constexpr std::int64_t kMaxPerInput = 1'000'000;    // budget.trials.per_input, inputs.k
+constexpr std::int64_t kMaxCpusPerTask = 1024;
+constexpr std::int64_t kMaxJobsInQueue = 100'000;
 
-  [[noreturn]] void fail(const std::string& path, const Json& value, const std::string& rule) const {
-    throw UserError(source_ + ": " + path + ": " + value.dump() + " " + rule);
+// A campaign or stage name: printed by status, looked up by `podium status NAME`, so no control
+// characters (C0, DEL, C1): they would reach terminals raw, and a NUL cannot be typed.
+std::string read_name(ConfigReader& f) {
+  const std::string name = f.string("name", required);
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    const bool c1 = c == 0xC2 && i + 1 < name.size() && static_cast<unsigned char>(name[i + 1]) <= 0x9F;
+    if (c < 0x20 || c == 0x7F || c1) f.fail("name", "has a control character (names are printed and typed)");
   }
-  std::string at(const std::string& key) const { return base::json_path_join(path_, key); }
-  bool has(const std::string& key) {
-    seen_.insert(key);
-    return j_.contains(key);
-  }
-  const Json& get(const std::string& key) {
-    if (!has(key)) throw UserError(source_ + ": " + at(key) + ": missing (required)");
-    return j_[key];
-  }
-  std::string string(const std::string& key, bool required, const std::string& fallback = "") {
-    if (!required && !has(key)) return fallback;
-    const Json& v = get(key);
-    if (!v.is_string()) fail(at(key), v, "is not a string");
-    if (v.get<std::string>().empty()) fail(at(key), v, "must not be empty");
-    return v.get<std::string>();
-  }
-  std::int64_t integer(const std::string& key, bool required, std::int64_t fallback, std::int64_t min) {
-    if (!required && !has(key)) return fallback;
-    const Json& v = get(key);
-    if (!v.is_number_integer()) fail(at(key), v, "is not an integer");
-    if (v.get<std::int64_t>() < min) fail(at(key), v, "is not >= " + std::to_string(min));
-    return v.get<std::int64_t>();
-  }
-  double positive(const std::string& key, double fallback) {
-    if (!has(key)) return fallback;
-    const Json& v = get(key);
-    if (!v.is_number()) fail(at(key), v, "is not a number");
-    if (!(v.get<double>() > 0.0)) fail(at(key), v, "is not > 0");
-    return v.get<double>();
-  }
-  Json object(const std::string& key) {
-    if (!has(key)) return Json::object();
-    const Json& v = get(key);
-    if (!v.is_object()) fail(at(key), v, "is not an object");
-    return v;
-  }
-  void reject_unknown() const {
-    for (const auto& [key, value] : j_.items())
-      if (!seen_.count(key)) throw UserError(source_ + ": " + at(key) + ": unknown key");
-  }
-  const std::string& path() const { return path_; }
+  return name;
+}
 
- private:
-  const Json& j_;
-  std::string path_, source_;
-  std::set<std::string> seen_;
-};
+// stages[i].inputs. `names` are all stages' names (a later stage is named as such in errors).
+InputsSpec parse_inputs(ConfigReader& f, std::size_t index, const std::vector<std::string>& names) {
+  InputsSpec in;
+  const Json stage = f.raw("stage", required);
+  const bool single = stage.is_string();
+  if (!single && !(stage.is_array() && !stage.empty())) f.fail("stage", "is not a stage name or a non-empty array of them");
+  const std::vector<std::string> list = single ? std::vector<std::string>{f.string("stage", required)} : f.strings("stage", {});
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const auto fail = [&](const std::string& rule) { single ? f.fail("stage", rule) : f.fail("stage", i, rule); };
+    const auto found = std::find(names.begin(), names.end(), list[i]);
+    const auto position = static_cast<std::size_t>(found - names.begin());
+    if (found == names.end()) fail("is not the name of an earlier stage");
+    if (position == index) fail("is this stage itself; inputs come from earlier stages");
+    if (position > index) fail("is a later stage (stages[" + std::to_string(position) + "]); inputs come from earlier stages");
+    if (std::find(in.stages.begin(), in.stages.end(), list[i]) != in.stages.end()) fail("is named twice");
+    in.stages.push_back(list[i]);
+  }
+  in.select = f.choice("select", "all", {"all", "best", "best_per_strategy", "top"});
+  if (in.select == "top") in.top_k = f.integer<int>("k", required, {.min = 1, .max = kMaxPerInput});
+  else if (f.has("k")) f.fail("k", "applies only to \"select\": \"top\"");
+  in.per_trial = f.choice("per_trial", "all", {"all", "each"});
+  return in;
+}
 
-StageSpec parse_stage(const Json& j, const std::string& path, const std::string& source,
-                      const std::vector<StageSpec>& earlier) {
-  Fields f(j, path, source);
+StageSpec parse_stage(ConfigReader& f, const std::vector<StageSpec>& earlier, const std::vector<std::string>& names) {
   StageSpec s;
-  s.name = f.string("name", true);
+  s.name = read_name(f);
   for (const auto& e : earlier)
-    if (e.name == s.name) f.fail(f.at("name"), j["name"], "is already the name of an earlier stage");
-  s.task = f.string("task", true);
-  s.preset = f.string("preset", false);
-  s.config = f.object("config");
-
-  Fields search(f.get("search"), f.at("search"), source);
-  s.algorithm = search.string("algorithm", true);
-  s.search_config = search.object("config");
-  search.reject_unknown();
-
-  s.strategy_threshold = f.positive("strategy_threshold", 0.0);
-  Fields budget(f.get("budget"), f.at("budget"), source);
-  s.budget_trials = budget.integer("trials", true, 0, 1);
-  s.budget_seconds = budget.positive("wall_time_s", 0.0);
-  budget.reject_unknown();
-
-  if (f.has("inputs")) {
-    Fields inputs(j["inputs"], f.at("inputs"), source);
-    const std::string from = inputs.string("stage", true);
-    bool found = false;
-    for (const auto& e : earlier) found = found || e.name == from;
-    if (!found) inputs.fail(inputs.at("stage"), j["inputs"]["stage"], "is not the name of an earlier stage");
-    const std::string select = inputs.string("select", false, "all");
-    if (select != "all" && select != "best")
-      inputs.fail(inputs.at("select"), j["inputs"]["select"], "is not one of \"all\", \"best\"");
-    inputs.reject_unknown();
-    s.inputs = {{"stage", from}, {"select", select}};
-  }
-  f.reject_unknown();
+    if (e.name == s.name) f.fail("name", "is already the name of an earlier stage");
+  s.task = f.string("task", required);
+  s.preset = f.string("preset", "");
+  s.config = f.raw_object("config");
+  f.object("search", required, [&](ConfigReader& search) {
+    s.algorithm = search.string("algorithm", required);
+    s.search_config = search.raw_object("config");
+  });
+  s.strategy_threshold = f.number("strategy_threshold", 0.0, {.min = 0.0, .exclusive_min = true});
+  if (f.has("inputs"))
+    s.inputs = f.object("inputs", required, [&](ConfigReader& in) { return parse_inputs(in, earlier.size(), names); });
+  f.object("budget", required, [&](ConfigReader& budget) {
+    if (budget.has("trials") && budget.raw("trials", required).is_object()) {
+      s.budget_per_input = budget.object("trials", required, [](ConfigReader& per) {
+        return per.integer<std::int64_t>("per_input", required, {.min = 1, .max = kMaxPerInput});
+      });
+      if (!s.inputs) budget.fail("trials", "needs the stage's \"inputs\"");
+    } else {
+      s.budget_trials = budget.integer<std::int64_t>("trials", required, {.min = 1, .max = kMaxTrials});
+    }
+    s.budget_seconds = budget.number("wall_time_s", 0.0, {.min = 0.0, .max = kMaxSeconds, .exclusive_min = true});
+  });
   return s;
 }
 
-ExecutorSpec parse_executor(const Json& j, const std::string& source) {
-  Fields e(j, "executor", source);
+ExecutorSpec parse_executor(ConfigReader& e) {
   ExecutorSpec x;
-  x.kind = e.string("kind", true);
+  x.kind = e.choice("kind", required, {"local", "slurm"});
   if (x.kind == "slurm") {
-    x.partition = e.string("partition", true);
-    x.account = e.string("account", false);
-    x.time = e.string("time", false);
+    x.partition = e.string("partition", required);
+    x.account = e.string("account", "");
+    x.time = e.string("time", "");
     if (x.time.find_first_not_of("0123456789:-") != std::string::npos)
-      e.fail(e.at("time"), j["time"], "is not a Slurm time limit (minutes, or [days-]hours:minutes:seconds)");
-    x.cpus_per_task = static_cast<int>(e.integer("cpus_per_task", false, 1, 1));
-    x.mem = e.string("mem", false);
-    if (e.has("extra_sbatch")) {
-      const Json& extra = j["extra_sbatch"];
-      if (!extra.is_array()) e.fail(e.at("extra_sbatch"), extra, "is not an array of strings");
-      for (const auto& item : extra) {
-        if (!item.is_string()) e.fail(e.at("extra_sbatch"), extra, "is not an array of strings");
-        x.extra_sbatch.push_back(item.get<std::string>());
-      }
-    }
-    x.max_jobs_in_queue = static_cast<int>(e.integer("max_jobs_in_queue", false, 100, 1));
-  } else if (x.kind != "local") {
-    e.fail(e.at("kind"), j["kind"], "is not a supported executor (supported: \"local\", \"slurm\")");
+      e.fail("time", "is not a Slurm time limit (minutes, or [days-]hours:minutes:seconds)");
+    x.cpus_per_task = e.integer("cpus_per_task", 1, {.min = 1, .max = kMaxCpusPerTask});
+    x.mem = e.string("mem", "");
+    x.extra_sbatch = e.strings("extra_sbatch", {});
+    x.max_jobs_in_queue = e.integer("max_jobs_in_queue", 100, {.min = 1, .max = kMaxJobsInQueue});
   }
-  e.reject_unknown();
   return x;
 }
 
 }  // namespace
 
+Json to_json(const InputsSpec& inputs) {
+  Json j = {{"stages", inputs.stages}, {"select", inputs.select}, {"per_trial", inputs.per_trial}};
+  if (inputs.select == "top") j["k"] = inputs.top_k;
+  return j;
+}
+
 CampaignSpec parse_spec(const Json& j, const std::string& source) {
-  Fields f(j, "", source);
+  ConfigReader f(j, "", source);
   CampaignSpec spec;
-  spec.name = f.string("name", true);
-  spec.seed = static_cast<std::uint64_t>(f.integer("seed", true, 0, 0));
-  if (f.has("description")) spec.description = f.string("description", false);
-  spec.run_dir = f.string("run_dir", false);
-  if (f.has("executor")) spec.executor = parse_executor(j["executor"], source);
-  spec.workers = static_cast<int>(f.integer("workers", false, 2, 1));
-  spec.retries = static_cast<int>(f.integer("retries", false, 2, 0));
-  spec.trial_timeout_s = f.positive("trial_timeout_s", 3600.0);
-  const Json& stages = f.get("stages");
-  if (!stages.is_array() || stages.empty()) f.fail("stages", stages, "is not a non-empty array");
-  for (std::size_t i = 0; i < stages.size(); ++i)
-    spec.stages.push_back(parse_stage(stages[i], base::json_path_index("stages", i), source, spec.stages));
-  f.reject_unknown();
+  spec.name = read_name(f);
+  spec.seed = f.integer<std::uint64_t>("seed", required);
+  spec.description = f.string("description", "");
+  spec.run_dir = f.string("run_dir", "");
+  if (f.has("executor")) spec.executor = f.object("executor", required, parse_executor);
+  spec.workers = f.integer("workers", 2, {.min = 1, .max = kMaxWorkers});
+  spec.retries = f.integer("retries", 2, {.min = 0, .max = kMaxRetries});
+  spec.trial_timeout_s = f.number("trial_timeout_s", 3600.0, {.min = 0.0, .max = kMaxSeconds, .exclusive_min = true});
+  const Json stages = f.raw("stages", required);
+  if (!stages.is_array() || stages.empty()) f.fail("stages", "is not a non-empty array");
+  // Every stage's name first, so inputs naming a later stage can say so.
+  std::vector<std::string> names;
+  for (const auto& stage : stages)
+    names.push_back(stage.is_object() && stage.contains("name") && stage["name"].is_string() ? stage["name"].get<std::string>() : "");
+  f.objects("stages", [&](ConfigReader& stage) { spec.stages.push_back(parse_stage(stage, spec.stages, names)); });
+  f.finish();
   return spec;
 }
 

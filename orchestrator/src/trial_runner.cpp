@@ -20,6 +20,24 @@ plugins::Task& TaskCache::get(const std::string& name) {
   return *slot;
 }
 
+namespace {
+
+// One hand-over entry in the form SearchSetup::inputs documents (search.h).
+plugins::InputTrial input_trial(const Json& j) {
+  plugins::InputTrial in;
+  in.stage = j.at("stage").get<std::string>();
+  in.stage_index = j.at("stage_index").get<int>();
+  in.trial_index = j.at("trial_index").get<std::int64_t>();
+  in.params = j.at("params");
+  in.objectives = j.at("objectives").get<std::vector<double>>();
+  in.features = j.at("features").get<std::vector<double>>();
+  if (!j.at("strategy").is_null()) in.strategy = j["strategy"].get<std::int64_t>();
+  for (const auto& [name, path] : j.at("artifacts").items()) in.artifacts[name] = path.get<std::string>();
+  return in;
+}
+
+}  // namespace
+
 Json run_attempt(TaskCache& tasks, const Json& order, const std::atomic<bool>& cancel, plugins::Sink& sink) {
   plugins::RunRequest request;
   request.params = order.at("params");
@@ -28,6 +46,11 @@ Json run_attempt(TaskCache& tasks, const Json& order, const std::atomic<bool>& c
   request.seed = order.at("seed").get<std::uint64_t>();
   request.trial_index = order.at("trial_index").get<std::uint64_t>();
   request.attempt = order.at("attempt").get<int>();
+  if (const Json& previous = order.at("previous_attempt"); !previous.is_null())
+    request.previous_attempt = plugins::PreviousAttempt{previous.at("number").get<int>(),
+                                                        previous.at("state").get<std::string>(),
+                                                        previous.at("error").get<std::string>()};
+  for (const auto& in : order.at("inputs")) request.inputs.push_back(input_trial(in));
   request.work_dir = order.at("work_dir").get<std::string>();
   request.cancel = &cancel;
   std::filesystem::create_directories(request.work_dir);

@@ -20,8 +20,9 @@ class TaskCache {
   std::map<std::string, std::shared_ptr<plugins::Task>> tasks_;
 };
 
-/// Runs the attempt described by `order` (the fields of an AttemptOrder as JSON: key, task,
-/// config, params, context, seed, trial_index, attempt, work_dir) and returns the result message
+/// Runs the attempt described by `order` (an AttemptOrder as JSON: key, task, config, params,
+/// context, inputs, previous_attempt, seed, trial_index, attempt, work_dir; the work folder is
+/// created if missing, never emptied) and returns the result message
 /// {"type":"result", "key", "objectives", "features", "artifacts":[{name,path,sha256,size}], "info"}.
 /// Throws whatever the task throws.
 base::Json run_attempt(TaskCache& tasks, const base::Json& order, const std::atomic<bool>& cancel,

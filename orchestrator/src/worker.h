@@ -1,8 +1,8 @@
 #pragma once
 // The worker process (`podium worker`, started by executors, not by people): loads task plugins
 // once and runs trial after trial. Protocol: one JSON object per line.
-//   in:  {"type":"run", "key", "task", "config", "params", "context", "seed", "trial_index",
-//         "attempt", "work_dir"}
+//   in:  {"type":"run", "key", "task", "config", "params", "context", "inputs", "previous_attempt",
+//         "seed", "trial_index", "attempt", "work_dir"}   (executor.h: AttemptOrder)
 //        {"type":"cancel", "key"}
 //        {"type":"describe", "task", "config"}
 //   out: {"type":"ready", "pid"}

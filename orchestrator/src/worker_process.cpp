@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "podium/base/config.h"
 #include "podium/base/error.h"
 
 namespace podium::orchestrator {
@@ -129,6 +130,8 @@ Json describe_task_isolated(const std::filesystem::path& binary, const std::stri
     const bool open = worker.read_messages(messages);
     for (const auto& m : messages) {
       if (m.value("type", "") == "description") return m["description"];
+      if (m.value("type", "") == "error" && m.contains("config_path"))
+        throw base::ConfigError("", m["config_path"].get<std::string>(), m.value("problem", ""));
       if (m.value("type", "") == "error") throw base::UserError(m.value("message", "plugin error"));
     }
     messages.clear();

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <set>
 
-#include "config_reader.h"
 #include "eigen_helpers.h"
+#include "podium/base/config.h"
 #include "podium/base/error.h"
 #include "podium/search/strategies.h"
 
@@ -18,23 +18,23 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 BdsParams BdsParams::from_json(const Json& config, const std::string& path) {
-  ConfigReader r(config, path);
+  base::ConfigReader r(config, path);
   BdsParams p;
-  p.initial_samples = r.integer("initial_samples", p.initial_samples, 1, 100000);
+  p.initial_samples = r.integer("initial_samples", p.initial_samples, {1, 100000});
   p.initial_design = r.choice("initial_design", p.initial_design, {"random", "maximin"});
   p.acquisition = r.choice("acquisition", p.acquisition, {"new_combination", "expected_distance"});
-  p.explore_until = r.integer("explore_until", p.explore_until, 0, 1000000);
-  p.stall = r.integer("stall", p.stall, 0, 1000000);
-  p.stall_explore = r.integer("stall_explore", p.stall_explore, 1, 1000000);
-  p.mc_samples = r.integer("mc_samples", p.mc_samples, 1, 100000);
-  p.explore_candidates = r.integer("explore_candidates", p.explore_candidates, 1, 1000000);
-  p.explore_starts = r.integer("explore_starts", p.explore_starts, 1, 1000);
-  p.direct_evals = r.integer("direct_evals", p.direct_evals, 10, 10000000);
-  p.fit_starts = r.integer("fit_starts", p.fit_starts, 0, 1000);
-  p.ucb_beta = r.number("ucb_beta", p.ucb_beta, 0.0, 1e6);
-  p.length_scale_min = r.number("length_scale_min", p.length_scale_min, 1e-6, 1e6);
-  p.length_scale_max = r.number("length_scale_max", p.length_scale_max, p.length_scale_min, 1e6);
-  p.noise_min = r.number("noise_min", p.noise_min, 1e-9, 0.5);
+  p.explore_until = r.integer("explore_until", p.explore_until, {0, 1000000});
+  p.stall = r.integer("stall", p.stall, {0, 1000000});
+  p.stall_explore = r.integer("stall_explore", p.stall_explore, {1, 1000000});
+  p.mc_samples = r.integer("mc_samples", p.mc_samples, {1, 100000});
+  p.explore_candidates = r.integer("explore_candidates", p.explore_candidates, {1, 1000000});
+  p.explore_starts = r.integer("explore_starts", p.explore_starts, {1, 1000});
+  p.direct_evals = r.integer("direct_evals", p.direct_evals, {10, 10000000});
+  p.fit_starts = r.integer("fit_starts", p.fit_starts, {0, 1000});
+  p.ucb_beta = r.number("ucb_beta", p.ucb_beta, {0.0, 1e6});
+  p.length_scale_min = r.number("length_scale_min", p.length_scale_min, {1e-6, 1e6});
+  p.length_scale_max = r.number("length_scale_max", p.length_scale_max, {p.length_scale_min, 1e6});
+  p.noise_min = r.number("noise_min", p.noise_min, {1e-9, 0.5});
   r.finish();
   return p;
 }

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "config_reader.h"
 #include "eigen_helpers.h"
+#include "podium/base/config.h"
 #include "podium/base/error.h"
 
 namespace podium::search {
@@ -15,26 +15,19 @@ using Eigen::MatrixXd;
 using Eigen::VectorXd;
 
 CmaesParams CmaesParams::from_json(const Json& config, const Space& space, const std::string& path) {
-  ConfigReader r(config, path);
+  base::ConfigReader r(config, path);
   CmaesParams p;
-  p.population = r.integer("population", p.population, 0, 100000);
-  if (p.population == 1) throw base::UserError(r.path("population") + ": 1 is not 0 (default) or >= 2");
-  p.sigma0 = r.number("sigma0", p.sigma0, 1e-12, 10.0);
+  p.population = r.integer("population", p.population, {0, 100000});
+  if (p.population == 1) r.fail("population", "is not 0 (the default size) or >= 2");
+  p.sigma0 = r.number("sigma0", p.sigma0, {1e-12, 10.0});
   p.maximize = r.choice("direction", "maximize", {"maximize", "minimize"}) == "maximize";
-  if (const Json* x0 = r.raw("x0")) {
-    if (!x0->is_object()) throw base::UserError(r.path("x0") + ": expected an object {parameter name: value}");
-    for (const auto& [key, value] : x0->items())
-      if (std::none_of(space.params.begin(), space.params.end(), [&](const Parameter& q) { return q.name == key; }))
-        throw base::UserError(r.path("x0") + "." + key + ": not a parameter of the space");
-    for (const auto& q : space.params) {
-      const std::string at = r.path("x0") + "." + q.name;
-      if (!x0->contains(q.name)) throw base::UserError(at + ": missing (x0 must give every parameter)");
-      const Json& v = x0->at(q.name);
-      if (!v.is_number() || v.get<double>() < q.low || v.get<double>() > q.high)
-        throw base::UserError(at + ": " + v.dump() + " is not a number in [" + Json(q.low).dump() + ", " + Json(q.high).dump() + "]");
-      p.x0.push_back(v.get<double>());
-    }
-  }
+  // x0: {parameter name: value} for every parameter of the space, or absent (the box centre).
+  if (r.has("x0"))
+    p.x0 = r.object("x0", base::required, [&](base::ConfigReader& x0) {
+      std::vector<double> x;
+      for (const auto& q : space.params) x.push_back(x0.number(q.name, base::required, {q.low, q.high}));
+      return x;
+    });
   r.finish();
   return p;
 }

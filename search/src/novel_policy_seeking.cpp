@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "config_reader.h"
+#include "podium/base/config.h"
 #include "podium/base/error.h"
 
 namespace podium::search {
@@ -10,14 +10,11 @@ namespace podium::search {
 using base::UserError;
 
 NovelPolicyParams NovelPolicyParams::from_json(const Json& config, const std::string& path) {
-  ConfigReader r(config, path);
+  base::ConfigReader r(config, path);
   NovelPolicyParams p;
-  p.trials_per_input = r.integer("trials_per_input", p.trials_per_input, 1, 100000);
-  p.d_threshold = r.number("d_threshold", p.d_threshold, 1e-12, 1e300);
-  if (const Json* a = r.raw("warm_start_artifact")) {
-    if (!a->is_string()) throw UserError(r.path("warm_start_artifact") + ": " + a->dump() + " is not a string");
-    p.warm_start_artifact = a->get<std::string>();
-  }
+  p.trials_per_input = r.integer("trials_per_input", p.trials_per_input, {1, 100000});
+  p.d_threshold = r.number("d_threshold", p.d_threshold, {1e-12, 1e300});
+  p.warm_start_artifact = r.string("warm_start_artifact", p.warm_start_artifact);
   r.finish();
   return p;
 }
@@ -63,7 +60,8 @@ std::vector<Proposal> NovelPolicySeeking::ask(std::size_t n) {
     p.x = in.x;
     p.context = {{"novelty", {{"features", in.found}, {"d_threshold", params_.d_threshold}}},
                  {"warm_start", in.warm_start}};
-    p.info = {{"input", i}, {"source_trial", in.source_trial}, {"iteration", in.asked}};
+    p.info = {{"source_trial", in.source_trial}, {"iteration", in.asked}};
+    p.input = i;
     ++in.asked;
     in.busy = true;
     pending_[p.id] = i;

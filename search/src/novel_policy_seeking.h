@@ -6,7 +6,8 @@
 // trial's), so the task can multiply its reward by
 //   r_novelty(f) = clip(min_j ‖f − f_j‖ / d_threshold, 0.01, 1),
 // and a warm-start checkpoint (the input's artifact named `warm_start_artifact`, or null).
-// Context: {"novelty": {"features": [[...], ...], "d_threshold": d}, "warm_start": path | null}.
+// Context: {"novelty": {"features": [[...], ...], "d_threshold": d}, "warm_start": path | null};
+// Proposal::input names the input, so a stage handing one input per trial hands that one.
 // Inputs run in parallel with each other; within one input the next trial waits for the previous
 // one. A failed trial uses up its iteration (it found no feature to add).
 #include <map>

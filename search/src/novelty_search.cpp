@@ -4,20 +4,20 @@
 #include <cmath>
 #include <limits>
 
-#include "config_reader.h"
 #include "pending.h"
+#include "podium/base/config.h"
 #include "podium/search/strategies.h"
 
 namespace podium::search {
 
 NoveltyParams NoveltyParams::from_json(const Json& config, const std::vector<Feature>& features, const std::string& path) {
-  ConfigReader r(config, path);
+  base::ConfigReader r(config, path);
   NoveltyParams p;
-  p.initial_samples = r.integer("initial_samples", p.initial_samples, 1, 100000);
-  p.k = r.integer("k", p.k, 1, 1000);
-  p.archive_threshold = r.number("archive_threshold", p.archive_threshold, 0.0, 1e300);
-  p.mutation = r.number("mutation", p.mutation, 1e-9, 10.0);
-  p.tournament = r.integer("tournament", p.tournament, 1, 1000);
+  p.initial_samples = r.integer("initial_samples", p.initial_samples, {1, 100000});
+  p.k = r.integer("k", p.k, {1, 1000});
+  p.archive_threshold = r.number("archive_threshold", p.archive_threshold, {0.0, 1e300});
+  p.mutation = r.number("mutation", p.mutation, {1e-9, 10.0});
+  p.tournament = r.integer("tournament", p.tournament, {1, 1000});
   r.finish();
   if (p.archive_threshold == 0.0) {
     double diagonal = 0.0;

@@ -23,4 +23,17 @@ std::unique_ptr<Search> make_search(const std::string& algorithm, const SearchSe
   throw base::UserError(json_path + ".algorithm: unknown algorithm \"" + algorithm + "\" (known: " + known + ")");
 }
 
+void check_search(const std::string& algorithm, const SearchSetup& setup, bool has_inputs, const std::string& json_path) {
+  if (algorithm != "novel_policy") {
+    SearchSetup without_inputs = setup;
+    without_inputs.inputs = Json::array();
+    make_search(algorithm, without_inputs, json_path);
+    return;
+  }
+  NovelPolicyParams::from_json(setup.config, json_path + ".config");
+  if (!has_inputs)
+    throw base::UserError(json_path + ".algorithm: \"novel_policy\" seeks novel policies for an earlier stage's "
+                          "trials, but the stage has no \"inputs\"");
+}
+
 }  // namespace podium::search

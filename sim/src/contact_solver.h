@@ -12,12 +12,16 @@
 // then the caller integrates q with the new q̇. Hand-written: no packaged library solves
 // multibody contact LCPs on our model.
 //
-// Rows per step: ground contacts generated here from the model's geoms against the terrain's
-// plane (speculative: a point joins when it touches or would reach the plane within the step, so
-// fast impacts stop at the surface instead of sinking a step's travel deep); Bullet's manifold
-// points for everything else (self-collision, boxes, tiles) that touch; revolute limits that are
-// violated or would be crossed within the step. Each contact has a normal row (λ ≥ 0) and two
-// friction rows (|λ_t| ≤ μ λ_n, Bullet's friction pyramid), warm-started from the last step.
+// Rows per step: ground contacts generated here from the model's geoms against the plane z = 0
+// outside the terrain's regions (speculative: a point joins when it touches or would reach the
+// plane within the step, so fast impacts stop at the surface instead of sinking a step's travel
+// deep); Bullet's manifold points for everything else (self-collision, props, region boxes) that
+// touch; revolute limits, spherical swing cones and twist ranges that are violated or would be
+// crossed within the step; locked joints (bilateral). Each contact has a normal row (λ ≥ 0) and
+// two friction rows (|λ_t| ≤ μ λ_n, Bullet's friction pyramid), warm-started from the last step.
+// Bullet's manifolds are emptied before every detection, so its points depend on the pose only;
+// the manifold contacts' warm starts are kept here, in a canonical order (WarmStarts), which is
+// what lets World::restore replay a rollout bitwise.
 #include <BulletCollision/BroadphaseCollision/btDispatcher.h>
 
 #include <Eigen/Core>
@@ -27,11 +31,29 @@
 #include "bullet_character.h"
 #include "podium/sim/data.h"
 #include "podium/sim/model.h"
+#include "podium/sim/terrain.h"
 
 namespace podium::sim {
 
+// A manifold contact of one step: the pair's key (collision object user indices, child shape
+// indices), where it sits on object A, and its three impulses (normal, two friction).
+struct ManifoldContact {
+  std::array<int, 5> key{};  // object A, object B, child A, child B, order within the manifold
+  int link_a = -1, link_b = -1;
+  Eigen::Vector3d point_a, point_b, normal, local_a;
+  double distance = 0.0, friction = 0.0;
+  std::array<double, 3> warm{};
+};
+
+// Everything the solver carries from one step to the next.
+struct WarmStarts {
+  std::vector<std::array<double, 3>> ground;  // per geom plane point
+  std::vector<double> limits;                 // per DoF and side (spherical: swing, twist low/high on its 3 slots)
+  std::vector<double> locks;                  // per DoF
+  std::vector<ManifoldContact> manifold;      // sorted by key
+};
+
 struct ContactSolverConfig {
-  Eigen::Vector3d ground_normal = Eigen::Vector3d::UnitZ();  // plane n·x = 0
   double friction = 1.0;     // μ against the ground
   bool joint_limits = true;  // revolute angle limits
   double erp = 0.2;          // fraction of a penetration or limit violation removed per step
@@ -46,17 +68,23 @@ struct ContactSolverConfig {
 
 class ContactSolver {
  public:
-  ContactSolver(const CharacterModel& model, const btMultiBody& body, const ContactSolverConfig& config);
-  /// Advances data.qd by one step of dt_s under data.tau, gravity, the contacts in `dispatcher`'s
-  /// manifolds (found at the current pose) and the joint limits. data must be posed
-  /// (forward_kinematics at data.q); writes data.qdd (free acceleration), M, llt, C and link caches.
-  void step(CharacterData& data, double dt_s, btDispatcher* dispatcher);
-  const Eigen::Vector3d& ground_normal() const { return config_.ground_normal; }
+  ContactSolver(const CharacterModel& model, const btMultiBody& body, const Terrain& terrain, const ContactSolverConfig& config);
+  /// Advances data.qd by one step of dt_s under data.tau + tau_external (nv, or nullptr), gravity,
+  /// the contacts in `dispatcher`'s manifolds (found at the current pose) and the joint limits.
+  /// data must be posed (forward_kinematics at data.q); writes data.qdd (free acceleration), M,
+  /// llt, C and link caches.
+  void step(CharacterData& data, double dt_s, btDispatcher* dispatcher, const Eigen::VectorXd* tau_external);
+  const WarmStarts& warm_starts() const { return warm_; }
+  void set_warm_starts(const WarmStarts& warm) { warm_ = warm; }
 
  private:
   void add_ground_contacts();
   void add_manifold_contacts(btDispatcher* dispatcher);
   void add_limits();
+  void add_ball_limits(const Link& l);
+  void add_locks(const Link& l);
+  // A one-sided limit row on a joint's DoFs: gap ≥ 0 inside the range, `row` its rate ∂gap/∂q̇.
+  void add_limit_row(double gap, int v_index, const Eigen::Vector3d& row, int dofs, double& warm);
   // A contact's normal and two friction rows; links −1 are static; the normal points from b to a.
   void add_contact(int link_a, const Eigen::Vector3d& point_a, int link_b, const Eigen::Vector3d& point_b, const Eigen::Vector3d& normal,
                    double distance, double friction, const std::array<double*, 3>& warm);
@@ -67,6 +95,7 @@ class ContactSolver {
 
   const CharacterModel& model_;
   const btMultiBody& body_;
+  const Terrain& terrain_;
   ContactSolverConfig config_;
   CharacterData* data_ = nullptr;  // the step's data: posed at the start, q̇ free, then final
   double dt_ = 0.0;
@@ -79,12 +108,12 @@ class ContactSolver {
   Eigen::VectorXd lambda_, v_, du_;
   std::vector<double> target_, lo_, hi_;
   std::vector<int> normal_of_;
-  std::vector<double*> warm_;
+  std::vector<double*> warm_ptr_;
   int rows_ = 0;
-  std::vector<std::array<double, 3>> ground_warm_;  // per geom point
-  std::vector<char> ground_included_;               // per geom point: has rows this step
-  Eigen::VectorXd qd_free_;                         // velocities before the contact impulses
-  std::vector<double> limit_warm_;                  // per DoF and side
+  WarmStarts warm_;
+  std::vector<ManifoldContact> found_;  // this step's manifold contacts; swapped into warm_.manifold
+  std::vector<char> ground_included_;   // per geom point: has rows this step
+  Eigen::VectorXd qd_free_;             // velocities before the contact impulses
 };
 
 }  // namespace podium::sim

@@ -1,12 +1,11 @@
-// Loader for DeepMimic's character, PD-controller and motion formats (fields listed in
+// Loader for DeepMimic's character and PD-controller formats (fields listed in
 // ../shared/data/README.md). DeepMimic is y-up; we rotate everything +90° about x to get z-up.
-#include <cmath>
+// Its motion clips are read by character/ (read_deepmimic_clip), the one clip type.
 #include <algorithm>
 #include <map>
-#include <numbers>
 
 #include "podium/base/error.h"
-#include "podium/sim/motion.h"
+#include "podium/sim/model.h"
 
 namespace podium::sim {
 
@@ -17,10 +16,6 @@ namespace {
 
 // y-up → z-up: (x, y, z) ↦ (x, −z, y).
 Json zup(double x, double y, double z) { return Json{x, -z, y}; }
-const Eigen::Quaterniond& yup_to_zup() {
-  static const Eigen::Quaterniond q(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX()));
-  return q;
-}
 
 double field(const Json& obj, const char* key, const std::string& where) {
   if (!obj.contains(key) || !obj[key].is_number()) throw UserError(where + "." + key + ": missing or not a number");
@@ -109,35 +104,6 @@ ModelPtr load_deepmimic(const std::filesystem::path& character, const std::files
     if (std::find(names.begin(), names.end(), head) != names.end()) model["head"] = head;
   if (std::find(names.begin(), names.end(), "chest") != names.end()) model["torso"] = "chest";
   return CharacterModel::from_json(model, where);
-}
-
-MotionClip load_deepmimic_motion(const CharacterModel& model, const std::filesystem::path& path) {
-  const Json src = base::read_json_file(path);
-  const std::string where = "deepmimic motion " + path.filename().string();
-  if (!src.contains("Frames") || !src["Frames"].is_array()) throw UserError(where + ": Frames: missing or not an array");
-  // Frame width: dt + root 7 + per joint 4 (spherical) or 1 (revolute) = 1 + nq.
-  const std::size_t width = 1 + static_cast<std::size_t>(model.nq());
-  const Eigen::Quaterniond& c = yup_to_zup();
-  MotionClip clip;
-  for (std::size_t f = 0; f < src["Frames"].size(); ++f) {
-    const Json& fr = src["Frames"][f];
-    if (!fr.is_array() || fr.size() != width)
-      throw UserError(where + ": Frames[" + std::to_string(f) + "]: has " + std::to_string(fr.size()) + " numbers but model " + model.name() +
-                      " needs " + std::to_string(width) + " (dt + nq)");
-    Eigen::VectorXd q(model.nq());
-    for (int k = 0; k < model.nq(); ++k) q(k) = fr[k + 1].get<double>();
-    q.head<3>() = c * Eigen::Vector3d(q.head<3>());
-    for (const Link& l : model.links()) {
-      if (l.joint == JointType::revolute) continue;
-      const int i = l.joint == JointType::free ? l.q_index + 3 : l.q_index;
-      // Rotations conjugate with the frame change: R' = C R Cᵀ.
-      const Eigen::Quaterniond r = (c * Eigen::Quaterniond(q(i), q(i + 1), q(i + 2), q(i + 3)).normalized() * c.conjugate());
-      q.segment<4>(i) << r.w(), r.x(), r.y(), r.z();
-    }
-    clip.frame_dt_s.push_back(fr[0].get<double>());
-    clip.poses.push_back(q);
-  }
-  return clip;
 }
 
 }  // namespace podium::sim

@@ -217,6 +217,18 @@ double lowest_geom_point(const CharacterModel& model, const CharacterData& data)
   return z;
 }
 
+// For each joint on the path to the root, column s = [ω; v] of S in that link's frame moves the
+// point by R v + (R ω) × (p − o), so its entry is (Rᵀ f)·v + (Rᵀ((p − o) × f))·ω.
+void internal::add_point_force(const CharacterModel& model, const CharacterData& data, int link, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                               Eigen::Ref<Eigen::VectorXd> tau) {
+  const auto& links = model.links();
+  for (int k = link; k >= 0; k = links[k].parent) {
+    const LinkData& d = data.links[k];
+    const Eigen::Vector3d lin = d.R.transpose() * force, ang = d.R.transpose() * (point - d.p).cross(force);
+    for (int j = 0; j < links[k].nv; ++j) tau(links[k].v_index + j) += d.S.col(j).head<3>().dot(ang) + d.S.col(j).tail<3>().dot(lin);
+  }
+}
+
 void internal::for_each_plane_point(const CharacterModel& model, const CharacterData& data, const Eigen::Vector3d& normal,
                           const std::function<void(int, const Geom&, int, const Eigen::Vector3d&, double)>& visit) {
   int k = 0;

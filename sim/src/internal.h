@@ -18,6 +18,11 @@ void spd_spring_term(const CharacterModel& model, CharacterData& data, const Gai
 /// stable_pd_maba for data whose link poses already match data.q (forward_kinematics done).
 void stable_pd_maba_posed(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
 
+/// tau += Jᵀ force: the generalized force of a world force (N) at a world point fixed to `link`
+/// (also a constraint row's Jacobian, for a unit direction). Needs forward_kinematics.
+void add_point_force(const CharacterModel& model, const CharacterData& data, int link, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
+                     Eigen::Ref<Eigen::VectorXd> tau);
+
 /// Calls visit(link, geom, geom_point, surface_point, distance) for each point of the model's geoms
 /// that can touch the plane n·x = 0 first: a sphere's centre, both ends of a capsule's axis, a
 /// box's corners; `surface_point` is the geom's point nearest the plane, `distance` its height

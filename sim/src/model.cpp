@@ -6,8 +6,10 @@
 #include <Eigen/Eigenvalues>
 #include <cmath>
 #include <cstdlib>
+#include <algorithm>
 #include <map>
 #include <numbers>
+#include <set>
 #include <sstream>
 
 #include "podium/base/error.h"
@@ -74,6 +76,65 @@ Geom parse_geom(const Json& g, const std::string& where) {
   return geom;
 }
 
+double angle_in(const Json& j, double lo, double hi, const std::string& where) {
+  if (!j.is_number() || !(j.get<double>() >= lo && j.get<double>() <= hi))
+    throw UserError(where + ": " + show(j) + " is not an angle in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] rad");
+  return j.get<double>();
+}
+
+// "axis" (twist axis, default z), "swing" (cone half-angle), "twist" ([lower, upper]).
+void parse_spherical_limits(const Json& j, const std::string& where, Link& link) {
+  if (j.contains("axis")) {
+    link.axis = vec3(j["axis"], where + ".axis");
+    if (link.axis.norm() < 1e-9) throw UserError(where + ".axis: " + show(j["axis"]) + " is not a direction (zero length)");
+    link.axis.normalize();
+  }
+  if (j.contains("swing")) link.swing_limit = angle_in(j["swing"], 1e-3, std::numbers::pi, where + ".swing");
+  if (j.contains("twist")) {
+    const Json& t = j["twist"];
+    if (!t.is_array() || t.size() != 2) throw UserError(where + ".twist: " + show(t) + " is not [lower, upper] (radians)");
+    link.twist_lower = angle_in(t[0], -std::numbers::pi, std::numbers::pi, where + ".twist[0]");
+    link.twist_upper = angle_in(t[1], -std::numbers::pi, std::numbers::pi, where + ".twist[1]");
+    if (!(link.twist_lower < link.twist_upper)) throw UserError(where + ".twist: " + show(t) + " is not [lower, upper] with lower < upper");
+  }
+}
+
+// "lock": an angle (revolute) or a quaternion [w, x, y, z] (spherical) the joint is held at.
+void parse_lock(const Json& j, const std::string& where, Link& link) {
+  link.locked = true;
+  if (link.joint == JointType::revolute) {
+    if (!j.is_number()) throw UserError(where + ": " + show(j) + " is not an angle (radians) for a revolute joint");
+    link.lock(0) = j.get<double>();
+    if (link.lower < link.upper && (link.lock(0) < link.lower || link.lock(0) > link.upper))
+      throw UserError(where + ": " + show(j) + " is outside the joint's range");
+    return;
+  }
+  if (!j.is_array() || j.size() != 4 || !std::all_of(j.begin(), j.end(), [](const Json& x) { return x.is_number(); }))
+    throw UserError(where + ": " + show(j) + " is not a quaternion [w, x, y, z] for a spherical joint");
+  const Eigen::Vector4d q(j[0].get<double>(), j[1].get<double>(), j[2].get<double>(), j[3].get<double>());
+  if (q.norm() < 1e-9) throw UserError(where + ": " + show(j) + " is not a rotation (zero length)");
+  link.lock = q.normalized();
+}
+
+// Names listed in the top-level "remove" and every body below them (parents come first).
+std::set<std::string> removed_bodies(const Json& json, const std::string& where) {
+  std::set<std::string> removed;
+  if (!json.contains("remove")) return removed;
+  const Json& r = json["remove"];
+  if (!r.is_array()) throw UserError(where + ": remove: " + show(r) + " is not an array of body names");
+  std::set<std::string> names;
+  for (const Json& b : json["bodies"]) names.insert(b.value("name", ""));
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    if (!r[i].is_string() || !names.count(r[i].get<std::string>()))
+      throw UserError(where + ": " + base::json_path_index("remove", i) + ": " + show(r[i]) + " is not a body");
+    if (r[i].get<std::string>() == json["bodies"][0].value("name", "")) throw UserError(where + ": " + base::json_path_index("remove", i) + ": the root cannot be removed");
+    removed.insert(r[i].get<std::string>());
+  }
+  for (const Json& b : json["bodies"])
+    if (b.contains("parent") && b["parent"].is_string() && removed.count(b["parent"].get<std::string>())) removed.insert(b.value("name", ""));
+  return removed;
+}
+
 struct PendingBody {
   std::string name;
   int parent = -1;
@@ -110,11 +171,14 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
   std::vector<int> body_link;
   std::vector<Eigen::Vector3d> body_offset;
 
+  m.source_ = json;
+  const std::set<std::string> removed = removed_bodies(json, where);
   const Json& bodies = json["bodies"];
   for (std::size_t bi = 0; bi < bodies.size(); ++bi) {
     const Json& b = bodies[bi];
     const std::string bw = where + ": " + base::json_path_index("bodies", bi);
     const std::string name = b.value("name", "");
+    if (removed.count(name)) continue;
     if (name.empty()) throw UserError(bw + ".name: missing or empty");
     if (body_index.count(name)) throw UserError(bw + ".name: \"" + name + "\" is used by an earlier body");
     int parent_body = -1;
@@ -210,9 +274,11 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
           link.joint = JointType::spherical;
           link.lower = 1.0;
           link.upper = -1.0;
+          parse_spherical_limits(j, jw, link);
         } else {
           throw UserError(jw + ".type: \"" + type + "\" is not one of revolute, spherical");
         }
+        if (j.contains("lock")) parse_lock(j["lock"], jw + ".lock", link);
         link.torque_limit_nm = positive(j, "torque_limit", jw);
         link.kp = number(j, "kp", link.torque_limit_nm, jw);
         link.kd = number(j, "kd", 0.1 * link.kp, jw);
@@ -309,6 +375,7 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
       const std::string pw = where + ": " + base::json_path_index("contact_exclude", i);
       if (!pair.is_array() || pair.size() != 2) throw UserError(pw + ": " + show(pair) + " is not a pair of body names");
       const int a = m.find_body(pair[0].get<std::string>()), b = m.find_body(pair[1].get<std::string>());
+      if ((a < 0 && removed.count(pair[0].get<std::string>())) || (b < 0 && removed.count(pair[1].get<std::string>()))) continue;
       if (a < 0 || b < 0) throw UserError(pw + ": " + show(pair) + " names an unknown body");
       forbid(m.bodies_[a].link, m.bodies_[b].link);
     }
@@ -324,6 +391,7 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
   m.torso_ = body_by_key("torso", 0);
   if (json.contains("end_effectors")) {
     for (const Json& e : json["end_effectors"]) {
+      if (removed.count(e.get<std::string>())) continue;
       const int id = m.find_body(e.get<std::string>());
       if (id < 0) throw UserError(where + ": end_effectors: \"" + e.get<std::string>() + "\" is not a body");
       m.end_effectors_.push_back(id);
@@ -358,6 +426,28 @@ Eigen::VectorXd CharacterModel::neutral() const {
 std::filesystem::path shipped_models_dir() {
   if (const char* env = std::getenv("PODIUM_SIM_MODELS")) return env;
   return PODIUM_SIM_MODELS_DIR;
+}
+
+ModelPtr edit_model(const ModelPtr& model, const ModelEdits& edits) {
+  if (edits.empty()) return model;
+  Json json = model->source();
+  Json& remove = json["remove"];
+  if (!remove.is_array()) remove = Json::array();
+  for (const std::string& name : edits.remove) remove.push_back(name);
+  for (const auto& [joint, keys] : edits.joints) {
+    if (!keys.is_object()) throw UserError("sim: edits of joint \"" + joint + "\": " + show(keys) + " is not an object of model-file keys");
+    bool found = false;
+    for (Json& body : json["bodies"]) {
+      if (!body.contains("joints")) continue;
+      for (Json& j : body["joints"]) {
+        if (j.value("name", "") != joint) continue;
+        j.update(keys);
+        found = true;
+      }
+    }
+    if (!found) throw UserError("sim: edits: \"" + joint + "\" is not a joint of model " + model->name());
+  }
+  return CharacterModel::from_json(json, "model " + model->name() + " with edits");
 }
 
 ModelPtr load_model(const std::filesystem::path& path) {

@@ -27,6 +27,29 @@ Json shape_json(const Geom& g) {
   return j;
 }
 
+Json vec_json(const Eigen::Vector3d& v) { return {r5(v.x()), r5(v.y()), r5(v.z())}; }
+Json quat_json(const Eigen::Quaterniond& q) { return {r5(q.w()), r5(q.x()), r5(q.y()), r5(q.z())}; }
+
+// Props and the boxes the terrain regions are made of, in world coordinates (what a viewer draws).
+Json props_json(const TerrainConfig& config) {
+  Json props = Json::array();
+  for (const BoxProp& b : config.boxes)
+    props.push_back({{"name", b.name}, {"type", "box"}, {"pos", vec_json(b.center)}, {"quat", quat_json(b.rotation.normalized())},
+                     {"half_extents", vec_json(b.half_extents)}, {"friction", b.friction}});
+  return props;
+}
+
+Json terrain_json(const TerrainConfig& config) {
+  static const char* kinds[] = {"flat", "rough", "slope"};
+  const Terrain terrain(config);
+  Json regions = Json::array(), pieces = Json::array();
+  for (const TerrainRegion& r : config.regions)
+    regions.push_back({{"kind", kinds[static_cast<int>(r.kind)]}, {"min", {r.min.x(), r.min.y()}}, {"max", {r.max.x(), r.max.y()}}});
+  for (const TerrainPiece& p : terrain.pieces())
+    pieces.push_back({{"region", p.region}, {"type", "box"}, {"pos", vec_json(p.center)}, {"quat", quat_json(p.rotation)}, {"half_extents", vec_json(p.half_extents)}});
+  return {{"regions", regions}, {"pieces", pieces}};
+}
+
 std::ofstream open_out(const std::filesystem::path& path) {
   std::ofstream out(path);
   if (!out) throw base::RuntimeError("sim: cannot write " + path.string());
@@ -48,6 +71,8 @@ void Recorder::record(World& world) {
   Frame f;
   f.time_s = world.time_s();
   f.q = d.q;
+  f.qd = d.qd;
+  terrain_ = world.terrain().config();
   for (std::size_t i = 0; i < model_->links().size(); ++i) {
     const Eigen::Quaterniond r(d.links[i].R);
     Eigen::Matrix<double, 7, 1> pose;
@@ -76,14 +101,18 @@ void write_trajectory(const Recorder& recorder, const std::filesystem::path& pat
     joints.push_back({{"name", l.name},
                       {"type", l.joint == JointType::free ? "free" : l.joint == JointType::revolute ? "revolute" : "spherical"},
                       {"q_index", l.q_index}});
-  out << Json{{"format", "podium-trajectory"}, {"version", 1}, {"model", m.name()}, {"links", links}, {"bodies", bodies}, {"joints", joints}}.dump() << '\n';
+  out << Json{{"format", "podium-trajectory"}, {"version", 2}, {"model", m.name()}, {"links", links}, {"bodies", bodies}, {"joints", joints},
+              {"ground", true}, {"props", props_json(recorder.terrain())}, {"terrain", terrain_json(recorder.terrain())}}
+             .dump()
+      << '\n';
   for (const Frame& f : recorder.frames()) {
-    Json q = Json::array(), poses = Json::array(), contacts = Json::array();
+    Json q = Json::array(), qd = Json::array(), poses = Json::array(), contacts = Json::array();
     for (int i = 0; i < f.q.size(); ++i) q.push_back(r5(f.q(i)));
+    for (int i = 0; i < f.qd.size(); ++i) qd.push_back(r5(f.qd(i)));
     for (const auto& p : f.links) poses.push_back({r5(p(0)), r5(p(1)), r5(p(2)), r5(p(3)), r5(p(4)), r5(p(5)), r5(p(6))});
     for (std::size_t b = 0; b < f.body_contacts.size(); ++b)
       if (f.body_contacts[b]) contacts.push_back(b);
-    out << Json{{"t", r5(f.time_s)}, {"root", {q[0], q[1], q[2], q[3], q[4], q[5], q[6]}}, {"q", q}, {"links", poses},
+    out << Json{{"t", r5(f.time_s)}, {"root", {q[0], q[1], q[2], q[3], q[4], q[5], q[6]}}, {"q", q}, {"qd", qd}, {"links", poses},
                 {"com", {r5(f.com.x()), r5(f.com.y()), r5(f.com.z())}}, {"contacts", contacts}}
                .dump()
         << '\n';

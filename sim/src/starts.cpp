@@ -34,10 +34,25 @@ void standing_start(World& world) { world.reset(world.model().standing_pose(), E
 StepReport ragdoll_start(World& world, base::Rng& rng, const RagdollStart& options) {
   const CharacterModel& model = world.model();
   Eigen::VectorXd q = random_pose(model, rng, options.drop_height_m);
+  if (options.lying != RagdollStart::Lying::any) {
+    // Standing, the torso's front is +x; pitching it by ∓90° about y puts the front up (supine)
+    // or down (prone), with a little random tilt so that falls differ.
+    const double pitch = (options.lying == RagdollStart::Lying::supine ? -0.5 : 0.5) * std::numbers::pi + rng.uniform(-0.2, 0.2);
+    const Eigen::Quaterniond r = Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(rng.uniform(-0.2, 0.2), Eigen::Vector3d::UnitX());
+    q.segment<4>(3) << r.w(), r.x(), r.y(), r.z();
+  }
+  const double yaw = options.random_yaw ? rng.uniform(-std::numbers::pi, std::numbers::pi) : options.yaw_rad;
+  if (yaw != 0.0) {
+    const Eigen::Quaterniond r = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized();
+    q.segment<4>(3) << r.w(), r.x(), r.y(), r.z();
+  }
+  q(0) = options.x_m, q(1) = options.y_m;
+  const double ground = world.terrain().height(q(0), q(1));
+  q(2) = options.drop_height_m + ground;
   CharacterData scratch(model);
   scratch.q = q;
   forward_kinematics(model, scratch);
-  const double low = lowest_geom_point(model, scratch) - world.terrain().height(q(0), q(1));
+  const double low = lowest_geom_point(model, scratch) - ground;
   if (low < 0.05) q(2) += 0.05 - low;
   world.reset(q, Eigen::VectorXd::Zero(model.nv()));
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(model.nv());

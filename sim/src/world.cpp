@@ -1,45 +1,28 @@
 // World: a CharacterModel as a Bullet btMultiBody in a btCollisionWorld with terrain, and motor
 // control (torque, PD, SPD dense/MABA) applied every simulation step. Bullet finds contacts;
 // ContactSolver advances velocities (free motion, contacts, joint limits); integrate() moves q.
+// Also: terrain and friction changes, snapshots. Forces: world_forces.cpp; contacts as
+// observed: world_contacts.cpp; the Bullet side: world_bullet.h.
 #include "podium/sim/world.h"
 
-#include <BulletCollision/CollisionDispatch/btCollisionDispatcher.h>
-#include <BulletCollision/CollisionDispatch/btDefaultCollisionConfiguration.h>
-#include <BulletCollision/BroadphaseCollision/btDbvtBroadphase.h>
 #include <BulletCollision/CollisionShapes/btBoxShape.h>
 #include <BulletCollision/CollisionShapes/btCapsuleShape.h>
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
-#include <BulletCollision/CollisionDispatch/btCollisionWorld.h>
-#include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
-#include <algorithm>
 #include <cmath>
 #include <string>
 
-#include "bullet_character.h"
-#include "contact_solver.h"
 #include "internal.h"
 #include "podium/base/error.h"
+#include "shapes.h"
+#include "world_bullet.h"
 
 namespace podium::sim {
 
 namespace {
 
-// Self-collision filter: pairs of links of our character collide only if the model allows it.
-struct SelfCollisionFilter : btOverlapFilterCallback {
-  const CharacterModel* model = nullptr;
-  bool self_collision = true;
-  bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
-    if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) || !(b->m_collisionFilterGroup & a->m_collisionFilterMask)) return false;
-    auto* ca = btMultiBodyLinkCollider::upcast(static_cast<btCollisionObject*>(a->m_clientObject));
-    auto* cb = btMultiBodyLinkCollider::upcast(static_cast<btCollisionObject*>(b->m_clientObject));
-    if (ca && cb && ca->m_multiBody == cb->m_multiBody) return self_collision && model->links_collide(ca->m_link + 1, cb->m_link + 1);
-    return true;
-  }
-};
-
-std::unique_ptr<btCollisionShape> make_shape(const Geom& g) {
+std::unique_ptr<btConvexShape> make_shape(const Geom& g) {
   switch (g.type) {
     case ShapeType::sphere: return std::make_unique<btSphereShape>(g.radius);
     case ShapeType::capsule: return std::make_unique<btCapsuleShapeZ>(g.radius, 2.0 * g.half_length);
@@ -62,20 +45,6 @@ std::unique_ptr<btCollisionShape> make_direct_shape(const Geom& g, const btTrans
   return nullptr;
 }
 
-// Bullet's default pools (4096 manifolds of 1.5 kB each in double precision, 4096 algorithms) are
-// allocated and touched on every reset; one character needs far fewer, and Bullet falls back to
-// the heap if they run out.
-btDefaultCollisionConstructionInfo small_pools() {
-  btDefaultCollisionConstructionInfo info;
-  info.m_defaultMaxPersistentManifoldPoolSize = 256;
-  info.m_defaultMaxCollisionAlgorithmPoolSize = 256;
-  return info;
-}
-
-// Contact points farther apart than this are not touching: observe() does not report them and the
-// solver gets no rows for them (Bullet keeps manifold points up to its contact-breaking distance).
-constexpr double kTouchingM = 1e-3;
-
 // Contact error reduction per step (Baumgarte) such that penetration decays with the time constant
 // of MuJoCo's contacts in humanoid.xml (solref 0.015 s), which MuJoCo clamps to ≥ 2Δt: erp =
 // Δt/max(τ, 2Δt). Bullet's fixed 0.2 gives a decay time of 5Δt instead: 83 ms at 60 Hz, where
@@ -87,39 +56,8 @@ double contact_erp(double dt_s) {
 
 }  // namespace
 
-struct World::Bullet {
-  btDefaultCollisionConfiguration collision_config{small_pools()};
-  btCollisionDispatcher dispatcher{&collision_config};
-  btDbvtBroadphase broadphase;
-  // Declared before the world, which points to them.
-  std::unique_ptr<BulletCharacter> character;
-  std::unique_ptr<ContactSolver> solver;
-  SelfCollisionFilter filter;
-  std::unique_ptr<btCollisionWorld> world;
-  std::vector<std::unique_ptr<btCollisionShape>> shapes;
-  std::vector<std::unique_ptr<btCollisionObject>> objects;  // colliders and terrain
-  std::vector<std::vector<int>> child_body;  // per link: body of each compound child
-  btAlignedObjectArray<btQuaternion> scratch_q;  // for updateCollisionObjectWorldTransforms
-  btAlignedObjectArray<btVector3> scratch_m;
-
-  ~Bullet() {
-    for (auto& o : objects) world->removeCollisionObject(o.get());
-  }
-
-  void add_static(std::unique_ptr<btCollisionShape> shape, const btTransform& pose, double friction) {
-    auto obj = std::make_unique<btCollisionObject>();
-    obj->setCollisionShape(shape.get());
-    obj->setWorldTransform(pose);
-    obj->setFriction(friction);
-    obj->setRestitution(0.0);
-    world->addCollisionObject(obj.get(), btBroadphaseProxy::StaticFilter, btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
-    shapes.push_back(std::move(shape));
-    objects.push_back(std::move(obj));
-  }
-};
-
 World::World(ModelPtr model, const WorldConfig& config)
-    : model_(std::move(model)), config_(config), terrain_(config.terrain), data_(*model_), gains_(Gains::from_model(*model_)),
+    : model_(edit_model(model, config.edits)), config_(config), terrain_(config.terrain), data_(*model_), gains_(Gains::from_model(*model_)),
       limits_(model_->nv()) {
   const double ratio = config_.sim_hz / config_.control_hz;
   if (!(config_.sim_hz > 0) || !(config_.control_hz > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 || ratio < 1)
@@ -127,6 +65,21 @@ World::World(ModelPtr model, const WorldConfig& config)
                           " (need sim_hz = k · control_hz, k ≥ 1)");
   substeps_ = static_cast<int>(std::lround(ratio));
   data_.gravity = config_.gravity;
+  forces_.assign(model_->bodies().size(), Eigen::Vector3d::Zero());
+  tau_external_ = Eigen::VectorXd::Zero(model_->nv());
+  // Body centroids: volume-weighted geom centres in the carrying link's frame (else the body origin).
+  centroids_.resize(model_->bodies().size());
+  std::vector<double> volume(model_->bodies().size(), 0.0);
+  for (std::size_t b = 0; b < centroids_.size(); ++b) centroids_[b] = model_->bodies()[b].offset;
+  for (const Link& l : model_->links()) {
+    for (const Geom& g : l.geoms) {
+      if (volume[g.body] == 0.0) centroids_[g.body].setZero();
+      centroids_[g.body] += geom_volume(g) * g.pos;
+      volume[g.body] += geom_volume(g);
+    }
+  }
+  for (std::size_t b = 0; b < centroids_.size(); ++b)
+    if (volume[b] > 0) centroids_[b] /= volume[b];
   build_bullet();
   set_state(model_->standing_pose(), Eigen::VectorXd::Zero(model_->nv()));
 }
@@ -138,14 +91,12 @@ void World::build_bullet() {
   Bullet& b = *bullet_;
   b.character = std::make_unique<BulletCharacter>(*model_);
   // The ground plane is the solver's (no Bullet object): it generates those contacts itself.
-  const TerrainConfig& t = config_.terrain;
   ContactSolverConfig contacts;
-  if (t.kind == TerrainConfig::Kind::slope) contacts.ground_normal = Eigen::Vector3d(-std::sin(t.slope_rad), 0.0, std::cos(t.slope_rad));
   contacts.friction = config_.friction;  // the character's μ times the ground's 1.0
   contacts.joint_limits = config_.joint_limits;
   contacts.erp = contact_erp(dt_s());
   contacts.touching_m = kTouchingM;
-  b.solver = std::make_unique<ContactSolver>(*model_, b.character->body(), contacts);
+  b.solver = std::make_unique<ContactSolver>(*model_, b.character->body(), terrain_, contacts);
   b.world = std::make_unique<btCollisionWorld>(&b.dispatcher, &b.broadphase, &b.collision_config);
   b.filter.model = model_.get();
   b.filter.self_collision = config_.self_collision;
@@ -158,6 +109,7 @@ void World::build_bullet() {
   b.child_body.resize(links.size());
   for (std::size_t i = 0; i < links.size(); ++i) {
     const Link& l = links[i];
+    for (const Geom& g : l.geoms) b.geom_shapes.push_back(make_shape(g));
     if (l.geoms.empty()) continue;
     const Eigen::Quaterniond P = b.character->principal(static_cast<int>(i));
     // Geom poses in Bullet's link frame (at the COM, along principal axes).
@@ -179,30 +131,69 @@ void World::build_bullet() {
     collider->setCollisionShape(shape.get());
     collider->setFriction(config_.friction);
     collider->setRestitution(0.0);
-    b.world->addCollisionObject(collider.get(), btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
     if (i == 0) body.setBaseCollider(collider.get());
     else body.getLink(static_cast<int>(i) - 1).m_collider = collider.get();
     b.shapes.push_back(std::move(shape));
-    b.objects.push_back(std::move(collider));
+    b.add_object(std::move(collider), {ObjectInfo::Kind::link, static_cast<int>(i)}, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
   }
 
-  // Props: tiles, boxes.
-  if (t.kind == TerrainConfig::Kind::rough) {
-    const int n = t.tiles_per_side;
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) {
-        const double h = terrain_.tile_height(i, j);
-        if (h <= 0) continue;
-        const double cx = (i - n / 2.0 + 0.5) * t.tile_size_m, cy = (j - n / 2.0 + 0.5) * t.tile_size_m;
-        b.add_static(std::make_unique<btBoxShape>(btVector3(t.tile_size_m / 2, t.tile_size_m / 2, h / 2)),
-                     btTransform(btQuaternion::getIdentity(), btVector3(cx, cy, h / 2)), 1.0);
-      }
-    }
-  }
-  for (const BoxProp& box : t.boxes) {
-    b.add_static(std::make_unique<btBoxShape>(to_bt(box.half_extents)), btTransform(btQuaternion(btVector3(0, 0, 1), box.yaw_rad), to_bt(box.center)),
-                 box.friction);
-  }
+  // Terrain regions (boxes), then props.
+  const auto& pieces = terrain_.pieces();
+  for (std::size_t k = 0; k < pieces.size(); ++k)
+    b.add_static(std::make_unique<btBoxShape>(to_bt(pieces[k].half_extents)), btTransform(to_bt(pieces[k].rotation), to_bt(pieces[k].center)), 1.0,
+                 {ObjectInfo::Kind::piece, static_cast<int>(k)});
+  const auto& boxes = terrain_.config().boxes;
+  for (std::size_t k = 0; k < boxes.size(); ++k)
+    b.add_static(std::make_unique<btBoxShape>(to_bt(boxes[k].half_extents)), btTransform(to_bt(boxes[k].rotation.normalized()), to_bt(boxes[k].center)),
+                 boxes[k].friction, {ObjectInfo::Kind::prop, static_cast<int>(k)});
+}
+
+void World::rebuild_keeping_state() {
+  build_bullet();
+  bullet_->character->set_state(data_.q, data_.qd);
+  bullet_->character->body().updateCollisionObjectWorldTransforms(bullet_->scratch_q, bullet_->scratch_m);
+}
+
+void World::set_friction(double mu) {
+  if (!(mu >= 0)) throw base::UserError("sim: friction " + std::to_string(mu) + " is not ≥ 0");
+  config_.friction = mu;
+  rebuild_keeping_state();
+}
+
+void World::set_terrain(const TerrainConfig& terrain) {
+  terrain_ = Terrain(terrain);  // validates first: a bad config leaves the World as it was
+  config_.terrain = terrain;
+  rebuild_keeping_state();
+}
+
+WorldSnapshot World::snapshot() const {
+  WorldSnapshot s(data_);
+  s.model = model_;
+  s.config = config_;
+  s.gains = gains_;
+  s.step_count = step_count_;
+  s.failure = failure_;
+  s.forces = forces_;
+  s.warm = std::make_shared<const WarmStarts>(bullet_->solver->warm_starts());
+  return s;
+}
+
+void World::restore(const WorldSnapshot& s) {
+  // The same model: the same object, or one built from the same file and edits.
+  if (s.model != model_ && s.model->source() != model_->source())
+    throw base::UserError("sim: restore: the snapshot is of another model (" + s.model->name() + ") than this World's (" + model_->name() + ")");
+  if (s.config.sim_hz != config_.sim_hz || s.config.control_hz != config_.control_hz)
+    throw base::UserError("sim: restore: the snapshot steps at " + std::to_string(s.config.sim_hz) + " / " + std::to_string(s.config.control_hz) +
+                          " Hz, this World at " + std::to_string(config_.sim_hz) + " / " + std::to_string(config_.control_hz) + " Hz");
+  terrain_ = Terrain(s.config.terrain);
+  config_ = s.config;
+  data_ = s.data;
+  gains_ = s.gains;
+  step_count_ = s.step_count;
+  failure_ = s.failure;
+  for (std::size_t k = 0; k < forces_.size(); ++k) set_external_force(static_cast<int>(k), s.forces[k]);
+  rebuild_keeping_state();
+  bullet_->solver->set_warm_starts(*s.warm);
 }
 
 void World::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
@@ -261,9 +252,14 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
     const int nj = model_->nv() - 6;  // the root servo (if any) is not a motor: no limit
     data_.tau.tail(nj) = data_.tau.tail(nj).cwiseMax(-limits_.tail(nj)).cwiseMin(limits_.tail(nj));
   }
+  if (has_forces_) {
+    tau_external_.setZero();
+    for (std::size_t k = 0; k < forces_.size(); ++k)
+      if (!forces_[k].isZero(0.0)) internal::add_point_force(*model_, data_, model_->bodies()[k].link, body_centroid(static_cast<int>(k)), forces_[k], tau_external_);
+  }
   Bullet& b = *bullet_;
-  b.world->performDiscreteCollisionDetection();  // contacts at the pose the step starts from
-  b.solver->step(data_, dt_s(), b.world->getDispatcher());
+  b.detect_contacts();  // at the pose the step starts from
+  b.solver->step(data_, dt_s(), b.world->getDispatcher(), has_forces_ ? &tau_external_ : nullptr);
   // Positions in our coordinates: Bullet keeps base velocities in world frame at the COM, and a
   // round trip through them loses the ω × v and ω × (ω × c) terms of a step (measured: ragdolls
   // gained hundreds of joules). Bullet gets the new pose for collision detection only.
@@ -293,42 +289,6 @@ double World::kinetic_energy() {
   center_of_mass(*model_, data_, com, com_vel);  // fills link velocities
   for (std::size_t i = 0; i < model_->links().size(); ++i) e += 0.5 * data_.links[i].v.dot(data_.links[i].I_body * data_.links[i].v);
   return e;
-}
-
-Observation World::observe() {
-  Observation o;
-  const CharacterModel& m = *model_;
-  const Eigen::Vector3d head = body_point(m, data_, m.head_body(), Eigen::Vector3d::Zero());
-  o.head_height_m = head.z() - terrain_.height(head.x(), head.y());
-  center_of_mass(m, data_, o.com, o.com_vel);
-  const Eigen::Matrix3d& Rt = data_.links[m.bodies()[m.torso_body()].link].R;
-  o.torso_up = Rt.row(2).transpose();
-  o.root_quat = data_.q.segment<4>(3);
-  const LinkData& root = data_.links[0];
-  for (int e : m.end_effector_bodies()) o.end_effectors.push_back(root.R.transpose() * (body_point(m, data_, e, Eigen::Vector3d::Zero()) - root.p));
-  // Ground contacts from the geoms; the rest from Bullet's manifolds, mapped through compound child indices to bodies.
-  o.body_contacts.assign(m.bodies().size(), 0);
-  internal::for_each_plane_point(m, data_, bullet_->solver->ground_normal(), [&](int, const Geom& g, int, const Eigen::Vector3d&, double distance) {
-    if (distance <= kTouchingM) o.body_contacts[g.body] = 1;
-  });
-  btDispatcher* dispatcher = bullet_->world->getDispatcher();
-  auto mark = [&](const btCollisionObject* obj, int child) {
-    const auto* col = btMultiBodyLinkCollider::upcast(obj);
-    if (!col || col->m_multiBody != &bullet_->character->body()) return;
-    const auto& owners = bullet_->child_body[col->m_link + 1];
-    if (owners.size() == 1) child = 0;  // a direct shape reports no child index
-    if (child >= 0 && child < static_cast<int>(owners.size())) o.body_contacts[owners[child]] = 1;
-  };
-  for (int k = 0; k < dispatcher->getNumManifolds(); ++k) {
-    const btPersistentManifold* mf = dispatcher->getManifoldByIndexInternal(k);
-    for (int p = 0; p < mf->getNumContacts(); ++p) {
-      const btManifoldPoint& pt = mf->getContactPoint(p);
-      if (pt.getDistance() > kTouchingM) continue;
-      mark(mf->getBody0(), pt.m_index0);
-      mark(mf->getBody1(), pt.m_index1);
-    }
-  }
-  return o;
 }
 
 }  // namespace podium::sim

@@ -145,10 +145,7 @@ Queries::~Queries() = default;
 std::unique_ptr<Queries> Queries::open(const std::filesystem::path& path) {
   auto store = Store::open(path, Store::Access::read_only);  // existence and schema checks
   auto impl = std::make_unique<Impl>();
-  const int rc = sqlite3_open_v2(path.c_str(), &impl->db, SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr);
-  if (rc != SQLITE_OK)
-    throw base::RuntimeError(path.string() + ": cannot open database: " +
-                             (impl->db ? sqlite3_errmsg(impl->db) : sqlite3_errstr(rc)));
+  impl->db = open_for_reading(path);  // also on a read-only filesystem
   sqlite3_busy_timeout(impl->db, 10000);
   // Scans of 100,000-trial campaigns: memory-mapped reads and a page cache that holds the trials.
   check_sqlite(impl->db, sqlite3_exec(impl->db, "PRAGMA mmap_size = 268435456; PRAGMA cache_size = -32768", nullptr, nullptr, nullptr),
@@ -181,23 +178,32 @@ std::optional<std::int64_t> Queries::trial_campaign(std::int64_t trial_id) const
 }
 
 
+std::optional<std::int64_t> Queries::trial_id(std::int64_t stage_id, std::int64_t index) const {
+  Statement s(impl_->db, "SELECT id FROM trials WHERE stage_id = ? AND idx = ?");
+  s.bind(1, stage_id).bind(2, index);
+  if (!s.step()) return std::nullopt;
+  return s.int64(0);
+}
+
 std::vector<TrialPoint> Queries::points(std::int64_t campaign_id, std::int64_t max_points, std::int64_t* total) const {
   const ReadSnapshot snapshot(impl_->db);
   const auto stages = campaign_stages(impl_->db, campaign_id, std::nullopt);
   TrialFilter done;
   done.state = "done";
-  const std::int64_t n = count_matching(impl_->db, stages, done);
-  if (total) *total = n;
-  const std::int64_t stride = std::max<std::int64_t>(1, (n + max_points - 1) / std::max<std::int64_t>(1, max_points));
+  if (total) *total = 0;
   // Walk the done trials' ids in index order (trials_by_state, no row read); read the row and
-  // the features of every stride-th one only.
+  // the features of every stride-th one only. Strided per stage: the dashboard shows one stage at
+  // a time, and a small stage keeps its points beside a large one.
   Statement done_ids(impl_->db, "SELECT id FROM trials WHERE stage_id = ? AND state = 'done' ORDER BY idx");
   Statement row(impl_->db,
                 "SELECT idx, objective, strategy, json_extract(info, '$.step'), finished_at FROM trials WHERE id = ?");
   Statement features(impl_->db, kTrialFeatures);
   std::vector<TrialPoint> out;
-  std::int64_t i = 0;
   for (const auto& st : stages) {
+    const std::int64_t n = count_matching(impl_->db, {st}, done);
+    if (total) *total += n;
+    const std::int64_t stride = std::max<std::int64_t>(1, (n + max_points - 1) / std::max<std::int64_t>(1, max_points));
+    std::int64_t i = 0;
     done_ids.reset();
     done_ids.bind(1, st.id);
     for (; done_ids.step(); ++i) {
@@ -252,7 +258,6 @@ CampaignSummary Queries::summary(std::int64_t campaign_id, double now_unix_s) co
     out.done_last_minute += probe.int64(3);
   }
   out.strategy_table = strategies(campaign_id);
-  out.strategies = static_cast<std::int64_t>(out.strategy_table.size());
   return out;
 }
 
@@ -266,7 +271,7 @@ std::vector<StrategySummary> Queries::strategies(std::int64_t campaign_id) const
                  "ORDER BY st.idx, c.strategy");
   list.bind(1, campaign_id);
   Statement best(impl_->db,
-                 "SELECT id, objective FROM trials WHERE stage_id = ?1 AND strategy = ?2 AND objective IS "
+                 "SELECT id, idx, objective FROM trials WHERE stage_id = ?1 AND strategy = ?2 AND objective IS "
                  "(SELECT max(objective) FROM trials WHERE stage_id = ?1 AND strategy = ?2) ORDER BY id LIMIT 1");
   Statement features(impl_->db, kTrialFeatures);
   std::vector<StrategySummary> out;
@@ -279,7 +284,8 @@ std::vector<StrategySummary> Queries::strategies(std::int64_t campaign_id) const
     best.bind(1, list.int64(0)).bind(2, r.strategy);
     if (best.step()) {
       r.representative_trial = best.int64(0);
-      r.best_objective = optional_real(best, 1).value_or(std::nan(""));
+      r.representative_index = best.int64(1);
+      r.best_objective = optional_real(best, 2).value_or(std::nan(""));
       r.representative_features = read_features(features, r.representative_trial);
     }
     out.push_back(std::move(r));

@@ -6,7 +6,7 @@
 
 namespace podium::store {
 
-inline constexpr std::array<const char*, 3> kMigrations = {
+inline constexpr std::array<const char*, 5> kMigrations = {
     // Version 1: campaigns, stages, trials, attempts, metrics, features, artifacts, events.
     R"sql(
 CREATE TABLE schema_version (version INTEGER NOT NULL);
@@ -175,6 +175,21 @@ CREATE TABLE features_by_trial (
 INSERT INTO features_by_trial SELECT trial_id, idx, name, value FROM features;
 DROP TABLE features;
 ALTER TABLE features_by_trial RENAME TO features;
+)sql",
+    // Version 4, stage hand-over and stage failures: the earlier trials a stage's inputs selected,
+    // resolved when it started (JSON array; NULL before, or without inputs), so a resumed stage
+    // hands over exactly what it did before; and why a stage failed.
+    R"sql(
+ALTER TABLE stages ADD COLUMN input_trials TEXT;
+ALTER TABLE stages ADD COLUMN error TEXT NOT NULL DEFAULT '';
+)sql",
+    // Version 5, results told in trial order: how many of a stage's trials (in the order they were
+    // asked) the search has been told; later finished ones wait for the earlier ones. Earlier
+    // schedulers told every finished trial at once, which this count approximates.
+    R"sql(
+ALTER TABLE stages ADD COLUMN told INTEGER NOT NULL DEFAULT 0;
+UPDATE stages SET told = (SELECT count(*) FROM trials
+                          WHERE trials.stage_id = stages.id AND trials.state IN ('done', 'failed', 'cancelled'));
 )sql",
 };
 

@@ -1,5 +1,8 @@
 #include "sqlite.h"
 
+#include <cctype>
+#include <cstdio>
+
 #include "podium/base/error.h"
 
 namespace podium::store {
@@ -59,5 +62,49 @@ std::string Statement::text(int column) const {
   return p ? std::string(reinterpret_cast<const char*>(p), sqlite3_column_bytes(stmt_, column)) : std::string();
 }
 bool Statement::is_null(int column) const { return sqlite3_column_type(stmt_, column) == SQLITE_NULL; }
+
+namespace {
+
+// A file: URI for `path` (RFC 3986 unreserved bytes and '/' kept, the rest percent-encoded).
+std::string file_uri(const std::filesystem::path& path) {
+  std::string out = "file:";
+  for (const char ch : std::filesystem::absolute(path).string()) {
+    const auto c = static_cast<unsigned char>(ch);
+    if (std::isalnum(c) || ch == '/' || ch == '-' || ch == '.' || ch == '_' || ch == '~') {
+      out += ch;
+    } else {
+      char escaped[4];
+      std::snprintf(escaped, sizeof escaped, "%%%02X", c);
+      out += escaped;
+    }
+  }
+  return out;
+}
+
+// Opens and reads the schema once (the first read is where a missing -shm shows); the SQLite
+// result code, with the connection closed on failure.
+int try_open(const std::string& name, int flags, sqlite3** db) {
+  int rc = sqlite3_open_v2(name.c_str(), db, flags | SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr);
+  if (rc == SQLITE_OK) rc = sqlite3_exec(*db, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
+  if (rc != SQLITE_OK) {
+    sqlite3_close_v2(*db);
+    *db = nullptr;
+  }
+  return rc;
+}
+
+}  // namespace
+
+sqlite3* open_for_reading(const std::filesystem::path& path) {
+  sqlite3* db = nullptr;
+  int rc = try_open(path.string(), 0, &db);
+  const std::filesystem::path wal = path.string() + "-wal";
+  std::error_code ignored;
+  if (rc == SQLITE_CANTOPEN && !std::filesystem::exists(wal, ignored))
+    rc = try_open(file_uri(path) + "?immutable=1", SQLITE_OPEN_URI, &db);
+  if (rc != SQLITE_OK)
+    throw base::RuntimeError(path.string() + ": cannot open database: " + sqlite3_errstr(rc));
+  return db;
+}
 
 }  // namespace podium::store

@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -41,5 +42,12 @@ class Statement {
 
 /// Throws base::RuntimeError with SQLite's message for a failed call.
 void check_sqlite(sqlite3* db, int rc, const char* what);
+
+/// Opens an existing database for reading. A WAL database's readers need its -shm file, which
+/// SQLite cannot create on a read-only filesystem (a results archive, a read-only NFS export):
+/// then, if no -wal file exists (every transaction is in the database file itself), it is opened
+/// with SQLite's `immutable=1` URI parameter (no -shm, no locks; sqlite.org/uri.html). Throws
+/// base::RuntimeError naming the file.
+sqlite3* open_for_reading(const std::filesystem::path& path);
 
 }  // namespace podium::store

@@ -1,5 +1,7 @@
 #include "podium/store/store.h"
 
+#include <sys/stat.h>
+
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -87,6 +89,13 @@ TrialCounts read_counts(Statement& s) {
 
 }  // namespace
 
+std::string shown_stage_state(const std::string& campaign_state, const std::string& stage_state) {
+  const bool halted = campaign_state == "paused" || campaign_state == "cancelled";
+  if (halted && stage_state == "running") return campaign_state;
+  if (campaign_state == "cancelled" && stage_state == "waiting") return "cancelled";
+  return stage_state;
+}
+
 Store::Store(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Store::~Store() = default;
 
@@ -99,11 +108,22 @@ std::unique_ptr<Store> Store::open(const std::filesystem::path& path, Access acc
   impl->path = path;
   const bool read_only = access == Access::read_only;
   if (read_only && !std::filesystem::exists(path)) throw RuntimeError(path.string() + ": no such database");
-  const int flags = read_only ? SQLITE_OPEN_READONLY : (SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE);
-  const int rc = sqlite3_open_v2(path.c_str(), &impl->db, flags | SQLITE_OPEN_NOMUTEX, nullptr);
-  if (rc != SQLITE_OK)
-    throw RuntimeError(path.string() + ": cannot open database: " +
-                       (impl->db ? sqlite3_errmsg(impl->db) : sqlite3_errstr(rc)));
+  if (read_only) {
+    impl->db = open_for_reading(path);
+  } else {
+    // SQLite names the -wal file after the path it was given: two hard links, two -wal files, and
+    // writes through both corrupt the database (sqlite.org/howtocorrupt.html, "multiple links").
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && st.st_nlink > 1)
+      throw RuntimeError(path.string() + ": the database file has " + std::to_string(st.st_nlink) +
+                         " hard links; SQLite cannot write it safely through more than one name: remove the "
+                         "extra links (a symlink is fine)");
+    const int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX;
+    const int rc = sqlite3_open_v2(path.c_str(), &impl->db, flags, nullptr);
+    if (rc != SQLITE_OK)
+      throw RuntimeError(path.string() + ": cannot open database: " +
+                         (impl->db ? sqlite3_errmsg(impl->db) : sqlite3_errstr(rc)));
+  }
   sqlite3_busy_timeout(impl->db, 10000);
   impl->exec("PRAGMA foreign_keys = ON");
 
@@ -218,8 +238,8 @@ void Store::set_campaign_state(std::int64_t id, const std::string& state, const 
 std::vector<StageRecord> Store::stages(std::int64_t campaign_id) const {
   Statement s(impl_->db,
               "SELECT id, campaign_id, idx, name, task, algorithm, state, search_config, task_config, description, "
-              "inputs, budget_trials, budget_seconds, elapsed_s, search_state FROM stages WHERE campaign_id = ? "
-              "ORDER BY idx");
+              "inputs, budget_trials, budget_seconds, elapsed_s, search_state, input_trials, error, told FROM stages "
+              "WHERE campaign_id = ? ORDER BY idx");
   s.bind(1, campaign_id);
   std::vector<StageRecord> out;
   while (s.step()) {
@@ -239,19 +259,33 @@ std::vector<StageRecord> Store::stages(std::int64_t campaign_id) const {
     r.budget_seconds = s.real(12);
     r.elapsed_s = s.real(13);
     if (!s.is_null(14)) r.search_state = parse_json(s.text(14));
+    if (!s.is_null(15)) r.input_trials = parse_json(s.text(15));
+    r.error = s.text(16);
+    r.told = s.int64(17);
     out.push_back(std::move(r));
   }
   return out;
 }
 
-void Store::set_stage_state(std::int64_t stage_id, const std::string& state) {
-  Statement s(impl_->db, "UPDATE stages SET state = ? WHERE id = ?");
-  s.bind(1, state).bind(2, stage_id).run();
+void Store::start_stage(std::int64_t stage_id, const Json& input_trials, std::int64_t budget_trials) {
+  Statement s(impl_->db, "UPDATE stages SET state = 'running', input_trials = ?, budget_trials = ? WHERE id = ?");
+  input_trials.is_null() ? s.bind_null(1) : s.bind(1, dump(input_trials));
+  s.bind(2, budget_trials).bind(3, stage_id).run();
 }
 
-void Store::save_search_state(std::int64_t stage_id, const Json& state, double elapsed_s) {
-  impl_->cached("UPDATE stages SET search_state = ?, elapsed_s = ? WHERE id = ?")
-      .bind(1, dump(state)).bind(2, elapsed_s).bind(3, stage_id).run();
+void Store::set_stage_state(std::int64_t stage_id, const std::string& state, const std::string& error) {
+  Statement s(impl_->db, "UPDATE stages SET state = ?, error = ? WHERE id = ?");
+  s.bind(1, state).bind(2, error).bind(3, stage_id).run();
+}
+
+void Store::set_stage_budget(std::int64_t stage_id, std::int64_t budget_trials) {
+  Statement s(impl_->db, "UPDATE stages SET budget_trials = ? WHERE id = ?");
+  s.bind(1, budget_trials).bind(2, stage_id).run();
+}
+
+void Store::save_search_state(std::int64_t stage_id, const Json& state, double elapsed_s, std::int64_t told) {
+  impl_->cached("UPDATE stages SET search_state = ?, elapsed_s = ?, told = ? WHERE id = ?")
+      .bind(1, dump(state)).bind(2, elapsed_s).bind(3, told).bind(4, stage_id).run();
 }
 
 std::int64_t Store::add_trial(std::int64_t stage_id, std::int64_t index, const Json& params, const Json& context,
@@ -415,7 +449,10 @@ std::vector<ArtifactRecord> Store::artifacts(std::int64_t trial_id) const {
 }
 
 void Store::add_metrics(std::int64_t trial_id, const std::vector<MetricPoint>& points) {
-  auto& s = impl_->cached("INSERT INTO metrics (trial_id, attempt, name, step, value) VALUES (?, ?, ?, ?, ?)");
+  // metrics_by_trial (trial_id, name, step) answers the probe.
+  auto& s = impl_->cached(
+      "INSERT INTO metrics (trial_id, attempt, name, step, value) SELECT ?1, ?2, ?3, ?4, ?5 WHERE NOT EXISTS "
+      "(SELECT 1 FROM metrics WHERE trial_id = ?1 AND name = ?3 AND step = ?4)");
   for (const auto& p : points) {
     s.bind(1, trial_id).bind(2, static_cast<std::int64_t>(p.attempt)).bind(3, p.name).bind(4, p.step);
     std::isfinite(p.value) ? s.bind(5, p.value) : s.bind_null(5);  // NaN is stored as NULL

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "podium/base/rng.h"
+
 #include "podium/base/error.h"
 #include "podium/learn/classic_control.h"
 #include "podium/learn/ppo.h"
@@ -41,6 +43,103 @@ TEST(Sac, ActionsStayInsideTheBoundAfterItChanges) {
   EXPECT_THROW(sac.set_action_bound(0.0), base::UserError);
 }
 
+// A pendulum whose strength s is drawn per episode (the get-up seed's β̂, Algorithm 1); it
+// records the largest |torque| / (2 N·m · s) it was asked for.
+class WeakenedPendulum final : public Env {
+ public:
+  BoxSpace observation_space() const override { return inner_.observation_space(); }
+  BoxSpace action_space() const override { return inner_.action_space(); }
+  void seed(std::uint64_t seed) override {
+    inner_.seed(seed);
+    rng_ = base::Rng(seed + 1);
+  }
+  void reset(std::vector<double>& observation) override {
+    scale_ = rng_.uniform(0.3, 0.7);
+    scales_seen_.push_back(scale_);
+    inner_.reset(observation);
+  }
+  void step(std::span<const double> action, StepResult& out) override {
+    largest_ = std::max(largest_, std::abs(action[0]) / (2.0 * scale_));
+    inner_.step(action, out);
+  }
+  double action_scale() const override { return scale_; }
+  double largest_ = 0.0;
+  std::vector<double> scales_seen_;
+
+ private:
+  Pendulum inner_;
+  base::Rng rng_;
+  double scale_ = 1.0;
+};
+
+TEST(Sac, EachCopyActsWithinItsOwnPerEpisodeScale) {
+  Pendulum probe;
+  SacConfig c;
+  c.warmup_steps = 200;
+  c.batch_size = 32;
+  Sac sac(c, probe.observation_space(), probe.action_space(), 4);
+  sac.set_action_bound(0.9);
+  std::vector<std::unique_ptr<Env>> copies;
+  std::vector<WeakenedPendulum*> envs;
+  for (int i = 0; i < 3; ++i) {
+    auto e = std::make_unique<WeakenedPendulum>();
+    envs.push_back(e.get());
+    copies.push_back(std::move(e));
+  }
+  VecEnv vec(std::move(copies), 1, 4);
+  sac.train_until(vec, 1500);  // warm-up and policy actions, 2+ episodes per copy
+  for (const auto* e : envs) {
+    EXPECT_GE(e->scales_seen_.size(), 3u);
+    EXPECT_LE(e->largest_, 0.9 + 1e-6);  // |a| ≤ β·s in every episode of every copy
+    EXPECT_GT(e->largest_, 0.5);
+  }
+  // evaluate() acts at the environment's scale too.
+  WeakenedPendulum eval;
+  eval.seed(9);
+  evaluate(sac, eval, 2);
+  EXPECT_LE(eval.largest_, 0.9 + 1e-6);
+  // β·s above 1 is refused with the values.
+  sac.set_action_bound(1.0);
+  std::vector<double> obs{1, 0, 0}, action(1);
+  try {
+    sac.act(obs, action, true, 1.2);
+    ADD_FAILURE() << "expected a UserError";
+  } catch (const base::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("action_scale 1.2"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Ppo, RefusesPerCopyActionScales) {
+  Pendulum probe;
+  PpoConfig c;
+  c.rollout_steps = 10;
+  Ppo ppo(c, probe.observation_space(), probe.action_space(), 1);
+  std::vector<std::unique_ptr<Env>> copies;
+  copies.push_back(std::make_unique<WeakenedPendulum>());
+  VecEnv vec(std::move(copies), 1, 1);
+  EXPECT_THROW(ppo.train_until(vec, 10), base::UserError);
+}
+
+TEST(Sac, FractionalUpdateToDataRatioCountsUpdatesFromEnvironmentSteps) {
+  Pendulum probe;
+  for (double ratio : {0.25, 1.0 / 3.0, 2.0}) {
+    SCOPED_TRACE(ratio);
+    SacConfig c;
+    c.warmup_steps = 40;
+    c.batch_size = 16;
+    c.updates_per_step = ratio;
+    Sac sac(c, probe.observation_space(), probe.action_space(), 1);
+    std::vector<std::unique_ptr<Env>> copies;
+    for (int i = 0; i < 4; ++i) copies.push_back(std::make_unique<Pendulum>());
+    VecEnv vec(std::move(copies), 1, 1);
+    sac.train_until(vec, 200);
+    // Updates start with the vector step that reaches 40 env steps: 41 vector steps × 4 copies.
+    EXPECT_EQ(sac.updates(), std::int64_t(std::floor(164 * ratio)));
+  }
+  EXPECT_THROW(Sac(SacConfig::from_json({{"updates_per_step", -0.5}}), probe.observation_space(), probe.action_space(), 1),
+               base::UserError);
+}
+
 TEST(Sac, TemperatureAdaptsAndReplayFills) {
   Pendulum env;
   SacConfig c;
@@ -51,6 +150,29 @@ TEST(Sac, TemperatureAdaptsAndReplayFills) {
   sac.train_until(envs, 300);
   EXPECT_EQ(sac.replay_size(), 300);
   EXPECT_NE(sac.alpha(), c.initial_alpha);
+}
+
+// Haarnoja et al. 2018b eq. 18: α rises while the policy's entropy is below the target and falls
+// while it is above. One tanh-squashed action has entropy ≤ log 2 (uniform on [−1, 1]), so a
+// target of +5 is never reached; −50 is always exceeded (log σ ≥ −5).
+TEST(Sac, TemperatureMovesTowardsTheTargetEntropy) {
+  Pendulum env;
+  for (double target : {5.0, -50.0}) {
+    SCOPED_TRACE(target);
+    SacConfig c;
+    c.warmup_steps = 64;
+    c.batch_size = 32;
+    c.target_entropy = target;
+    c.initial_alpha = 0.1;
+    Sac sac(c, env.observation_space(), env.action_space(), 5);
+    auto envs = pendulums(5);
+    sac.train_until(envs, 200);
+    ASSERT_EQ(sac.updates(), 137);
+    // Adam moves log α by ≈ alpha_lr per update when the gradient's sign never changes.
+    const double moved = std::log(sac.alpha() / c.initial_alpha);
+    EXPECT_NEAR(std::abs(moved), 137 * c.alpha_lr, 0.2 * 137 * c.alpha_lr);
+    EXPECT_EQ(moved > 0, target > 0);
+  }
 }
 
 TEST(Sac, ConfigRejectsUnknownAndMistypedFields) {

@@ -7,13 +7,9 @@
 #include <fstream>
 #include <memory>
 
-#include <unistd.h>
-
 #include "podium/base/json.h"
 #include "podium/base/rng.h"
-#include "podium/learn/classic_control.h"
-#include "podium/learn/ppo.h"
-#include "podium/learn/sac.h"
+#include "small_learners.h"
 
 namespace podium::learn {
 namespace {
@@ -27,8 +23,7 @@ bool python_has_torch() {
 
 void check_export(Learner& learner, const std::string& name) {
   if (!python_has_torch()) GTEST_SKIP() << PODIUM_SYSTEM_PYTHON << " cannot import torch (install python3-torch)";
-  const fs::path dir = fs::temp_directory_path() / ("podium_learn_ts_" + name + "_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = testing::temp_dir("ts_" + name);
   learner.export_torchscript(dir / "policy.pt");
   base::Rng rng(3);
   base::Json cases{{"observations", base::Json::array()}, {"actions", base::Json::array()}};
@@ -47,33 +42,16 @@ void check_export(Learner& learner, const std::string& name) {
   fs::remove_all(dir);
 }
 
-VecEnv pendulums(std::uint64_t seed) {
-  std::vector<std::unique_ptr<Env>> envs;
-  for (int i = 0; i < 2; ++i) envs.push_back(std::make_unique<Pendulum>());
-  return VecEnv(std::move(envs), 1, seed);
-}
-
 TEST(TorchScript, PpoPolicyWithNormalizerGivesSameActionsInPython) {
-  Pendulum probe;
-  PpoConfig c;
-  c.rollout_steps = 100;
-  Ppo ppo(c, probe.observation_space(), probe.action_space(), 1);
-  auto envs = pendulums(1);
-  ppo.train_until(envs, 400);  // moves the normaliser and the weights away from their start
-  check_export(ppo, "ppo");
+  auto envs = testing::pendulums(1);
+  check_export(*testing::trained_ppo(envs, 400), "ppo");  // weights and normaliser moved from their start
 }
 
 TEST(TorchScript, SacPolicyWithBoundGivesSameActionsInPython) {
-  Pendulum probe;
-  SacConfig c;
-  c.warmup_steps = 100;
-  c.batch_size = 32;
-  c.normalize_observations = true;
-  Sac sac(c, probe.observation_space(), probe.action_space(), 2);
-  auto envs = pendulums(2);
-  sac.train_until(envs, 300);
-  sac.set_action_bound(0.6);
-  check_export(sac, "sac");
+  auto envs = testing::pendulums(2);
+  const auto sac = testing::trained_sac(envs, 300);
+  sac->set_action_bound(0.6);
+  check_export(*sac, "sac");
 }
 
 }  // namespace

@@ -156,6 +156,36 @@ TEST(Cli, PluginFailuresAreRetriedThenFailedWithTheReason) {
   EXPECT_EQ(done, 24 - 6);
 }
 
+// A stage none of whose trials succeeded ends failed with the reason, and so does its campaign;
+// the next stage never starts.
+TEST(Cli, AStageWhoseTrialsAllFailedEndsTheCampaignFailed) {
+  Json spec = landscape_spec(4, {{"failures", Json::parse(R"([{"mode": "throw"}])")}});
+  spec["stages"].push_back({{"name", "refine"},
+                            {"task", "landscape"},
+                            {"search", {{"algorithm", "random"}}},
+                            {"budget", {{"trials", 2}}},
+                            {"inputs", {{"stage", "explore"}}}});
+  TempDir dir;
+  const auto id = submit(dir, spec);
+  const auto run = run_podium({"run"}, dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const std::string reason = "all 4 trials failed (last: trial ";
+  const auto status = Json::parse(run_podium({"status", id, "--json"}, dir.path()).out);
+  EXPECT_EQ(status["state"], "failed");
+  EXPECT_EQ(status["error"].get<std::string>().rfind("stage \"explore\" failed: " + reason, 0), 0u) << status["error"];
+  EXPECT_NE(status["error"].get<std::string>().find("attempt 2 failed: injected failure (throw)"), std::string::npos);
+  EXPECT_EQ(status["stages"][0]["state"], "failed");
+  EXPECT_EQ(status["stages"][0]["error"].get<std::string>().rfind(reason, 0), 0u);
+  EXPECT_EQ(status["stages"][1]["state"], "waiting");
+  const auto text = run_podium({"status"}, dir.path());
+  EXPECT_NE(text.out.find("error: stage \"explore\" failed: " + reason), std::string::npos) << text.out;
+  auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  std::set<std::string> kinds;
+  for (const auto& e : store->events(std::stoll(id))) kinds.insert(e["kind"]);
+  EXPECT_TRUE(kinds.count("stage_failed") && kinds.count("campaign_failed"));
+  EXPECT_FALSE(kinds.count("campaign_done"));
+}
+
 TEST(Cli, BadInputIsOneLineAndLeavesTheDatabaseUnchanged) {
   TempDir dir;
   submit(dir, landscape_spec(3));
@@ -174,7 +204,7 @@ TEST(Cli, BadInputIsOneLineAndLeavesTheDatabaseUnchanged) {
   expect_error("{\"name\": \"x\",\n \"seed\": 1,, }", 2, "bad.json: invalid JSON at line 2 column");
   Json spec = landscape_spec(3);
   spec["stages"][0]["budget"]["trials"] = 0;
-  expect_error(spec.dump(), 2, "bad.json: stages[0].budget.trials: 0 is not >= 1");
+  expect_error(spec.dump(), 2, "bad.json: stages[0].budget.trials: 0 is not in [1, 10000000]");
   spec = landscape_spec(3);
   spec["stages"][0]["task"] = "nope";
   expect_error(spec.dump(), 2, "no file libpodium_task_nope.so");
@@ -184,7 +214,7 @@ TEST(Cli, BadInputIsOneLineAndLeavesTheDatabaseUnchanged) {
   spec["stages"][0]["preset"] = "huge";
   expect_error(spec.dump(), 2, "stages[0].preset: \"huge\" is not a preset of task landscape");
   spec = landscape_spec(3, {{"dimm", 4}});
-  expect_error(spec.dump(), 2, "landscape config: unknown key \"dimm\"");
+  expect_error(spec.dump(), 2, "bad.json: stages[0].config.dimm: unknown key (known: artifact, dim, ");
   spec = landscape_spec(3);
   spec["stages"][0]["search"]["algorithm"] = "gradient-descent";
   expect_error(spec.dump(), 2, "unknown algorithm \"gradient-descent\"");
@@ -214,9 +244,130 @@ TEST(Cli, BadInputIsOneLineAndLeavesTheDatabaseUnchanged) {
   EXPECT_EQ(run_podium({"frobnicate"}, dir.path()).exit_code, 2);
 }
 
+// Issue 17 defect 12: a spec rejected at submit leaves no database where there was none.
+TEST(Cli, ARejectedSpecCreatesNoDatabase) {
+  TempDir dir;
+  Json spec = landscape_spec(3);
+  spec["stages"][0]["preset"] = "nope";
+  write_file(dir / "bad.json", spec.dump());
+  const auto r = run_podium({"submit", "bad.json"}, dir.path());
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("stages[0].preset: \"nope\" is not a preset of task landscape"), std::string::npos) << r.err;
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(dir.path())) files.push_back(entry.path().filename());
+  EXPECT_EQ(files, std::vector<std::string>{"bad.json"});
+}
+
+// The line `podium submit` prints for a spec: its exit code and its stderr, which must be one line.
+podium::testing::CommandResult submit_text(const TempDir& dir, const std::string& text) {
+  write_file(dir / "bad.json", text);
+  auto r = run_podium({"submit", "bad.json"}, dir.path());
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err.substr(0, 2000);
+  return r;
+}
+
+// Issue 17 defect 4: numbers outside their documented range are refused at submit (exit 2,
+// naming the JSON path or option) instead of overflowing, being cut to 32 bits or exhausting memory.
+TEST(Cli, NumbersOutOfRangeAreRefusedNamingThePathOrOption) {
+  TempDir dir;
+  Json spec = landscape_spec(3);
+  spec["trial_timeout_s"] = 1e10;
+  auto r = submit_text(dir, spec.dump());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "podium: bad.json: trial_timeout_s: 10000000000.0 is not in (0, 31536000]\n");
+  spec = landscape_spec(3);
+  spec["retries"] = 4294967296;
+  r = submit_text(dir, spec.dump());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "podium: bad.json: retries: 4294967296 is not in [0, 100]\n");
+  r = submit_text(dir, R"({"name": "x", "seed": 1, "workers": 1e400, "stages": []})");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "podium: bad.json: invalid JSON: number overflow parsing '1e400'\n");
+  EXPECT_FALSE(std::filesystem::exists(dir / "podium.db"));
+
+  submit(dir, landscape_spec(3));
+  for (const std::string workers : {"2000000000", "1025", "0"}) {
+    const auto run = run_podium({"run", "--workers", workers}, dir.path());
+    EXPECT_EQ(run.exit_code, 2) << workers;
+    EXPECT_EQ(run.err, "podium: --workers: " + workers + " is not in [1, 1024]\n");
+  }
+}
+
+// Issue 17 defect 5: a 60,000-deep array crashed submit (signal 11, no output); error lines are
+// bounded and control characters in them escaped.
+TEST(Cli, DeepNestingAndHugeKeysGiveOneBoundedLine) {
+  TempDir dir;
+  auto r = submit_text(dir, std::string(60000, '[') + std::string(60000, ']'));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "podium: bad.json: invalid JSON at line 1 column 101: nested deeper than 100 levels\n");
+
+  Json spec = landscape_spec(3);
+  spec[std::string(100000, 'k') + "\n\x1b[2J"] = 1;
+  r = submit_text(dir, spec.dump());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err.rfind("podium: bad.json: kkkk", 0), 0u) << r.err.substr(0, 100);
+  EXPECT_LE(r.err.size(), 1100u);
+  EXPECT_NE(r.err.find("bytes in all)"), std::string::npos) << r.err.substr(900);
+  spec = landscape_spec(3);
+  spec["bad\nkey\x1b[2J"] = 1;
+  r = submit_text(dir, spec.dump());
+  EXPECT_EQ(r.err.rfind("podium: bad.json: bad\\x0Akey\\x1B[2J: unknown key", 0), 0u) << r.err;
+}
+
+// Issue 17 defect 15: a campaign name with a control character (a NUL, a terminal escape) is
+// refused at submit with its JSON path, so status never prints one raw.
+TEST(Cli, NamesWithControlCharactersAreRefusedAtSubmit) {
+  TempDir dir;
+  Json spec = landscape_spec(3);
+  spec["name"] = std::string("a\0b", 3);
+  auto r = submit_text(dir, spec.dump());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "podium: bad.json: name: \"a\\u0000b\" has a control character (names are printed and typed)\n");
+  spec = landscape_spec(3);
+  spec["stages"][0]["name"] = "\x1b]0;owned\x07";
+  r = submit_text(dir, spec.dump());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad.json: stages[0].name: \"\\u001b]0;owned\\u0007\" has a control character"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "podium.db"));
+}
+
+// What a new user tripped over (issue 17): `run` with nothing to run, pause/resume/cancel and
+// `--version` said nothing or were unknown.
+TEST(Cli, CommandsSayWhatTheyDid) {
+  TempDir dir;
+  auto r = run_podium({"run"}, dir.path());
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.err, "nothing to run: no database podium.db (podium submit creates it)\n");
+  r = run_podium({"pause", "1"}, dir.path());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.err, "podium: podium.db: no such database (podium submit creates it)\n");
+  EXPECT_FALSE(std::filesystem::exists(dir / "podium.db"));
+
+  const auto id = submit(dir, landscape_spec(3));
+  r = run_podium({"pause", id}, dir.path());
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out, "campaign " + id + " (test) paused: no new trials start, running ones finish\n");
+  r = run_podium({"run"}, dir.path());
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.err, "nothing to run: no queued or running campaign in podium.db (podium status lists them; podium "
+                   "resume continues a paused one)\n");
+  r = run_podium({"resume", "test"}, dir.path());
+  EXPECT_EQ(r.out, "campaign " + id + " (test) queued again: podium run continues it\n");
+  r = run_podium({"cancel", id}, dir.path());
+  EXPECT_EQ(r.out, "campaign " + id + " (test) cancelled: running trials are stopped, no new ones start\n");
+
+  const auto version = run_podium({"version"}, dir.path());
+  ASSERT_EQ(version.exit_code, 0);
+  EXPECT_EQ(version.out.rfind("podium ", 0), 0u);
+  const auto dashed = run_podium({"--version"}, dir.path());
+  EXPECT_EQ(dashed.exit_code, 0);
+  EXPECT_EQ(dashed.out, version.out);
+}
+
 TEST(Cli, EveryCommandHasHelp) {
   TempDir dir;
-  for (const auto& command : {"submit", "run", "status", "trials", "pause", "resume", "cancel", "export"}) {
+  for (const auto& command : {"submit", "run", "status", "trials", "pause", "resume", "cancel", "export", "tasks"}) {
     const auto r = run_podium({command, "--help"}, dir.path());
     EXPECT_EQ(r.exit_code, 0) << command;
     EXPECT_NE(r.out.find("--db"), std::string::npos) << command;

@@ -55,8 +55,20 @@ TEST(CampaignSchema, ViolationsAreRejectedByBoth) {
   with([](Json& j) { j["stages"][0]["budget"]["trials"] = 0; });
   with([](Json& j) { j["stages"][0]["search"].erase("algorithm"); });
   with([](Json& j) { j["stages"][0]["inputs"] = {{"stage", "explore"}, {"select", "worst"}}; });
+  with([](Json& j) { j["stages"][0]["inputs"] = {{"stage", "explore"}, {"select", "top"}}; });
+  with([](Json& j) { j["stages"][0]["inputs"] = {{"stage", "explore"}, {"per_trial", "some"}}; });
+  with([](Json& j) { j["stages"][0]["budget"]["trials"] = {{"per_input", 0}}; });
   with([](Json& j) { j["executor"] = {{"kind", "cloud"}}; });
   with([](Json& j) { j["stages"] = Json::array(); });
+  // Issue 17: the documented ranges and names without control characters.
+  with([](Json& j) { j["workers"] = 1025; });
+  with([](Json& j) { j["retries"] = 101; });
+  with([](Json& j) { j["trial_timeout_s"] = 1e10; });
+  with([](Json& j) { j["seed"] = 9223372036854775808u; });
+  with([](Json& j) { j["stages"][0]["budget"]["trials"] = 10000001; });
+  with([](Json& j) { j["stages"][0]["budget"]["wall_time_s"] = 31536001; });
+  with([](Json& j) { j["name"] = std::string("a\0b", 3); });
+  with([](Json& j) { j["stages"][0]["name"] = "x\n"; });
   podium::testing::TempDir dir;
   std::vector<fs::path> files;
   for (std::size_t i = 0; i < bad.size(); ++i) {

@@ -97,6 +97,47 @@ TEST_F(Slurm, CampaignResultsMatchTheLocalExecutor) {
   EXPECT_EQ(store->metrics(trials[7].id).size(), 5u);  // streamed through metrics.jsonl
 }
 
+// The hand-over and the previous attempt reach `podium trial` in a job as they reach a local
+// worker, and a retried job resumes in the trial folder (the probe task reports all three).
+TEST_F(Slurm, HandOverAndResumeReachJobsAsTheyReachLocalWorkers) {
+  auto probe_spec = [](const std::string& executor) {
+    Json spec = spec_for(executor, 3, Json::object(), 4);
+    spec["stages"][0]["task"] = "probe";
+    spec["stages"][0].erase("preset");
+    spec["stages"][0]["config"] = {{"steps", 6}, {"fail_step", 3}, {"fail_attempts", 1}};
+    spec["stages"].push_back({{"name", "each"},
+                              {"task", "probe"},
+                              {"search", {{"algorithm", "random"}}},
+                              {"budget", {{"trials", {{"per_input", 1}}}}},
+                              {"inputs", {{"stage", "explore"}, {"select", "top"}, {"k", 2}, {"per_trial", "each"}}}});
+    return spec;
+  };
+  auto seen = [](const TempDir& dir, const std::string& id) {
+    auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+    std::set<std::string> out;
+    for (const auto& t : store->campaign_trials(std::stoll(id))) {
+      Json inputs = Json::array();
+      for (const auto& in : t.result_info["inputs"]) inputs.push_back({in["stage"], in["trial_index"], in["artifacts"]["policy"]["exists"]});
+      Json steps = Json::array();
+      for (const auto& m : store->metrics(t.id)) steps.push_back({m.step, m.attempt});
+      const Json& previous = t.result_info["previous_attempt"];
+      out.insert(Json{t.index, t.state, t.objectives, inputs, previous.is_null() ? Json() : previous["state"],
+                      t.result_info["resumed_from_step"], steps}
+                     .dump());
+    }
+    return out;
+  };
+  TempDir local, cluster;
+  const auto local_id = submit(local, probe_spec("local"));
+  ASSERT_EQ(run_podium({"run"}, local.path()).exit_code, 0);
+  const auto id = submit(cluster, probe_spec("slurm"));
+  const auto run = run_podium({"run"}, cluster.path());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const auto expected = seen(local, local_id);
+  EXPECT_EQ(seen(cluster, id), expected);
+  EXPECT_EQ(expected.size(), 5u);
+}
+
 TEST_F(Slurm, KilledSchedulerReattachesToRunningJobs) {
   TempDir dir;
   const auto id = submit(dir, spec_for("slurm", 4, {{"sleep_s", 6.0}}, 4));

@@ -50,8 +50,14 @@ TEST(Cmaes, RejectsX0OutsideTheBoxNamingIt) {
     make_search("cmaes", box(2, {{"x0", {{"x0", 0.0}, {"x1", 9.0}}}}), "stages[1].search");
     FAIL();
   } catch (const base::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find("stages[1].search.config.x0.x1: 9.0 is not a number in [-5.0, 5.0]"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("stages[1].search.config.x0.x1: 9.0 is not in [-5, 5]"), std::string::npos)
         << e.what();
+  }
+  try {
+    make_search("cmaes", box(2, {{"x0", {{"x0", 0.0}, {"x2", 1.0}}}}), "stages[1].search");
+    FAIL();
+  } catch (const base::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("stages[1].search.config.x0.x1: missing (required)"), std::string::npos) << e.what();
   }
 }
 

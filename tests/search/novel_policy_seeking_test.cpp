@@ -27,6 +27,8 @@ TEST(NovelPolicySeeking, ContextCarriesFeaturesFoundSoFarForThatInput) {
   const auto first = search->ask(8);
   ASSERT_EQ(first.size(), 2u);  // one running trial per input
   EXPECT_EQ(first[0].x, (std::vector<double>{0.1, 0.2}));
+  EXPECT_EQ(first[0].input, 0u);  // a stage handing one input per trial hands this one
+  EXPECT_EQ(first[1].input, 1u);
   EXPECT_EQ(first[0].context.at("novelty").at("features"), Json::parse("[[0.3, 1.0]]"));
   EXPECT_DOUBLE_EQ(first[0].context.at("novelty").at("d_threshold").get<double>(), std::numbers::pi / 2);  // eq. 3.12
   EXPECT_EQ(first[0].context.at("warm_start"), "/runs/4/policy.pt");
@@ -40,6 +42,7 @@ TEST(NovelPolicySeeking, ContextCarriesFeaturesFoundSoFarForThatInput) {
   const auto third = search->ask(8);
   ASSERT_EQ(third.size(), 1u);  // input 0 is done (2 trials); the failure used up one of input 1's
   EXPECT_EQ(third[0].context.at("novelty").at("features"), Json::parse("[[2.0, 0.1]]"));
+  EXPECT_EQ(third[0].input, 1u);
   search->tell({{third[0].id, true, {0.5}, {0.0, 0.0}}});
   EXPECT_TRUE(search->ask(8).empty());
 }
@@ -57,6 +60,28 @@ TEST(NovelPolicySeeking, RejectsInputsOutsideTheSpaceNamingThePath) {
   }
   s.inputs = Json::array();
   EXPECT_THROW(make_search("novel_policy", s), base::UserError);
+}
+
+// At submit the inputs do not exist yet (they are resolved when the stage starts): the check
+// takes the config and whether the stage declares inputs.
+TEST(NovelPolicySeeking, IsSubmittableBeforeItsInputsExist) {
+  SearchSetup s = stage2(2);
+  s.inputs = Json::array();
+  EXPECT_NO_THROW(check_search("novel_policy", s, true, "stages[1].search"));
+  try {
+    check_search("novel_policy", s, false, "stages[1].search");
+    FAIL();
+  } catch (const base::UserError& e) {
+    EXPECT_EQ(std::string(e.what()), "stages[1].search.algorithm: \"novel_policy\" seeks novel policies for an earlier "
+                                     "stage's trials, but the stage has no \"inputs\"");
+  }
+  s.config = {{"trials_per_input", 0}};
+  EXPECT_THROW(check_search("novel_policy", s, true, "stages[1].search"), base::UserError);
+  for (const auto& algorithm : algorithm_names()) {
+    SearchSetup any = stage2(2);
+    any.config = Json::object();
+    EXPECT_NO_THROW(check_search(algorithm, any, true, "stages[1].search")) << algorithm;
+  }
 }
 
 }  // namespace

@@ -16,8 +16,10 @@ std::filesystem::path temp_file(const std::string& name) {
   return std::filesystem::temp_directory_path() / ("podium_sim_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name);
 }
 
-Recorder record_ragdoll(const ModelPtr& model, int steps) {
-  World world(model, WorldConfig{});
+Recorder record_ragdoll(const ModelPtr& model, int steps, const TerrainConfig& terrain = {}) {
+  WorldConfig config;
+  config.terrain = terrain;
+  World world(model, config);
   base::Rng rng(4);
   world.set_state(random_pose(*model, rng, 1.5), Eigen::VectorXd::Zero(model->nv()));
   Recorder rec(model);
@@ -28,9 +30,19 @@ Recorder record_ragdoll(const ModelPtr& model, int steps) {
   return rec;
 }
 
-TEST(Recorder, TrajectoryFileHasHeaderAndOneLinePerFrame) {
+// The file carries the props and the terrain's boxes (what the replay draws) and per frame q and q̇.
+TEST(Recorder, TrajectoryFileHasHeaderPropsTerrainAndOneLinePerFrame) {
   const ModelPtr model = load_shipped_model("humanoid21");
-  const Recorder rec = record_ragdoll(model, 20);
+  TerrainConfig terrain;
+  TerrainRegion tiles;
+  tiles.kind = TerrainRegion::Kind::rough;
+  tiles.min = {2.0, -1.0};
+  tiles.max = {4.0, 1.0};
+  tiles.min_tile_height_m = -0.05;
+  tiles.max_tile_height_m = 0.05;
+  terrain.regions.push_back(tiles);
+  terrain.boxes.push_back({"bar", Eigen::Vector3d(0, 1.5, 1.2), Eigen::Vector3d(0.6, 0.02, 0.02), Eigen::Quaterniond::Identity(), 1.0});
+  const Recorder rec = record_ragdoll(model, 20, terrain);
   const auto path = temp_file("traj.jsonl");
   write_trajectory(rec, path);
   std::ifstream in(path);
@@ -38,17 +50,31 @@ TEST(Recorder, TrajectoryFileHasHeaderAndOneLinePerFrame) {
   std::getline(in, line);
   const base::Json header = base::Json::parse(line);
   EXPECT_EQ(header["format"], "podium-trajectory");
+  EXPECT_EQ(header["version"], 2);
   EXPECT_EQ(header["links"].size(), model->links().size());
+  ASSERT_EQ(header["props"].size(), 1u);
+  EXPECT_EQ(header["props"][0]["name"], "bar");
+  EXPECT_EQ(header["props"][0]["pos"], base::Json({0.0, 1.5, 1.2}));
+  EXPECT_EQ(header["props"][0]["quat"], base::Json({1.0, 0.0, 0.0, 0.0}));
+  ASSERT_EQ(header["terrain"]["pieces"].size(), 4u);  // 2 × 2 one-metre tiles
+  const Terrain check(terrain);
+  for (const base::Json& p : header["terrain"]["pieces"]) {
+    const double top = p["pos"][2].get<double>() + p["half_extents"][2].get<double>();
+    EXPECT_NEAR(top, check.height(p["pos"][0].get<double>(), p["pos"][1].get<double>()), 1e-5);
+  }
   int frames = 0;
   while (std::getline(in, line)) {
     const base::Json f = base::Json::parse(line);
     const Frame& ref = rec.frames()[frames];
-    // Link 3's world position survives the round trip to 1e-5 m.
+    // Link 3's world position survives the round trip to 1e-5 m, and so do the velocities.
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(f["links"][3][k].get<double>(), ref.links[3](k), 1e-5);
     EXPECT_EQ(f["q"].size(), static_cast<std::size_t>(model->nq()));
+    ASSERT_EQ(f["qd"].size(), static_cast<std::size_t>(model->nv()));
+    for (int k = 0; k < model->nv(); ++k) EXPECT_NEAR(f["qd"][k].get<double>(), ref.qd(k), 1e-5);
     ++frames;
   }
   EXPECT_EQ(frames, 20);
+  EXPECT_GT(rec.frames().back().qd.norm(), 1.0);  // falling
   std::filesystem::remove(path);
 }
 

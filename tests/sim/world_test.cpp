@@ -130,6 +130,51 @@ TEST(RagdollStart, EndsLyingDownFor100Seeds) {
   std::printf("100 ragdoll starts: highest final head %.3f m, largest final kinetic energy %.2f J\n", worst_head, worst_energy);
 }
 
+// humanoid34's light feet on spherical ankles: without swing/twist limits the undamped random
+// torques spun them up in the air until the explicit step diverged (5 of 5 seeds).
+TEST(RagdollStart, Humanoid34StaysFiniteFor30Seeds) {
+  const ModelPtr model = load_shipped_model("humanoid34");
+  World world(model, WorldConfig{});
+  int finite = 0;
+  double worst_head = 0, worst_energy = 0;
+  for (std::uint64_t seed = 0; seed < 30; ++seed) {
+    base::Rng rng(seed);
+    const bool ok = ragdoll_start(world, rng).ok && world.data().q.allFinite() && world.data().qd.allFinite();
+    EXPECT_TRUE(ok) << "seed " << seed;
+    if (!ok) continue;
+    ++finite;
+    const double head = world.observe().head_height_m, energy = world.kinetic_energy();
+    EXPECT_LT(head, 0.5) << "seed " << seed;
+    EXPECT_LT(energy, model->total_mass() * 9.81 * 1.5) << "seed " << seed;
+    worst_head = std::max(worst_head, head), worst_energy = std::max(worst_energy, energy);
+  }
+  std::printf("humanoid34: %d of 30 ragdoll starts finite; highest final head %.3f m, largest final kinetic energy %.2f J\n", finite, worst_head,
+              worst_energy);
+}
+
+// A fall asked to land supine or prone at a place does, on humanoid34 with its limits.
+TEST(RagdollStart, LandsSupineOrProneWhereAsked) {
+  const ModelPtr model = load_shipped_model("humanoid34");
+  World world(model, WorldConfig{});
+  for (const auto lying : {RagdollStart::Lying::supine, RagdollStart::Lying::prone}) {
+    RagdollStart fall;
+    fall.lying = lying;
+    fall.x_m = 2.0, fall.y_m = -1.0;
+    fall.random_yaw = true;
+    int right = 0;
+    for (std::uint64_t seed = 0; seed < 5; ++seed) {
+      base::Rng rng(seed);
+      ASSERT_TRUE(ragdoll_start(world, rng, fall).ok) << "seed " << seed;
+      const Eigen::Vector3d front = world.data().links[model->bodies()[model->torso_body()].link].R.col(0);
+      right += (front.z() > 0) == (lying == RagdollStart::Lying::supine);
+      EXPECT_NEAR(world.data().q(0), 2.0, 1.5) << "seed " << seed;
+      EXPECT_NEAR(world.data().q(1), -1.0, 1.5) << "seed " << seed;
+    }
+    std::printf("humanoid34 %s: %d of 5 falls land that way\n", lying == RagdollStart::Lying::supine ? "supine" : "prone", right);
+    EXPECT_GE(right, 4);
+  }
+}
+
 // A tumbling character without gravity, contacts or torques for 1 s at `hz`: the drift of its
 // centre-of-mass velocity and of its kinetic energy, relative to their initial values.
 struct Drift {

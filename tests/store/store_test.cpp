@@ -170,6 +170,52 @@ TEST(Store, RecoverMarksRunningAttemptsInterrupted) {
   EXPECT_EQ(store->attempts(trial)[0].state, "interrupted");
 }
 
+TEST(Store, StartStageStoresTheHandOverAndItsBudget) {
+  TempDir dir;
+  auto store = Store::open(dir / "p.db", Store::Access::read_write);
+  auto second = one_stage();
+  second.name = "refine";
+  second.inputs = {{"stages", {"explore"}}, {"select", "best"}, {"per_trial", "each"}};
+  second.budget_trials = 0;
+  const auto id = store->add_campaign("c", Json::object(), 1, "", {one_stage(), second});
+  auto stages = store->stages(id);
+  EXPECT_FALSE(stages[1].input_trials.has_value());
+  const Json handed = Json::parse(R"([{"stage": "explore", "stage_index": 0, "trial_index": 3, "params": {"x0": 0.25},
+      "objectives": [-0.5], "features": [0.1], "strategy": 0, "artifacts": {"policy": "/runs/p.pt"}}])");
+  store->start_stage(stages[0].id, nullptr, 10);
+  store->start_stage(stages[1].id, handed, 4);
+  store->set_stage_state(stages[0].id, "failed", "all 10 trials failed");
+  stages = store->stages(id);
+  EXPECT_EQ(stages[1].state, "running");
+  EXPECT_EQ(stages[1].input_trials, handed);
+  EXPECT_EQ(stages[1].budget_trials, 4);
+  EXPECT_EQ(stages[1].inputs, second.inputs);
+  EXPECT_FALSE(stages[0].input_trials.has_value());
+  EXPECT_EQ(stages[0].state, "failed");
+  EXPECT_EQ(stages[0].error, "all 10 trials failed");
+}
+
+// A resumed attempt re-sends the steps since its checkpoint: each (name, step) is stored once,
+// with the value first sent.
+TEST(Store, MetricPointsAStepAlreadyHasAreDropped) {
+  TempDir dir;
+  auto store = Store::open(dir / "p.db", Store::Access::read_write);
+  const auto stage = store->stages(store->add_campaign("c", Json::object(), 1, "", {one_stage()}))[0].id;
+  const auto trial = store->add_trial(stage, 0, Json::object(), Json::object(), Json::object(), 1);
+  const auto other = store->add_trial(stage, 1, Json::object(), Json::object(), Json::object(), 1);
+  store->add_metrics(trial, {{"loss", 0, 1.0, 1}, {"loss", 1, 0.5, 1}, {"return", 1, 7.0, 1}});
+  store->add_metrics(trial, {{"loss", 1, 0.6, 2}, {"loss", 2, 0.4, 2}, {"return", 2, 8.0, 2}});
+  store->add_metrics(other, {{"loss", 1, 0.9, 1}});
+  const auto points = store->metrics(trial);
+  ASSERT_EQ(points.size(), 5u);
+  EXPECT_EQ(points[1].step, 1);
+  EXPECT_EQ(points[1].value, 0.5);
+  EXPECT_EQ(points[1].attempt, 1);
+  EXPECT_EQ(points[2].step, 2);
+  EXPECT_EQ(points[2].attempt, 2);
+  EXPECT_EQ(store->metrics(other).size(), 1u);
+}
+
 TEST(Store, ReadOnlyOpenNeverCreatesAFile) {
   TempDir dir;
   EXPECT_THROW(Store::open(dir / "missing.db", Store::Access::read_only), base::RuntimeError);
@@ -246,6 +292,38 @@ void expect_migrates(const char* file, int version, const std::string& name, std
 }
 
 TEST(StoreMigration, SavedVersion1DatabaseMigratesToLatest) { expect_migrates("schema_v1.db", 1, "saved-v1", 6); }
+
+// schema_v3.db: a two-stage landscape campaign ("refine" took explore's best trial as input)
+// with a retried trial and a failed one, saved before stages stored their hand-over.
+TEST(StoreMigration, SavedVersion3DatabaseMigratesToLatest) {
+  expect_migrates("schema_v3.db", 3, "saved-v3", 9);
+  podium::testing::TempDir dir;
+  std::filesystem::copy_file(std::filesystem::path(PODIUM_STORE_TESTDATA) / "schema_v3.db", dir / "v3.db");
+  auto store = Store::open(dir / "v3.db", Store::Access::read_write);
+  const auto stages = store->stages(store->campaigns().at(0).id);
+  ASSERT_EQ(stages.size(), 2u);
+  EXPECT_EQ(stages[1].inputs, Json::parse(R"({"stage": "explore", "select": "best"})"));
+  for (const auto& st : stages) {
+    EXPECT_EQ(st.state, "done");
+    EXPECT_FALSE(st.input_trials.has_value());
+    EXPECT_EQ(st.error, "");
+    // v5: schedulers before it told every finished trial (done, failed or cancelled) at once.
+    EXPECT_EQ(st.told, store->stage_trial_counts(st.id).done + store->stage_trial_counts(st.id).failed +
+                           store->stage_trial_counts(st.id).cancelled);
+  }
+}
+
+TEST(Store, SearchStateIsSavedWithHowManyTrialsWereTold) {
+  TempDir dir;
+  auto store = Store::open(dir / "p.db", Store::Access::read_write);
+  const auto id = store->add_campaign("c", Json::object(), 1, "", {one_stage()});
+  const auto stage = store->stages(id).at(0).id;
+  EXPECT_EQ(store->stages(id).at(0).told, 0);
+  store->save_search_state(stage, {{"k", 1}}, 2.5, 7);
+  const auto st = store->stages(id).at(0);
+  EXPECT_EQ(st.told, 7);
+  EXPECT_EQ(*st.search_state, Json({{"k", 1}}));
+}
 
 TEST(StoreMigration, SavedVersion2DatabaseMigratesToLatest) {
   expect_migrates("schema_v2.db", 2, "saved-v2", 11);

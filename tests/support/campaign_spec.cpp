@@ -8,7 +8,7 @@ nlohmann::json stage_spec(const StageSpec& s) {
   nlohmann::json stage = {{"name", s.stage},
                           {"task", s.task},
                           {"preset", "smoke"},
-                          {"search", {{"algorithm", "random"}}},
+                          {"search", {{"algorithm", s.algorithm}}},
                           {"budget", {{"trials", s.trials}}}};
   if (!s.config.is_null()) stage["config"] = s.config;
   nlohmann::json spec = {{"name", s.name},         {"seed", s.seed},         {"workers", s.workers},

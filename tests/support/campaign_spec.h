@@ -20,12 +20,13 @@ struct StageSpec {
   double trial_timeout_s = 30;
   std::string task = "landscape";
   std::string stage = "explore";
+  std::string algorithm = "random";
   nlohmann::json config = nlohmann::json::object();  ///< omitted from the spec when null
   nlohmann::json executor = nullptr;                 ///< omitted (local executor) when null
   int trials = 10;
 };
 
-/// A one-stage random-search campaign spec at the task's smoke preset.
+/// A one-stage campaign spec at the task's smoke preset.
 nlohmann::json stage_spec(const StageSpec& s);
 
 /// Writes `spec` to `dir/spec.json`, runs `podium submit` there and returns the campaign id it

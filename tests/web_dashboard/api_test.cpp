@@ -11,6 +11,7 @@
 
 #include "dashboard_support.h"
 #include "podium/store/store.h"
+#include "podium/store/writer_lock.h"
 
 namespace podium::web_dashboard {
 namespace {
@@ -24,6 +25,7 @@ class Api : public ::testing::Test {
     dir_ = new podium::testing::TempDir();
     landscape_ = testing::run_campaign(dir_->path(), testing::landscape_spec("smoke", 120));
     replay_ = testing::run_campaign(dir_->path(), testing::replay_fixture_spec("swing", 4));
+    handover_ = testing::run_campaign(dir_->path(), handover_spec());
     server_ = new RunningServer(dir_->path() / "podium.db");
   }
   static void TearDownTestSuite() {
@@ -35,7 +37,23 @@ class Api : public ::testing::Test {
   }
   static inline podium::testing::TempDir* dir_ = nullptr;
   static inline RunningServer* server_ = nullptr;
-  static inline std::int64_t landscape_ = 0, replay_ = 0;
+  // Three stages: "discover" groups 40 trials into more than 10 strategies, "refine" is handed the
+  // best trial of each (one each), "broken" the top 2 of refine (all to every trial), and fails.
+  static Json handover_spec() {
+    const auto stage = [](const char* name, Json config, Json budget) {
+      return Json{{"name", name}, {"task", "landscape"}, {"preset", "smoke"}, {"config", std::move(config)},
+                  {"search", {{"algorithm", "random"}}}, {"budget", {{"trials", std::move(budget)}}}};
+    };
+    Json discover = stage("discover", {{"artifact", true}, {"regions", 40}}, 40);
+    discover["strategy_threshold"] = 0.05;
+    Json refine = stage("refine", {{"dim", 2}}, {{"per_input", 1}});
+    refine["inputs"] = {{"stage", "discover"}, {"select", "best_per_strategy"}, {"per_trial", "each"}};
+    Json broken = stage("broken", {{"failures", {{{"mode", "throw"}}}}}, 2);
+    broken["inputs"] = {{"stage", "refine"}, {"select", "top"}, {"k", 2}};
+    return {{"name", "handover"}, {"seed", 5}, {"workers", 2}, {"retries", 0}, {"trial_timeout_s", 30},
+            {"stages", {discover, refine, broken}}};
+  }
+  static inline std::int64_t landscape_ = 0, replay_ = 0, handover_ = 0;
 };
 
 TEST_F(Api, CampaignListReportsStateProgressBestAndRate) {
@@ -184,6 +202,116 @@ TEST_F(Api, ServesTheFrontEndAndRefusesUnknownPaths) {
   EXPECT_EQ(client.Get("/api/trials/999999")->status, 404);
 }
 
+// Strategy ids restart per stage: the list counts them per stage, never summed over stages.
+TEST_F(Api, StrategiesAreCountedPerStage) {
+  const auto stages = store()->stages(handover_);
+  const Json list = server_->get_json("/api/campaigns");
+  const auto c = std::find_if(list.begin(), list.end(), [](const Json& j) { return j["id"] == handover_; });
+  ASSERT_NE(c, list.end());
+  EXPECT_FALSE(c->contains("strategies"));
+  for (const auto& st : stages) {
+    std::set<std::int64_t> ids;
+    for (const auto& t : store()->trials(st.id))
+      if (t.strategy) ids.insert(*t.strategy);
+    EXPECT_EQ((*c)["stages"][st.index]["strategies"], ids.size()) << st.name;
+  }
+  EXPECT_GT((*c)["stages"][0]["strategies"].get<int>(), 10);
+  EXPECT_EQ((*c)["stages"][2]["strategies"], 0);
+}
+
+// Each stage's true state, why it failed, what it was handed, and the task's config keys.
+TEST_F(Api, StagesShowStateErrorInputsAndTaskConfig) {
+  const auto stages = store()->stages(handover_);
+  const Json c = server_->get_json("/api/campaigns/" + std::to_string(handover_));
+  EXPECT_EQ(c["state"], "failed");
+  EXPECT_EQ(c["scheduler"], "none");
+  const Json& s = c["stages"];
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_EQ(s[0]["state"], "done");
+  EXPECT_EQ(s[0]["error"], "");
+  EXPECT_TRUE(s[0]["inputs"].is_null());
+  EXPECT_TRUE(s[0]["input_trials"].is_null());
+  EXPECT_EQ(s[1]["inputs"]["select"], "best_per_strategy");
+  EXPECT_EQ(s[1]["inputs"]["per_trial"], "each");
+  EXPECT_EQ(s[1]["inputs"]["stages"], Json::array({"discover"}));
+  EXPECT_EQ(s[1]["input_trials"], s[0]["strategies"]);  // the best trial of each strategy
+  EXPECT_EQ(s[1]["input_trials"], stages[1].input_trials->size());
+  EXPECT_EQ(s[2]["state"], "failed");
+  EXPECT_EQ(s[2]["error"], stages[2].error);
+  EXPECT_NE(s[2]["error"].get<std::string>().find("all 2 trials failed"), std::string::npos) << s[2]["error"];
+  EXPECT_EQ(s[2]["input_trials"], 2);
+  // The task's config description: key, type, default, allowed values.
+  const Json& config = s[0]["description"]["config"];
+  const auto family = std::find_if(config.begin(), config.end(), [](const Json& k) { return k["key"] == "family"; });
+  ASSERT_NE(family, config.end()) << config.dump();
+  EXPECT_EQ((*family)["type"], "string");
+  EXPECT_EQ((*family)["default"], "basins");
+  EXPECT_NE(std::find((*family)["choices"].begin(), (*family)["choices"].end(), "voronoi"), (*family)["choices"].end());
+}
+
+// A trial is named "<stage>/<index>" on every document that refers to it.
+TEST_F(Api, TrialsAreNamedByStageAndIndex) {
+  const Json page = server_->get_json("/api/campaigns/handover/trials?stage=1&limit=3&offset=2");
+  ASSERT_EQ(page["trials"].size(), 3u);
+  EXPECT_EQ(page["trials"][0]["name"], "refine/2");
+  const Json t = server_->get_json("/api/trials/" + std::to_string(page["trials"][1]["id"].get<std::int64_t>()));
+  EXPECT_EQ(t["name"], "refine/3");
+  for (const auto& row : server_->get_json("/api/campaigns/handover/strategies")) {
+    const Json rep = server_->get_json("/api/trials/" + std::to_string(row["representative_trial"].get<std::int64_t>()));
+    EXPECT_EQ(row["representative_name"], rep["name"]);
+    EXPECT_EQ(rep["stage"], row["stage"]);
+  }
+}
+
+// The trial page names (and links by id) the earlier trials a trial was handed: per_trial "each"
+// the one its info names, "all" every selected one.
+TEST_F(Api, TrialDetailNamesTheTrialsItWasHanded) {
+  const auto stages = store()->stages(handover_);
+  for (const auto& t : store()->trials(stages[1].id)) {
+    const Json d = server_->get_json("/api/trials/" + std::to_string(t.id));
+    ASSERT_EQ(d["inputs"].size(), 1u);
+    const Json& expected = (*stages[1].input_trials)[t.info["input"].get<std::size_t>()];
+    const Json& input = d["inputs"][0];
+    EXPECT_EQ(input["name"], "discover/" + std::to_string(expected["trial_index"].get<int>()));
+    const Json earlier = server_->get_json("/api/trials/" + std::to_string(input["id"].get<std::int64_t>()));
+    EXPECT_EQ(earlier["name"], input["name"]);
+    EXPECT_EQ(earlier["strategy"], input["strategy"]);
+  }
+  const Json broken = server_->get_json("/api/trials/" + std::to_string(store()->trials(stages[2].id)[0].id));
+  ASSERT_EQ(broken["inputs"].size(), 2u);
+  EXPECT_EQ(broken["inputs"][0]["stage"], 1);
+  const Json first = server_->get_json("/api/campaigns/handover/trials?stage=0&limit=1");
+  EXPECT_EQ(server_->get_json("/api/trials/" + std::to_string(first["trials"][0]["id"].get<std::int64_t>()))["inputs"],
+            Json::array());
+}
+
+// A running campaign with no scheduler alive (killed with -9: nothing was written) is "stopped",
+// as `podium status` shows it; a held writer lock is a live scheduler.
+TEST(ApiStates, RunningWithoutASchedulerIsStopped) {
+  podium::testing::TempDir dir;
+  const auto id = testing::run_campaign(dir.path(), testing::landscape_spec("killed", 3));
+  const auto db = dir / "podium.db";
+  const auto mark_running = [&] {  // and a new event: a change, so the server's cached answers are not reused
+    auto s = store::Store::open(db, store::Store::Access::read_write);
+    s->add_event(id, "test", Json::object());
+    s->set_campaign_state(id, "running");
+    s->set_stage_state(s->stages(id)[0].id, "running");  // killed mid-stage
+  };
+  RunningServer server(db);
+  {
+    const store::WriterLock lock(db);
+    mark_running();
+    const Json c = server.get_json("/api/campaigns/" + std::to_string(id));
+    EXPECT_EQ(c["state"], "running");
+    EXPECT_EQ(c["scheduler"], "alive");
+  }
+  mark_running();
+  const Json c = server.get_json("/api/campaigns/" + std::to_string(id));
+  EXPECT_EQ(c["state"], "stopped");
+  EXPECT_EQ(c["scheduler"], "none");
+  EXPECT_EQ(c["stages"][0]["state"], "stopped");
+}
+
 // A page lists each trial as the same document the trial's own endpoint gives (pages copy the
 // stored JSON text instead of building it).
 TEST_F(Api, PageTrialsAreTheTrialDocuments) {
@@ -210,12 +338,14 @@ TEST(ApiRecount, SummaryAndStrategiesEqualARecountAfterRetriesFailuresAndCancel)
   ASSERT_EQ(submit.exit_code, 0) << submit.err;
   const std::string id = std::to_string(std::stoll(submit.out));
   const pid_t scheduler = podium::testing::spawn_podium({"run", "--workers", "2"}, dir.path());
-  for (int i = 0; i < 600; ++i) {  // until trial 2 failed and 6 are done (at most a minute); trial 3 hangs
+  // Until trial 2 failed and 3 are done (at most a minute): trial 3 hangs, and results are told
+  // in trial order, so with 2 workers only trials 0-4 run before it times out.
+  for (int i = 0; i < 600; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
     const auto status = podium::testing::run_podium({"status", id, "--json"}, dir.path());
     if (status.exit_code != 0) continue;
     const Json s = Json::parse(status.out);
-    if (s.value("done", 0) >= 6 && s.value("failed", 0) >= 1) break;
+    if (s.value("done", 0) >= 3 && s.value("failed", 0) >= 1) break;
   }
   ASSERT_EQ(podium::testing::run_podium({"cancel", id}, dir.path()).exit_code, 0);
   ASSERT_EQ(podium::testing::wait_process(scheduler), 0);
@@ -247,7 +377,7 @@ TEST(ApiRecount, SummaryAndStrategiesEqualARecountAfterRetriesFailuresAndCancel)
   EXPECT_EQ(c["stages"][0]["counts"], c["counts"]);
   EXPECT_DOUBLE_EQ(c["best_objective"].get<double>(), best);
   const Json table = server.get_json("/api/campaigns/" + id + "/strategies");
-  EXPECT_EQ(c["strategies"], table.size());
+  EXPECT_EQ(c["stages"][0]["strategies"], table.size());
   ASSERT_EQ(table.size(), strategies.size());
   for (const auto& row : table) {
     const auto& [size, rep] = strategies.at(row["strategy"].get<std::int64_t>());

@@ -139,9 +139,26 @@ TEST(Queries, PointsAreDoneTrialsStridedWhenCapped) {
   EXPECT_EQ(all[0].features, (std::vector<double>{1.0, -1.0}));
   EXPECT_EQ(all[0].strategy, 1);
   EXPECT_FALSE(all.back().strategy.has_value());
+  // Strided per stage: 13 done trials in stage 0 and 14 in stage 1, each at stride 2.
   const auto capped = q->points(f.campaign, 10, &total);
-  EXPECT_EQ(capped.size(), 9u);  // stride 3 over 27
-  EXPECT_EQ(capped[1].id, all[3].id);
+  EXPECT_EQ(total, 27);
+  ASSERT_EQ(capped.size(), 14u);
+  EXPECT_EQ(capped[1].id, all[2].id);
+  EXPECT_EQ(capped[7].id, all[13].id);  // stage 1's first done trial
+  EXPECT_EQ(capped[7].stage_index, 1);
+  // A stage under the cap keeps every point beside one over it.
+  const auto mixed = q->points(f.campaign, 13, &total);
+  EXPECT_EQ(std::count_if(mixed.begin(), mixed.end(), [](const auto& p) { return p.stage_index == 0; }), 13);
+  EXPECT_EQ(std::count_if(mixed.begin(), mixed.end(), [](const auto& p) { return p.stage_index == 1; }), 7);
+}
+
+TEST(Queries, TrialIdIsFoundByStageAndIndex) {
+  Fixture f;
+  auto q = Queries::open(f.db);
+  const auto stages = q->store().stages(f.campaign);
+  EXPECT_EQ(q->trial_id(stages[1].id, 5), f.trials[20]);
+  EXPECT_EQ(q->trial_id(stages[0].id, 0), f.trials[0]);
+  EXPECT_FALSE(q->trial_id(stages[0].id, 15).has_value());
 }
 
 TEST(Queries, StrategiesPickTheBestTrialAsRepresentative) {
@@ -152,11 +169,12 @@ TEST(Queries, StrategiesPickTheBestTrialAsRepresentative) {
   EXPECT_EQ(s[0].strategy, 0);
   EXPECT_EQ(s[0].trials, 4);
   EXPECT_EQ(s[0].representative_trial, f.trials[12]);
+  EXPECT_EQ(s[0].representative_index, 12);
   EXPECT_EQ(s[0].best_objective, 12.0);
   EXPECT_EQ(s[2].trials, 5);
   EXPECT_EQ(s[2].representative_features, (std::vector<double>{14.0, -14.0}));
   const auto summary = q->summary(f.campaign, now_unix_s());
-  EXPECT_EQ(summary.strategies, 3);
+  EXPECT_EQ(summary.strategy_table.size(), 3u);
   EXPECT_EQ(summary.best_objective, 29.0);
   EXPECT_EQ(summary.counts.failed, 3);
   EXPECT_EQ(summary.done_last_minute, 27);
@@ -254,7 +272,7 @@ TEST(Queries, StrategiesAreCountedPerStage) {
   ASSERT_EQ(table.size(), 2u);
   EXPECT_EQ(table[0].stage_index, 0);
   EXPECT_EQ(table[1].stage_index, 1);
-  EXPECT_EQ(q->summary(campaign, now_unix_s()).strategies, 2);
+  EXPECT_EQ(q->summary(campaign, now_unix_s()).strategy_table.size(), 2u);
 }
 
 }  // namespace

@@ -1,7 +1,9 @@
 // Test-only task plugin "web_replay_fixture": writes a trajectory artifact (sim/'s trajectory
 // file, JSON lines, sim/README.md) for the browser tests, until a physics task records real ones. The
 // motion is analytic on purpose: a chain of three capsules and a ball swinging under a bar
-// (a box prop); parameters set the amplitude and the rate. Not physics; nothing else uses it.
+// (a box prop) beside an inclined block, over a patch of rough tiles (heights of either sign);
+// parameters set the amplitude and the rate. Not physics; nothing else uses it.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -39,10 +41,24 @@ class ReplayFixtureTask final : public plugins::Task {
       links.push_back({{"name", name}, {"parent", i == 0 ? Json(nullptr) : Json(i - 1)}, {"shapes", {shape}}});
       names.push_back(name);
     }
-    const Json header = {{"format", "podium-trajectory"}, {"version", 1}, {"model", "fixture-chain"}, {"links", links},
-                         {"bodies", names}, {"joints", Json::array()}, {"ground", true},
-                         {"props", {{{"name", "bar"}, {"type", "box"}, {"half_extents", {0.05, 0.6, 0.05}},
-                                     {"pos", {0.0, 0.0, bar_z}}}}}};
+    // Terrain as sim::write_trajectory writes it: a 4 × 4 m region of 0.5 m tiles, each a box
+    // from half a metre below its top (or below 0) up to a top within ±8 cm.
+    constexpr double kTile = 0.5, kDepth = 0.5;
+    Json pieces = Json::array();
+    for (int i = 0; i < 8; ++i) {
+      for (int j = 0; j < 8; ++j) {
+        const double top = 0.08 * std::sin(1.7 * i + 2.3 * j), bottom = std::min(top, 0.0) - kDepth;
+        pieces.push_back({{"region", 0}, {"type", "box"}, {"pos", {-2 + kTile * (i + 0.5), -2 + kTile * (j + 0.5), (top + bottom) / 2}},
+                          {"quat", {1, 0, 0, 0}}, {"half_extents", {kTile / 2, kTile / 2, (top - bottom) / 2}}});
+      }
+    }
+    const Json terrain = {{"regions", {{{"kind", "rough"}, {"min", {-2, -2}}, {"max", {2, 2}}}}}, {"pieces", pieces}};
+    const double tilt = 0.35;  // an inclined starting block, turned about y
+    const Json props = {{{"name", "bar"}, {"type", "box"}, {"half_extents", {0.05, 0.6, 0.05}}, {"pos", {0.0, 0.0, bar_z}}, {"quat", {1, 0, 0, 0}}},
+                        {{"name", "block"}, {"type", "box"}, {"half_extents", {0.3, 0.25, 0.1}}, {"pos", {0.9, 0.0, 0.2}},
+                         {"quat", {std::cos(tilt / 2), 0.0, std::sin(tilt / 2), 0.0}}}};
+    const Json header = {{"format", "podium-trajectory"}, {"version", 2}, {"model", "fixture-chain"}, {"links", links}, {"bodies", names},
+                         {"joints", Json::array()}, {"ground", true}, {"props", props}, {"terrain", terrain}};
     const auto path = request.work_dir / "trajectory.jsonl";
     std::ofstream out(path);
     out << header.dump() << '\n';
@@ -61,7 +77,7 @@ class ReplayFixtureTask final : public plugins::Task {
       poses.push_back({px, 0.0, pz, 1.0, 0.0, 0.0, 0.0});
       tip_z = pz;
       max_tip_z = std::max(max_tip_z, tip_z);
-      out << Json{{"t", t}, {"root", poses[0]}, {"q", Json::array()}, {"links", poses}, {"com", {px / 2, 0.0, pz}},
+      out << Json{{"t", t}, {"root", poses[0]}, {"q", Json::array()}, {"qd", Json::array()}, {"links", poses}, {"com", {px / 2, 0.0, pz}},
                   {"contacts", Json::array()}}.dump()
           << '\n';
     }

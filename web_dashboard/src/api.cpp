@@ -7,6 +7,8 @@
 #include <type_traits>
 #include <string_view>
 
+#include "podium/store/writer_lock.h"
+
 namespace podium::web_dashboard {
 
 namespace fs = std::filesystem;
@@ -21,14 +23,34 @@ Json counts_json(const store::TrialCounts& c) {
 
 Json optional_number(const std::optional<double>& v) { return v && std::isfinite(*v) ? Json(*v) : Json(nullptr); }
 
+// The one name of a trial on every page and in `podium trials`: "<stage name>/<index in the
+// stage>" (database ids appear in URLs only).
+std::string trial_name(const std::string& stage_name, std::int64_t index) { return stage_name + "/" + std::to_string(index); }
+
+// States as `podium status` shows them: a stage of a paused or cancelled campaign says so
+// (store::shown_stage_state), and a running campaign or stage with no scheduler alive (none holds
+// the database's writer lock) is "stopped".
+std::string shown_state(const std::string& state, bool scheduler_alive) {
+  return state == "running" && !scheduler_alive ? "stopped" : state;
+}
+bool scheduler_alive(const Queries& q) { return store::WriterLock::held(q.store().path()); }
+
 Json campaign_summary(const store::CampaignRecord& c, const store::CampaignSummary& s,
-                      const std::vector<store::StageRecord>& stage_list, double now) {
+                      const std::vector<store::StageRecord>& stage_list, bool alive, double now) {
+  std::map<std::int64_t, std::int64_t> strategies;  // by stage index: ids restart per stage
+  for (const auto& row : s.strategy_table) ++strategies[row.stage_index];
   Json stages = Json::array();
   std::int64_t budget = 0;
   for (const auto& st : stage_list) {
     budget += st.budget_trials;
-    stages.push_back({{"index", st.index}, {"name", st.name}, {"task", st.task}, {"algorithm", st.algorithm},
-                      {"state", st.state}, {"budget_trials", st.budget_trials}});
+    stages.push_back({{"index", st.index},
+                      {"name", st.name},
+                      {"task", st.task},
+                      {"algorithm", st.algorithm},
+                      {"state", shown_state(store::shown_stage_state(c.state, st.state), alive)},
+                      {"error", st.error},
+                      {"budget_trials", st.budget_trials},
+                      {"strategies", strategies[st.index]}});
   }
   // Rate over the span the campaign has been producing results (to now while it runs).
   const double end = c.state == "running" ? now : s.last_finished_at;
@@ -36,7 +58,8 @@ Json campaign_summary(const store::CampaignRecord& c, const store::CampaignSumma
   const double per_minute = span_s > 0 ? 60.0 * static_cast<double>(s.counts.done) / span_s : 0.0;
   return {{"id", c.id},
           {"name", c.name},
-          {"state", c.state},
+          {"state", shown_state(c.state, alive)},
+          {"scheduler", alive ? "alive" : "none"},
           {"error", c.error},
           {"seed", std::to_string(c.seed)},
           {"created_at", c.created_at},
@@ -48,14 +71,14 @@ Json campaign_summary(const store::CampaignRecord& c, const store::CampaignSumma
           {"progress", budget > 0 ? static_cast<double>(s.counts.done + s.counts.failed) / static_cast<double>(budget) : 0.0},
           {"trials_per_minute", per_minute},
           {"done_last_minute", s.done_last_minute},
-          {"best_objective", optional_number(s.best_objective)},
-          {"strategies", s.strategies}};
+          {"best_objective", optional_number(s.best_objective)}};
 }
 
-Json trial_json(const store::TrialRecord& t, int stage_index) {
+Json trial_json(const store::TrialRecord& t, const store::StageRecord& stage) {
   return {{"id", t.id},
+          {"name", trial_name(stage.name, t.index)},
           {"stage_id", t.stage_id},
-          {"stage", stage_index},
+          {"stage", stage.index},
           {"index", t.index},
           {"params", t.params},
           {"context", t.context},
@@ -121,9 +144,10 @@ class ArrayText {
 };
 
 // The same document as trial_json(), written from the stored JSON text (see store::TrialText).
-void append_trial(std::string& out, const store::TrialText& t, int stage_index) {
+void append_trial(std::string& out, const store::TrialText& t, const store::StageRecord& stage) {
   ObjectText o(out);
-  o.value("id", t.id).value("stage_id", t.stage_id).value("stage", stage_index).value("index", t.index);
+  o.value("id", t.id).value("name", trial_name(stage.name, t.index));
+  o.value("stage_id", t.stage_id).value("stage", stage.index).value("index", t.index);
   o.raw("params", t.params).raw("context", t.context).raw("info", t.info);
   o.value("seed", std::to_string(t.seed)).value("state", t.state).value("error", t.error).value("attempts", t.attempts);
   o.raw("objectives", t.objectives).value("features", t.features).raw("result_info", t.result_info);
@@ -131,9 +155,9 @@ void append_trial(std::string& out, const store::TrialText& t, int stage_index) 
   o.value("created_at", t.created_at).value("started_at", t.started_at).value("finished_at", t.finished_at);
 }
 
-std::map<std::int64_t, int> stage_indices(const Queries& q, std::int64_t campaign_id) {
-  std::map<std::int64_t, int> out;
-  for (const auto& st : q.store().stages(campaign_id)) out[st.id] = st.index;
+std::map<std::int64_t, store::StageRecord> stages_by_id(const Queries& q, std::int64_t campaign_id) {
+  std::map<std::int64_t, store::StageRecord> out;
+  for (auto& st : q.store().stages(campaign_id)) out.emplace(st.id, std::move(st));
   return out;
 }
 
@@ -149,15 +173,44 @@ bool inside(const fs::path& child, const fs::path& parent) {
   return p == parent.end() && c != child.end();
 }
 
-Json strategy_json(const std::vector<store::StrategySummary>& list) {
+Json strategy_json(const std::vector<store::StrategySummary>& list, const std::vector<store::StageRecord>& stages) {
   Json out = Json::array();
   for (const auto& s : list)
     out.push_back({{"stage", s.stage_index},
                    {"strategy", s.strategy},
                    {"trials", s.trials},
                    {"representative_trial", s.representative_trial},
+                   {"representative_name", trial_name(stages.at(static_cast<std::size_t>(s.stage_index)).name, s.representative_index)},
                    {"best_objective", optional_number(s.best_objective)},
                    {"features", s.representative_features}});
+  return out;
+}
+
+// The trials a trial of `stage` was handed (DESIGN.md "Hand-over"; the orchestrator's
+// inputs_of_trial, repeated because this layer depends on the store only): per_trial "each" gives
+// trial the input its info names, "all" every input the stage selected.
+Json trial_inputs(const Queries& q, const store::StageRecord& stage, const store::TrialRecord& t,
+                  const std::vector<store::StageRecord>& stages) {
+  Json out = Json::array();
+  if (!stage.input_trials || !stage.input_trials->is_array()) return out;
+  const Json& all = *stage.input_trials;
+  std::vector<const Json*> given;
+  if (stage.inputs.is_object() && stage.inputs.value("per_trial", "all") == "each") {
+    if (t.info.contains("input") && t.info["input"].get<std::size_t>() < all.size()) given.push_back(&all[t.info["input"].get<std::size_t>()]);
+  } else {
+    for (const auto& input : all) given.push_back(&input);
+  }
+  for (const Json* input : given) {
+    const auto stage_index = input->at("stage_index").get<std::size_t>();
+    const auto index = input->at("trial_index").get<std::int64_t>();
+    const auto id = stage_index < stages.size() ? q.trial_id(stages[stage_index].id, index) : std::nullopt;
+    out.push_back({{"name", trial_name(input->at("stage").get<std::string>(), index)},
+                   {"id", id ? Json(*id) : Json(nullptr)},
+                   {"stage", stage_index},
+                   {"index", index},
+                   {"objectives", input->value("objectives", Json::array())},
+                   {"strategy", input->value("strategy", Json(nullptr))}});
+  }
   return out;
 }
 
@@ -165,8 +218,9 @@ Json strategy_json(const std::vector<store::StrategySummary>& list) {
 
 Json campaign_list(const Queries& q, double now) {
   Json out = Json::array();
+  const bool alive = scheduler_alive(q);
   for (const auto& c : q.store().campaigns())
-    out.push_back(campaign_summary(c, q.summary(c.id, now), q.store().stages(c.id), now));
+    out.push_back(campaign_summary(c, q.summary(c.id, now), q.store().stages(c.id), alive, now));
   return out;
 }
 
@@ -181,37 +235,34 @@ Json campaign_detail(const Queries& q, std::int64_t campaign_id, double now) {
   if (!c) throw HttpError(404, "no campaign " + std::to_string(campaign_id));
   const auto summary = q.summary(campaign_id, now);
   const auto stage_list = q.store().stages(campaign_id);
-  Json out = campaign_summary(*c, summary, stage_list, now);
+  Json out = campaign_summary(*c, summary, stage_list, scheduler_alive(q), now);
   out["spec"] = c->spec;
   out["podium_version"] = c->podium_version;
-  Json stages = Json::array();
-  for (const auto& st : stage_list) {
+  // The summary's stage entries, with what the campaign page shows beside them.
+  for (std::size_t i = 0; i < stage_list.size(); ++i) {
+    const auto& st = stage_list[i];
     const auto counts = summary.stage_counts.find(st.id);
     Json description = st.description;
     description.erase("presets");  // every preset of the task: noise on this page
-    stages.push_back({{"id", st.id},
-                      {"index", st.index},
-                      {"name", st.name},
-                      {"task", st.task},
-                      {"algorithm", st.algorithm},
-                      {"state", st.state},
-                      {"search_config", st.search_config},
-                      {"task_config", st.task_config},
-                      {"description", description},
-                      {"inputs", st.inputs},
-                      {"budget_trials", st.budget_trials},
-                      {"budget_seconds", st.budget_seconds},
-                      {"elapsed_s", st.elapsed_s},
-                      {"counts", counts_json(counts == summary.stage_counts.end() ? store::TrialCounts{} : counts->second)}});
+    Json& entry = out["stages"][i];
+    entry["id"] = st.id;
+    entry["search_config"] = st.search_config;
+    entry["task_config"] = st.task_config;
+    entry["description"] = description;  // with "config": the keys the task accepts
+    entry["inputs"] = st.inputs;
+    // How many trials the stage was handed when it started (null before, or without inputs).
+    entry["input_trials"] = st.input_trials && st.input_trials->is_array() ? Json(st.input_trials->size()) : Json(nullptr);
+    entry["budget_seconds"] = st.budget_seconds;
+    entry["elapsed_s"] = st.elapsed_s;
+    entry["counts"] = counts_json(counts == summary.stage_counts.end() ? store::TrialCounts{} : counts->second);
   }
-  out["stages"] = stages;
-  out["strategy_table"] = strategy_json(summary.strategy_table);
+  out["strategy_table"] = strategy_json(summary.strategy_table, stage_list);
   return out;
 }
 
 std::string trial_page(const Queries& q, std::int64_t campaign_id, const store::TrialFilter& filter) {
   const auto page = q.trial_page(campaign_id, filter);
-  const auto stages = stage_indices(q, campaign_id);
+  const auto stages = stages_by_id(q, campaign_id);
   std::string trials = "[";
   for (const auto& t : page.trials) {
     if (trials.size() > 1) trials += ',';
@@ -251,7 +302,9 @@ std::string scatter_points(const Queries& q, std::int64_t campaign_id, std::int6
   return out;
 }
 
-Json strategy_table(const Queries& q, std::int64_t campaign_id) { return strategy_json(q.strategies(campaign_id)); }
+Json strategy_table(const Queries& q, std::int64_t campaign_id) {
+  return strategy_json(q.strategies(campaign_id), q.store().stages(campaign_id));
+}
 
 Json campaign_events(const Queries& q, std::int64_t campaign_id, std::size_t last_n) {
   auto events = q.store().events(campaign_id);
@@ -265,8 +318,9 @@ Json trial_detail(const Queries& q, std::int64_t trial_id) {
   if (!t || !campaign_id) throw HttpError(404, "no trial " + std::to_string(trial_id));
   const auto stages = q.store().stages(*campaign_id);
   const auto stage = std::find_if(stages.begin(), stages.end(), [&](const auto& s) { return s.id == t->stage_id; });
-  Json out = trial_json(*t, stage->index);
+  Json out = trial_json(*t, *stage);
   out["campaign_id"] = *campaign_id;
+  out["inputs"] = trial_inputs(q, *stage, *t, stages);  // the earlier trials it was handed
   out["stage_name"] = stage->name;
   out["task"] = stage->task;
   out["feature_names"] = Json::array();

@@ -15,6 +15,7 @@
 #include "guarded_http.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
+#include "podium/store/writer_lock.h"
 #include "pool.h"
 #include "static_files.h"
 
@@ -184,9 +185,11 @@ struct Server::Impl {
     };
   }
 
+  // SQLite's data_version, with whether a scheduler holds the database: a scheduler that dies
+  // changes what pages show ("stopped") without a commit, so it must change the version too.
   std::int64_t data_version() {
     std::lock_guard lock(watch_mutex);
-    return watch->data_version();
+    return 2 * watch->data_version() + (store::WriterLock::held(options.database) ? 1 : 0);
   }
 
   // A JSON endpoint: build(req, queries) makes the document (or its text); the body is reused while the

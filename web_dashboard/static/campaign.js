@@ -1,14 +1,23 @@
-// Campaign page: summary, stages, strategy-feature scatter (colour: strategy cluster; marker: BDS
-// step), search history, strategy table, parallel coordinates, trial table with paging, events.
+// Campaign page: summary, stages (state, error, hand-over, task config), strategy-feature scatter
+// of one stage (colour: strategy cluster; marker: BDS step), search history, strategy table,
+// parallel coordinates, trial table with paging, events.
 'use strict';
 
 const campaignId = podium.param('id');
 const base = `/api/campaigns/${encodeURIComponent(campaignId)}`;
 const state = { detail: null, points: null, offset: 0, limit: 50, history: null };
 
-function featureNames() {
-  const d = state.detail.stages[0]?.description || {};
+// The scatter and the parallel coordinates show one stage at a time: stages have their own
+// features and parameters, and strategy ids restart per stage.
+function featureNames(stage) {
+  const d = state.detail.stages[stage]?.description || {};
   return (d.features || []).map(f => f.name);
+}
+
+function inputsText(inputs) {
+  if (!inputs) return '–';
+  const select = inputs.select === 'top' ? `top ${inputs.k}` : inputs.select;
+  return `${inputs.stages.join(', ')}: ${select}, per trial ${inputs.per_trial}`;
 }
 
 function renderSummary() {
@@ -18,76 +27,118 @@ function renderSummary() {
   document.getElementById('crumb').textContent = c.name;
   const s = document.getElementById('summary');
   s.replaceChildren(podium.el('span', { class: 'state-' + c.state }, c.state),
+    c.state === 'stopped' ? ' (no scheduler is running it: podium run resumes it)' : '',
     ` · ${c.counts.done}/${c.budget_trials} done, ${c.counts.failed} failed, ${c.counts.running} running, ${c.counts.pending} pending`,
     ` · ${podium.num(c.trials_per_minute, 1)} trials/min · best objective ${podium.num(c.best_objective)}`,
-    ` · ${c.strategies} strategies · seed ${c.seed}`, c.error ? podium.el('div', { class: 'error' }, c.error) : '');
+    ` · strategies ${c.stages.map(st => `${st.name} ${st.strategies}`).join(' · ')} · seed ${c.seed}`,
+    c.error ? podium.el('div', { class: 'error' }, c.error) : '');
   s.dataset.done = c.counts.done;
   podium.fill(document.getElementById('stages'),
-    ['#', 'name', 'task', 'search', 'state', 'done', 'failed', 'running', 'budget', 'elapsed s'],
-    c.stages.map(st => [st.index, st.name, st.task, st.algorithm, st.state, st.counts.done, st.counts.failed,
-      st.counts.running, st.budget_trials, podium.num(st.elapsed_s, 1)]));
+    ['#', 'name', 'task', 'search', 'state', 'inputs', 'input trials', 'done', 'failed', 'running', 'budget', 'strategies', 'elapsed s', 'error'],
+    c.stages.map(st => [st.index, st.name, st.task, st.algorithm, podium.el('span', { class: 'state-' + st.state }, st.state),
+      inputsText(st.inputs), st.input_trials ?? '–', st.counts.done, st.counts.failed, st.counts.running, st.budget_trials,
+      st.strategies, podium.num(st.elapsed_s, 1), podium.el('span', { class: 'error' }, st.error)]));
   const stageSelect = document.getElementById('f-stage');
   if (stageSelect.options.length === 1)
     for (const st of c.stages) stageSelect.append(podium.el('option', { value: st.index }, st.name));
+  renderConfigs();
 }
 
-// Strategy ids are per stage (each stage groups its own trials), so colours belong to
-// (stage, id) pairs, numbered in stage-then-id order; scatter, legend, table and parallel
-// coordinates all colour through here.
-function indexStrategies() {
-  const pairs = new Map();
-  const cols = state.points.columns;
-  for (let i = 0; i < cols.id.length; i++) if (cols.strategy[i] !== null) pairs.set(`${cols.stage[i]}:${cols.strategy[i]}`, [cols.stage[i], cols.strategy[i]]);
-  for (const s of state.detail.strategy_table) pairs.set(`${s.stage}:${s.strategy}`, [s.stage, s.strategy]);
-  const sorted = [...pairs.entries()].sort(([, a], [, b]) => a[0] - b[0] || a[1] - b[1]);
-  state.strategies = sorted.map(([, pair]) => pair);
-  state.strategyIndex = new Map(sorted.map(([key], k) => [key, k]));
+// Each stage's task config, collapsed: the keys the task accepts (its description's "config":
+// key, type, default, allowed values) beside the value the stage runs with. Built once, so an
+// opened block stays open across live refreshes.
+function configRows(keys, values, prefix = '') {
+  const rows = [];
+  for (const k of keys || []) {
+    const key = prefix + k.key, value = values?.[k.key];
+    let type = k.type;
+    if (k.type === 'array' && k.items) type = `array of ${k.items.type}s`;
+    const allowed = k.choices ? `one of ${k.choices.join(', ')}` : rangeText(k.type === 'array' && k.items ? k.items : k);
+    rows.push([key, type, k.required ? 'required' : JSON.stringify(k.default ?? null), allowed,
+      value === undefined ? '' : JSON.stringify(value), k.doc || '']);
+    if (k.keys) rows.push(...configRows(k.keys, value, key + '.'));
+    if (k.items?.keys) rows.push(...configRows(k.items.keys, undefined, key + '[].'));
+  }
+  return rows;
 }
-function strategyColour(stage, strategy) {
-  return podium.colour(strategy === null || strategy === undefined ? null : state.strategyIndex.get(`${stage}:${strategy}`));
+function rangeText(k) {
+  const lo = k.min !== undefined, hi = k.max !== undefined;
+  if (lo && hi) return `${k.exclusive_min ? '(' : '['}${k.min}, ${k.max}]`;
+  if (lo) return `${k.exclusive_min ? '>' : '≥'} ${k.min}`;
+  return hi ? `≤ ${k.max}` : '';
 }
-function strategyLabel([stage, strategy]) {
-  return state.detail.stages.length > 1 ? `${state.detail.stages[stage]?.name ?? stage} · strategy ${strategy}` : `strategy ${strategy}`;
+function renderConfigs() {
+  const holder = document.getElementById('stage-configs');
+  if (holder.children.length) return;
+  for (const st of state.detail.stages) {
+    const keys = st.description.config || [];
+    const table = podium.el('table');
+    podium.fill(table, ['key', 'type', 'default', 'allowed', 'value', ''], configRows(keys, st.task_config));
+    holder.append(podium.el('details', { class: 'config', 'data-stage': st.index },
+      podium.el('summary', {}, `${st.name}: task config of ${st.task} (${keys.length} keys)`), table));
+  }
 }
 
-// Axis choices: every feature, then the objective.
+// The stage the scatter shows: the one chosen, else the latest stage with points.
+function scatterStage() {
+  const select = document.getElementById('scatter-stage');
+  if (select.options.length !== state.detail.stages.length) {
+    select.replaceChildren(...state.detail.stages.map(st => podium.el('option', { value: st.index }, st.name)));
+    select.onchange = () => { state.chosenStage = +select.value; state.axesStage = null; renderStage(); };
+  }
+  if (state.chosenStage === undefined) {
+    const withPoints = state.points.columns.stage;
+    select.value = withPoints.length ? Math.max(...withPoints) : 0;
+  }
+  return +select.value;
+}
+
+// The strategies of a stage: every id its points or its strategy table rows carry, in id order.
+function stageStrategies(stage) {
+  const cols = state.points.columns, trials = new Map();
+  for (let i = 0; i < cols.id.length; i++) if (cols.stage[i] === stage && cols.strategy[i] !== null) trials.set(cols.strategy[i], null);
+  for (const s of state.detail.strategy_table) if (s.stage === stage) trials.set(s.strategy, s.trials);
+  return [...trials.entries()].sort((a, b) => a[0] - b[0]);
+}
+
+// Axis choices: every feature of the shown stage, then the objective.
 function axisValue(choice, i) {
   const cols = state.points.columns;
   return choice === 'objective' ? cols.objective[i] : cols.features[i][+choice];
 }
 
 function renderScatter() {
+  const stage = scatterStage(), stageName = state.detail.stages[stage]?.name ?? String(stage);
   const sx = document.getElementById('sx'), sy = document.getElementById('sy');
-  if (sx.options.length === 0) {
-    const names = featureNames();
+  if (state.axesStage !== stage) {  // features differ between stages
+    state.axesStage = stage;
+    const names = featureNames(stage);
     const opts = names.map((n, k) => [String(k), n]).concat([['objective', 'objective']]);
-    for (const sel of [sx, sy]) for (const [v, n] of opts) sel.append(podium.el('option', { value: v }, n));
+    for (const sel of [sx, sy]) sel.replaceChildren(...opts.map(([v, n]) => podium.el('option', { value: v }, n)));
     sy.value = names.length > 1 ? '1' : 'objective';
     sx.onchange = sy.onchange = renderScatter;
   }
-  const cols = state.points.columns, n = cols.id.length;
+  const cols = state.points.columns;
+  const shown = [...cols.id.keys()].filter(i => cols.stage[i] === stage);
   const W = 480, H = 400, pad = 40;
   const canvas = document.getElementById('scatter');
   const ctx = podium.canvas(canvas, W, H);
-  const xs = [], ys = [];
-  for (let i = 0; i < n; i++) { xs.push(axisValue(sx.value, i)); ys.push(axisValue(sy.value, i)); }
-  const finite = a => a.filter(v => v !== null && Number.isFinite(v));
+  const xs = shown.map(i => axisValue(sx.value, i)), ys = shown.map(i => axisValue(sy.value, i));
+  const finite = a => a.filter(v => v !== null && v !== undefined && Number.isFinite(v));
   const range = a => { const f = finite(a); let lo = Math.min(...f), hi = Math.max(...f); if (!(hi > lo)) { lo -= 0.5; hi += 0.5; } return [lo, hi]; };
-  const [x0, x1] = n ? range(xs) : [0, 1], [y0, y1] = n ? range(ys) : [0, 1];
+  const [x0, x1] = finite(xs).length ? range(xs) : [0, 1], [y0, y1] = finite(ys).length ? range(ys) : [0, 1];
   const px = v => pad + (v - x0) / (x1 - x0) * (W - 2 * pad), py = v => H - pad - (v - y0) / (y1 - y0) * (H - 2 * pad);
   ctx.strokeStyle = '#9e9e9e'; ctx.strokeRect(pad, pad, W - 2 * pad, H - 2 * pad);
   ctx.fillStyle = '#555'; ctx.font = '11px sans-serif';
   ctx.fillText(podium.num(x0, 2), pad, H - pad + 14); ctx.fillText(podium.num(x1, 2), W - pad - 20, H - pad + 14);
   ctx.fillText(podium.num(y0, 2), 2, H - pad); ctx.fillText(podium.num(y1, 2), 2, pad + 8);
-  ctx.fillText(sx.options[sx.selectedIndex].text, W / 2 - 10, H - 8);
-  ctx.save(); ctx.translate(12, H / 2); ctx.rotate(-Math.PI / 2); ctx.fillText(sy.options[sy.selectedIndex].text, 0, 0); ctx.restore();
-  let drawn = 0;
+  ctx.fillText(sx.options[sx.selectedIndex]?.text ?? '', W / 2 - 10, H - 8);
+  ctx.save(); ctx.translate(12, H / 2); ctx.rotate(-Math.PI / 2); ctx.fillText(sy.options[sy.selectedIndex]?.text ?? '', 0, 0); ctx.restore();
   state.screen = [];
-  for (let i = 0; i < n; i++) {
-    if (xs[i] === null || ys[i] === null) continue;
-    const x = px(xs[i]), y = py(ys[i]);
-    ctx.fillStyle = strategyColour(cols.stage[i], cols.strategy[i]);
-    ctx.strokeStyle = ctx.fillStyle;
+  shown.forEach((i, k) => {
+    if (!Number.isFinite(xs[k]) || !Number.isFinite(ys[k])) return;
+    const x = px(xs[k]), y = py(ys[k]);
+    ctx.fillStyle = ctx.strokeStyle = podium.colour(cols.strategy[i]);
     ctx.beginPath();
     if (cols.step[i] === 'diversity') {  // BDS diversity step: diamond
       ctx.moveTo(x, y - 4.5); ctx.lineTo(x + 4.5, y); ctx.lineTo(x, y + 4.5); ctx.lineTo(x - 4.5, y); ctx.closePath(); ctx.fill();
@@ -96,24 +147,35 @@ function renderScatter() {
     } else {
       ctx.arc(x, y, 3, 0, 2 * Math.PI); ctx.fill();
     }
-    state.screen.push([x, y, cols.id[i]]);
-    drawn++;
-  }
-  canvas.dataset.points = drawn;
+    state.screen.push({ x, y, id: cols.id[i], name: podium.trialName(stageName, cols.index[i]), strategy: cols.strategy[i] });
+  });
+  canvas.dataset.points = state.screen.length;
+  canvas.dataset.stage = stage;
+  const done = state.detail.stages[stage]?.counts.done ?? shown.length;
   document.getElementById('scatter-count').textContent =
-    `${drawn} points` + (state.points.total > state.points.returned ? ` (every ${Math.ceil(state.points.total / state.points.returned)}th of ${state.points.total})` : '');
-  const strategies = state.strategies;
+    `${state.screen.length} points` + (done > shown.length && shown.length ? ` (every ${Math.ceil(done / shown.length)}th of ${done})` : '');
+  const strategies = stageStrategies(stage);
   const legend = document.getElementById('legend');
-  legend.replaceChildren(...strategies.slice(0, 20).map(p => podium.el('span', {}, podium.el('i', { style: `background:${strategyColour(...p)}` }), strategyLabel(p))));
-  if (cols.step.some(s => s === 'explore' || s === 'diversity')) legend.append(podium.el('span', {}, '○ BDS exploration  ◆ BDS diversity'));
-  if (!strategies.length) legend.append(podium.el('span', { class: 'muted' }, 'no strategy clusters yet'));
+  legend.dataset.stage = stage;
+  legend.replaceChildren(...strategies.map(([id, trials]) => podium.el('span', { 'data-strategy': id, title: `${stageName} · strategy ${id}` },
+    podium.swatch(id), `strategy ${id}` + (trials === null ? '' : ` (${trials})`))));
+  if (shown.some(i => cols.step[i] === 'explore' || cols.step[i] === 'diversity')) legend.append(podium.el('div', {}, '○ BDS exploration  ◆ BDS diversity'));
+  if (!strategies.length) legend.append(podium.el('div', { class: 'muted' }, 'no strategy clusters in this stage yet'));
 }
 
-document.getElementById('scatter').addEventListener('click', ev => {
+function nearestPoint(ev) {
   const r = ev.target.getBoundingClientRect(), x = ev.clientX - r.left, y = ev.clientY - r.top;
   let best = null, bestD = 64;
-  for (const [px, py, id] of state.screen || []) { const d = (px - x) ** 2 + (py - y) ** 2; if (d < bestD) { bestD = d; best = id; } }
-  if (best !== null) location.href = `trial.html?id=${best}`;
+  for (const p of state.screen || []) { const d = (p.x - x) ** 2 + (p.y - y) ** 2; if (d < bestD) { bestD = d; best = p; } }
+  return best;
+}
+const scatter = document.getElementById('scatter');
+scatter.addEventListener('click', ev => { const p = nearestPoint(ev); if (p) location.href = `trial.html?id=${p.id}`; });
+scatter.addEventListener('mousemove', ev => {
+  const p = nearestPoint(ev);
+  const text = p ? `trial ${p.name} · strategy ${p.strategy ?? '–'}` : '\u00a0';
+  document.getElementById('scatter-hover').textContent = text;
+  scatter.title = p ? text : '';
 });
 
 function renderHistory() {
@@ -138,14 +200,18 @@ function renderHistory() {
   }, data, document.getElementById('history'));
 }
 
+// Every stage's strategies, grouped by stage (the same id in two stages is two strategies).
 function renderStrategies(list) {
   document.getElementById('no-strategies').hidden = list.length > 0;
-  const names = featureNames();
+  const stages = state.detail.stages;
   podium.fill(document.getElementById('strategies'), ['stage', 'strategy', 'trials', 'best objective', 'representative trial', 'features', ''],
-    list.map(s => [s.stage, podium.el('span', {}, podium.el('i', { style: `display:inline-block;width:10px;height:10px;background:${strategyColour(s.stage, s.strategy)}` }), ` ${s.strategy}`),
-      s.trials, podium.num(s.best_objective), podium.link(`trial.html?id=${s.representative_trial}`, `#${s.representative_trial}`),
-      s.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' '),
-      podium.link(`replay.html?trial=${s.representative_trial}`, 'replay')]));
+    list.map(s => {
+      const names = featureNames(s.stage);
+      return [stages[s.stage]?.name ?? s.stage, podium.el('span', {}, podium.swatch(s.strategy), ` ${s.strategy}`),
+        s.trials, podium.num(s.best_objective), podium.trialLink(s.representative_trial, s.representative_name),
+        s.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' '),
+        podium.link(`replay.html?trial=${s.representative_trial}`, 'replay')];
+    }));
   if (list.length >= 2 && !document.getElementById('cmp-a').value) {
     document.getElementById('cmp-a').value = list[0].representative_trial;
     document.getElementById('cmp-b').value = list[1].representative_trial;
@@ -156,12 +222,14 @@ document.getElementById('cmp-go').addEventListener('click', ev => {
   location.href = `replay.html?trial=${encodeURIComponent(document.getElementById('cmp-a').value)}&compare=${encodeURIComponent(document.getElementById('cmp-b').value)}`;
 });
 
-// Parallel coordinates: one axis per parameter, then one per feature; one line per done trial.
-function renderParallel(trials) {
+// Parallel coordinates of the scatter's stage: one axis per parameter, then one per feature; one
+// line per done trial (the stage's first 1,000).
+function renderParallel(stage, trials) {
   const W = 980, H = 260, pad = 30;
   const ctx = podium.canvas(document.getElementById('parallel'), W, H);
+  document.getElementById('parallel-stage').textContent = `· stage ${state.detail.stages[stage]?.name ?? stage}`;
   if (!trials.length) return;
-  const params = Object.keys(trials[0].params), names = featureNames();
+  const params = Object.keys(trials[0].params), names = featureNames(stage);
   const axes = params.map(p => ({ name: p, get: t => t.params[p] }))
     .concat(names.map((n, k) => ({ name: n, get: t => t.features[k] })));
   for (const a of axes) {
@@ -171,7 +239,7 @@ function renderParallel(trials) {
   const ax = i => pad + i * (W - 2 * pad) / Math.max(1, axes.length - 1);
   ctx.globalAlpha = 0.35;
   for (const t of trials) {
-    ctx.strokeStyle = strategyColour(t.stage, t.strategy);
+    ctx.strokeStyle = podium.colour(t.strategy);
     ctx.beginPath();
     axes.forEach((a, i) => { const y = H - pad - (a.get(t) - a.lo) / (a.hi - a.lo) * (H - 2 * pad); i ? ctx.lineTo(ax(i), y) : ctx.moveTo(ax(i), y); });
     ctx.stroke();
@@ -190,10 +258,9 @@ async function renderTrials() {
     const v = document.getElementById(id).value; if (v !== '') q.set(key, v);
   }
   const page = await podium.api(`${base}/trials?${q}`);
-  const names = state.detail.stages.map(s => s.name);
   document.getElementById('page').textContent = ` ${page.total ? state.offset + 1 : 0}–${state.offset + page.trials.length} of ${page.total} `;
-  podium.fill(document.getElementById('trials'), ['stage', 'trial', 'state', 'attempts', 'objective', 'features', 'strategy', 'step', 'error'],
-    page.trials.map(t => [names[t.stage], podium.link(`trial.html?id=${t.id}`, t.index), podium.el('span', { class: 'state-' + t.state }, t.state),
+  podium.fill(document.getElementById('trials'), ['trial', 'state', 'attempts', 'objective', 'features', 'strategy', 'step', 'error'],
+    page.trials.map(t => [podium.trialLink(t.id, t.name), podium.el('span', { class: 'state-' + t.state }, t.state),
       t.attempts, podium.num(t.objectives?.[0]), t.features.map(f => podium.num(f, 3)).join(', '), t.strategy ?? '–',
       t.info?.step ?? '', t.error.slice(0, 80)]));
   state.total = page.total;
@@ -202,13 +269,19 @@ for (const id of ['f-stage', 'f-state', 'f-order', 'f-desc']) document.getElemen
 document.getElementById('prev').onclick = () => { state.offset = Math.max(0, state.offset - state.limit); renderTrials(); };
 document.getElementById('next').onclick = () => { if (state.offset + state.limit < state.total) { state.offset += state.limit; renderTrials(); } };
 
+// What follows the stage selector: the scatter with its legend, and the parallel coordinates.
+async function renderStage() {
+  renderScatter();
+  const stage = scatterStage();
+  const parallel = await podium.api(`${base}/trials?limit=1000&order=index&state=done&stage=${stage}`);
+  if (stage === scatterStage()) renderParallel(stage, parallel.trials);
+}
+
 async function refreshCampaign() {
-  const [detail, points, parallel, events] = await Promise.all([
-    podium.api(base), podium.api(`${base}/points`),
-    podium.api(`${base}/trials?limit=1000&order=index&state=done`), podium.api(`${base}/events?last=50`)]);
+  const [detail, points, events] = await Promise.all([
+    podium.api(base), podium.api(`${base}/points`), podium.api(`${base}/events?last=50`)]);
   state.detail = detail; state.points = points;
-  indexStrategies();
-  renderSummary(); renderScatter(); renderHistory(); renderStrategies(detail.strategy_table); renderParallel(parallel.trials);
+  renderSummary(); await renderStage(); renderHistory(); renderStrategies(detail.strategy_table);
   podium.fill(document.getElementById('events'), ['time', 'kind', 'details'],
     events.slice().reverse().map(e => [podium.time(e.time), e.kind, JSON.stringify(e.payload).slice(0, 160)]));
   await renderTrials();

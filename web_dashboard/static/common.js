@@ -46,9 +46,22 @@ const podium = {
   },
   time(unix_s) { return unix_s > 0 ? new Date(unix_s * 1000).toLocaleString() : '–'; },
 
-  // Categorical palette (Tableau 10); colour k is entry k mod 10.
+  // Strategy colours (ids restart per stage, so a page colours one stage's ids): Tableau 10 for
+  // ids 0-9, then golden-angle hues (137.5 degrees apart, three lightnesses), so no two ids share a
+  // colour; pages also print the id beside every swatch.
   palette: ['#4e79a7', '#f28e2b', '#e15759', '#76b7b2', '#59a14f', '#edc948', '#b07aa1', '#ff9da7', '#9c755f', '#bab0ac'],
-  colour(k) { return k === null || k === undefined ? '#607d8b' : podium.palette[((k % 10) + 10) % 10]; },
+  colour(k) {
+    if (k === null || k === undefined) return '#607d8b';
+    if (k >= 0 && k < 10) return podium.palette[k];
+    const j = Math.abs(k - 10);
+    return `hsl(${((j * 137.508 + 20) % 360).toFixed(1)}, 62%, ${[42, 58, 32][j % 3]}%)`;
+  },
+  swatch(k) { return podium.el('i', { class: 'swatch', style: `background:${podium.colour(k)}` }); },
+
+  // A trial's one name, as `podium trials` prints it: "<stage name>/<index in the stage>" (the
+  // API's "name"); database ids appear in URLs only.
+  trialName(stageName, index) { return `${stageName}/${index}`; },
+  trialLink(id, name) { return podium.link(`trial.html?id=${id}`, name); },
 
   // el('td', {class: 'num'}, 'text', childNode, ...)
   el(tag, attrs = {}, ...children) {

@@ -1,5 +1,8 @@
-// Campaign list: state, stages, progress, trials per minute, best objective, strategies found.
+// Campaign list: state, stages, progress, trials per minute, best objective, strategies per stage.
 'use strict';
+
+// Strategy ids restart per stage: "explore 29 · refine 22", never their sum.
+function strategiesPerStage(c) { return c.stages.map(s => `${s.name} ${s.strategies}`).join(' · '); }
 
 async function refreshList() {
   const campaigns = await podium.api('/api/campaigns');
@@ -9,7 +12,7 @@ async function refreshList() {
     return [c.id, podium.link(`campaign.html?id=${c.id}`, c.name), podium.el('span', { class: 'state-' + c.state }, c.state),
       c.stages.map(s => `${s.name} (${s.task}, ${s.algorithm})`).join(' → '),
       podium.el('span', {}, bar, ` ${c.counts.done}/${c.budget_trials}`), c.counts.failed, c.counts.running,
-      podium.num(c.trials_per_minute, 1), podium.num(c.best_objective), c.strategies, podium.time(c.created_at)];
+      podium.num(c.trials_per_minute, 1), podium.num(c.best_objective), strategiesPerStage(c), podium.time(c.created_at)];
   });
   podium.fill(document.getElementById('campaigns'),
     ['id', 'name', 'state', 'stages', 'progress', 'failed', 'running', 'trials/min', 'best objective', 'strategies', 'created'], rows);

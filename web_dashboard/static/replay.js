@@ -1,7 +1,8 @@
-// 3D replay of recorded motion (sim/'s trajectory file, JSON lines: see sim/README.md; optional
-// header keys "props" and "ground" are this page's extension, web_dashboard/README.md):
-// bodies as capsules, boxes and spheres, ground and props; play, pause, scrub, speed, camera orbit;
-// with ?compare=ID a second trial side by side on the same clock.
+// 3D replay of recorded motion (sim/'s trajectory file, JSON lines; format in web_dashboard/README.md):
+// bodies as capsules, boxes and spheres, the ground (with holes where terrain regions replace it),
+// the terrain's boxes (tiles, flat patches, slopes) and the props (bar, box, blocks); play, pause,
+// scrub, speed, camera orbit, props and terrain shown or hidden; with ?compare=ID a second trial
+// side by side on the same clock.
 import * as THREE from './vendor/three.module.js';
 import { OrbitControls } from './vendor/OrbitControls.js';
 
@@ -33,19 +34,33 @@ function makeView(traj, label, colour) {
   const sun = new THREE.DirectionalLight(0xffffff, 1.5);
   sun.position.set(3, -4, 6);
   scene.add(sun);
+  const regions = traj.terrain?.regions || [], pieces = traj.terrain?.pieces || [];
   if (traj.ground !== false) {
-    const grid = new THREE.GridHelper(20, 40, 0x90a4ae, 0xcfd8dc);
+    // The plane z = 0 outside the terrain's regions, large enough to hold them.
+    const half = Math.max(10, ...regions.flatMap(r => [...r.min, ...r.max].map(v => Math.abs(v) + 2)));
+    const grid = new THREE.GridHelper(2 * half, 4 * half, 0x90a4ae, 0xcfd8dc);
     grid.rotateX(Math.PI / 2);  // z up
     scene.add(grid);
-    const floor = new THREE.Mesh(new THREE.PlaneGeometry(20, 20), new THREE.MeshLambertMaterial({ color: 0xe3e8ec }));
+    const outline = new THREE.Shape([[-half, -half], [half, -half], [half, half], [-half, half]].map(([x, y]) => new THREE.Vector2(x, y)));
+    for (const r of regions)
+      outline.holes.push(new THREE.Path([[r.min[0], r.min[1]], [r.min[0], r.max[1]], [r.max[0], r.max[1]], [r.max[0], r.min[1]]].map(([x, y]) => new THREE.Vector2(x, y))));
+    const floor = new THREE.Mesh(new THREE.ShapeGeometry(outline), new THREE.MeshLambertMaterial({ color: 0xe3e8ec }));
     floor.position.z = -0.001;
     scene.add(floor);
+  }
+  const terrain = new THREE.Group(), props = new THREE.Group();
+  for (const p of pieces) {  // green, lighter the higher the top
+    const top = p.pos[2] + p.half_extents[2];
+    const mesh = new THREE.Mesh(geometry(p), new THREE.MeshLambertMaterial({ color: new THREE.Color().setHSL(0.3, 0.5, Math.min(0.7, Math.max(0.2, 0.4 + 2 * top))) }));
+    place(mesh, p.pos, p.quat);
+    terrain.add(mesh);
   }
   for (const p of traj.props || []) {
     const mesh = new THREE.Mesh(geometry(p), new THREE.MeshLambertMaterial({ color: 0x8d6e63 }));
     place(mesh, p.pos, p.quat);
-    scene.add(mesh);
+    props.add(mesh);
   }
+  scene.add(terrain, props);
   const material = new THREE.MeshLambertMaterial({ color: colour });
   const bodies = traj.links.map(link => {
     const group = new THREE.Group();
@@ -78,7 +93,7 @@ function makeView(traj, label, colour) {
   controls.target.copy(centre);
   controls.update();
   return {
-    traj, duration: traj.frames[traj.frames.length - 1].t,
+    traj, duration: traj.frames[traj.frames.length - 1].t, terrain, props,
     show(frame) {
       const poses = traj.frames[frame].links;
       bodies.forEach((b, i) => place(b, poses[i].slice(0, 3), poses[i].slice(3, 7)));
@@ -114,7 +129,10 @@ async function main() {
   const playButton = document.getElementById('play'), speed = document.getElementById('speed');
   scrub.max = frames - 1;
   let playing = true, t = 0, last = performance.now();
-  window.podiumReplay = { frame: 0, frames, rendered: 0 };
+  window.podiumReplay = {
+    frame: 0, frames, rendered: 0,
+    drawn: { props: main.props.children.length, terrain: main.terrain.children.length },
+  };
   const draw = () => {
     for (const v of views) v.show(v.frameAt(Math.min(t, v.duration)));
     const f = main.frameAt(Math.min(t, main.duration));
@@ -123,6 +141,10 @@ async function main() {
     window.podiumReplay.frame = f;
     window.podiumReplay.rendered++;
   };
+  for (const part of ['props', 'terrain']) {
+    const box = document.getElementById(`show-${part}`);
+    box.onchange = () => { for (const v of views) v[part].visible = box.checked; draw(); };
+  }
   playButton.onclick = () => { playing = !playing; playButton.textContent = playing ? 'pause' : 'play'; };
   scrub.oninput = () => { playing = false; playButton.textContent = 'play'; t = main.traj.frames[+scrub.value].t; draw(); };
   const loop = now => {

@@ -1,4 +1,4 @@
-// Trial page: parameters, context, result, learning and curriculum curves (metrics named
+// Trial page: its name (stage/index), the earlier trials it was handed, parameters, context, result, learning and curriculum curves (metrics named
 // "curriculum/..." are curriculum curves), artifacts with download links, error and attempts.
 'use strict';
 
@@ -27,7 +27,7 @@ function renderCurves(series) {
     plots.set(key, new uPlot({
       title: `${name} (${total} points${total > data[0].length ? ', downsampled' : ''})`, width: 420, height: 240,
       scales: { x: { time: false } }, axes: [{ label: 'step' }, {}],
-      series: [{}, ...attempts.map((a, i) => ({ label: `attempt ${a.attempt}`, stroke: podium.palette[i % 10], width: 1.5, spanGaps: true }))],
+      series: [{}, ...attempts.map((a, i) => ({ label: `attempt ${a.attempt}`, stroke: podium.colour(i), width: 1.5, spanGaps: true }))],
     }, data, holder));
   }
   document.getElementById('curriculum-title').hidden = !curriculum;
@@ -36,8 +36,8 @@ function renderCurves(series) {
 async function refreshTrial() {
   const [t, series] = await Promise.all([podium.api(`/api/trials/${encodeURIComponent(trialId)}`),
     podium.api(`/api/trials/${encodeURIComponent(trialId)}/metrics?max_points=1000`)]);
-  document.title = `Podium · trial ${t.index}`;
-  document.getElementById('title').textContent = `Trial ${t.index} of stage ${t.stage_name} (#${t.id})`;
+  document.title = `Podium · trial ${t.name}`;
+  document.getElementById('title').textContent = `Trial ${t.name}`;
   const crumb = document.getElementById('crumb-campaign');
   crumb.href = `campaign.html?id=${t.campaign_id}`; crumb.textContent = `campaign ${t.campaign_id}`;
   const names = t.feature_names;
@@ -46,7 +46,12 @@ async function refreshTrial() {
     ` · task ${t.task} · ${t.attempts} attempt(s) · seed ${t.seed}`,
     ` · objective ${t.objectives ? t.objectives.map(o => podium.num(o)).join(', ') : '–'}`,
     ` · features ${t.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' ') || '–'}`,
-    ` · strategy ${t.strategy ?? '–'}`, t.info?.step ? ` · BDS step ${t.info.step}` : '');
+    ' · strategy ', t.strategy === null ? '–' : podium.el('span', {}, podium.swatch(t.strategy), t.strategy),
+    t.info?.step ? ` · BDS step ${t.info.step}` : '');
+  // The earlier trials it was handed (its stage's inputs).
+  document.getElementById('inputs-title').hidden = document.getElementById('inputs').hidden = !t.inputs.length;
+  podium.fill(document.getElementById('inputs'), ['earlier trial', 'objective', 'strategy'],
+    t.inputs.map(i => [i.id === null ? i.name : podium.trialLink(i.id, i.name), podium.num(i.objectives[0]), i.strategy ?? '–']));
   document.getElementById('error').textContent = t.error;
   document.getElementById('params').textContent = JSON.stringify(t.params, null, 2);
   document.getElementById('context').textContent = JSON.stringify(t.context, null, 2);

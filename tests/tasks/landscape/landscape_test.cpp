@@ -1,16 +1,17 @@
-// The task conformance checks (describe is valid, run is deterministic for a seed, features have
-// the declared size, cancellation is honoured) applied to the landscape task, plus its families.
+// The task conformance suite (task_conformance.h) applied to the landscape task, with noise so
+// that its smoke trials check the seeded noise is deterministic; plus its config errors and families.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <map>
 
 #include "landscape_model.h"
+#include "podium/base/config.h"
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
 #include "podium/plugins/loader.h"
 #include "process.h"
+#include "task_conformance.h"
 
 namespace podium::tasks::landscape {
 namespace {
@@ -31,32 +32,35 @@ plugins::RunRequest request_for(const Json& config, std::uint64_t seed) {
   return r;
 }
 
-TEST(LandscapeTask, RunIsDeterministicForASeedAndMatchesDeclaredSizes) {
+PODIUM_TASK_CONFORMANCE(Landscape, {.task = "landscape", .smoke_config = {{"artifact", true}, {"noise", 0.05}},
+                                    .long_config = {{"sleep_s", 60.0}}, .resume_config = {{"sleep_s", 1.5}},
+                                    .artifacts = {"result"}});
+
+// The suite runs one seed twice; the noise must also change with the seed.
+TEST(LandscapeTask, NoiseDependsOnTheSeed) {
   auto task = plugins::load_task("landscape");
   const Json config = {{"noise", 0.05}};
-  const auto d = task->describe(config);
   NullSink sink;
   const auto a = task->run(request_for(config, 11), sink);
-  const auto b = task->run(request_for(config, 11), sink);
-  const auto c = task->run(request_for(config, 12), sink);
-  EXPECT_EQ(a.features.size(), d["features"].size());
-  EXPECT_EQ(a.features, b.features);
-  EXPECT_NE(a.features, c.features);  // noise depends on the seed
-  EXPECT_EQ(sink.metrics, 3 * 5);
+  const auto b = task->run(request_for(config, 12), sink);
+  EXPECT_NE(a.features, b.features);
+  EXPECT_EQ(sink.metrics, 2 * 5);
 }
 
-TEST(LandscapeTask, HonoursCancellation) {
+TEST(LandscapeTask, ConfigErrorsNameTheKeyInsideTheConfig) {
   auto task = plugins::load_task("landscape");
-  std::atomic<bool> cancel{true};
-  auto r = request_for({{"sleep_s", 30.0}}, 1);
-  r.cancel = &cancel;
-  NullSink sink;
-  EXPECT_THROW(task->run(r, sink), std::runtime_error);
-}
-
-TEST(LandscapeTask, UnknownConfigKeyIsRejected) {
-  auto task = plugins::load_task("landscape");
-  EXPECT_THROW(task->describe({{"dimm", 3}}), base::UserError);
+  for (const auto& [config, path] : std::vector<std::pair<Json, std::string>>{
+           {{{"dimm", 3}}, "dimm"}, {{{"family", "plateus"}}, "family"}, {{{"failures", {{{"mode", "nap"}}}}}, "failures[0].mode"}}) {
+    try {
+      task->describe(config);
+      ADD_FAILURE() << config << " was accepted";
+    } catch (const base::ConfigError& e) {
+      EXPECT_EQ(e.path(), path) << e.what();
+    }
+    plugins::RunRequest r = request_for(config, 1);
+    NullSink sink;
+    EXPECT_THROW(task->run(r, sink), base::ConfigError) << config;  // run() checks as describe() does
+  }
 }
 
 // Each family has a few large flat regions: sampling finds several distinct features, and the

@@ -1,79 +1,25 @@
 // End-to-end test of the dashboard in headless Chromium (Debian's /usr/bin/chromium driven by
 // playwright-core from web_dashboard/node_modules): every page for a landscape smoke campaign and a
 // trajectory-recording campaign, the scatter's point count, the 3D replay (canvas not blank,
-// frame counter advancing, side by side), and a live update while a campaign runs.
-// Environment (set by CTest): PODIUM_BIN, PODIUM_PLUGIN_PATH, PODIUM_WEB_NODE_MODULES, CHROMIUM.
-// Exit codes: 0 pass, 1 fail, 77 skipped (no Chromium).
+// frame counter advancing, props and rough tiles drawn, side by side), and a live update while a
+// campaign runs. Setup (scratch folder, podium serve, offline Chromium): harness.mjs.
 import assert from 'node:assert/strict';
-import { spawn, spawnSync } from 'node:child_process';
-import { existsSync, mkdtempSync, rmSync, writeFileSync } from 'node:fs';
-import { createRequire } from 'node:module';
-import { tmpdir } from 'node:os';
-import { join } from 'node:path';
 
-const chromiumPath = process.env.CHROMIUM || '/usr/bin/chromium';
-if (!existsSync(chromiumPath)) {
-  console.log(`SKIPPED: ${chromiumPath} not found (apt-get install chromium)`);
-  process.exit(77);
-}
-const require = createRequire(join(process.env.PODIUM_WEB_NODE_MODULES, 'x.js'));
-const { chromium } = require('playwright-core');
-const podiumBin = process.env.PODIUM_BIN;
-const dir = mkdtempSync(join(tmpdir(), 'podium-browser-'));
-const children = [];
+import { run, waitFor } from './harness.mjs';
 
-function podium(args) {
-  const r = spawnSync(podiumBin, args, { cwd: dir, encoding: 'utf8' });
-  assert.equal(r.status, 0, `podium ${args.join(' ')}: ${r.stderr}`);
-  return r.stdout.trim();
-}
-function submit(name, spec) {
-  writeFileSync(join(dir, `${name}.json`), JSON.stringify(spec));
-  return Number(podium(['submit', `${name}.json`]));
-}
 const stage = (name, task, trials, config = {}) =>
   ({ name, task, preset: 'smoke', config, search: { algorithm: 'random' }, budget: { trials } });
 const campaign = (name, stages) => ({ name, seed: 5, workers: 2, retries: 0, trial_timeout_s: 30, stages });
 
-async function waitFor(what, fn, timeout_ms = 20000) {
-  const start = Date.now();
-  for (;;) {
-    const value = await fn();
-    if (value) return value;
-    if (Date.now() - start > timeout_ms) throw new Error(`timed out waiting for ${what}`);
-    await new Promise(r => setTimeout(r, 100));
-  }
-}
-
-async function main() {
+run('browser', async h => {
+  const { podium, submit } = h;
   const landscape = submit('landscape', campaign('landscape-smoke', [stage('explore', 'landscape', 60, { artifact: true })]));
   const physics = submit('physics', campaign('replay-smoke', [stage('swing', 'web_replay_fixture', 6)]));
   podium(['run', '--workers', '2']);
   const live = submit('live', campaign('live', [stage('explore', 'landscape', 6, { sleep_s: 0.3 })]));
 
-  const serve = spawn(podiumBin, ['serve', '--port', '0'], { cwd: dir });
-  children.push(serve);
-  let out = '';
-  serve.stdout.on('data', d => { out += d; });
-  const url = await waitFor('podium serve URL', () => out.match(/http:\/\/127\.0\.0\.1:\d+\//)?.[0]);
-  const api = async path => (await fetch(url + path.slice(1))).json();
-
-  const browser = await chromium.launch({
-    executablePath: chromiumPath, headless: true,
-    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
-      '--disable-component-update', '--disable-sync', '--enable-unsafe-swiftshader'],
-  });
-  const context = await browser.newContext();
-  const external = [], problems = [];
-  // Offline: anything not served by podium serve is refused and recorded.
-  await context.route('**/*', route => {
-    if (route.request().url().startsWith(url)) return route.continue();
-    external.push(route.request().url());
-    return route.abort();
-  });
-  const page = await context.newPage();
-  page.on('pageerror', e => problems.push(`page error: ${e.message}`));
-  page.on('console', m => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+  const { url, api } = await h.serve();
+  const { page, external, problems } = await h.browse(url);
   const step = name => console.log(`-- ${name}`);
 
   step('campaign list');
@@ -91,7 +37,7 @@ async function main() {
     assert.equal(await page.locator('#history .uplot').count(), 1);
     assert.equal(await page.locator('#stages tr').count(), 2);
     const strategies = (await api(`/api/campaigns/${id}`)).strategy_table.length;
-    if (id === landscape) assert.equal(await page.locator('#legend span').count(), Math.min(20, strategies), 'one legend entry per strategy');
+    if (id === landscape) assert.equal(await page.locator('#legend span').count(), strategies, 'one legend entry per strategy');
   }
 
   step('trial page: learning curves, artifacts, attempts');
@@ -141,6 +87,29 @@ async function main() {
   await page.waitForTimeout(300);
   assert.equal(await page.locator('#frame').innerText(), paused);
 
+  step('3D replay: the props (bar, inclined block) and the rough tiles are drawn');
+  assert.deepEqual(await page.evaluate(() => window.podiumReplay.drawn), { props: 2, terrain: 64 });
+  const pixels = () => page.evaluate(() => {  // every 4th pixel of the (paused) first viewport
+    const c = document.querySelector('#viewports canvas');
+    const copy = document.createElement('canvas');
+    copy.width = c.width; copy.height = c.height;
+    const ctx = copy.getContext('2d');
+    ctx.drawImage(c, 0, 0);
+    const data = ctx.getImageData(0, 0, c.width, c.height).data, out = [];
+    for (let i = 0; i < data.length; i += 16) out.push(data[i] << 16 | data[i + 1] << 8 | data[i + 2]);
+    return out;
+  });
+  const changed = (a, b) => a.filter((v, i) => v !== b[i]).length / a.length;
+  const shown = await pixels();
+  for (const [part, least] of [['terrain', 0.05], ['props', 0.002]]) {
+    await page.locator(`#show-${part}`).uncheck();
+    const hidden = await pixels();
+    console.log(`   hiding the ${part} changes ${(100 * changed(shown, hidden)).toFixed(2)}% of the pixels`);
+    assert.ok(changed(shown, hidden) > least, `the ${part} are not visible on the canvas`);
+    await page.locator(`#show-${part}`).check();
+    assert.ok(changed(shown, await pixels()) < 0.001, `showing the ${part} again did not restore the picture`);
+  }
+
   step('side-by-side replay of two strategies');
   await page.goto(`${url}replay.html?trial=${physicsTrials[0].id}&compare=${physicsTrials[1].id}`);
   await waitFor('two viewports', () => page.evaluate(() => window.podiumReplay && window.podiumReplay.rendered > 5));
@@ -152,8 +121,7 @@ async function main() {
   await page.goto(`${url}campaign.html?id=${live}`);
   await waitFor('live page', async () => (await page.locator('#summary').getAttribute('data-done')) === '0');
   await page.evaluate(() => { window.notReloaded = true; });
-  const runner = spawn(podiumBin, ['run', '--workers', '2'], { cwd: dir, stdio: 'ignore' });
-  children.push(runner);
+  const runner = h.spawn(['run', '--workers', '2']);
   await waitFor('first finished trial on the page', async () =>
     Number(await page.locator('#summary').getAttribute('data-done')) > 0, 30000);
   await waitFor('all 6 trials on the page', async () =>
@@ -165,13 +133,4 @@ async function main() {
 
   assert.deepEqual(external, [], 'requests left the machine');
   assert.deepEqual(problems, [], 'errors in the pages');
-  await browser.close();
-  console.log('PASS');
-}
-
-main().then(() => { cleanup(); process.exit(0); }, e => { console.error('FAIL:', e.stack || e); cleanup(); process.exit(1); });
-
-function cleanup() {
-  for (const c of children) if (c.exitCode === null) c.kill('SIGTERM');
-  rmSync(dir, { recursive: true, force: true });
-}
+});

@@ -9,7 +9,8 @@ namespace podium::base {
 
 using Json = nlohmann::json;
 
-/// Reads and parses a JSON file; throws UserError "FILE: line L column C: MESSAGE" on failure.
+/// Reads and parses a JSON file; throws UserError "FILE: invalid JSON at line L column C: MESSAGE"
+/// on failure, including arrays and objects nested deeper than 100 levels (configs need a handful).
 Json read_json_file(const std::filesystem::path& path);
 
 /// Writes JSON atomically (temporary file in the same folder, then rename).

@@ -44,6 +44,11 @@ class Env {
   virtual void reset(std::vector<double>& observation) = 0;
   /// Applies `action` (inside action_space()) for one control step.
   virtual void step(std::span<const double> action, StepResult& out) = 0;
+  /// This copy's action bound s for the current episode, as a fraction of the normalised box:
+  /// SAC acts β·s·tanh(u) for it (get-up seed §5 and Algorithm 1: a per-episode torque
+  /// multiplier β̂ ~ N(β^i, ε), drawn at each reset, which the observation should also carry).
+  /// β·s must stay in (0, 1], so clip β̂ here. Read after each reset and step; PPO requires 1.
+  virtual double action_scale() const { return 1.0; }
   /// Mid-episode state (including the generator) for learner checkpoints. std::nullopt means
   /// "not supported": a resumed trainer then starts fresh episodes instead of continuing them.
   virtual std::optional<base::Json> save_state() const { return std::nullopt; }

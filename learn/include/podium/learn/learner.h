@@ -33,13 +33,32 @@ class Learner {
   virtual void train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCallback& callback = {}) = 0;
   virtual std::int64_t env_steps() const = 0;
   /// The action for one observation, in the environment's action space. Deterministic: the
-  /// policy mean (PPO) or β·tanh(mean) (SAC); otherwise a sample, using the learner's generator.
-  virtual void act(std::span<const double> observation, std::span<double> action, bool deterministic) = 0;
+  /// policy mean (PPO) or β·s·tanh(mean) (SAC); otherwise a sample, using the learner's generator.
+  /// `action_scale` s is the environment's Env::action_scale() (SAC only; PPO requires 1).
+  virtual void act(std::span<const double> observation, std::span<double> action, bool deterministic,
+                   double action_scale) = 0;
+  void act(std::span<const double> observation, std::span<double> action, bool deterministic) {
+    act(observation, action, deterministic, 1.0);
+  }
   /// Saves everything needed to continue exactly: networks, optimisers, normaliser, buffers,
-  /// generators, counters, and the runner's rollout state.
-  virtual void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs) const = 0;
-  /// Loads save_checkpoint()'s file into a learner built with the same config and spaces.
-  virtual void load_checkpoint(const std::filesystem::path& path, VecEnv& envs) = 0;
+  /// generators, counters, and the runner's rollout state; `user_state` is stored alongside and
+  /// returned by load_checkpoint() (TrainingCheckpoint keeps the task's own state there).
+  virtual void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs,
+                               const base::Json& user_state) const = 0;
+  void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs) const {
+    save_checkpoint(path, envs, base::Json());
+  }
+  /// Loads save_checkpoint()'s file into a learner built with the same config and spaces;
+  /// returns the user_state saved with it (null when none was given).
+  virtual base::Json load_checkpoint(const std::filesystem::path& path, VecEnv& envs) = 0;
+  /// Starts from another run's policy: `policy` is that run's save_checkpoint() file or its
+  /// export_torchscript() file, of the same algorithm, with the same network shape (hidden,
+  /// activation), spaces and use of observation normalisation as this learner's config. Copies
+  /// the policy network and the normaliser (and PPO's value / SAC's Q networks when `policy` is
+  /// a checkpoint); everything else starts afresh under this learner's config: new optimisers,
+  /// step counters and schedules at zero, an empty replay buffer, SAC's α at initial_alpha. SAC
+  /// keeps its own β; at the source's β its deterministic actions equal the source's exactly.
+  virtual void warm_start(const std::filesystem::path& policy) = 0;
   /// Writes a TorchScript module whose forward(obs: float32 [N, obs]) returns the deterministic
   /// action [N, act] in the environment's action space (normaliser included).
   virtual void export_torchscript(const std::filesystem::path& path) const = 0;
@@ -52,7 +71,8 @@ class Learner {
 std::unique_ptr<Learner> make_learner(const base::Json& spec, const BoxSpace& observation_space,
                                       const BoxSpace& action_space, std::uint64_t seed);
 
-/// Runs `episodes` episodes of `env` with the learner's policy; returns each episode's return.
+/// Runs `episodes` episodes of `env` with the learner's policy (at the env's action_scale());
+/// returns each episode's return.
 std::vector<double> evaluate(Learner& learner, Env& env, int episodes, bool deterministic = true);
 
 /// Path of the BLAS library that provides sgemm_ in this process, "" if none is loaded.

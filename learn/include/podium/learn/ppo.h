@@ -46,9 +46,13 @@ class Ppo final : public Learner {
   std::string name() const override { return "ppo"; }
   void train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCallback& callback = {}) override;
   std::int64_t env_steps() const override;
-  void act(std::span<const double> observation, std::span<double> action, bool deterministic) override;
-  void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs) const override;
-  void load_checkpoint(const std::filesystem::path& path, VecEnv& envs) override;
+  using Learner::act;
+  void act(std::span<const double> observation, std::span<double> action, bool deterministic,
+           double action_scale) override;
+  using Learner::save_checkpoint;
+  void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs, const base::Json& user_state) const override;
+  base::Json load_checkpoint(const std::filesystem::path& path, VecEnv& envs) override;
+  void warm_start(const std::filesystem::path& policy) override;
   void export_torchscript(const std::filesystem::path& path) const override;
   std::vector<float> parameters() const override;
   /// The action σ at the current step count.

@@ -2,7 +2,9 @@
 /// Soft Actor-Critic (Haarnoja et al. 2018) as the get-up seed uses it (§3, Table 1): twin Q
 /// networks with Polyak-averaged targets, automatic temperature α, a tanh-squashed Gaussian
 /// policy whose bound β can change during training (§5: actions in [−β^i, β^i] for the
-/// strong-to-weak torque curriculum, a = β·tanh(u)), a replay buffer and uniform warm-up.
+/// strong-to-weak torque curriculum, a = β·tanh(u)), times a per-copy, per-episode scale s
+/// (Env::action_scale(), Algorithm 1's β̂) kept with each transition, a replay buffer, uniform
+/// warm-up and a fractional update-to-data ratio.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -22,7 +24,9 @@ struct SacConfig {
   double tau = 5e-3;                    ///< target update rate
   double gamma = 0.99;
   int batch_size = 256;
-  int updates_per_step = 1;             ///< updates per environment step (per copy)
+  /// Update-to-data ratio: updates per environment step of each copy, fractional allowed (0.25:
+  /// one update per 4 steps of one copy; with K copies ⌊0.25·K·n⌋ updates after n vector steps).
+  double updates_per_step = 1.0;
   std::int64_t warmup_steps = 1000;     ///< uniform random actions, no updates, before this
   std::int64_t buffer_capacity = 1'000'000;
   double reward_scale = 1.0;
@@ -42,6 +46,17 @@ struct SacConfig {
   static SacConfig from_json(const base::Json& json);
 };
 
+/// CPU time of the updating thread spent in the network updates so far, by part, in seconds
+/// summed over updates (bench/learn/sac_update_bench prints it per update).
+struct SacUpdateTimes {
+  double batch = 0;   ///< sampling and normalising the minibatch
+  double target = 0;  ///< the soft Bellman target (no autograd)
+  double critic = 0;  ///< twin critic forward, backward, Adam step
+  double actor = 0;   ///< policy sample, critic forward, backward, Adam step
+  double alpha = 0;   ///< temperature loss and step
+  double polyak = 0;  ///< target critic averaging
+};
+
 class Sac final : public Learner {
  public:
   Sac(const SacConfig& config, const BoxSpace& observation_space, const BoxSpace& action_space, std::uint64_t seed);
@@ -49,17 +64,25 @@ class Sac final : public Learner {
   std::string name() const override { return "sac"; }
   void train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCallback& callback = {}) override;
   std::int64_t env_steps() const override;
-  void act(std::span<const double> observation, std::span<double> action, bool deterministic) override;
-  void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs) const override;
-  void load_checkpoint(const std::filesystem::path& path, VecEnv& envs) override;
+  using Learner::act;
+  void act(std::span<const double> observation, std::span<double> action, bool deterministic,
+           double action_scale) override;
+  using Learner::save_checkpoint;
+  void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs, const base::Json& user_state) const override;
+  base::Json load_checkpoint(const std::filesystem::path& path, VecEnv& envs) override;
+  void warm_start(const std::filesystem::path& policy) override;
   void export_torchscript(const std::filesystem::path& path) const override;
   std::vector<float> parameters() const override;
 
-  /// β: actions are β·tanh(u) in the normalised box, so β < 1 weakens every actuator.
+  /// β: actions are β·s·tanh(u) in the normalised box (s: each copy's Env::action_scale()), so
+  /// β < 1 weakens every actuator of every copy.
   void set_action_bound(double beta);
   double action_bound() const;
   double alpha() const;
   std::int64_t replay_size() const;
+  /// Network updates done so far (⌊updates_per_step × env steps since updates began⌋).
+  std::int64_t updates() const;
+  SacUpdateTimes update_times() const;
 
  private:
   struct Impl;

@@ -46,7 +46,13 @@ class PoseVae {
   /// Trains for config.epochs; returns the mean loss of each epoch. Conditions are standardised
   /// with the dataset's mean and deviation (kept with the model).
   std::vector<double> train(const PoseDataset& data);
-  /// The posterior mean μ(x, c).
+  /// The encoder's Gaussian q(z | x, c) = N(mean, diag(std²)).
+  struct Posterior {
+    std::vector<double> mean;  ///< μ(x, c), latent_size()
+    std::vector<double> std;   ///< σ(x, c) = exp(½·log σ²), latent_size()
+  };
+  Posterior posterior(std::span<const double> pose, std::span<const double> condition = {}) const;
+  /// The posterior mean μ(x, c), i.e. posterior().mean.
   std::vector<double> encode(std::span<const double> pose, std::span<const double> condition = {}) const;
   std::vector<double> decode(std::span<const double> latent, std::span<const double> condition = {}) const;
   /// Root-mean-square reconstruction error (rad) of decode(encode(x)) over a dataset.
@@ -60,9 +66,6 @@ class PoseVae {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-/// Thesis eq. 3.4: r_naturalness = 1 − clip((‖a_offset‖₁ / c_offset)², 0, 1).
-double naturalness_reward(std::span<const double> offsets, double max_offset);
 
 /// The decoder as an action space (thesis §3.4.2, curve get-up seed §3.4): action = [z, Δq];
 /// PD target = clamp(decode(z, c) + Δq, limits).

@@ -35,6 +35,9 @@ class VecEnv {
   /// Results of the last step, one per copy.
   const StepResult& result(std::size_t i) const { return results_[i]; }
 
+  /// Copy i's Env::action_scale() for its current episode.
+  double action_scale(std::size_t i) const { return envs_[i]->action_scale(); }
+
   /// Returns of episodes finished since the last call (for learning curves).
   std::vector<double> take_finished_returns();
 

@@ -1,5 +1,5 @@
 #pragma once
-/// Campaign-level operations behind the CLI: submit, control, export.
+/// Campaign-level operations behind the CLI: submit, control, extend, export.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -14,19 +14,42 @@ struct CampaignRecord;
 namespace podium::orchestrator {
 
 /// Validates a spec (including each stage's task, preset, config and search config, asked of the
-/// plugin in a separate worker process) and queues it. Returns the campaign id. Throws
-/// base::UserError for spec errors; the database is untouched unless the whole spec is valid.
-std::int64_t submit_campaign(store::Store& store, const base::Json& spec, const std::string& source,
+/// plugin in a separate worker process) and queues it in `database`. Returns the campaign id.
+/// Throws base::UserError for spec errors; the database is opened (created if absent) only once
+/// the whole spec is valid.
+std::int64_t submit_campaign(const std::filesystem::path& database, const base::Json& spec, const std::string& source,
                              const std::filesystem::path& worker_binary);
 
 /// pause: stop starting trials; resume: queue again; cancel: stop running trials, end the campaign.
 /// Throws base::UserError if the campaign is in a state the action does not apply to.
 void control_campaign(store::Store& store, const std::string& id_or_name, const std::string& action);
 
+/// What `podium extend` changed.
+struct Extension {
+  std::int64_t campaign_id = 0;
+  std::string campaign_name, stage;
+  std::int64_t budget_before = 0, budget_after = 0;  ///< the stage's trial budget
+};
+
+/// Raises the trial budget of a done campaign's last stage by `add_trials` (`stage`: its name, or
+/// "" for the last) and queues the campaign again. `podium run` then continues that stage's
+/// search from its stored state: with 1 worker it proposes exactly the trials a run submitted
+/// with the larger budget would have; with W workers the first W - 1 new trials are proposed
+/// knowing every earlier result (an uninterrupted run would not yet have had the last W - 1).
+/// Throws base::UserError when the campaign is not done, the stage is not its last, the stage
+/// spent its wall-time budget, or the new budget is outside [1, kMaxTrials].
+Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage,
+                          std::int64_t add_trials);
+
 /// The folder where a campaign's trials write (spec run_dir, or <database>.runs/<id>).
 std::filesystem::path campaign_run_dir(const std::filesystem::path& database, const store::CampaignRecord& campaign);
 
-/// Every trial of a campaign as CSV (a header row, then one row per trial) or a JSON array.
+/// A trial's one name, in every command and page: `<stage name>/<index>` ("explore/12"; the index
+/// counts from 0 in the order the stage's search proposed). The database id is for URLs only.
+std::string trial_name(const std::string& stage, std::int64_t index);
+
+/// Every trial of a campaign as CSV (a header row, then one row per trial) or a JSON array (each
+/// row also with its `name` and database `id`).
 std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format);
 
 }  // namespace podium::orchestrator

@@ -3,6 +3,7 @@
 /// parse_spec validates everything that can be checked without loading a plugin; unknown keys,
 /// wrong types and out-of-range values are base::UserError naming the JSON path.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,24 @@ namespace podium::orchestrator {
 
 using base::Json;
 
+/// The most trials a campaign runs at once ("workers") and worker processes `podium run` starts.
+inline constexpr int kMaxWorkers = 1024;
+
+/// The most trials a stage's budget holds (budget.trials, and `podium extend`).
+inline constexpr std::int64_t kMaxTrials = 10'000'000;
+
+/// A stage's hand-over (DESIGN.md "Hand-over"): which finished trials of earlier stages its
+/// trials and its search receive. Resolved when the stage starts, then stored with it.
+struct InputsSpec {
+  std::vector<std::string> stages;   ///< earlier stages, in the order their trials are handed over
+  std::string select = "all";        ///< per stage: all | best | best_per_strategy | top (by objectives[0])
+  int top_k = 0;                     ///< "top": how many (at most; fewer if the stage has fewer)
+  std::string per_trial = "all";     ///< all: every trial gets every input; each: trial i gets input i mod n
+};
+
+/// The stored form: {"stages": [...], "select", "k" (top only), "per_trial"}.
+Json to_json(const InputsSpec& inputs);
+
 struct StageSpec {
   std::string name;
   std::string task;                  ///< plugin name
@@ -19,9 +38,10 @@ struct StageSpec {
   Json config = Json::object();      ///< overrides on top of the preset
   std::string algorithm;             ///< search algorithm
   Json search_config = Json::object();
-  std::int64_t budget_trials = 0;
+  std::int64_t budget_trials = 0;    ///< 0 with budget_per_input: set when the stage starts
+  std::int64_t budget_per_input = 0; ///< budget.trials {"per_input": k}: k trials per input; 0 = fixed
   double budget_seconds = 0.0;       ///< 0 = no wall-time budget
-  Json inputs = nullptr;             ///< {"stage": name, "select": "all"|"best"} or null
+  std::optional<InputsSpec> inputs;
   double strategy_threshold = 0.0;   ///< feature distance within which trials are one strategy; 0 = the task's default
 };
 

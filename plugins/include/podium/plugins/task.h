@@ -14,10 +14,30 @@
 ///    "strategy_threshold": 0.1,          // optional: feature distance within which two trials
 ///                                        // are the same strategy (a spec may override it)
 ///    "presets":  {"smoke": {config}, "quick": {config}, "paper": {config}},
+///    "config": [{"key", "type", "default"?, ...}],  // optional: the keys it accepts, as
+///                                        // base::ConfigReader::describe gives them
 ///    "config_defaults": {config}}         // every config key the task accepts, with its default
+///
+/// Config: a task reads its config with base::ConfigReader (validating in describe and run) and
+/// describes it from the same code. describe(config) throws base::ConfigError for a value it
+/// does not accept; `podium submit` reports it at its JSON path in the spec, exit 2.
+///
+/// Trial folder and attempts (DESIGN.md "Trial"): an attempt that ends early (the scheduler
+/// killed, the worker crashed, a timeout, a Slurm requeue) is retried with the same trial index,
+/// params, inputs and seed, and the same `work_dir`, which no executor empties between attempts.
+/// A long-running task checkpoints there and, on a later attempt, continues from the last
+/// checkpoint it finds; `attempt` and `previous_attempt` say why it runs again. Decide from
+/// what the folder holds, not from `attempt` alone: a Slurm requeue runs the same attempt again.
+/// Metric points are keyed by (name, step): a point whose step the trial already has (from an
+/// earlier attempt) is dropped. A point sent just before a kill may never have been stored while
+/// the checkpoint after it was written, so a resumed task re-sends every point up to its
+/// checkpoint, then the steps it runs again; nothing is stored twice. learn::TrainingCheckpoint
+/// does this for a task that reports its points through it.
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,7 +48,7 @@ namespace podium::plugins {
 using base::Json;
 
 /// Bumped whenever Task, RunRequest, RunResult or TaskDescriptor change layout or meaning.
-inline constexpr int kAbiVersion = 1;
+inline constexpr int kAbiVersion = 2;
 
 /// Where a task reports while it runs; calls are cheap and may come from the run() thread only.
 class Sink {
@@ -40,14 +60,42 @@ class Sink {
   virtual void metric(const std::string& name, double step, double value) = 0;
 };
 
+/// One earlier-stage trial handed to this trial (DESIGN.md "Hand-over"). The stage's spec
+/// `inputs` selects them from finished trials of earlier stages when the stage starts; they are
+/// stored with the stage, so every attempt and a resumed campaign see the same ones.
+struct InputTrial {
+  std::string stage;          ///< the earlier stage's name
+  int stage_index = 0;        ///< its position in the campaign's stages
+  std::int64_t trial_index = 0;
+  Json params = Json::object();
+  std::vector<double> objectives, features;
+  std::optional<std::int64_t> strategy;  ///< its strategy id in its stage, if it has features
+  std::map<std::string, std::filesystem::path> artifacts;  ///< absolute paths, by artifact name
+};
+
+/// How the trial's previous attempt ended (see the header comment).
+struct PreviousAttempt {
+  int number = 0;     ///< its attempt number (attempt - 1)
+  std::string state;  ///< "interrupted" (the scheduler stopped), "failed" (threw, crashed,
+                      ///< invalid result), "timeout"
+  std::string error;  ///< the reason recorded for it
+};
+
 struct RunRequest {
   Json params = Json::object();   ///< {"name": value} for every declared parameter
-  Json context = Json::object();  ///< input from the search or an earlier stage
+  Json context = Json::object();  ///< input from the search (e.g. novel-policy seeking's features)
   Json config = Json::object();   ///< task config: defaults, then preset, then the spec's overrides
   std::uint64_t seed = 0;         ///< the only source of randomness a task may use
   std::uint64_t trial_index = 0;
   int attempt = 1;                ///< 1 for the first attempt, 2 for the first retry, ...
-  std::filesystem::path work_dir; ///< exists, empty on the first attempt; artifacts go here
+  std::optional<PreviousAttempt> previous_attempt;  ///< set from the second attempt on
+  /// The stage's hand-over: with inputs `"per_trial": "all"` every selected earlier trial, in
+  /// selection order; with `"each"` exactly one (trial i gets input i mod n, or under
+  /// novel-policy seeking the input it seeks a novel policy for); empty without inputs.
+  std::vector<InputTrial> inputs;
+  /// Exists; empty on the first attempt, kept as the last attempt left it on later ones.
+  /// Artifacts and checkpoints go here (under Slurm, leave the `slurm-attempt-K/` folders alone).
+  std::filesystem::path work_dir;
   const std::atomic<bool>* cancel = nullptr;  ///< set when the trial must stop; poll it
 };
 

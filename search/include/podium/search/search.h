@@ -12,6 +12,7 @@
 ///   ask and every tell, in the same transaction as the trials they concern.
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,9 @@ struct Proposal {
   std::vector<double> x;      ///< parameters, inside the space's bounds
   Json context = Json::object();  ///< extra input for the task (e.g. features to be novel against)
   Json info = Json::object();     ///< why this point was proposed (e.g. {"step": "explore"})
+  /// Which of SearchSetup::inputs the proposal is for (novel-policy seeking); a stage whose
+  /// trials each get one input hands this one to the trial. Unset: the orchestrator's default.
+  std::optional<std::size_t> input;
 };
 
 struct Observation {
@@ -52,7 +56,11 @@ struct SearchSetup {
   std::vector<Feature> features;      ///< the task's strategy features (for diversity searches)
   Json config = Json::object();       ///< the algorithm's config from the spec
   std::uint64_t seed = 0;
-  Json inputs = Json::array();        ///< results taken from an earlier stage, if any
+  /// The trials of earlier stages handed to this stage (resolved when it starts), each
+  /// {"stage", "stage_index", "trial_index", "params", "objectives", "features", "strategy",
+  /// "artifacts": {name: absolute path}}. Every algorithm accepts them; novel-policy seeking
+  /// needs at least one and seeks novel policies for each.
+  Json inputs = Json::array();
 };
 
 /// Names of the algorithms make_search knows, e.g. {"random", ...}.
@@ -62,5 +70,12 @@ std::vector<std::string> algorithm_names();
 /// algorithm is unknown or its config is invalid.
 std::unique_ptr<Search> make_search(const std::string& algorithm, const SearchSetup& setup,
                                     const std::string& json_path = "search");
+
+/// The submit-time check of a stage's search, before its inputs exist (they are resolved when
+/// the stage starts; `setup.inputs` is ignored): the algorithm name and its config, and for an
+/// algorithm that needs inputs, that the stage declares some (`has_inputs`). Throws
+/// base::UserError naming `json_path`, as make_search does.
+void check_search(const std::string& algorithm, const SearchSetup& setup, bool has_inputs,
+                  const std::string& json_path = "search");
 
 }  // namespace podium::search

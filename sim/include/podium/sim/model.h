@@ -38,7 +38,7 @@ struct Link {
   int body = -1;              // index of the body this link moves
   JointType joint = JointType::free;
   Eigen::Vector3d joint_pos = Eigen::Vector3d::Zero();  // anchor in parent link frame, m
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();      // revolute axis (unit), link frame
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();      // revolute axis; spherical: twist axis (unit), link frame
   double mass = 0.0;                                    // kg (0 for a massless hinge link)
   Eigen::Vector3d com = Eigen::Vector3d::Zero();        // centre of mass, link frame, m
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();    // about the COM, link frame, kg·m²
@@ -46,6 +46,12 @@ struct Link {
   int q_index = 0, v_index = 0;  // first entries in q (nq) and qd (nv)
   int nq = 0, nv = 0;            // free 7/6, revolute 1/1, spherical 4/3
   double lower = 0.0, upper = 0.0;  // revolute angle limits, rad (lower > upper: unlimited)
+  // Spherical limits: swing = the angle between `axis` and its image (a cone), twist = the angle
+  // of the twist about `axis` in the swing–twist split q = q_swing q_twist.
+  double swing_limit = -1.0;                   // rad (< 0: none)
+  double twist_lower = 1.0, twist_upper = -1.0;  // rad (lower > upper: none)
+  bool locked = false;  // held at `lock` (a cast): revolute angle in lock(0), spherical quaternion wxyz
+  Eigen::Vector4d lock = Eigen::Vector4d(1, 0, 0, 0);
   double torque_limit_nm = 0.0;     // per-DoF torque bound before the strength multiplier
   double kp = 0.0, kd = 0.0;        // PD gains, N·m/rad and N·m·s/rad
 };
@@ -87,6 +93,8 @@ class CharacterModel {
   const Eigen::VectorXd& kd() const { return kd_; }
   /// Neutral configuration: root at the origin, identity rotations, zero angles.
   Eigen::VectorXd neutral() const;
+  /// The model-file JSON this model was built from.
+  const base::Json& source() const { return source_; }
 
  private:
   friend class ModelBuilder;
@@ -99,9 +107,23 @@ class CharacterModel {
   std::vector<int> end_effectors_;
   double total_mass_ = 0.0;
   Eigen::VectorXd standing_, torque_limits_, kp_, kd_;
+  base::Json source_;
 };
 
 using ModelPtr = std::shared_ptr<const CharacterModel>;
+
+/// Changes to a model made when a World is built (WorldConfig::edits), in model-file terms:
+/// `remove` bodies with their subtrees (the file's top-level "remove"), and per joint name the
+/// keys merged into its joint entry ("lock", "swing", "twist", "axis", "range"; sim/README.md).
+struct ModelEdits {
+  std::vector<std::string> remove;
+  std::vector<std::pair<std::string, base::Json>> joints;
+  bool empty() const { return remove.empty() && joints.empty(); }
+};
+
+/// The model with `edits` applied (the model itself when there are none). Throws
+/// base::UserError naming an unknown body or joint, or a bad value.
+ModelPtr edit_model(const ModelPtr& model, const ModelEdits& edits);
 
 /// Loads a model file of the project's own JSON format.
 ModelPtr load_model(const std::filesystem::path& path);

@@ -14,14 +14,25 @@ Eigen::VectorXd random_pose(const CharacterModel& model, base::Rng& rng, double 
 void standing_start(World& world);
 
 struct RagdollStart {
-  double drop_height_m = 1.5;  ///< root height at release (seed §7: 1.5 m)
+  /// Which way the torso faces at release; supine and prone land that way (tests/character).
+  enum class Lying {
+    any,     ///< the random pose's own uniform orientation
+    supine,  ///< torso pitched so its front faces up (±0.2 rad of random tilt about x and y)
+    prone,   ///< front down, likewise
+  };
+  double drop_height_m = 1.5;  ///< root height above the terrain at (x, y) at release (seed §7: 1.5 m)
   int control_steps = 80;      ///< control steps of noisy actions (seed §7: 80)
   double action_sigma = 0.1;   ///< actions a ~ N(0, σ) in units of the torque limits (seed §7: 0.1)
+  Lying lying = Lying::any;
+  double x_m = 0.0, y_m = 0.0;  ///< where the root is released
+  double yaw_rad = 0.0;         ///< the whole pose turned by this about the vertical
+  bool random_yaw = false;      ///< ... or by a uniform angle in [−π, π)
 };
 
-/// get-up seed §7: release from `drop_height_m` in a random pose, apply torque actions
-/// a ~ N(0, σ)·torque limits for `control_steps` control steps. Returns the last step's report.
-/// The root is raised if needed so that no geom starts below 5 cm.
+/// get-up seed §7: release from `drop_height_m` in a random pose (turned to lie as asked), apply
+/// torque actions a ~ N(0, σ)·torque limits for `control_steps` control steps. Returns the
+/// last step's report (stops at the first non-finite state). The root is raised if needed so
+/// that no geom starts below 5 cm above the terrain under the root.
 StepReport ragdoll_start(World& world, base::Rng& rng, const RagdollStart& options = {});
 
 }  // namespace podium::sim

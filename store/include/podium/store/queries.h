@@ -61,7 +61,8 @@ struct TrialPoint {
 /// Strategy ids are per stage (each stage groups its own trials), so a strategy is (stage, id).
 struct StrategySummary {
   std::int64_t stage_index = 0, strategy = 0, trials = 0;
-  std::int64_t representative_trial = 0;   ///< the trial with the best objective
+  std::int64_t representative_trial = 0;   ///< the trial with the best objective (its id)
+  std::int64_t representative_index = 0;   ///< and its index in the stage
   double best_objective = 0;
   std::vector<double> representative_features;
 };
@@ -70,10 +71,9 @@ struct CampaignSummary {
   TrialCounts counts;
   std::map<std::int64_t, TrialCounts> stage_counts;  ///< by stage id (stages without trials absent)
   std::optional<double> best_objective;    ///< max of objectives[0] over done trials
-  std::int64_t strategies = 0;             ///< distinct strategy clusters
   double first_finished_at = 0, last_finished_at = 0;
   std::int64_t done_last_minute = 0;       ///< trials finished in the 60 s before `now`
-  std::vector<StrategySummary> strategy_table;  ///< what strategies() returns (same snapshot)
+  std::vector<StrategySummary> strategy_table;  ///< what strategies() returns (same snapshot): per stage
 };
 
 
@@ -103,12 +103,14 @@ class Queries {
   std::optional<TrialRecord> trial(std::int64_t trial_id) const;
   /// The campaign a trial belongs to, or nullopt if there is no such trial.
   std::optional<std::int64_t> trial_campaign(std::int64_t trial_id) const;
+  /// The id of a stage's trial number `index`, or nullopt if it has none.
+  std::optional<std::int64_t> trial_id(std::int64_t stage_id, std::int64_t index) const;
 
   /// Counts, best objective, rates and the strategy table (count rows and index probes per stage).
   CampaignSummary summary(std::int64_t campaign_id, double now_unix_s) const;
   TrialPage trial_page(std::int64_t campaign_id, const TrialFilter& filter) const;
-  /// Done trials as scatter points, in stage and trial index order; at most max_points, evenly
-  /// strided when there are more (`total` receives the number of done trials).
+  /// Done trials as scatter points, in stage and trial index order; at most max_points per stage,
+  /// evenly strided within a stage that has more (`total` receives the number of done trials).
   std::vector<TrialPoint> points(std::int64_t campaign_id, std::int64_t max_points, std::int64_t* total) const;
   std::vector<StrategySummary> strategies(std::int64_t campaign_id) const;
   /// Every metric (or only `name`) of a trial, each downsampled (see MetricSeries).

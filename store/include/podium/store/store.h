@@ -34,8 +34,8 @@ struct NewStage {
   Json search_config = Json::object();
   Json task_config = Json::object();   ///< resolved: defaults, preset, overrides
   Json description = Json::object();   ///< the task's describe() for that config
-  Json inputs = nullptr;               ///< {"stage", "select"} or null
-  std::int64_t budget_trials = 0;
+  Json inputs = nullptr;               ///< the spec's hand-over rule (orchestrator's InputsSpec) or null
+  std::int64_t budget_trials = 0;      ///< 0: set by start_stage (a budget per input)
   double budget_seconds = 0.0;         ///< 0: no wall-time budget
 };
 
@@ -51,10 +51,13 @@ struct StageRecord {
   std::int64_t id = 0, campaign_id = 0;
   int index = 0;
   std::string name, task, algorithm, state;  ///< state: waiting, running, done, failed
+  std::string error;                         ///< why it failed ("" otherwise)
   Json search_config, task_config, description, inputs;
+  std::optional<Json> input_trials;          ///< the trials handed over, resolved by start_stage
   std::int64_t budget_trials = 0;
   double budget_seconds = 0, elapsed_s = 0;
   std::optional<Json> search_state;
+  std::int64_t told = 0;                     ///< trials (in the order asked) told to the search
 };
 
 struct TrialRecord {
@@ -133,8 +136,15 @@ class Store {
   std::optional<CampaignRecord> find_campaign(const std::string& id_or_name) const;
   void set_campaign_state(std::int64_t id, const std::string& state, const std::string& error = "");
   std::vector<StageRecord> stages(std::int64_t campaign_id) const;
-  void set_stage_state(std::int64_t stage_id, const std::string& state);
-  void save_search_state(std::int64_t stage_id, const Json& state, double elapsed_s);
+  /// A waiting stage starts: state running, with the trials its inputs selected (an array, or
+  /// null without inputs) and its trial budget (which may depend on them), stored for good.
+  void start_stage(std::int64_t stage_id, const Json& input_trials, std::int64_t budget_trials);
+  /// done, or failed with the reason.
+  void set_stage_state(std::int64_t stage_id, const std::string& state, const std::string& error = "");
+  /// A stage's trial budget (`podium extend` raises a finished stage's).
+  void set_stage_budget(std::int64_t stage_id, std::int64_t budget_trials);
+  /// The search's state, the stage's active time and how many trials it has been told.
+  void save_search_state(std::int64_t stage_id, const Json& state, double elapsed_s, std::int64_t told);
 
   // Trials and attempts.
   std::int64_t add_trial(std::int64_t stage_id, std::int64_t index, const Json& params, const Json& context,
@@ -162,6 +172,9 @@ class Store {
   std::vector<ArtifactRecord> artifacts(std::int64_t trial_id) const;
 
   // Metrics and events.
+  /// Appends points; a point whose (name, step) the trial already has is dropped. A trial's series
+  /// holds each step once: a resumed attempt (or a requeued Slurm job) re-sends the steps since its
+  /// last checkpoint, and the first value sent for a step stays.
   void add_metrics(std::int64_t trial_id, const std::vector<MetricPoint>& points);
   std::vector<MetricPoint> metrics(std::int64_t trial_id) const;
   void add_event(std::int64_t campaign_id, const std::string& kind, const Json& payload);
@@ -179,5 +192,10 @@ class Store {
 
 /// Current time as unix seconds (the store's timestamps).
 double now_unix_s();
+
+/// A stage's state as shown to users: the stored one says where a scheduler resumes, so a running
+/// stage of a paused or cancelled campaign shows "paused" or "cancelled", and a waiting stage of
+/// a cancelled campaign "cancelled".
+std::string shown_stage_state(const std::string& campaign_state, const std::string& stage_state);
 
 }  // namespace podium::store

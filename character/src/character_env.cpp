@@ -1,0 +1,95 @@
+#include "podium/character/character_env.h"
+
+#include <cmath>
+#include <limits>
+
+#include "podium/base/error.h"
+
+namespace podium::character {
+
+CharacterEnv::CharacterEnv(CharacterEnvParts parts) : parts_(std::move(parts)) {
+  if (!parts_.model) throw base::UserError("character env: no model");
+  if (!parts_.action) throw base::UserError("character env: no action map");
+  if (!parts_.start) throw base::UserError("character env: no start");
+  if (!parts_.reward) throw base::UserError("character env: no reward");
+  if (parts_.episode_steps < 1) throw base::UserError("character env: episode_steps " + std::to_string(parts_.episode_steps) + " is not ≥ 1");
+  world_ = std::make_unique<sim::World>(parts_.model, parts_.world);
+  if (world_->model_ptr() != parts_.model)  // the World applied model edits (casts, a removed limb)
+    throw base::UserError("character env: the World edits the model; build the parts on sim::edit_model(model, edits) and pass that model");
+  action_space_ = parts_.action->space(*parts_.model);
+  for (const auto& p : parts_.observation) observation_size_ += p->size(*parts_.model);
+  features_ = world_->observe();
+}
+
+learn::BoxSpace CharacterEnv::observation_space() const {
+  const double inf = std::numeric_limits<double>::infinity();
+  return {std::vector<double>(observation_size_, -inf), std::vector<double>(observation_size_, inf)};
+}
+
+void CharacterEnv::observe(std::vector<double>& observation) {
+  features_ = world_->observe();
+  observation.resize(observation_size_);
+  std::size_t at = 0;
+  for (const auto& p : parts_.observation) {
+    const std::size_t n = p->size(*parts_.model);
+    p->write(*this, std::span<double>(observation).subspan(at, n));
+    at += n;
+  }
+}
+
+void CharacterEnv::reset(std::vector<double>& observation) {
+  step_ = 0;
+  reference_time_s_ = 0.0;
+  last_action_.clear();
+  if (parts_.before_episode) parts_.before_episode(*this, rng_);
+  parts_.start->begin(*this, rng_);
+  observe(observation);
+}
+
+void CharacterEnv::step(std::span<const double> action, learn::StepResult& out) {
+  if (action.size() != action_space_.size())
+    throw base::UserError("character env: an action of " + std::to_string(action.size()) + " values, the action space has " +
+                          std::to_string(action_space_.size()));
+  last_action_.assign(action.begin(), action.end());
+  parts_.action->command(*this, action, command_);
+  const sim::StepReport report = world_->control_step(parts_.action->control(), command_);
+  ++step_;
+  reference_time_s_ += control_dt_s();
+  out.info.assign(parts_.info_names.size(), 0.0);
+  if (!report.ok) {
+    // A blown-up state: end the episode without bootstrapping; its observation is not used.
+    out.reward = 0.0;
+    out.terminated = true;
+    out.truncated = false;
+    out.observation.assign(observation_size_, 0.0);
+    return;
+  }
+  observe(out.observation);
+  out.terminated = false;
+  parts_.reward(*this, action, out);
+  out.truncated = !out.terminated && step_ >= parts_.episode_steps;
+}
+
+std::optional<base::Json> CharacterEnv::save_state() const {
+  return base::Json{{"world", world_->snapshot().to_json()},
+                    {"step", step_},
+                    {"reference_time_s", reference_time_s_},
+                    {"last_action", last_action_},
+                    {"rng", rng_.save()}};
+}
+
+void CharacterEnv::load_state(const base::Json& state) {
+  try {
+    if (!state.contains("world")) throw base::UserError("character env state: world: missing (the World snapshot of save_state)");
+    world_->restore(sim::WorldSnapshot::from_json(state.at("world"), world_->model_ptr()));
+    step_ = state.at("step").get<int>();
+    reference_time_s_ = state.at("reference_time_s").get<double>();
+    last_action_ = state.at("last_action").get<std::vector<double>>();
+    rng_.load(state.at("rng").get<std::string>());
+  } catch (const base::Json::exception& e) {
+    throw base::UserError(std::string("character env state: ") + e.what());
+  }
+  features_ = world_->observe();
+}
+
+}  // namespace podium::character

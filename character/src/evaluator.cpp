@@ -1,0 +1,63 @@
+#include "podium/character/evaluator.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "podium/base/error.h"
+#include "podium/sim/recorder.h"
+
+namespace podium::character {
+
+base::Json EvaluationReport::to_json() const {
+  base::Json j = {{"returns", returns}, {"mean_return", mean_return}, {"success_rate", success_rate}};
+  if (!successes.empty()) j["successes"] = std::vector<int>(successes.begin(), successes.end());
+  for (const auto& [name, values] : measures) j["measures"][name] = values;
+  std::vector<std::string> paths;
+  for (const auto& p : trajectories) paths.push_back(p.string());
+  j["trajectories"] = paths;
+  return j;
+}
+
+EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const EvaluationConfig& config) {
+  if (config.start_seeds.empty()) throw base::UserError("evaluator: no start seeds");
+  for (std::size_t r : config.record)
+    if (r >= config.start_seeds.size())
+      throw base::UserError("evaluator: record index " + std::to_string(r) + " is not below the " + std::to_string(config.start_seeds.size()) +
+                            " starts");
+  if (!config.record.empty()) std::filesystem::create_directories(config.record_dir);
+  EvaluationReport report;
+  std::vector<double> observation;
+  std::vector<double> action(env.action_space().size());
+  learn::StepResult step;
+  sim::Recorder recorder(env.world().model_ptr());
+  for (std::size_t i = 0; i < config.start_seeds.size(); ++i) {
+    const bool recording = std::find(config.record.begin(), config.record.end(), i) != config.record.end();
+    recorder.clear();
+    env.seed(config.start_seeds[i]);
+    env.reset(observation);
+    if (recording) recorder.record(env.world());
+    double ret = 0.0;
+    for (;;) {
+      policy(observation, action);
+      env.step(action, step);
+      ret += step.reward;
+      if (recording) recorder.record(env.world());
+      if (step.terminated || step.truncated) break;
+      observation.swap(step.observation);
+    }
+    report.returns.push_back(ret);
+    if (config.success) report.successes.push_back(config.success(env) ? 1 : 0);
+    for (const auto& m : config.measures) report.measures[m.name].push_back(m.at_end(env));
+    if (recording) {
+      const auto path = config.record_dir / ("trajectory_" + std::to_string(i) + ".jsonl");
+      sim::write_trajectory(recorder, path);
+      report.trajectories.push_back(path);
+    }
+  }
+  const double n = static_cast<double>(report.returns.size());
+  report.mean_return = std::accumulate(report.returns.begin(), report.returns.end(), 0.0) / n;
+  if (!report.successes.empty()) report.success_rate = std::accumulate(report.successes.begin(), report.successes.end(), 0.0) / n;
+  return report;
+}
+
+}  // namespace podium::character

@@ -1,0 +1,140 @@
+#include "task_listing.h"
+
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+#include "podium/base/error.h"
+#include "podium/plugins/loader.h"
+#include "worker_process.h"
+
+namespace podium::orchestrator {
+
+namespace fs = std::filesystem;
+using base::Json;
+
+namespace {
+
+std::map<std::string, fs::path> installed_plugins() {
+  const std::string prefix = "libpodium_task_", suffix = ".so";
+  std::map<std::string, fs::path> found;
+  for (const auto& folder : plugins::plugin_search_path()) {
+    std::error_code ec;  // a folder of the search path that does not exist holds no plugins
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+      const std::string file = entry.path().filename().string();
+      if (file.size() <= prefix.size() + suffix.size() || !file.starts_with(prefix) || !file.ends_with(suffix)) continue;
+      found.emplace(file.substr(prefix.size(), file.size() - prefix.size() - suffix.size()), entry.path());
+    }
+  }
+  return found;
+}
+
+Json described(const fs::path& worker_binary, const std::string& name, const fs::path& file) {
+  Json task = {{"name", name}, {"file", file.string()}};
+  task.update(describe_task_isolated(worker_binary, name, Json::object()));
+  return task;
+}
+
+std::string number_text(const Json& v) {
+  if (!v.is_number_float()) return v.dump();
+  std::ostringstream out;
+  out.precision(15);
+  out << v.get<double>();
+  return out.str();
+}
+
+// "one of a, b", "in [1, 64]", ">= 0", or "" (the rule of a key or of an array's elements).
+std::string rule_text(const Json& key) {
+  if (key.contains("choices")) {
+    std::string out = "one of ";
+    for (std::size_t i = 0; i < key["choices"].size(); ++i) out += (i ? ", " : "") + key["choices"][i].get<std::string>();
+    return out;
+  }
+  const bool lo = key.contains("min"), hi = key.contains("max"), open = key.value("exclusive_min", false);
+  if (lo && hi)
+    return std::string("in ") + (open ? "(" : "[") + number_text(key["min"]) + ", " + number_text(key["max"]) + "]";
+  if (lo) return (open ? "> " : ">= ") + number_text(key["min"]);
+  if (hi) return "<= " + number_text(key["max"]);
+  return "";
+}
+
+void format_keys(std::ostringstream& out, const Json& keys, const std::string& prefix) {
+  for (const auto& key : keys) {
+    const std::string name = prefix + key.at("key").get<std::string>();
+    const std::string type = key.at("type").get<std::string>();
+    const Json items = key.value("items", Json::object());
+    const std::string shown_type = type == "array" ? "array of " + items.value("type", std::string("values")) + "s" : type;
+    const std::string fallback = key.value("required", false) ? "required" : key.contains("default") ? key["default"].dump() : "";
+    std::string rule = rule_text(type == "array" ? items : key);
+    if (key.contains("doc")) rule += (rule.empty() ? "" : "; ") + key["doc"].get<std::string>();
+    out << "    " << std::left << std::setw(22) << name << " " << std::setw(18) << shown_type << " " << std::setw(12)
+        << fallback << " " << rule << "\n";
+    if (key.contains("keys")) format_keys(out, key["keys"], name + ".");
+    if (items.contains("keys")) format_keys(out, items["keys"], name + "[].");
+  }
+}
+
+std::string range_list(const Json& entries) {
+  std::string out;
+  for (const auto& e : entries) {
+    out += (out.empty() ? "" : ", ") + e.at("name").get<std::string>() + " [" + number_text(e.at("low")) + ", " +
+           number_text(e.at("high")) + "]";
+    if (e.contains("metric")) out += " " + e["metric"].get<std::string>();
+  }
+  return out.empty() ? "none" : out;
+}
+
+}  // namespace
+
+Json list_tasks(const fs::path& worker_binary, const std::string& name) {
+  const auto plugins = installed_plugins();
+  if (!name.empty()) {
+    const auto it = plugins.find(name);
+    return Json::array({described(worker_binary, name, it == plugins.end() ? fs::path() : it->second)});
+  }
+  Json tasks = Json::array();
+  for (const auto& [task, file] : plugins) {
+    try {
+      tasks.push_back(described(worker_binary, task, file));
+    } catch (const base::UserError& e) {
+      tasks.push_back({{"name", task}, {"file", file.string()}, {"error", e.what()}});
+    }
+  }
+  return tasks;
+}
+
+std::string format_tasks(const Json& tasks) {
+  std::ostringstream out;
+  for (const auto& t : tasks) {
+    out << t.at("name").get<std::string>() << "  (" << t.at("file").get<std::string>() << ")\n";
+    if (t.contains("error")) {
+      out << "  cannot be described: " << t["error"].get<std::string>() << "\n\n";
+      continue;
+    }
+    out << "  params (default config): " << range_list(t.value("params", Json::array())) << "\n";
+    out << "  features: " << range_list(t.value("features", Json::array())) << "\n";
+    std::string metrics;
+    for (const auto& m : t.value("metrics", Json::array()))
+      metrics += (metrics.empty() ? "" : ", ") + m.at("name").get<std::string>() +
+                 (m.contains("description") ? " (" + m["description"].get<std::string>() + ")" : "");
+    out << "  metrics: " << (metrics.empty() ? "none" : metrics) << "\n";
+    std::string objectives;
+    for (const auto& o : t.value("objectives", Json::array())) objectives += (objectives.empty() ? "" : ", ") + o.get<std::string>();
+    out << "  objectives: " << (objectives.empty() ? "none" : objectives) << "\n";
+    out << "  presets:\n";
+    const Json presets = t.value("presets", Json::object());
+    for (const auto& [preset, config] : presets.items())
+      out << "    " << preset << "  " << config.dump() << "\n";
+    if (t.contains("config")) {
+      out << "  config:\n";
+      format_keys(out, t["config"], "");
+    } else {
+      out << "  config (defaults; the task does not describe its keys): " << t.value("config_defaults", Json::object()).dump()
+          << "\n";
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace podium::orchestrator

@@ -1,0 +1,21 @@
+#pragma once
+// `podium tasks [NAME] [--json]`: the installed task plugins and what each declares (params,
+// features, metrics, objectives, presets, and its config keys with defaults and allowed values,
+// as the task's own config reader describes them).
+#include <filesystem>
+#include <string>
+
+#include "podium/base/json.h"
+
+namespace podium::orchestrator {
+
+/// Every task plugin found in the plugin search path (the first file of a name wins), or only
+/// `name`, each described by a fresh worker process (`worker_binary`) with the default config:
+/// [{"name", "file", description keys... } or {"name", "file", "error"}]. A named task that is
+/// not installed or cannot be described is a base::UserError.
+base::Json list_tasks(const std::filesystem::path& worker_binary, const std::string& name = "");
+
+/// The listing as text for people: one block per task.
+std::string format_tasks(const base::Json& tasks);
+
+}  // namespace podium::orchestrator

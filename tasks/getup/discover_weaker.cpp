@@ -1,0 +1,219 @@
+#include "discover_weaker.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <stdexcept>
+
+#include "podium/base/error.h"
+#include "podium/base/log.h"
+#include "podium/base/rng.h"
+#include "podium/character/evaluator.h"
+#include "podium/learn/frozen_policy.h"
+#include "podium/learn/learner.h"
+#include "podium/learn/sac.h"
+#include "podium/learn/training_checkpoint.h"
+
+namespace podium::tasks::getup {
+
+using base::Json;
+namespace fs = std::filesystem;
+
+Settings read_settings(base::ConfigReader& r) {
+  Settings s;
+  EnvSettings& e = s.env;
+  e.variant = r.choice("variant", e.variant, {"none", "casts", "missing_arm"},
+                       "§7's character: casts (left elbow, right knee locked) or the left arm removed");
+  e.sim_hz = r.number("sim_hz", e.sim_hz, {.min = 1.0}, "physics steps per second (App. D: 800)");
+  e.control_hz = r.number("control_hz", e.control_hz, {.min = 1.0}, "policy steps per second (App. D: 40); divides sim_hz");
+  const double substeps = e.sim_hz / e.control_hz;
+  if (std::abs(substeps - std::round(substeps)) > 1e-9) r.fail("control_hz", "does not divide sim_hz " + std::to_string(e.sim_hz));
+  e.episode_steps = r.integer<int>("episode_steps", e.episode_steps, {1, 100000}, "control steps per episode (§7: 250)");
+  e.fall.drop_height_m = r.number("fall_height_m", e.fall.drop_height_m, {.min = 0.0, .max = 10.0, .exclusive_min = true},
+                                  "root height at the ragdoll's release (§7: 1.5)");
+  e.fall.control_steps = r.integer<int>("fall_steps", e.fall.control_steps, {0, 10000}, "control steps of the fall (§7: 80)");
+  e.fall.action_sigma = r.number("fall_sigma", e.fall.action_sigma, {.min = 0.0, .max = 10.0},
+                                 "σ of the fall's random actions, in torque limits (§7: 0.1)");
+  e.strength_sigma = r.number("strength_sigma", e.strength_sigma, {.min = 0.0, .max = 1.0},
+                              "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
+  e.min_strength = r.number("min_strength", e.min_strength, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "lower clip of β̂");
+
+  s.sac_preset = r.choice("sac_preset", s.sac_preset, {"quick", "paper"}, "learn's SacConfig preset (paper: Table 1)");
+  s.sac = r.raw_object("sac", "SacConfig fields over the preset (learn/include/podium/learn/sac.h)");
+  if (s.sac.contains("log_interval_steps")) r.fail("sac", "log_interval_steps is set by the task (one callback per vector step)");
+  Json sac = (s.sac_preset == "paper" ? learn::SacConfig::paper() : learn::SacConfig::quick()).to_json();
+  for (const auto& [key, value] : s.sac.items()) sac[key] = value;
+  try {
+    learn::SacConfig::from_json(sac);
+  } catch (const base::UserError& error) {
+    r.fail("sac", error.what());
+  }
+
+  s.total_steps = r.integer<std::int64_t>("total_steps", s.total_steps, {1}, "environment steps at most; a multiple of eval_every");
+  s.eval_every = r.integer<std::int64_t>("eval_every", s.eval_every, {1}, "environment steps between tests (App. D: 20000)");
+  s.eval_starts = r.integer<int>("eval_starts", s.eval_starts, {1, 1000}, "fixed starts per test (App. D: 10)");
+  s.eval_seed = r.integer<std::uint64_t>("eval_seed", s.eval_seed, {}, "picks the fixed starts (not the trial's seed)");
+  s.success_height_m = r.number("success_height_m", s.success_height_m, {}, "head top above this at the end: got up (§7: 1.2)");
+  s.curriculum.threshold = r.number("threshold", s.curriculum.threshold, {}, "ω: a test return above it advances (App. D: 60)");
+  s.curriculum.factor = r.number("strength_factor", s.curriculum.factor, {.min = 0.0, .max = 0.999, .exclusive_min = true},
+                                 "β^{i+1} = factor·β^i (App. D: 0.95)");
+  s.budget.factor = r.number("budget_factor", s.budget.factor, {.min = 0.0, .exclusive_min = true}, "M_i = clip(factor·N_{i−1}, ...) (§5: 1.5)");
+  s.budget.min_steps = r.integer<std::int64_t>("min_steps", s.budget.min_steps, {1}, "N_min (App. D: 3e5)");
+  s.budget.max_steps = r.integer<std::int64_t>("max_steps", s.budget.max_steps, {1}, "N_max (App. D: 8e5)");
+  if (s.budget.min_steps > s.budget.max_steps) r.fail("min_steps", "is above max_steps " + std::to_string(s.budget.max_steps));
+  s.copies = r.integer<int>("copies", s.copies, {1, 64}, "environment copies stepped together");
+  s.threads = r.integer<int>("threads", s.threads, {1, 64}, "threads stepping the copies");
+  if (s.threads > s.copies) r.fail("threads", "is above copies " + std::to_string(s.copies));
+  s.checkpoint_every = r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1000000}, "tests between training checkpoints");
+  // Tests and checkpoints on episode boundaries: every copy then stands at an episode's start,
+  // whose saved state replays bitwise (GetupEnv::save_state), so a resumed trial is exact.
+  if (s.eval_every % (std::int64_t{s.copies} * e.episode_steps) != 0)
+    r.fail("eval_every", "is not a multiple of copies × episode_steps = " + std::to_string(std::int64_t{s.copies} * e.episode_steps));
+  if (s.total_steps % s.eval_every != 0) r.fail("total_steps", "is not a multiple of eval_every " + std::to_string(s.eval_every));
+  return s;
+}
+
+Json sac_spec(const Settings& s) {
+  Json config = s.sac;
+  config["log_interval_steps"] = s.copies;  // a callback per vector step: cancellation is checked there
+  return {{"algorithm", "sac"}, {"preset", s.sac_preset}, {"config", config}};
+}
+
+WeakerSchedule::Decision WeakerSchedule::on_test(std::int64_t steps, double test_return) {
+  if (curriculum_.observe(test_return)) {  // Algorithm 1: R_test > ω
+    budget_.on_advance(steps);
+    return Decision::advance;
+  }
+  return budget_.exhausted(steps) ? Decision::end : Decision::carry_on;  // N_c > M_i: end training
+}
+
+void WeakerSchedule::load_state(const Json& state) {
+  try {
+    curriculum_.load_state(state.at("curriculum"));
+    budget_.load_state(state.at("budget"));
+  } catch (const Json::exception& e) {
+    throw base::UserError(std::string("getup schedule state: ") + e.what());
+  }
+}
+
+Json TrialOutcome::to_json() const {
+  return {{"policy_strength", policy_strength}, {"passed", passed},         {"success_rate", success_rate},
+          {"test_return", test_return},         {"final_strength", final_strength}, {"levels", levels},
+          {"env_steps", env_steps}};
+}
+
+namespace {
+
+const GetupEnv& as_getup(const character::CharacterEnv& env) { return static_cast<const GetupEnv&>(env); }
+
+character::EvaluationConfig test_config(const Settings& s) {
+  character::EvaluationConfig c;
+  for (int k = 0; k < s.eval_starts; ++k) c.start_seeds.push_back(base::derive_seed(s.eval_seed, static_cast<std::uint64_t>(k)));
+  c.measures = {{"head_height_m", [](const character::CharacterEnv& env) { return as_getup(env).weak().head_height_m; }}};
+  c.success = [h = s.success_height_m](const character::CharacterEnv& env) { return as_getup(env).weak().head_height_m > h; };
+  return c;
+}
+
+double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size()); }
+
+}  // namespace
+
+TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs::path& work_dir, const std::atomic<bool>* cancel,
+                                 const Reporter& report) {
+  auto beta = std::make_shared<double>(s.curriculum.initial);
+  std::vector<std::unique_ptr<learn::Env>> copies;
+  for (int i = 0; i < s.copies; ++i) copies.push_back(std::make_unique<GetupEnv>(s.env, beta, true));
+  learn::VecEnv envs(std::move(copies), s.threads, base::derive_seed(seed, 1));
+  GetupEnv test_env(s.env, beta, false);  // tests at β^i exactly (App. D)
+  const auto learner = learn::make_learner(sac_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
+  const auto* sac = dynamic_cast<const learn::Sac*>(learner.get());
+  const character::EvaluationConfig tests = test_config(s);
+  const fs::path policy = work_dir / "policy.pt";
+
+  // The checkpoint's extra: the schedule and the exported policy's test. Metric points go through
+  // the checkpoint, which keeps them and re-sends them on resume (points sent just before a kill
+  // may never have been stored).
+  WeakerSchedule schedule(s.curriculum, s.budget);
+  learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
+                                       [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
+  Json extra = {{"passed", nullptr}, {"last", nullptr}, {"ended", false}};
+  const auto send = [&](const std::string& name, double step, double value) { checkpoint.metric(name, step, value); };
+  if (auto saved = checkpoint.resume(*learner, envs)) {
+    extra = *saved;
+    schedule.load_state(extra.at("schedule"));
+    report.progress(static_cast<double>(learner->env_steps()) / static_cast<double>(s.total_steps));
+  }
+  *beta = schedule.strength();
+
+  double train_sum = 0.0, rollout_s = 0.0, update_s = 0.0;
+  std::size_t train_episodes = 0;
+  const auto on_vector_step = [&](const learn::TrainStats& t) {
+    if (cancel && cancel->load()) throw std::runtime_error("getup: cancelled at environment step " + std::to_string(t.env_steps));
+    if (t.episodes > 0) train_sum += t.mean_return * static_cast<double>(t.episodes), train_episodes += t.episodes;
+    rollout_s += t.rollout_seconds, update_s += t.update_seconds;
+  };
+  while (!extra.at("ended").get<bool>() && learner->env_steps() < s.total_steps) {
+    train_sum = rollout_s = update_s = 0.0, train_episodes = 0;
+    const std::int64_t updates_before = sac ? sac->updates() : 0;
+    learner->train_until(envs, learner->env_steps() + s.eval_every, on_vector_step);
+    const auto steps = static_cast<double>(learner->env_steps());
+    const double tested_at = schedule.strength();
+    const auto test_start = std::chrono::steady_clock::now();
+    const auto result = character::evaluate(
+        test_env, [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, test_env.action_scale()); }, tests);
+    char line[256];  // wall times go to the log only: metrics must be the same on every run
+    std::snprintf(line, sizeof line, "getup: step %.0f: test return %.2f at β %.4f; %.0f env steps/s in rollouts (%.1f s), %lld updates in %.1f s, test %.1f s",
+                  steps, result.mean_return, tested_at, static_cast<double>(s.eval_every) / rollout_s, rollout_s,
+                  static_cast<long long>((sac ? sac->updates() : 0) - updates_before), update_s,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - test_start).count());
+    base::log_info(line);
+    send("test_return", steps, result.mean_return);
+    send("head_height_m", steps, mean(result.measures.at("head_height_m")));
+    send("success_rate", steps, result.success_rate);
+    if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));
+    if (sac) send("sac/alpha", steps, sac->alpha());
+    const Json tested = {{"strength", tested_at}, {"test_return", result.mean_return}, {"success_rate", result.success_rate},
+                         {"env_steps", learner->env_steps()}};
+    extra["last"] = tested;
+    switch (schedule.on_test(learner->env_steps(), result.mean_return)) {
+      case WeakerSchedule::Decision::advance:  // π passed at β^i: it is π_weak until a weaker one passes
+        learner->export_torchscript(policy);
+        extra["passed"] = tested;
+        break;
+      case WeakerSchedule::Decision::end: extra["ended"] = true; break;
+      case WeakerSchedule::Decision::carry_on: break;
+    }
+    *beta = schedule.strength();
+    send("curriculum/strength", steps, *beta);
+    extra["schedule"] = schedule.state();
+    report.progress(steps / static_cast<double>(s.total_steps));
+    checkpoint.on_update(*learner, envs, extra);
+  }
+
+  TrialOutcome out;
+  out.passed = !extra.at("passed").is_null();
+  if (!out.passed) learner->export_torchscript(policy);
+  const Json& exported = out.passed ? extra.at("passed") : extra.at("last");
+  out.policy = policy;
+  out.policy_strength = exported.at("strength").get<double>();
+  out.success_rate = exported.at("success_rate").get<double>();
+  out.test_return = exported.at("test_return").get<double>();
+  out.final_strength = schedule.strength();
+  out.levels = schedule.level();
+  out.env_steps = learner->env_steps();
+
+  // The exported policy's motion from the first fixed start, at its strength, for the replay.
+  *beta = out.policy_strength;
+  const learn::FrozenPolicy frozen(policy);
+  character::EvaluationConfig record = tests;
+  record.start_seeds.resize(1);
+  record.record = {0};
+  record.record_dir = work_dir / "rollouts";
+  const auto recorded = character::evaluate(
+      test_env, [&](std::span<const double> o, std::span<double> a) { frozen.act(o, a, test_env.action_scale()); }, record);
+  out.trajectory = recorded.trajectories.at(0);
+  return out;
+}
+
+}  // namespace podium::tasks::getup

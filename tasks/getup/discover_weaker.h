@@ -1,0 +1,87 @@
+#pragma once
+/// The Discover and Weaker stages as one trial (get-up seed §4–5, Algorithm 1, App. D): SAC on
+/// GetupEnv; every `eval_every` environment steps the deterministic policy is tested on fixed
+/// starts at β^i; a test return above ω advances the strong-to-weak curriculum β ← 0.95β; the
+/// trial ends when a level needs more than M_i steps (or at `total_steps`).
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include "getup_env.h"
+#include "podium/base/config.h"
+#include "podium/base/json.h"
+#include "podium/character/curriculum.h"
+
+namespace podium::tasks::getup {
+
+/// The task config (defaults: the seed's settings, the `paper` preset; presets in getup_task.cpp).
+struct Settings {
+  EnvSettings env;
+  std::string sac_preset = "paper";                     ///< learn's SacConfig::paper() (Table 1)
+  base::Json sac = base::Json::object();                ///< SacConfig fields over the preset
+  std::int64_t total_steps = 10'000'000;                ///< environment steps at most (issue 18: 10⁷)
+  std::int64_t eval_every = 20'000;                     ///< App. D: every 20 000 simulation steps
+  int eval_starts = 10;                                 ///< App. D: 10 fixed initial states
+  std::uint64_t eval_seed = 1;                          ///< picks those starts (the same for every trial)
+  double success_height_m = 1.2;                        ///< head top above this at the end: got up (§7)
+  character::ThresholdCurriculum::Config curriculum;    ///< App. D: β = 0.95, ω = 60
+  character::StepBudget::Config budget;                 ///< §5 and App. D: M_i rule, 3·10⁵, 8·10⁵
+  int copies = 1;                                       ///< environment copies stepped together
+  int threads = 1;                                      ///< threads stepping them (≤ copies)
+  int checkpoint_every = 5;                             ///< evaluations between training checkpoints
+};
+
+/// Reads (and on a describing reader describes) the config; every check of describe() is here.
+Settings read_settings(base::ConfigReader& r);
+/// The SAC spec for learn::make_learner, with the log interval the trial needs.
+base::Json sac_spec(const Settings& s);
+
+/// Algorithm 1's decision at each test, on character's ThresholdCurriculum and StepBudget. The
+/// budget follows §5's text, M_i = clip(1.5·N_{i−1}, N_min, N_max) (Algorithm 1's listing omits
+/// the 1.5), with M_0 = N_max for Discover (the seed gives none).
+class WeakerSchedule {
+ public:
+  enum class Decision { advance, carry_on, end };
+  WeakerSchedule(const character::ThresholdCurriculum::Config& curriculum, const character::StepBudget::Config& budget)
+      : curriculum_(curriculum), budget_(budget) {}
+  /// The test at environment step `steps` scored `test_return` at strength() = β^i.
+  Decision on_test(std::int64_t steps, double test_return);
+  double strength() const { return curriculum_.value(); }
+  int level() const { return curriculum_.level(); }
+  base::Json state() const { return {{"curriculum", curriculum_.state()}, {"budget", budget_.state()}}; }
+  void load_state(const base::Json& state);
+
+ private:
+  character::ThresholdCurriculum curriculum_;
+  character::StepBudget budget_;
+};
+
+/// Where the trial reports (a plugins::Sink without the plugin types).
+struct Reporter {
+  std::function<void(const std::string& name, double step, double value)> metric;
+  std::function<void(double fraction)> progress;
+};
+
+struct TrialOutcome {
+  std::filesystem::path policy;      ///< TorchScript export of π_weak (see run_discover_weaker)
+  std::filesystem::path trajectory;  ///< its rollout from the first fixed start
+  double policy_strength = 1.0;      ///< β^i at which the exported policy passed its test
+  bool passed = false;               ///< whether any test passed ω (false: the last policy is exported)
+  double success_rate = 0.0;         ///< of the exported policy on the fixed starts, at policy_strength
+  double test_return = 0.0;          ///< likewise
+  double final_strength = 1.0;       ///< β^i when the trial ended
+  int levels = 0;                    ///< curriculum advances
+  std::int64_t env_steps = 0;
+  base::Json to_json() const;
+};
+
+/// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt when a previous attempt left
+/// one (metric points it covers are sent again; the store drops repeats). The exported policy is
+/// the one that passed the last curriculum test (π_weak at the weakest strength it mastered), or
+/// the final one when no test passed. Throws when `cancel` is set (checked every vector step).
+TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const std::filesystem::path& work_dir,
+                                 const std::atomic<bool>* cancel, const Reporter& report);
+
+}  // namespace podium::tasks::getup

@@ -1,0 +1,68 @@
+#pragma once
+/// The get-up environment of the Discover and Weaker stages (get-up seed §4–5, §7, App. C–D) on
+/// character::CharacterEnv: humanoid21 (or a variant), the ragdoll fall as the start, torque
+/// actions, the s_weak observation, R_weak, fixed-length episodes without early termination.
+///
+/// Strength: each episode draws β̂ ~ N(β^i, ε) (§5, Algorithm 1; ε read as the standard
+/// deviation), clipped to [min_strength, 1], and reports it as Env::action_scale(), so SAC acts
+/// in [−β̂, β̂] (its squashing β̂·tanh, §5) and stores β̂ with each transition; the torque map then
+/// multiplies by the torque limits only (the World's strength stays 1). β^i itself is shared by
+/// every copy and set by the trial between training chunks.
+#include <memory>
+#include <string>
+
+#include "getup_rewards.h"
+#include "podium/character/character_env.h"
+#include "podium/sim/starts.h"
+
+namespace podium::tasks::getup {
+
+struct EnvSettings {
+  std::string model = "humanoid21";
+  /// §7's variants: "none", "casts" (left elbow and right knee locked straight) or "missing_arm"
+  /// (the seed does not say which arm; the left one, from the upper arm down, is removed).
+  std::string variant = "none";
+  double sim_hz = 800.0;           ///< App. D
+  double control_hz = 40.0;        ///< App. D
+  int episode_steps = 250;         ///< §7
+  sim::RagdollStart fall;          ///< §7: 1.5 m, 80 control steps of a ~ N(0, 0.1)
+  double strength_sigma = 0.04;    ///< ε of §5
+  double min_strength = 0.05;      ///< lower clip of β̂ (SAC needs a bound in (0, 1])
+};
+
+/// The model edits of a variant (empty for "none"). Throws base::UserError on an unknown name.
+sim::ModelEdits variant_edits(const std::string& variant);
+
+class GetupEnv final : public character::CharacterEnv {
+ public:
+  /// `curriculum` holds β^i. With `sample_strength` false (evaluation) β̂ = β^i exactly.
+  GetupEnv(const EnvSettings& settings, std::shared_ptr<const double> curriculum, bool sample_strength);
+
+  double action_scale() const override { return strength_; }
+  /// β̂ of the current episode.
+  double strength() const { return strength_; }
+  /// R_weak's inputs for the current state.
+  WeakState weak() const { return weak_state(*this, readings_); }
+  const BodyReadings& readings() const { return readings_; }
+  /// The episode hook: draws β̂ (unless replaying a saved episode start) and notes the generator.
+  void begin_episode(base::Rng& rng);
+
+  /// At an episode's first step the state is the generator before the start plus β̂, and loading
+  /// it replays the fall: bitwise the same episode, so a checkpoint taken between episodes resumes
+  /// exactly. Mid-episode it is CharacterEnv's (q, q̇) state (the same dynamics, not bit for bit).
+  std::optional<base::Json> save_state() const override;
+  void load_state(const base::Json& state) override;
+
+ private:
+  GetupEnv(const EnvSettings& settings, sim::ModelPtr model, std::shared_ptr<const double> curriculum, bool sample_strength);
+
+  std::shared_ptr<const double> curriculum_;
+  bool sample_;
+  EnvSettings settings_;
+  BodyReadings readings_;
+  double strength_ = 1.0;
+  std::string start_rng_;   // the generator as the start (the fall) began
+  bool replaying_ = false;
+};
+
+}  // namespace podium::tasks::getup

@@ -1,0 +1,82 @@
+// Trials resume from their own folder (issue 16 item 2, the orchestrator's side): a later attempt
+// runs in the folder the earlier one left, is told how that one ended, and the metric steps it
+// sends again are not stored twice. Real `podium run` with the probe task, which checkpoints in
+// its work folder.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "podium/base/json.h"
+#include "podium/store/store.h"
+#include "campaign_spec.h"
+#include "process.h"
+
+namespace podium::orchestrator {
+namespace {
+
+using base::Json;
+using podium::testing::run_podium;
+using podium::testing::TempDir;
+using store::Store;
+
+Json probe_campaign(const Json& config, int trials, int retries) {
+  return {{"name", "resume"},
+          {"seed", 3},
+          {"workers", 2},
+          {"retries", retries},
+          {"trial_timeout_s", 60},
+          {"stages", Json::array({{{"name", "train"},
+                                   {"task", "probe"},
+                                   {"config", config},
+                                   {"search", {{"algorithm", "random"}}},
+                                   {"budget", {{"trials", trials}}}}})}};
+}
+
+// The probe checkpoints every 2 steps and throws after sending step 4 on its first attempt: the
+// retry resumes from the checkpoint at step 4 and sends steps 4..7.
+TEST(TrialResume, ARetryResumesInTheSameFolderAndStoresEachMetricStepOnce) {
+  TempDir dir;
+  const auto id = std::stoll(podium::testing::submit_spec(
+      dir.path(), probe_campaign({{"steps", 8}, {"checkpoint_every", 2}, {"fail_step", 4}, {"fail_attempts", 1}}, 3, 1)));
+  const auto r = run_podium({"run"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto s = Store::open(dir / "podium.db", Store::Access::read_only);
+  const auto trials = s->trials(s->stages(id).at(0).id);
+  ASSERT_EQ(trials.size(), 3u);
+  for (const auto& t : trials) {
+    SCOPED_TRACE("trial " + std::to_string(t.index));
+    EXPECT_EQ(t.state, "done");
+    EXPECT_EQ(t.attempts, 2);
+    EXPECT_EQ(t.result_info["attempt"], 2);
+    EXPECT_EQ(t.result_info["resumed_from_step"], 4);
+    const Json previous = t.result_info["previous_attempt"];
+    EXPECT_EQ(previous["number"], 1);
+    EXPECT_EQ(previous["state"], "failed");
+    EXPECT_NE(previous["error"].get<std::string>().find("probe: injected failure at step 4"), std::string::npos) << previous;
+    const auto points = s->metrics(t.id);
+    ASSERT_EQ(points.size(), 8u);
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      EXPECT_EQ(points[k].step, static_cast<double>(k));
+      EXPECT_EQ(points[k].attempt, k <= 4 ? 1 : 2) << "step " << k;  // step 4 came again from attempt 2
+    }
+    EXPECT_TRUE(std::filesystem::exists(s->artifacts(t.id).at(0).path));
+  }
+}
+
+// A trial whose first attempt ran in a folder already in use (a reused run_dir) starts empty.
+TEST(TrialResume, AFirstAttemptStartsInAnEmptyFolder) {
+  TempDir dir;
+  Json spec = probe_campaign({{"steps", 2}}, 1, 0);
+  spec["run_dir"] = (dir / "runs").string();
+  std::filesystem::create_directories(dir / "runs/stage-0-train/trial-0");
+  podium::testing::write_file(dir / "runs/stage-0-train/trial-0/checkpoint.json", R"({"step": 2})");
+  const auto id = std::stoll(podium::testing::submit_spec(dir.path(), spec));
+  ASSERT_EQ(run_podium({"run"}, dir.path()).exit_code, 0);
+  auto s = Store::open(dir / "podium.db", Store::Access::read_only);
+  const auto t = s->trials(s->stages(id).at(0).id).at(0);
+  EXPECT_EQ(t.result_info["resumed_from_step"], 0);
+  EXPECT_EQ(s->metrics(t.id).size(), 2u);
+}
+
+}  // namespace
+}  // namespace podium::orchestrator

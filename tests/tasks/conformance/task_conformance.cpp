@@ -1,0 +1,324 @@
+// The conformance checks of task_conformance.h, run against the real `podium` binary.
+#include "task_conformance.h"
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+
+#include "podium/base/error.h"
+#include "podium/plugins/loader.h"
+#include "process.h"
+#include "worker_client.h"
+
+namespace podium::testing {
+namespace {
+
+namespace fs = std::filesystem;
+using base::Json;
+using namespace std::chrono_literals;
+
+// --- describe() ---------------------------------------------------------------------------
+
+void expect_named_list(const Json& d, const std::string& key, const std::string& where) {
+  ASSERT_TRUE(d.contains(key) && d[key].is_array()) << where << ": \"" << key << "\" is not an array";
+  std::set<std::string> names;
+  for (const auto& item : d[key]) {
+    ASSERT_TRUE(item.is_object() && item.contains("name") && item["name"].is_string()) << where << "." << key << ": " << item;
+    EXPECT_TRUE(names.insert(item["name"].get<std::string>()).second) << where << "." << key << ": duplicate " << item["name"];
+    for (const char* text : {"unit", "description"})
+      if (item.contains(text)) {
+        EXPECT_TRUE(item[text].is_string()) << where << "." << key << ": " << item;
+      }
+  }
+}
+
+void expect_box(const Json& item, const std::string& where) {
+  ASSERT_TRUE(item.contains("low") && item["low"].is_number() && item.contains("high") && item["high"].is_number())
+      << where << ": " << item << " needs numeric low and high";
+  const double low = item["low"].get<double>(), high = item["high"].get<double>();
+  EXPECT_TRUE(std::isfinite(low) && std::isfinite(high) && low < high) << where << ": " << item;
+}
+
+void expect_valid_description(const Json& d, const std::string& where) {
+  ASSERT_TRUE(d.is_object()) << where;
+  expect_named_list(d, "params", where);
+  expect_named_list(d, "features", where);
+  expect_named_list(d, "metrics", where);
+  for (const auto& p : d["params"]) {
+    expect_box(p, where + ".params");
+    if (p.contains("integer")) {
+      EXPECT_TRUE(p["integer"].is_boolean()) << where << ".params: " << p;
+    }
+  }
+  for (const auto& f : d["features"]) {
+    expect_box(f, where + ".features");
+    const std::string metric = f.value("metric", "");
+    EXPECT_TRUE(metric == "euclidean" || metric == "angular") << where << ".features: " << f;
+  }
+  ASSERT_TRUE(d.contains("objectives") && d["objectives"].is_array() && !d["objectives"].empty())
+      << where << ": \"objectives\" must be a non-empty array";
+  for (const auto& o : d["objectives"]) EXPECT_TRUE(o.is_string()) << where << ".objectives: " << o;
+  if (d.contains("strategy_threshold")) {
+    EXPECT_TRUE(d["strategy_threshold"].is_number() && d["strategy_threshold"].get<double>() > 0) << where;
+  }
+  ASSERT_TRUE(d.contains("config_defaults") && d["config_defaults"].is_object()) << where << ": no config_defaults";
+  if (d.contains("config")) {  // what the config reader accepts (base/config.h), for `podium tasks`
+    ASSERT_TRUE(d["config"].is_array()) << where << ": \"config\" is not an array";
+    for (const auto& key : d["config"]) EXPECT_TRUE(key.is_object() && key.contains("key")) << where << ".config: " << key;
+  }
+  ASSERT_TRUE(d.contains("presets") && d["presets"].is_object()) << where << ": no presets";
+  for (const char* preset : {"smoke", "quick", "paper"})  // DESIGN.md "Fidelity presets"
+    EXPECT_TRUE(d["presets"].contains(preset)) << where << ": no preset \"" << preset << "\"";
+  for (const auto& [name, preset] : d["presets"].items()) {
+    ASSERT_TRUE(preset.is_object()) << where << ".presets." << name;
+    for (const auto& [key, value] : preset.items())
+      EXPECT_TRUE(d["config_defaults"].contains(key)) << where << ".presets." << name << "." << key << " has no default";
+  }
+}
+
+// The config the scheduler hands a stage's trials: defaults, then the preset, then overrides.
+Json resolved(const Json& description, const std::string& preset, const Json& overrides) {
+  Json config = description["config_defaults"];
+  config.update(description["presets"][preset]);
+  config.update(overrides);
+  return config;
+}
+
+// --- trials through the real binary ---------------------------------------------------------
+
+Json order_for(const ConformanceCase& c, const Json& overrides, const fs::path& work_dir, int attempt, std::uint64_t seed) {
+  const auto task = plugins::load_task(c.task);
+  const Json config = resolved(task->describe(Json::object()), "smoke", overrides);
+  Json params = Json::object();
+  const Json description = task->describe(config);
+  for (const auto& p : description["params"]) {
+    const double mid = 0.5 * (p["low"].get<double>() + p["high"].get<double>());
+    params[p["name"].get<std::string>()] = p.value("integer", false) ? std::round(mid) : mid;
+  }
+  const Json previous = attempt == 1 ? Json(nullptr)
+                                     : Json{{"number", attempt - 1}, {"state", "interrupted"}, {"error", "killed by the test"}};
+  return {{"key", 1},
+          {"task", c.task},
+          {"config", config},
+          {"params", params},
+          {"context", Json::object()},
+          {"inputs", Json::array()},
+          {"previous_attempt", previous},
+          {"seed", seed},
+          {"trial_index", 0},
+          {"attempt", attempt},
+          {"work_dir", work_dir.string()}};
+}
+
+std::vector<Json> metric_lines(const fs::path& attempt_dir) {
+  std::vector<Json> lines;
+  std::ifstream in(attempt_dir / "metrics.jsonl");
+  for (std::string line; std::getline(in, line);) lines.push_back(Json::parse(line));
+  return lines;
+}
+
+struct TrialRun {
+  Json result;                  // result.json with artifact paths relative to the work folder
+  std::vector<Json> metrics;    // metrics.jsonl
+  fs::path work_dir;
+};
+
+// The result with each artifact path made relative to the work folder (two runs use two folders).
+Json comparable(Json result, const fs::path& work_dir) {
+  for (auto& a : result["artifacts"]) a["path"] = fs::path(a["path"].get<std::string>()).lexically_relative(work_dir).string();
+  result.erase("key");
+  return result;
+}
+
+// One `podium trial --batch` process: order.json, metrics.jsonl and result.json in attempt_dir.
+TrialRun run_trial(const Json& order, const fs::path& attempt_dir) {
+  fs::create_directories(attempt_dir);
+  write_file(attempt_dir / "order.json", order.dump());
+  write_file(attempt_dir / "batch.txt", (attempt_dir / "order.json").string() + "\n");
+  const int status = wait_process(spawn_podium({"trial", "--batch", (attempt_dir / "batch.txt").string()}, attempt_dir));
+  EXPECT_EQ(status, 0) << "podium trial --batch failed; stderr in " << attempt_dir / "spawn.err";
+  const fs::path work_dir = order["work_dir"].get<std::string>();
+  const Json result = base::read_json_file(attempt_dir / "result.json");
+  EXPECT_EQ(result.value("type", ""), "result") << result << "\norder: " << order;
+  return {comparable(result, work_dir), metric_lines(attempt_dir), work_dir};
+}
+
+// Two smoke trials with one seed, run once per task and shared by the tests that inspect them.
+struct SmokeRuns {
+  TempDir dir;
+  TrialRun first, second;
+};
+
+const SmokeRuns& smoke_runs(const ConformanceCase& c) {
+  static std::map<std::string, std::unique_ptr<SmokeRuns>> cache;
+  auto& slot = cache[c.task];
+  if (!slot) {
+    slot = std::make_unique<SmokeRuns>();
+    const fs::path a = slot->dir / "a", b = slot->dir / "b";
+    slot->first = run_trial(order_for(c, c.smoke_config, a / "trial", 1, 7), a / "attempt-1");
+    slot->second = run_trial(order_for(c, c.smoke_config, b / "trial", 1, 7), b / "attempt-1");
+  }
+  return *slot;
+}
+
+// --- the checks ------------------------------------------------------------------------------
+
+TEST_P(TaskConformance, DescribeIsValidAndEveryPresetResolves) {
+  const auto task = plugins::load_task(GetParam().task);
+  const Json d = task->describe(Json::object());
+  expect_valid_description(d, GetParam().task + " describe({})");
+  for (const auto& [name, preset] : d["presets"].items())
+    expect_valid_description(task->describe(resolved(d, name, Json::object())), GetParam().task + " preset " + name);
+  EXPECT_THROW(task->describe({{"no_such_conformance_key", 1}}), base::UserError) << "an unknown config key must be rejected";
+}
+
+TEST_P(TaskConformance, SmokeTrialIsDeterministicForASeed) {
+  const auto& runs = smoke_runs(GetParam());
+  EXPECT_EQ(runs.first.result, runs.second.result);
+  EXPECT_EQ(runs.first.metrics, runs.second.metrics);
+  const auto task = plugins::load_task(GetParam().task);
+  const Json d = task->describe(resolved(task->describe(Json::object()), "smoke", GetParam().smoke_config));
+  EXPECT_EQ(runs.first.result["features"].size(), d["features"].size());
+  EXPECT_EQ(runs.first.result["objectives"].size(), d["objectives"].size());
+  for (const auto& v : runs.first.result["features"]) EXPECT_TRUE(v.is_number()) << "non-finite feature: " << runs.first.result;
+  std::set<std::string> declared;
+  for (const auto& m : d["metrics"]) declared.insert(m["name"].get<std::string>());
+  for (const auto& m : runs.first.metrics) EXPECT_TRUE(declared.count(m["name"].get<std::string>())) << "undeclared metric " << m;
+}
+
+TEST_P(TaskConformance, ArtifactsExistInsideTheWorkFolder) {
+  const auto& run = smoke_runs(GetParam()).first;
+  std::set<std::string> names;
+  for (const auto& a : run.result["artifacts"]) {
+    names.insert(a["name"].get<std::string>());
+    const fs::path relative = a["path"].get<std::string>();
+    EXPECT_FALSE(relative.empty() || *relative.begin() == "..") << a << " is not inside " << run.work_dir;
+    EXPECT_TRUE(fs::is_regular_file(run.work_dir / relative)) << a;
+    if (fs::is_regular_file(run.work_dir / relative)) {
+      EXPECT_EQ(fs::file_size(run.work_dir / relative), a["size"].get<std::uintmax_t>()) << a;
+    }
+  }
+  for (const auto& name : GetParam().artifacts) EXPECT_TRUE(names.count(name)) << "no artifact \"" << name << "\"";
+}
+
+// A trial running in a worker (key 1): what it has sent so far.
+struct WorkerRun {
+  Json result;                  // the "result" or "error" message, null while it runs
+  std::vector<Json> metrics;    // {"name", "step", "value"}, as in metrics.jsonl
+  std::vector<double> progress;
+};
+
+// Starts the order's trial in the worker.
+WorkerRun start_in(WorkerClient& worker, Json order) {
+  order["type"] = "run";
+  worker.send(order);
+  return {};
+}
+
+// Follows the trial until it ends or, mid-run, until it has sent `metric_points` points (for a task
+// silent while it works, 0: until `delay_s` passed). Returns whether it ended.
+bool follow(WorkerClient& worker, WorkerRun& run, std::size_t metric_points, double delay_s) {
+  const auto started = std::chrono::steady_clock::now();
+  const auto waited_enough = [&] {
+    return metric_points > 0 ? run.metrics.size() >= metric_points
+                             : std::chrono::steady_clock::now() - started >= std::chrono::duration<double>(delay_s);
+  };
+  while (!waited_enough()) {
+    const auto m = worker.next(20ms);
+    if (!m) {
+      if (std::chrono::steady_clock::now() - started > 120s) {
+        ADD_FAILURE() << "the trial sent nothing more for 2 minutes";
+        return true;
+      }
+      continue;
+    }
+    const std::string type = m->value("type", "");
+    if (type == "metric") run.metrics.push_back({{"name", (*m)["name"]}, {"step", (*m)["step"]}, {"value", (*m)["value"]}});
+    else if (type == "progress") run.progress.push_back((*m)["fraction"].get<double>());
+    else {
+      run.result = *m;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Runs the trial to its end in the worker.
+WorkerRun run_in(WorkerClient& worker, const Json& order) {
+  WorkerRun run = start_in(worker, order);
+  follow(worker, run, std::numeric_limits<std::size_t>::max(), 0);
+  EXPECT_EQ(run.result.value("type", ""), "result") << run.result << "\norder: " << order;
+  run.result = comparable(run.result, order["work_dir"].get<std::string>());
+  return run;
+}
+
+TEST_P(TaskConformance, CancelIsHonouredWithinTwoSeconds) {
+  const auto& c = GetParam();
+  TempDir dir;
+  WorkerClient worker;
+  WorkerRun run = start_in(worker, order_for(c, c.long_config, dir / "trial", 1, 7));
+  ASSERT_FALSE(follow(worker, run, static_cast<std::size_t>(c.kill_after_metric_points), c.kill_delay_s))
+      << "the long trial ended before the cancel: " << run.result;
+  worker.send({{"type", "cancel"}, {"key", 1}});
+  const auto cancelled = std::chrono::steady_clock::now();
+  std::optional<Json> end;
+  while (!end && std::chrono::steady_clock::now() - cancelled < 2s) {
+    auto m = worker.next(std::chrono::duration_cast<std::chrono::milliseconds>(2s - (std::chrono::steady_clock::now() - cancelled)));
+    if (m && m->value("type", "") != "metric" && m->value("type", "") != "progress") end = std::move(m);
+  }
+  ASSERT_TRUE(end.has_value()) << "no answer within 2 s of the cancel message";
+  EXPECT_EQ(end->value("type", ""), "error") << *end;
+  // The worker goes on: it answers the next request.
+  worker.send({{"type", "describe"}, {"task", c.task}, {"config", Json::object()}});
+  const auto description = worker.next(30s);
+  ASSERT_TRUE(description.has_value());
+  EXPECT_EQ(description->value("type", ""), "description") << *description;
+}
+
+TEST_P(TaskConformance, InterruptedTrialResumesToTheUninterruptedResult) {
+  const auto& c = GetParam();
+  TempDir dir;
+  WorkerRun full;
+  {
+    WorkerClient worker;
+    full = run_in(worker, order_for(c, c.resume_config, dir / "full", 1, 7));
+  }
+  // Attempt 1 dies with its worker (SIGKILL) mid-run; attempt 2 runs in a new worker, same folder.
+  const fs::path work_dir = dir / "cut";
+  WorkerRun first;
+  {
+    WorkerClient worker;
+    first = start_in(worker, order_for(c, c.resume_config, work_dir, 1, 7));
+    ASSERT_FALSE(follow(worker, first, static_cast<std::size_t>(c.kill_after_metric_points), c.kill_delay_s))
+        << "the trial finished before the kill: make resume_config longer";
+    worker.kill();
+  }
+  WorkerRun second;
+  {
+    WorkerClient worker;
+    second = run_in(worker, order_for(c, c.resume_config, work_dir, 2, 7));
+  }
+
+  EXPECT_EQ(second.result, full.result);
+  // Every point either attempt sent is the full run's point; together they cover it.
+  std::map<std::pair<std::string, double>, double> expected, seen;
+  for (const auto& m : full.metrics) expected[{m["name"], m["step"]}] = m["value"].get<double>();
+  for (const auto* attempt : {&first, &second})
+    for (const auto& m : attempt->metrics) {
+      const std::pair<std::string, double> key{m["name"], m["step"]};
+      ASSERT_TRUE(expected.count(key)) << "a point the full run does not have: " << m;
+      EXPECT_EQ(m["value"].get<double>(), expected[key]) << m;
+      seen[key] = m["value"].get<double>();
+    }
+  EXPECT_EQ(seen.size(), expected.size()) << "the attempts together miss points of the full run";
+  if (c.resumes_from_checkpoint) {
+    ASSERT_FALSE(second.progress.empty() || full.progress.empty()) << "the task reports no progress";
+    EXPECT_GT(second.progress.front(), full.progress.front()) << "attempt 2 started over instead of resuming";
+  }
+}
+
+}  // namespace
+}  // namespace podium::testing

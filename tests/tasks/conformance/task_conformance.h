@@ -1,0 +1,55 @@
+#pragma once
+// The task conformance suite (issue 16 item 6; STYLE.md "plugins/ and tasks/"): the checks every
+// task plugin passes. A task joins with one line in its test file,
+//   PODIUM_TASK_CONFORMANCE(Landscape, {.task = "landscape", .long_config = {{"sleep_s", 60.0}}});
+// and its test target links podium_task_conformance (tests/tasks/CMakeLists.txt). Trials run in
+// the real `podium` binary: `podium trial --batch` (the Slurm path: order.json in, metrics.jsonl
+// and result.json out) for the smoke trials, `podium worker` (the local executor's process,
+// driven over its protocol) for cancellation and for the interrupted trial.
+//   DescribeIsValidAndEveryPresetResolves  params, features, metrics, objectives, presets and
+//                                          config_defaults are well formed, for describe({}) and
+//                                          for every preset; an unknown config key is rejected
+//   SmokeTrialIsDeterministicForASeed      two runs, same result.json and metric stream; sizes as
+//                                          declared; every metric declared
+//   ArtifactsExistInsideTheWorkFolder      the case's artifacts are returned, exist, have the
+//                                          reported size and lie inside work_dir
+//   CancelIsHonouredWithinTwoSeconds       a long trial in a worker ends with an error (not a
+//                                          result) within 2 s of the cancel message
+//   InterruptedTrialResumesToTheUninterruptedResult
+//                                          the worker SIGKILLed mid-run, attempt 2 in a new worker
+//                                          and the same trial folder: the result and every metric
+//                                          point equal a full run's
+#include <gtest/gtest.h>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "podium/base/json.h"
+
+namespace podium::testing {
+
+struct ConformanceCase {
+  std::string task;                                    ///< plugin name
+  base::Json smoke_config = base::Json::object();      ///< on top of the smoke preset: the smoke trial
+  base::Json long_config = base::Json::object();       ///< on the smoke preset: runs ≥ 10 s unless cancelled
+  base::Json resume_config = base::Json::object();     ///< on the smoke preset: long enough to be killed mid-run
+  /// The long and resume trials are cancelled / killed once they have sent this many metric
+  /// points, or, for a task that reports nothing while it works (0), after kill_delay_s.
+  int kill_after_metric_points = 0;
+  double kill_delay_s = 0.3;
+  /// Attempt 2 continues from a checkpoint: its first progress report is beyond a fresh start's.
+  bool resumes_from_checkpoint = false;
+  std::vector<std::string> artifacts;                  ///< artifact names every trial returns
+};
+
+class TaskConformance : public ::testing::TestWithParam<ConformanceCase> {};
+
+/// Failure messages name the task, not the case's bytes.
+inline void PrintTo(const ConformanceCase& c, std::ostream* out) { *out << c.task; }
+
+}  // namespace podium::testing
+
+#define PODIUM_TASK_CONFORMANCE(Name, ...)   \
+  using ::podium::testing::TaskConformance; \
+  INSTANTIATE_TEST_SUITE_P(Name, TaskConformance, ::testing::Values(::podium::testing::ConformanceCase __VA_ARGS__))

@@ -1,0 +1,58 @@
+// The getup config is checked where describe() runs (at submit): each bad value is one error at
+// its JSON path.
+#include <gtest/gtest.h>
+
+#include "discover_weaker.h"
+
+namespace podium::tasks::getup {
+namespace {
+
+using base::Json;
+
+Settings read(const Json& config) {
+  base::ConfigReader r(config, "", "getup config");
+  Settings s = read_settings(r);
+  r.finish();
+  return s;
+}
+
+std::string error_path(const Json& config) {
+  try {
+    read(config);
+  } catch (const base::ConfigError& e) {
+    return e.path();
+  }
+  return "(accepted)";
+}
+
+TEST(GetupConfig, DefaultsAreTheSeedsSettings) {
+  const Settings s = read(Json::object());
+  EXPECT_EQ(s.env.sim_hz, 800.0);
+  EXPECT_EQ(s.env.control_hz, 40.0);
+  EXPECT_EQ(s.env.episode_steps, 250);
+  EXPECT_EQ(s.env.fall.control_steps, 80);
+  EXPECT_EQ(s.eval_every, 20000);
+  EXPECT_EQ(s.eval_starts, 10);
+  EXPECT_EQ(s.curriculum.threshold, 60.0);
+  EXPECT_EQ(s.curriculum.factor, 0.95);
+  EXPECT_EQ(s.budget.min_steps, 300000);
+  EXPECT_EQ(s.budget.max_steps, 800000);
+  EXPECT_EQ(sac_spec(s)["preset"], "paper");
+}
+
+TEST(GetupConfig, BadValuesAreReportedAtTheirPath) {
+  EXPECT_EQ(error_path({{"sac_preset", "papr"}}), "sac_preset");
+  EXPECT_EQ(error_path({{"control_hz", 33.0}}), "control_hz");
+  EXPECT_EQ(error_path({{"eval_every", 300}}), "eval_every");  // not a multiple of 250
+  EXPECT_EQ(error_path({{"total_steps", 30000}}), "total_steps");
+  EXPECT_EQ(error_path({{"threads", 2}}), "threads");
+  EXPECT_EQ(error_path({{"min_steps", 900000}}), "min_steps");
+  EXPECT_EQ(error_path({{"strength_factor", 1.0}}), "strength_factor");
+  EXPECT_EQ(error_path({{"sac", {{"hiden", {8}}}}}), "sac");
+  EXPECT_EQ(error_path({{"sac", {{"log_interval_steps", 5}}}}), "sac");
+  EXPECT_EQ(error_path({{"no_such_key", 1}}), "no_such_key");
+  EXPECT_EQ(error_path({{"copies", 2}, {"threads", 2}, {"eval_every", 20000}}), "(accepted)");
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup

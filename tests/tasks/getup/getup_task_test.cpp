@@ -1,0 +1,64 @@
+// The getup plugin through the real `podium` binary: the task conformance suite, and a smoke trial
+// whose curriculum advances at every test (the smoke preset's ω is below any return).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "podium/base/json.h"
+#include "podium/plugins/loader.h"
+#include "process.h"
+#include "task_conformance.h"
+
+namespace podium::tasks::getup {
+namespace {
+
+using base::Json;
+namespace fs = std::filesystem;
+
+PODIUM_TASK_CONFORMANCE(Getup, {.task = "getup", .long_config = {{"total_steps", 1000000}},
+                                .resume_config = {{"total_steps", 1200}}, .kill_after_metric_points = 30,
+                                .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"}});
+
+TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) {
+  const auto task = plugins::load_task("getup");
+  const Json description = task->describe(Json::object());
+  Json config = description["config_defaults"];
+  config.update(description["presets"]["smoke"]);
+  podium::testing::TempDir dir;
+  const Json order = {{"key", 1}, {"task", "getup"}, {"config", config}, {"params", Json::object()},
+                      {"context", Json::object()}, {"inputs", Json::array()}, {"previous_attempt", nullptr},
+                      {"seed", 3}, {"trial_index", 0}, {"attempt", 1}, {"work_dir", (dir / "trial").string()}};
+  podium::testing::write_file(dir / "order.json", order.dump());
+  podium::testing::write_file(dir / "batch.txt", (dir / "order.json").string() + "\n");
+  const auto run = podium::testing::run_podium({"trial", "--batch", (dir / "batch.txt").string()}, dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const Json result = base::read_json_file(dir / "result.json");
+  ASSERT_EQ(result["type"], "result") << result;
+
+  // 400 steps, a test every 100: four tests, each passed, so β = 0.95⁴ at the end and the
+  // exported policy is the one that passed at 0.95³.
+  const Json& info = result["info"];
+  EXPECT_EQ(info["levels"], 4);
+  EXPECT_TRUE(info["passed"].get<bool>());
+  EXPECT_NEAR(info["final_strength"].get<double>(), std::pow(0.95, 4), 1e-12);
+  EXPECT_NEAR(info["policy_strength"].get<double>(), std::pow(0.95, 3), 1e-12);
+  EXPECT_NEAR(result["objectives"][1].get<double>(), 1.0 - std::pow(0.95, 3), 1e-12);
+
+  std::vector<double> strengths, heads;
+  std::ifstream metrics(dir / "metrics.jsonl");
+  for (std::string line; std::getline(metrics, line);) {
+    const Json m = Json::parse(line);
+    if (m["name"] == "curriculum/strength") strengths.push_back(m["value"].get<double>());
+    if (m["name"] == "head_height_m") heads.push_back(m["value"].get<double>());
+  }
+  ASSERT_EQ(strengths.size(), 4u);
+  for (std::size_t i = 0; i < strengths.size(); ++i) EXPECT_NEAR(strengths[i], std::pow(0.95, double(i + 1)), 1e-12);
+  ASSERT_EQ(heads.size(), 4u);
+  for (double h : heads) EXPECT_TRUE(h > 0.0 && h < 2.0) << h;  // head-top heights in metres
+
+  for (const auto& a : result["artifacts"]) EXPECT_TRUE(fs::is_regular_file(a["path"].get<std::string>())) << a;
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup

@@ -1,0 +1,49 @@
+// Algorithm 1's curriculum decisions on a scripted sequence of test returns (issue 18 acceptance:
+// advances exactly when the return exceeds ω; ends when a level needs more than M_i steps).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "discover_weaker.h"
+
+namespace podium::tasks::getup {
+namespace {
+
+using Decision = WeakerSchedule::Decision;
+
+TEST(WeakerSchedule, AdvancesAboveOmegaAndEndsAfterItsStepBudget) {
+  WeakerSchedule s({}, {});  // App. D: β 0.95, ω 60, N_min 3e5, N_max 8e5; §5's factor 1.5
+  EXPECT_EQ(s.strength(), 1.0);
+  EXPECT_EQ(s.on_test(20'000, 10.0), Decision::carry_on);
+  EXPECT_EQ(s.on_test(40'000, 60.0), Decision::carry_on);  // not above ω
+  EXPECT_EQ(s.on_test(60'000, 60.5), Decision::advance);
+  EXPECT_DOUBLE_EQ(s.strength(), 0.95);
+  // N_0 = 60 000: M_1 = clip(1.5 · 60 000, 3e5, 8e5) = 3e5 steps after 60 000.
+  EXPECT_EQ(s.on_test(360'000, 59.0), Decision::carry_on);  // used exactly M_1
+  EXPECT_EQ(s.on_test(380'000, 59.0), Decision::end);       // more than M_1
+  EXPECT_DOUBLE_EQ(s.strength(), 0.95);
+  EXPECT_EQ(s.level(), 1);
+}
+
+TEST(WeakerSchedule, TheBudgetGrowsWithTheLastLevelsSteps) {
+  WeakerSchedule s({}, {});
+  EXPECT_EQ(s.on_test(800'000, 0.0), Decision::carry_on);  // Discover: M_0 = N_max
+  EXPECT_EQ(s.on_test(820'000, 0.0), Decision::end);
+  WeakerSchedule t({}, {});
+  EXPECT_EQ(t.on_test(400'000, 61.0), Decision::advance);  // N_0 = 4e5: M_1 = 6e5
+  EXPECT_EQ(t.on_test(1'000'000, 0.0), Decision::carry_on);
+  EXPECT_EQ(t.on_test(1'020'000, 0.0), Decision::end);
+}
+
+TEST(WeakerSchedule, ItsStateRoundTrips) {
+  WeakerSchedule s({}, {});
+  s.on_test(100'000, 70.0);
+  s.on_test(200'000, 70.0);
+  WeakerSchedule t({}, {});
+  t.load_state(s.state());
+  EXPECT_DOUBLE_EQ(t.strength(), 0.95 * 0.95);
+  EXPECT_EQ(t.on_test(200'000 + 300'001, 0.0), s.on_test(200'000 + 300'001, 0.0));
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup

@@ -66,8 +66,9 @@ void CharacterEnv::step(std::span<const double> action, learn::StepResult& out) 
   }
   observe(out.observation);
   out.terminated = false;
+  out.truncated = false;  // a reward may end the episode at a time limit of its own
   parts_.reward(*this, action, out);
-  out.truncated = !out.terminated && step_ >= parts_.episode_steps;
+  out.truncated = !out.terminated && (out.truncated || step_ >= parts_.episode_steps);
 }
 
 std::optional<base::Json> CharacterEnv::save_state() const {

@@ -36,12 +36,14 @@ EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const Evalu
     env.seed(config.start_seeds[i]);
     env.reset(observation);
     if (recording) recorder.record(env.world());
+    if (config.each_step) config.each_step(i, env);
     double ret = 0.0;
     for (;;) {
       policy(observation, action);
       env.step(action, step);
       ret += step.reward;
       if (recording) recorder.record(env.world());
+      if (config.each_step) config.each_step(i, env);
       if (step.terminated || step.truncated) break;
       observation.swap(step.observation);
     }

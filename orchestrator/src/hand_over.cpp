@@ -27,7 +27,8 @@ Json input_trial(const store::StageRecord& stage, const store::TrialRecord& t, c
           {"objectives", t.objectives.is_array() ? t.objectives : Json::array()},
           {"features", t.features},
           {"strategy", t.strategy ? Json(*t.strategy) : Json(nullptr)},
-          {"artifacts", artifacts}};
+          {"artifacts", artifacts},
+          {"info", t.result_info.is_object() ? t.result_info : Json::object()}};
 }
 
 // The selected trials of one stage, in hand-over order.

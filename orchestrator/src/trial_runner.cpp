@@ -33,6 +33,7 @@ plugins::InputTrial input_trial(const Json& j) {
   in.features = j.at("features").get<std::vector<double>>();
   if (!j.at("strategy").is_null()) in.strategy = j["strategy"].get<std::int64_t>();
   for (const auto& [name, path] : j.at("artifacts").items()) in.artifacts[name] = path.get<std::string>();
+  in.info = j.value("info", Json::object());  // stages started by older versions stored none
   return in;
 }
 

@@ -100,7 +100,7 @@ void WeakerSchedule::load_state(const Json& state) {
 Json TrialOutcome::to_json() const {
   return {{"policy_strength", policy_strength}, {"passed", passed},         {"success_rate", success_rate},
           {"test_return", test_return},         {"final_strength", final_strength}, {"levels", levels},
-          {"env_steps", env_steps}};
+          {"env_steps", env_steps},             {"features", features.as_vector()}};
 }
 
 namespace {
@@ -203,16 +203,24 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   out.levels = schedule.level();
   out.env_steps = learner->env_steps();
 
-  // The exported policy's motion from the first fixed start, at its strength, for the replay.
+  // The exported policy at its strength over the fixed starts: its strategy features, and its
+  // motion from the first start for the replay.
   *beta = out.policy_strength;
   const learn::FrozenPolicy frozen(policy);
   character::EvaluationConfig record = tests;
-  record.start_seeds.resize(1);
   record.record = {0};
   record.record_dir = work_dir / "rollouts";
+  std::vector<StrategyRecorder> strategies(record.start_seeds.size(),
+                                           StrategyRecorder(test_env.model(), test_env.readings().head_top_m, s.success_height_m));
+  record.each_step = [&](std::size_t start, const character::CharacterEnv& env) {
+    if (env.step_index() > 0) strategies[start].observe(env);  // the rise begins after the fall
+  };
   const auto recorded = character::evaluate(
       test_env, [&](std::span<const double> o, std::span<double> a) { frozen.act(o, a, test_env.action_scale()); }, record);
   out.trajectory = recorded.trajectories.at(0);
+  std::vector<StrategyFeatures> per_start;
+  for (const auto& r : strategies) per_start.push_back(r.features());
+  out.features = mean_features(per_start);
   return out;
 }
 

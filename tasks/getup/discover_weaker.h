@@ -10,6 +10,7 @@
 #include <string>
 
 #include "getup_env.h"
+#include "strategy_features.h"
 #include "podium/base/config.h"
 #include "podium/base/json.h"
 #include "podium/character/curriculum.h"
@@ -74,6 +75,7 @@ struct TrialOutcome {
   double final_strength = 1.0;       ///< β^i when the trial ended
   int levels = 0;                    ///< curriculum advances
   std::int64_t env_steps = 0;
+  StrategyFeatures features;         ///< of the exported policy over the fixed starts
   base::Json to_json() const;
 };
 

@@ -12,7 +12,11 @@ using character::Sigmoid;
 using character::tolerance;
 using character::Tolerance;
 
-double r_head(double head_height_m) { return tolerance(head_height_m, {1.55, kInf, 0.37, 0.1, Sigmoid::gaussian}); }
+// Long-tailed, as the seed repository's `_standing` term: App. B calls every term Gaussian, but a
+// Gaussian with eq. 5's margin gives a lying head (0.25 m) 0.1^12 ≈ 5e-13, and SAC learned
+// nothing from it (quick preset, 300k steps, two seeds: every test return 0.0, the head at
+// 0.25 m); the long tail gives it 0.009 and a slope towards standing.
+double r_head(double head_height_m) { return tolerance(head_height_m, {1.55, kInf, 0.37, 0.1, Sigmoid::long_tail}); }
 
 double r_straight(double torso_up_z, double com_height_m) {
   if (!(com_height_m > 0.5)) return 1.0;  // eq. 6 applies only once the COM is above 0.5 m
@@ -24,7 +28,8 @@ double r_vcom(const Eigen::Vector2d& com_velocity_xy, double bound) {
   return 0.5 * (tolerance(com_velocity_xy.x(), t) + tolerance(com_velocity_xy.y(), t));
 }
 
-double r_feet(double feet_distance_m) { return tolerance(feet_distance_m, {0.0, 0.9, 0.38, 0.0, Sigmoid::linear}); }
+// Quadratic, as the seed repository's `_closer_feet` (value 0 at the margin: not Gaussian).
+double r_feet(double feet_distance_m) { return tolerance(feet_distance_m, {0.0, 0.9, 0.38, 0.0, Sigmoid::quadratic}); }
 
 double reward_weak(const WeakState& s) {
   return r_head(s.head_height_m) * r_straight(s.torso_up_z, s.com_height_m) * r_vcom(s.com_velocity_xy) *

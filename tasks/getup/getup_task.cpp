@@ -1,7 +1,11 @@
-// The get-up task plugin (issue 18; get-up seed 001): the Discover and Weaker stages as one trial
-// (discover_weaker.h). README.md gives the question, the metrics and the presets.
+// The get-up task plugin (issue 18; get-up seed 001). One plugin, three stages chosen by the
+// config key `stage`: "weaker" (Discover + Weaker, discover_weaker.h), "slower" (slower.h, once
+// per Weaker policy) and "evaluate" (evaluate.h, once per Slower policy). README.md gives the
+// question, the metrics and the presets.
 
-#include "discover_weaker.h"
+#include <cmath>
+
+#include "evaluate.h"
 #include "podium/plugins/export.h"
 
 namespace podium::tasks::getup {
@@ -10,27 +14,105 @@ using base::Json;
 
 namespace {
 
-Settings settings_from(const Json& config) {
-  base::ConfigReader r(config, "", "getup config");
-  Settings s = read_settings(r);
-  r.finish();
-  return s;
+struct TaskConfig {
+  std::string stage = "weaker";
+  Settings settings;
+  SlowerConfig slower;
+  EvaluateConfig evaluate;
+};
+
+TaskConfig read_task_config(base::ConfigReader& r) {
+  TaskConfig c;
+  c.stage = r.choice("stage", c.stage, {"weaker", "slower", "evaluate"},
+                     "weaker: Discover + Weaker (Algorithm 1); slower: imitation of π_weak retimed (Algorithm 2), one input "
+                     "from a weaker stage; evaluate: unseen falls at several speeds, one input from a slower stage");
+  c.settings = read_settings(r);
+  c.slower = read_slower(r);
+  c.evaluate = read_evaluate(r);
+  return c;
 }
 
-Json accepted_config() { return base::ConfigReader::describe([](base::ConfigReader& r) { read_settings(r); }); }
+TaskConfig config_from(const Json& config) {
+  base::ConfigReader r(config, "", "getup config");
+  TaskConfig c = read_task_config(r);
+  r.finish();
+  return c;
+}
+
+Json accepted_config() { return base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); }); }
 
 // smoke: seconds (short episodes, tiny networks, ω below any return so the curriculum advances at
-// every test); quick: this machine (the issue-18 probe's 256-256 networks and batch 256 at a
-// fractional update ratio; not yet measured to reach the issue's bars); paper: Table 1 and App. D.
+// every test; Slower's rise height 0.1 m ends τ_fast at its first step, so the smoke campaign
+// checks the stages' mechanics, not a get-up). quick: this machine (RESULTS.md). paper: Table 1
+// and App. D.
 Json presets() {
   return {{"smoke",
            {{"episode_steps", 50}, {"fall_steps", 20}, {"total_steps", 400}, {"eval_every", 100}, {"eval_starts", 2},
             {"threshold", -1.0}, {"min_steps", 100}, {"max_steps", 200}, {"checkpoint_every", 1}, {"sac_preset", "quick"},
-            {"sac", {{"hidden", {16, 16}}, {"batch_size", 32}, {"warmup_steps", 100}, {"buffer_capacity", 10000}}}}},
+            {"sac", {{"hidden", {16, 16}}, {"batch_size", 32}, {"warmup_steps", 100}, {"buffer_capacity", 10000}}},
+            {"rise_height_m", 0.1}, {"max_rise_steps", 50}, {"balance_steps", 10}, {"slow_total_steps", 200}, {"slow_eval_every", 100},
+            {"eval_falls", 2}, {"eval_kappas", {0.5}}, {"pause_steps", 2}}},
           {"quick",
            {{"total_steps", 1'200'000}, {"sac_preset", "paper"},
-            {"sac", {{"hidden", {256, 256}}, {"batch_size", 256}, {"updates_per_step", 0.25}}}}},
-          {"paper", {{"total_steps", 10'000'000}, {"sac_preset", "paper"}, {"sac", Json::object()}}}};
+            {"sac",
+             {{"hidden", {256, 256}}, {"batch_size", 256}, {"updates_per_step", 0.25}, {"actor_lr", 3e-4}, {"critic_lr", 3e-4}}},
+            {"slow_total_steps", 300'000}}},
+          {"paper", {{"total_steps", 10'000'000}, {"sac_preset", "paper"}, {"sac", Json::object()}, {"slow_total_steps", 2'000'000}}}};
+}
+
+Json metric(const char* name, const char* unit, const char* text) {
+  Json m = {{"name", name}, {"description", text}};
+  if (*unit) m["unit"] = unit;
+  return m;
+}
+
+Json stage_description(const std::string& stage) {
+  if (stage == "slower")
+    return {{"features", Json::array()},
+            {"metrics",
+             {metric("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa; step = environment steps"),
+              metric("slow/com_error_m", "m", "mean |h_com − h'_com| over the rise on those starts"),
+              metric("slow/success_rate", "", "fraction of those starts standing at the end")}},
+            {"objectives", {"success_rate", "neg_com_error_m"}}};
+  const Json features = {{"features", StrategyFeatures::describe()}, {"strategy_threshold", 0.3}};
+  if (stage == "evaluate") {
+    Json d = features;
+    d["metrics"] = {metric("eval/success_rate", "", "success over the unseen falls; step = κ (1 = fast: π_weak itself)"),
+                    metric("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m; step = κ"),
+                    metric("eval/com_error_m", "m", "mean COM-height tracking error of π_slow; step = κ")};
+    d["objectives"] = {"slow_success_rate", "fast_success_rate"};
+    return d;
+  }
+  Json d = features;
+  d["metrics"] = {metric("test_return", "", "mean R_weak return on the fixed starts at β^i; step = environment steps"),
+                  metric("head_height_m", "m", "mean head-top height at the end of the test episodes"),
+                  metric("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
+                  metric("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),
+                  metric("train_return", "", "mean return of the training episodes since the last test"),
+                  metric("sac/alpha", "", "SAC's temperature α")};
+  d["objectives"] = {"success_rate", "weakness"};  // of the exported policy; weakness = 1 − its β^i
+  return d;
+}
+
+const plugins::InputTrial& one_input(const plugins::RunRequest& request, const std::string& stage, const std::vector<std::string>& artifacts,
+                                     const std::string& info_key, const std::string& from) {
+  if (request.inputs.size() != 1)
+    throw base::UserError("getup " + stage + ": needs exactly one input trial from a " + from + " stage (inputs with \"per_trial\": \"each\"), got " +
+                          std::to_string(request.inputs.size()));
+  const plugins::InputTrial& in = request.inputs.front();
+  for (const auto& a : artifacts)
+    if (!in.artifacts.count(a))
+      throw base::UserError("getup " + stage + ": input trial " + in.stage + "/" + std::to_string(in.trial_index) + " has no artifact " + a +
+                            " (is it a " + from + " trial?)");
+  if (!in.info.contains(info_key) || !in.info[info_key].is_number())
+    throw base::UserError("getup " + stage + ": input trial " + in.stage + "/" + std::to_string(in.trial_index) + " has no info." + info_key +
+                          " (is it a " + from + " trial?)");
+  return in;
+}
+
+Reporter reporter_for(plugins::Sink& sink) {
+  return {[&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
+          [&sink](double fraction) { sink.progress(fraction); }};
 }
 
 }  // namespace
@@ -38,36 +120,73 @@ Json presets() {
 class GetupTask final : public plugins::Task {
  public:
   Json describe(const Json& config) const override {
-    settings_from(config);
+    const TaskConfig c = config_from(config);
     const Json accepted = accepted_config();
-    const auto metric = [](const char* name, const char* unit, const char* text) {
-      Json m = {{"name", name}, {"description", text}};
-      if (*unit) m["unit"] = unit;
-      return m;
-    };
-    return {{"params", Json::array()},  // the seed finds different get-ups from different seeds (§4)
-            {"features", Json::array()},
-            {"metrics",
-             {metric("test_return", "", "mean R_weak return on the fixed starts at β^i; step = environment steps"),
-              metric("head_height_m", "m", "mean head-top height at the end of the test episodes"),
-              metric("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
-              metric("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),
-              metric("train_return", "", "mean return of the training episodes since the last test"),
-              metric("sac/alpha", "", "SAC's temperature α")}},
-            {"objectives", {"success_rate", "weakness"}},  // of the exported policy; weakness = 1 − its β^i
-            {"presets", presets()},
-            {"config", accepted},
-            {"config_defaults", base::ConfigReader::defaults(accepted)}};
+    Json d = stage_description(c.stage);
+    d["params"] = Json::array();  // the seed finds different get-ups from different seeds (§4)
+    d["presets"] = presets();
+    d["config"] = accepted;
+    d["config_defaults"] = base::ConfigReader::defaults(accepted);
+    return d;
   }
 
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
-    const Settings s = settings_from(request.config);
-    const Reporter reporter{[&](const std::string& name, double step, double value) { sink.metric(name, step, value); },
-                            [&](double fraction) { sink.progress(fraction); }};
-    const TrialOutcome out = run_discover_weaker(s, request.seed, request.work_dir, request.cancel, reporter);
+    const TaskConfig c = config_from(request.config);
+    if (c.stage == "slower") return run_slower_stage(c, request, sink);
+    if (c.stage == "evaluate") return run_evaluate_stage(c, request, sink);
+    if (!request.inputs.empty()) throw base::UserError("getup weaker: takes no input trials (it starts from scratch, §4)");
+    const TrialOutcome out = run_discover_weaker(c.settings, request.seed, request.work_dir, request.cancel, reporter_for(sink));
     plugins::RunResult result;
     result.objectives = {out.success_rate, 1.0 - out.policy_strength};
+    result.features = out.features.as_vector();
     result.artifacts = {{"policy", out.policy}, {"trajectory", out.trajectory}};
+    result.info = out.to_json();
+    return result;
+  }
+
+ private:
+  static plugins::RunResult run_slower_stage(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+    const auto& in = one_input(request, "slower", {"policy"}, "policy_strength", "weaker");
+    const WeakPolicy weak{in.artifacts.at("policy"), in.info["policy_strength"].get<double>()};
+    const SlowerOutcome out = run_slower(c.settings, c.slower, weak, request.seed, request.work_dir, request.cancel, reporter_for(sink));
+    plugins::RunResult result;
+    result.objectives = {out.success_rate, -out.com_error_m};
+    result.artifacts = {{"policy", out.policy}, {"weak_policy", out.weak_policy}, {"trajectory", out.trajectory}};
+    result.info = out.to_json();
+    result.info["weak_strength"] = weak.strength;
+    return result;
+  }
+
+  static plugins::RunResult run_evaluate_stage(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+    const auto& in = one_input(request, "evaluate", {"policy", "weak_policy"}, "weak_strength", "slower");
+    const WeakPolicy weak{in.artifacts.at("weak_policy"), in.info["weak_strength"].get<double>()};
+    const EvaluateOutcome out = run_evaluate(c.settings, c.slower, c.evaluate, in.artifacts.at("policy"), weak, request.work_dir, request.cancel);
+    plugins::RunResult result;
+    double slow_success = 0.0;
+    int slow_speeds = 0;
+    for (const auto& s : out.speeds) {
+      if (s.name == "pause") continue;
+      const double step = s.name == "fast" ? 1.0 : s.kappa;  // κ = 1: π_weak's own speed
+      sink.metric("eval/success_rate", step, s.success_rate);
+      sink.metric("eval/rise_time_s", step, s.rise_time_s);
+      if (s.name != "fast") {
+        sink.metric("eval/com_error_m", step, s.com_error_m);
+        slow_success += s.success_rate, ++slow_speeds;
+      }
+    }
+    result.objectives = {slow_speeds > 0 ? slow_success / slow_speeds : 0.0, out.at("fast").success_rate};
+    result.features = out.features.as_vector();
+    // `trajectory` (what the replay page shows) is the slow speed nearest κ = 0.5; the others
+    // keep their names (trajectory_fast, trajectory_k0.25, trajectory_pause, ...).
+    std::size_t shown = 0;
+    for (std::size_t i = 0; i < out.speeds.size(); ++i) {
+      const auto& s = out.speeds[i];
+      if (s.name != "fast" && s.name != "pause" &&
+          (shown == 0 || std::abs(s.kappa - 0.5) < std::abs(out.speeds[shown].kappa - 0.5)))
+        shown = i;
+    }
+    for (std::size_t i = 0; i < out.speeds.size(); ++i)
+      result.artifacts.push_back({i == shown ? "trajectory" : "trajectory_" + out.speeds[i].name, out.speeds[i].trajectory});
     result.info = out.to_json();
     return result;
   }

@@ -56,7 +56,8 @@ Json expected_input(const Store& s, const std::string& stage_name, int stage_ind
   for (const auto& a : s.artifacts(t.id)) artifacts[a.name] = {{"path", a.path}, {"absolute", true}, {"exists", true}};
   return {{"stage", stage_name},       {"stage_index", stage_index}, {"trial_index", t.index},
           {"params", t.params},        {"objectives", t.objectives}, {"features", t.features},
-          {"strategy", t.strategy ? Json(*t.strategy) : Json(nullptr)}, {"artifacts", artifacts}};
+          {"strategy", t.strategy ? Json(*t.strategy) : Json(nullptr)}, {"artifacts", artifacts},
+          {"info", t.result_info.is_object() ? t.result_info : Json::object()}};
 }
 
 double objective(const store::TrialRecord& t) { return t.objectives[0].get<double>(); }

@@ -40,7 +40,8 @@ Json input_json(const plugins::InputTrial& in) {
     artifacts[name] = {{"path", path.string()}, {"absolute", path.is_absolute()}, {"exists", fs::exists(path)}};
   return {{"stage", in.stage},           {"stage_index", in.stage_index}, {"trial_index", in.trial_index},
           {"params", in.params},         {"objectives", in.objectives},   {"features", in.features},
-          {"strategy", in.strategy ? Json(*in.strategy) : Json(nullptr)}, {"artifacts", artifacts}};
+          {"strategy", in.strategy ? Json(*in.strategy) : Json(nullptr)}, {"artifacts", artifacts},
+          {"info", in.info}};
 }
 
 double loss(double x0, int step) { return (1.0 + x0) / (step + 1.0); }

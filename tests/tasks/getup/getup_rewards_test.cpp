@@ -15,7 +15,9 @@ TEST(GetupRewards, HeadHeightIsOneAboveTheBoundAndTheMarginValueBelowIt) {  // e
   EXPECT_NEAR(r_head(1.55 - 0.37), 0.1, 1e-12);
   EXPECT_LT(r_head(1.0), 0.1);
   EXPECT_GT(r_head(1.4), r_head(1.3));
-  EXPECT_GT(r_head(0.2), 0.0);  // Gaussian: never exactly 0
+  // Long-tailed: a lying head still earns a little, more the higher it is.
+  EXPECT_NEAR(r_head(0.25), 1.0 / (std::pow(1.3 / 0.37 * 3.0, 2) + 1.0), 1e-12);
+  EXPECT_GT(r_head(0.6), r_head(0.25));
 }
 
 TEST(GetupRewards, StraightTorsoCountsOnlyAboveHalfAMetre) {  // eq. 6
@@ -37,7 +39,7 @@ TEST(GetupRewards, ComVelocityAveragesItsTwoComponents) {  // eq. 7 and App. B.3
 TEST(GetupRewards, FeetFartherThanTheBoundLoseTheReward) {  // eq. 8
   EXPECT_EQ(r_feet(0.0), 1.0);
   EXPECT_EQ(r_feet(0.9), 1.0);
-  EXPECT_NEAR(r_feet(0.9 + 0.19), 0.5, 1e-12);
+  EXPECT_NEAR(r_feet(0.9 + 0.19), 0.75, 1e-12);  // quadratic: 1 − (half the margin)²
   EXPECT_EQ(r_feet(0.9 + 0.38), 0.0);
 }
 

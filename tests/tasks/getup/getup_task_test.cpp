@@ -4,9 +4,13 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <set>
 
+#include "campaign_spec.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
+#include "podium/store/store.h"
 #include "process.h"
 #include "task_conformance.h"
 
@@ -58,6 +62,55 @@ TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) {
   for (double h : heads) EXPECT_TRUE(h > 0.0 && h < 2.0) << h;  // head-top heights in metres
 
   for (const auto& a : result["artifacts"]) EXPECT_TRUE(fs::is_regular_file(a["path"].get<std::string>())) << a;
+}
+
+// campaigns/getup.json at the smoke preset through the real CLI: Weaker over two seeds, Slower
+// once per Weaker policy (π_weak and its strength handed over), Evaluate once per Slower policy.
+TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup.json");
+  for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  spec["trial_timeout_s"] = 300;
+  podium::testing::TempDir dir;
+  const std::int64_t id = std::stoll(podium::testing::submit_spec(dir.path(), spec));
+  const auto run = podium::testing::run_podium({"run"}, dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  const auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  const auto stages = store->stages(id);
+  ASSERT_EQ(stages.size(), 3u);
+  std::map<std::string, std::vector<store::TrialRecord>> trials;
+  for (const auto& stage : stages) {
+    EXPECT_EQ(stage.state, "done") << stage.name << ": " << stage.error;
+    trials[stage.name] = store->trials(stage.id);
+    ASSERT_EQ(trials[stage.name].size(), 2u) << stage.name;
+    for (const auto& t : trials[stage.name]) ASSERT_EQ(t.state, "done") << stage.name << "/" << t.index << ": " << t.error;
+  }
+  const auto artifact_names = [&](const store::TrialRecord& t) {
+    std::set<std::string> names;
+    for (const auto& a : store->artifacts(t.id)) names.insert(a.name);
+    return names;
+  };
+  std::set<double> weak_strengths, handed_strengths;
+  for (const auto& t : trials["weaker"]) {
+    EXPECT_EQ(t.features.size(), 4u);  // the strategy features
+    EXPECT_TRUE(artifact_names(t).count("policy"));
+    weak_strengths.insert(t.result_info["policy_strength"].get<double>());
+  }
+  for (const auto& t : trials["slower"]) {
+    const auto names = artifact_names(t);
+    for (const char* a : {"policy", "weak_policy", "trajectory"}) EXPECT_TRUE(names.count(a)) << a;
+    handed_strengths.insert(t.result_info["weak_strength"].get<double>());
+  }
+  EXPECT_EQ(handed_strengths, weak_strengths);  // each Slower trial got one Weaker policy's strength
+  for (const auto& t : trials["evaluate"]) {
+    EXPECT_EQ(t.features.size(), 4u);
+    const auto names = artifact_names(t);
+    for (const char* a : {"trajectory", "trajectory_fast", "trajectory_pause"}) EXPECT_TRUE(names.count(a)) << a;
+    std::set<double> steps;
+    for (const auto& m : store->metrics(t.id))
+      if (m.name == "eval/success_rate") steps.insert(m.step);
+    EXPECT_EQ(steps, (std::set<double>{0.5, 1.0}));  // the smoke preset's κ = 0.5, and fast
+  }
 }
 
 }  // namespace

@@ -27,6 +27,9 @@ struct EvaluationConfig {
   std::vector<EpisodeMeasure> measures;
   /// Success of an episode, read at its end (e.g. head above 1.2 m); none: no success rate.
   std::function<bool(const CharacterEnv&)> success;
+  /// Called after the reset and after every step with the start's index (per-step statistics:
+  /// when the head first passes a height, which bodies carry weight).
+  std::function<void(std::size_t start, const CharacterEnv&)> each_step;
   std::vector<std::size_t> record;           ///< indices into start_seeds whose rollouts are written
   std::filesystem::path record_dir;          ///< where: trajectory_<index>.jsonl
 };

@@ -48,7 +48,7 @@ namespace podium::plugins {
 using base::Json;
 
 /// Bumped whenever Task, RunRequest, RunResult or TaskDescriptor change layout or meaning.
-inline constexpr int kAbiVersion = 2;
+inline constexpr int kAbiVersion = 3;
 
 /// Where a task reports while it runs; calls are cheap and may come from the run() thread only.
 class Sink {
@@ -71,6 +71,7 @@ struct InputTrial {
   std::vector<double> objectives, features;
   std::optional<std::int64_t> strategy;  ///< its strategy id in its stage, if it has features
   std::map<std::string, std::filesystem::path> artifacts;  ///< absolute paths, by artifact name
+  Json info = Json::object();  ///< its RunResult::info (e.g. the strength a get-up policy passed at)
 };
 
 /// How the trial's previous attempt ended (see the header comment).

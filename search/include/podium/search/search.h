@@ -58,7 +58,7 @@ struct SearchSetup {
   std::uint64_t seed = 0;
   /// The trials of earlier stages handed to this stage (resolved when it starts), each
   /// {"stage", "stage_index", "trial_index", "params", "objectives", "features", "strategy",
-  /// "artifacts": {name: absolute path}}. Every algorithm accepts them; novel-policy seeking
+  /// "artifacts": {name: absolute path}, "info": the trial's result info}. Every algorithm accepts them; novel-policy seeking
   /// needs at least one and seeks novel policies for each.
   Json inputs = Json::array();
 };

@@ -1,0 +1,155 @@
+#include "evaluate.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "podium/base/rng.h"
+#include "podium/character/evaluator.h"
+
+namespace podium::tasks::getup {
+
+using base::Json;
+namespace fs = std::filesystem;
+
+EvaluateConfig read_evaluate(base::ConfigReader& r) {
+  EvaluateConfig c;
+  c.falls = r.integer<int>("eval_falls", c.falls, {1, 10000}, "Evaluate: falls per speed (issue 18: 20)");
+  c.falls_seed = r.integer<std::uint64_t>("eval_falls_seed", c.falls_seed, {}, "Evaluate: picks the falls (not eval_seed: unseen in training)");
+  c.kappas = r.numbers("eval_kappas", c.kappas, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Evaluate: the speeds κ besides fast");
+  c.pause_at = r.number("pause_at", c.pause_at, {.min = 0.0, .max = 1.0}, "Evaluate: §8.3's held frame, as a fraction of τ_fast");
+  c.pause_steps = r.integer<int>("pause_steps", c.pause_steps, {0, 100000}, "Evaluate: control steps of τ_fast the frame is held");
+  c.pause_kappa = r.number("pause_kappa", c.pause_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Evaluate: κ of the paused motion");
+  return c;
+}
+
+Json SpeedResult::to_json() const {
+  return {{"name", name},   {"kappa", kappa}, {"success_rate", success_rate}, {"rise_time_s", rise_time_s},
+          {"risen", risen}, {"com_error_m", com_error_m}, {"fast_rise_time_s", fast_rise_time_s}};
+}
+
+Json EvaluateOutcome::to_json() const {
+  Json j = {{"speeds", Json::array()}, {"features", features.as_vector()}};
+  for (const auto& s : speeds) j["speeds"].push_back(s.to_json());
+  return j;
+}
+
+const SpeedResult& EvaluateOutcome::at(const std::string& name) const {
+  for (const auto& s : speeds)
+    if (s.name == name) return s;
+  throw std::out_of_range("getup evaluate: no speed " + name);
+}
+
+FastRollout paused(FastRollout fast, double fraction, int steps) {
+  const auto j = static_cast<std::size_t>(std::floor(fraction * fast.steps()));
+  const auto at = static_cast<std::ptrdiff_t>(j + 1);
+  fast.q.insert(fast.q.begin() + at, static_cast<std::size_t>(steps), fast.q[j]);
+  fast.qd[j].setZero();
+  fast.qd.insert(fast.qd.begin() + at, static_cast<std::size_t>(steps), fast.qd[j]);
+  fast.com_height_m.insert(fast.com_height_m.begin() + at, static_cast<std::size_t>(steps), fast.com_height_m[j]);
+  fast.torso_up.insert(fast.torso_up.begin() + at, static_cast<std::size_t>(steps), fast.torso_up[j]);
+  return fast;
+}
+
+namespace {
+
+// When each fall's head top first passed the height (control steps from the fall's end), -1: never.
+struct RiseClock {
+  std::vector<int> first;
+  double height_m;
+  void observe(std::size_t fall, const character::CharacterEnv& env, double head_m) {
+    if (first[fall] < 0 && head_m > height_m) first[fall] = env.step_index();
+  }
+};
+
+void summarise(SpeedResult& r, const character::EvaluationReport& report, const RiseClock& clock, double dt_s) {
+  r.success_rate = report.success_rate;
+  double sum = 0.0;
+  for (int f : clock.first)
+    if (f >= 0) sum += f * dt_s, ++r.risen;
+  r.rise_time_s = r.risen > 0 ? sum / r.risen : 0.0;
+  if (!report.trajectories.empty()) r.trajectory = report.trajectories.front();
+}
+
+}  // namespace
+
+EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, const EvaluateConfig& c, const fs::path& slow_policy,
+                             const WeakPolicy& weak, const fs::path& work_dir, const std::atomic<bool>* cancel) {
+  const auto teacher = std::make_shared<const learn::FrozenPolicy>(weak.policy);
+  const learn::FrozenPolicy pi_slow(slow_policy);
+  std::vector<std::uint64_t> falls;
+  for (int k = 0; k < c.falls; ++k) falls.push_back(base::derive_seed(c.falls_seed, static_cast<std::uint64_t>(k)));
+  const auto check_cancel = [&] {
+    if (cancel && cancel->load()) throw std::runtime_error("getup evaluate: cancelled");
+  };
+  EvaluateOutcome out;
+
+  // Fast: π_weak from the same falls SlowerEnv's teacher gets first (its generator's first draw).
+  {
+    auto beta = std::make_shared<double>(weak.strength);
+    GetupEnv env(s.env, beta, false);
+    character::EvaluationConfig e;
+    for (std::uint64_t f : falls) e.start_seeds.push_back(base::Rng(f).next());
+    const double rise_m = slower.env.rise_height_m;
+    e.success = [rise_m](const character::CharacterEnv& env) { return static_cast<const GetupEnv&>(env).weak().head_height_m > rise_m; };
+    RiseClock clock{std::vector<int>(falls.size(), -1), rise_m};
+    std::vector<StrategyRecorder> strategies(falls.size(), StrategyRecorder(env.model(), env.readings().head_top_m, rise_m));
+    e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
+      clock.observe(fall, ce, static_cast<const GetupEnv&>(ce).weak().head_height_m);
+      if (ce.step_index() > 0) strategies[fall].observe(ce);
+    };
+    e.record = {0};
+    e.record_dir = work_dir / "rollouts" / "fast";
+    check_cancel();
+    const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
+    SpeedResult r;
+    r.name = "fast";
+    summarise(r, report, clock, env.control_dt_s());
+    out.speeds.push_back(r);
+    std::vector<StrategyFeatures> per_fall;
+    for (const auto& rec : strategies) per_fall.push_back(rec.features());
+    out.features = mean_features(per_fall);
+  }
+
+  // Slow: π_slow at each κ, and the paused motion.
+  struct Run {
+    std::string name;
+    double kappa;
+    bool pause;
+  };
+  std::vector<Run> runs;
+  for (double k : c.kappas) {
+    char name[32];
+    std::snprintf(name, sizeof name, "k%g", k);
+    runs.push_back({name, k, false});
+  }
+  if (c.pause_steps > 0) runs.push_back({"pause", c.pause_kappa, true});
+  for (const Run& run : runs) {
+    check_cancel();
+    SlowerEnv env(s.env, slower.env, teacher, weak.strength, run.kappa);
+    if (run.pause) env.set_rollout_edit([&c](FastRollout f) { return paused(std::move(f), c.pause_at, c.pause_steps); });
+    character::EvaluationConfig e = slower_test(slower.env, falls);
+    RiseClock clock{std::vector<int>(falls.size(), -1), slower.env.rise_height_m};
+    std::vector<double> fast_rise(falls.size(), 0.0);
+    e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
+      const auto& se = static_cast<const SlowerEnv&>(ce);
+      clock.observe(fall, ce, se.weak().head_height_m);
+      fast_rise[fall] = se.reference_motion().fast().steps() * ce.control_dt_s();
+    };
+    e.record = {0};
+    e.record_dir = work_dir / "rollouts" / run.name;
+    const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { pi_slow.act(o, a); }, e);
+    SpeedResult r;
+    r.name = run.name;
+    r.kappa = run.kappa;
+    summarise(r, report, clock, env.control_dt_s());
+    double err = 0.0, fast = 0.0;
+    for (double x : report.measures.at("com_error_m")) err += x;
+    for (double x : fast_rise) fast += x;
+    r.com_error_m = err / static_cast<double>(falls.size());
+    r.fast_rise_time_s = fast / static_cast<double>(falls.size());
+    out.speeds.push_back(r);
+  }
+  return out;
+}
+
+}  // namespace podium::tasks::getup

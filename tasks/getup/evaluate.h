@@ -1,0 +1,51 @@
+#pragma once
+/// The Evaluate stage as one trial (issue 18 item 5): π_slow and its π_weak, from falls whose
+/// seeds no training saw, at several speeds κ and fast (π_weak itself), and §8.3's paused motion.
+/// Per speed: the success rate (standing with the head top above rise_height_m at the end), the
+/// time to rise (first head top above it, from the fall's end), the COM tracking error over the
+/// rise, and the motion of the first fall as a trajectory artifact. The strategy features of
+/// π_weak's fast get-ups (strategy_features.h) are the trial's features.
+#include "slower.h"
+#include "strategy_features.h"
+
+namespace podium::tasks::getup {
+
+struct EvaluateConfig {
+  int falls = 20;                             ///< issue 18: 20 falls
+  std::uint64_t falls_seed = 2;               ///< ≠ the tests' eval_seed; training draws its own streams
+  std::vector<double> kappas = {0.25, 0.5, 0.75};
+  double pause_at = 0.5;                      ///< §8.3: the held frame, as a fraction of τ_fast
+  int pause_steps = 40;                       ///< control steps τ_fast holds it (before retiming)
+  double pause_kappa = 0.5;
+};
+
+EvaluateConfig read_evaluate(base::ConfigReader& r);
+
+/// One speed's results over the falls.
+struct SpeedResult {
+  std::string name;                 ///< "fast", "k0.25", ..., "pause"
+  double kappa = 0.0;               ///< 0 for fast
+  double success_rate = 0.0;
+  double rise_time_s = 0.0;         ///< mean over the falls whose head rose (NaN-free: 0 when none)
+  int risen = 0;                    ///< falls whose head rose at all
+  double com_error_m = 0.0;         ///< mean over the falls (0 for fast)
+  double fast_rise_time_s = 0.0;    ///< τ_fast's duration over the same falls (slow speeds)
+  std::filesystem::path trajectory;
+  base::Json to_json() const;
+};
+
+struct EvaluateOutcome {
+  std::vector<SpeedResult> speeds;  ///< fast, each κ, pause
+  StrategyFeatures features;        ///< of π_weak's fast get-ups
+  base::Json to_json() const;
+  const SpeedResult& at(const std::string& name) const;
+};
+
+/// π_slow (`slow_policy`) with its teacher `weak`; work_dir receives rollouts/.
+EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, const EvaluateConfig& c, const std::filesystem::path& slow_policy,
+                             const WeakPolicy& weak, const std::filesystem::path& work_dir, const std::atomic<bool>* cancel);
+
+/// τ_fast with frame ⌊fraction·T⌋ held (velocities zero) for `steps` more frames (§8.3).
+FastRollout paused(FastRollout fast, double fraction, int steps);
+
+}  // namespace podium::tasks::getup

@@ -1,0 +1,127 @@
+#include "slower.h"
+
+#include <chrono>
+#include <cstdio>
+
+#include "podium/base/log.h"
+#include "podium/base/rng.h"
+#include "podium/character/evaluator.h"
+#include "podium/learn/frozen_policy.h"
+#include "podium/learn/learner.h"
+#include "podium/learn/training_checkpoint.h"
+
+namespace podium::tasks::getup {
+
+using base::Json;
+namespace fs = std::filesystem;
+
+SlowerConfig read_slower(base::ConfigReader& r) {
+  SlowerConfig c;
+  SlowerSettings& e = c.env;
+  e.kappa_low = r.number("kappa_low", e.kappa_low, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ ~ U(kappa_low, kappa_high) (App. D: 0.2)");
+  e.kappa_high = r.number("kappa_high", e.kappa_high, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: upper κ (App. D: 0.8)");
+  if (e.kappa_high < e.kappa_low) r.fail("kappa_high", "is below kappa_low " + std::to_string(e.kappa_low));
+  e.rsi_epsilon = r.number("rsi_epsilon", e.rsi_epsilon, {.min = 0.0, .max = 1.0},
+                           "Slower: ε-RSI, probability of starting at the fall's end (§6; the seed repository: 0.2)");
+  e.residual_bound_rad = r.number("residual_bound_rad", e.residual_bound_rad, {.min = 0.0, .max = 3.2, .exclusive_min = true},
+                                  "Slower: residual PD target bound per joint, rad (the seed repository: 1)");
+  e.balance_steps = r.integer<int>("balance_steps", e.balance_steps, {0, 100000}, "Slower: standing-phase control steps (§6: 100)");
+  e.rise_height_m = r.number("rise_height_m", e.rise_height_m, {.min = 0.0, .exclusive_min = true},
+                             "Slower: τ_fast ends when the head top passes it; standing success above it (§6: 1.2)");
+  e.max_rise_steps = r.integer<int>("max_rise_steps", e.max_rise_steps, {1, 100000}, "Slower: τ_fast's cap in control steps");
+  e.rise_attempts = r.integer<int>("rise_attempts", e.rise_attempts, {1, 1000}, "Slower: falls tried for a τ_fast before the trial fails");
+  c.total_steps = r.integer<std::int64_t>("slow_total_steps", c.total_steps, {1}, "Slower: environment steps; a multiple of slow_eval_every");
+  c.eval_every = r.integer<std::int64_t>("slow_eval_every", c.eval_every, {1}, "Slower: environment steps between tests");
+  if (c.total_steps % c.eval_every != 0) r.fail("slow_total_steps", "is not a multiple of slow_eval_every " + std::to_string(c.eval_every));
+  c.test_kappa = r.number("slow_test_kappa", c.test_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ of the tests");
+  return c;
+}
+
+Json SlowerOutcome::to_json() const {
+  return {{"success_rate", success_rate}, {"com_error_m", com_error_m}, {"test_return", test_return}, {"env_steps", env_steps}};
+}
+
+character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std::uint64_t> start_seeds) {
+  character::EvaluationConfig c;
+  c.start_seeds = std::move(start_seeds);
+  const auto slower = [](const character::CharacterEnv& env) -> const SlowerEnv& { return static_cast<const SlowerEnv&>(env); };
+  c.measures = {{"com_error_m", [slower](const character::CharacterEnv& env) { return slower(env).mean_com_error_m(); }},
+                {"final_head_height_m", [slower](const character::CharacterEnv& env) { return slower(env).weak().head_height_m; }}};
+  c.success = [slower, h = s.rise_height_m](const character::CharacterEnv& env) {
+    return slower(env).standing_phase() && slower(env).weak().head_height_m > h;
+  };
+  return c;
+}
+
+namespace {
+
+double mean(const std::vector<double>& v) {
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
+}
+
+}  // namespace
+
+SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, std::uint64_t seed, const fs::path& work_dir,
+                         const std::atomic<bool>* cancel, const Reporter& report) {
+  // π_weak is copied into the trial folder: the Evaluate stage regenerates τ_fast from it.
+  SlowerOutcome out;
+  out.weak_policy = work_dir / "weak_policy.pt";
+  if (!fs::exists(out.weak_policy)) fs::copy_file(weak.policy, out.weak_policy);
+  const auto teacher = std::make_shared<const learn::FrozenPolicy>(out.weak_policy);
+
+  std::vector<std::unique_ptr<learn::Env>> copies;
+  for (int i = 0; i < s.copies; ++i) copies.push_back(std::make_unique<SlowerEnv>(s.env, c.env, teacher, weak.strength, std::nullopt));
+  learn::VecEnv envs(std::move(copies), s.threads, base::derive_seed(seed, 1));
+  SlowerEnv test_env(s.env, c.env, teacher, weak.strength, c.test_kappa);
+  const auto learner = learn::make_learner(sac_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
+  std::vector<std::uint64_t> starts;
+  for (int k = 0; k < s.eval_starts; ++k) starts.push_back(base::derive_seed(s.eval_seed, static_cast<std::uint64_t>(k)));
+  const character::EvaluationConfig tests = slower_test(c.env, starts);
+
+  learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
+                                       [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
+  Json extra = {{"last", nullptr}};
+  if (auto saved = checkpoint.resume(*learner, envs)) extra = *saved;
+  const auto act = [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, 1.0); };
+  while (learner->env_steps() < c.total_steps) {
+    learner->train_until(envs, learner->env_steps() + c.eval_every, [&](const learn::TrainStats& t) {
+      if (cancel && cancel->load()) throw std::runtime_error("getup slower: cancelled at environment step " + std::to_string(t.env_steps));
+    });
+    const auto steps = static_cast<double>(learner->env_steps());
+    const auto started = std::chrono::steady_clock::now();
+    const auto result = character::evaluate(test_env, act, tests);
+    char line[200];
+    std::snprintf(line, sizeof line, "getup slower: step %.0f: test return %.2f, COM error %.3f m, success %.2f at κ %.2f (test %.1f s)",
+                  steps, result.mean_return, mean(result.measures.at("com_error_m")), result.success_rate, c.test_kappa,
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    base::log_info(line);
+    checkpoint.metric("slow/test_return", steps, result.mean_return);
+    checkpoint.metric("slow/com_error_m", steps, mean(result.measures.at("com_error_m")));
+    checkpoint.metric("slow/success_rate", steps, result.success_rate);
+    extra["last"] = {{"test_return", result.mean_return}, {"com_error_m", mean(result.measures.at("com_error_m"))},
+                     {"success_rate", result.success_rate}};
+    report.progress(steps / static_cast<double>(c.total_steps));
+    checkpoint.on_update(*learner, envs, extra);
+  }
+
+  out.policy = work_dir / "policy.pt";
+  learner->export_torchscript(out.policy);
+  const Json& last = extra.at("last");
+  out.test_return = last.at("test_return").get<double>();
+  out.com_error_m = last.at("com_error_m").get<double>();
+  out.success_rate = last.at("success_rate").get<double>();
+  out.env_steps = learner->env_steps();
+  // The exported π_slow's motion from the first fixed start at the test κ, for the replay.
+  const learn::FrozenPolicy frozen(out.policy);
+  character::EvaluationConfig record = tests;
+  record.start_seeds.resize(1);
+  record.record = {0};
+  record.record_dir = work_dir / "rollouts";
+  out.trajectory = character::evaluate(test_env, [&](std::span<const double> o, std::span<double> a) { frozen.act(o, a); }, record)
+                       .trajectories.at(0);
+  return out;
+}
+
+}  // namespace podium::tasks::getup

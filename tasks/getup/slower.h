@@ -1,0 +1,46 @@
+#pragma once
+/// The Slower stage as one trial (get-up seed §6, Algorithm 2, App. D): SAC trains π_slow on
+/// SlowerEnv to track π_weak's get-up retimed by κ ~ U(κ_low, κ_high), then stand. Every
+/// `slow_eval_every` environment steps the deterministic π_slow is tested on the fixed starts at
+/// κ = `slow_test_kappa`. π_weak comes from the stage's one input trial (a Weaker trial: its
+/// `policy` artifact and the strength it passed at).
+#include "discover_weaker.h"
+#include "podium/character/evaluator.h"
+#include "slower_env.h"
+
+namespace podium::tasks::getup {
+
+struct SlowerConfig {
+  SlowerSettings env;
+  std::int64_t total_steps = 2'000'000;  ///< environment steps (the seed gives no Slower budget)
+  std::int64_t eval_every = 20'000;      ///< as Weaker's tests (App. D)
+  double test_kappa = 0.5;               ///< issue 18: COM tracking is judged at κ = 0.5
+};
+
+/// Reads (and describes) the Slower keys of the task config.
+SlowerConfig read_slower(base::ConfigReader& r);
+
+/// π_weak as the stage's input gives it.
+struct WeakPolicy {
+  std::filesystem::path policy;  ///< TorchScript export
+  double strength = 1.0;         ///< β^i it passed its test at
+};
+
+struct SlowerOutcome {
+  std::filesystem::path policy, trajectory, weak_policy;  ///< π_slow; its test rollout; π_weak's copy
+  double success_rate = 0.0;     ///< last test: standing (head top above rise_height_m) at the end
+  double com_error_m = 0.0;      ///< last test: mean |h_com − h'_com| over the rise
+  double test_return = 0.0;
+  std::int64_t env_steps = 0;
+  base::Json to_json() const;
+};
+
+/// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt like run_discover_weaker.
+/// Throws base::UserError when π_weak never gets up (SlowerEnv's reason).
+SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, std::uint64_t seed,
+                         const std::filesystem::path& work_dir, const std::atomic<bool>* cancel, const Reporter& report);
+
+/// The test of π_slow at one κ over the given starts (Slower's tests, the Evaluate stage).
+character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std::uint64_t> start_seeds);
+
+}  // namespace podium::tasks::getup

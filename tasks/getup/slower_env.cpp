@@ -1,0 +1,285 @@
+#include "slower_env.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "podium/base/error.h"
+#include "podium/character/actions.h"
+#include "podium/character/observations.h"
+
+namespace podium::tasks::getup {
+
+using base::Json;
+
+namespace {
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
+Eigen::VectorXd to_eigen(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())); }
+
+template <class V>
+V lerp(const std::vector<V>& frames, double index) {
+  const auto last = static_cast<double>(frames.size() - 1);
+  index = std::clamp(index, 0.0, last);
+  const auto i = static_cast<std::size_t>(std::floor(index));
+  if (i + 1 >= frames.size()) return frames.back();
+  const double w = index - static_cast<double>(i);
+  return (1.0 - w) * frames[i] + w * frames[i + 1];
+}
+
+int velocity_index(const sim::CharacterModel& model, const std::string& joint) {
+  const int link = model.find_link(joint);
+  if (link < 0) throw base::UserError("getup slower: model " + model.name() + " has no joint " + joint + " (r_hip, eq. 11)");
+  return model.links()[static_cast<std::size_t>(link)].v_index;
+}
+
+class SlowerStart final : public character::Start {
+ public:
+  void begin(character::CharacterEnv& env, base::Rng& rng) const override { static_cast<SlowerEnv&>(env).begin_episode(rng); }
+};
+
+// s_slow = [s_weak without β, ŝ'_{t+1}, ŝ'_{t+5}] (§6), ŝ' = [joint pose, h_com, o_torso].
+character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSettings& s, const sim::ModelPtr& model) {
+  using namespace character;
+  CharacterEnvParts p;
+  p.model = model;
+  p.world.sim_hz = e.sim_hz;
+  p.world.control_hz = e.control_hz;
+  // The longest episode: τ_fast's cap at the slowest κ, then the standing phase (the reward
+  // truncates each episode at its own T/κ + balance_steps).
+  p.episode_steps = static_cast<int>(std::ceil(s.max_rise_steps / s.kappa_low)) + s.balance_steps + 1;
+  p.action = std::make_unique<ResidualActions>(model, sim::Control::pd, s.residual_bound_rad);
+  p.observation.push_back(std::make_unique<JointAngles>(model));
+  p.observation.push_back(std::make_unique<JointVelocities>());
+  p.observation.push_back(std::make_unique<HeadHeight>());
+  p.observation.push_back(std::make_unique<CenterOfMass>());
+  p.observation.push_back(std::make_unique<EndEffectors>());
+  p.observation.push_back(std::make_unique<TorsoAxes>(true));
+  const auto bridge = std::make_shared<PoseBridge>(model);
+  const std::size_t frame = bridge->size() + 4;
+  p.observation.push_back(std::make_unique<TaskScalars>(2 * frame, [bridge, frame](const CharacterEnv& env, std::span<double> out) {
+    const SlowReference& ref = static_cast<const SlowerEnv&>(env).reference_motion();
+    std::size_t at = 0;
+    for (const int ahead : {1, 5}) {
+      const double t = env.reference_time_s() + ahead * env.control_dt_s();
+      const std::vector<double> pose = bridge->pose(ref.clip()->sample(t));
+      std::copy(pose.begin(), pose.end(), out.begin() + static_cast<std::ptrdiff_t>(at));
+      out[at + pose.size()] = ref.com_height_m(t);
+      const Eigen::Vector3d up = ref.torso_up(t);
+      for (int k = 0; k < 3; ++k) out[at + pose.size() + 1 + static_cast<std::size_t>(k)] = up(k);
+      at += frame;
+    }
+  }));
+  p.start = std::make_unique<SlowerStart>();
+  p.reward = [](const CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
+    static_cast<const SlowerEnv&>(env).score(out);
+  };
+  return p;
+}
+
+}  // namespace
+
+Json FastRollout::to_json() const {
+  Json j = {{"q", Json::array()}, {"qd", Json::array()}, {"com_height_m", com_height_m}, {"torso_up", Json::array()}};
+  for (std::size_t i = 0; i < q.size(); ++i) {
+    j["q"].push_back(to_vector(q[i]));
+    j["qd"].push_back(to_vector(qd[i]));
+    j["torso_up"].push_back({torso_up[i](0), torso_up[i](1), torso_up[i](2)});
+  }
+  return j;
+}
+
+FastRollout FastRollout::from_json(const Json& j) {
+  FastRollout f;
+  try {
+    for (const auto& v : j.at("q")) f.q.push_back(to_eigen(v.get<std::vector<double>>()));
+    for (const auto& v : j.at("qd")) f.qd.push_back(to_eigen(v.get<std::vector<double>>()));
+    f.com_height_m = j.at("com_height_m").get<std::vector<double>>();
+    for (const auto& v : j.at("torso_up")) f.torso_up.emplace_back(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
+  } catch (const Json::exception& e) {
+    throw base::UserError(std::string("getup slower: saved τ_fast: ") + e.what());
+  }
+  if (f.q.size() < 2 || f.qd.size() != f.q.size() || f.com_height_m.size() != f.q.size() || f.torso_up.size() != f.q.size())
+    throw base::UserError("getup slower: saved τ_fast: frames of unequal counts or fewer than 2");
+  return f;
+}
+
+SlowReference::SlowReference(FastRollout fast, double kappa, double control_dt_s, const sim::ModelPtr& model,
+                             const Eigen::VectorXd& standing_q, double standing_com_m)
+    : fast_(std::move(fast)), kappa_(kappa), dt_(control_dt_s), standing_com_(standing_com_m) {
+  if (fast_.steps() < 1) throw base::UserError("getup slower: τ_fast has no step");
+  if (!(kappa_ > 0.0)) throw base::UserError("getup slower: κ " + std::to_string(kappa_) + " is not > 0");
+  character::Clip clip{model, {}, fast_.q, false};
+  for (int i = 0; i <= fast_.steps(); ++i) clip.times_s.push_back(i * dt_);
+  character::Clip slow = character::retime(clip, kappa_);  // §6: T/κ long, through every frame of τ_fast
+  rise_s_ = slow.duration_s();
+  Eigen::VectorXd standing = standing_q;
+  standing.head<7>() = slow.poses.back().head<7>();  // the root is no PD target; keep it where the rise ended
+  slow.times_s.push_back(rise_s_ + dt_);
+  slow.poses.push_back(standing);
+  clip_ = std::make_shared<const character::Clip>(std::move(slow));
+  hip_right_ = velocity_index(*model, "hip_y_right");
+  hip_left_ = velocity_index(*model, "hip_y_left");
+}
+
+double SlowReference::fast_index(double t_s) const { return t_s * kappa_ / dt_; }
+
+double SlowReference::com_height_m(double t_s) const {
+  return t_s > rise_s_ + 1e-9 ? standing_com_ : lerp(fast_.com_height_m, fast_index(t_s));
+}
+
+Eigen::Vector3d SlowReference::torso_up(double t_s) const {
+  return t_s > rise_s_ + 1e-9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d(lerp(fast_.torso_up, fast_index(t_s)));
+}
+
+Eigen::Vector2d SlowReference::hip_velocity(double t_s) const {
+  if (t_s > rise_s_ + 1e-9) return Eigen::Vector2d::Zero();
+  const Eigen::VectorXd qd = lerp(fast_.qd, fast_index(t_s));
+  return kappa_ * Eigen::Vector2d(qd(hip_right_), qd(hip_left_));
+}
+
+std::pair<Eigen::VectorXd, Eigen::VectorXd> SlowReference::state(double t_s) const {
+  return {clip_->sample(std::min(t_s, rise_s_)), kappa_ * lerp(fast_.qd, fast_index(t_s))};
+}
+
+std::int64_t rsi_start_step(base::Rng& rng, std::int64_t rise_steps, double epsilon) {
+  if (rise_steps < 1 || rng.uniform() < epsilon) return 0;
+  return rng.integer(0, rise_steps - 1);
+}
+
+SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, std::shared_ptr<const learn::FrozenPolicy> weak,
+                     double weak_strength, std::optional<double> fixed_kappa)
+    : SlowerEnv(env, slower, sim::edit_model(sim::load_shipped_model(env.model), variant_edits(env.variant)), std::move(weak),
+                weak_strength, fixed_kappa) {}
+
+SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, sim::ModelPtr model, std::shared_ptr<const learn::FrozenPolicy> weak,
+                     double weak_strength, std::optional<double> fixed_kappa)
+    : CharacterEnv(slower_parts(env, slower, model)), settings_(slower), weak_(std::move(weak)),
+      teacher_strength_(std::make_shared<double>(weak_strength)), fixed_kappa_(fixed_kappa), readings_(BodyReadings::of(*model)) {
+  if (!weak_) throw base::UserError("getup slower: no π_weak");
+  if (!(settings_.kappa_low > 0.0) || settings_.kappa_high < settings_.kappa_low)
+    throw base::UserError("getup slower: κ range [" + std::to_string(settings_.kappa_low) + ", " + std::to_string(settings_.kappa_high) + "] is empty or not > 0");
+  teacher_ = std::make_unique<GetupEnv>(env, teacher_strength_, false);
+  if (weak_->observation_size() != teacher_->observation_space().size() || weak_->action_size() != teacher_->action_space().size())
+    throw base::UserError("getup slower: π_weak takes " + std::to_string(weak_->observation_size()) + " observations and gives " +
+                          std::to_string(weak_->action_size()) + " actions; the get-up env of this config has " +
+                          std::to_string(teacher_->observation_space().size()) + " and " + std::to_string(teacher_->action_space().size()) +
+                          " (another variant?)");
+  // App. D: PD with k_p = the torque limit (per rad), k_d = k_p/10; the full torque limits (the
+  // seed repository's slow env runs at strength 1 while its teacher is weak).
+  sim::Gains gains{model->torque_limits(), model->torque_limits() / 10.0};
+  world().set_gains(gains);
+  // The standing pose q̂ (§6: "a single standing pose") and its COM height, by one observation.
+  standing_q_ = model->standing_pose();
+  world().reset(standing_q_, Eigen::VectorXd::Zero(model->nv()));
+  standing_com_m_ = world().observe().com.z();
+  for (const sim::Link& l : model->links())
+    if (l.joint == sim::JointType::revolute && !l.locked) free_joints_.push_back(l.q_index);
+  hip_right_ = velocity_index(*model, "hip_y_right");
+  hip_left_ = velocity_index(*model, "hip_y_left");
+}
+
+FastRollout SlowerEnv::rise(base::Rng& rng) {
+  std::vector<double> observation, action(teacher_->action_space().size());
+  learn::StepResult step;
+  for (int attempt = 0; attempt < settings_.rise_attempts; ++attempt) {
+    FastRollout fast;
+    const auto keep = [&] {
+      fast.q.push_back(teacher_->world().data().q);
+      fast.qd.push_back(teacher_->world().data().qd);
+      fast.com_height_m.push_back(teacher_->features().com.z());
+      fast.torso_up.push_back(teacher_->features().torso_up);
+    };
+    teacher_->seed(rng.next());
+    teacher_->reset(observation);  // a fresh fall
+    keep();
+    for (int k = 0; k < settings_.max_rise_steps; ++k) {
+      weak_->act(observation, action, teacher_->action_scale());
+      teacher_->step(action, step);
+      if (step.terminated) break;  // a blown-up state
+      keep();
+      if (teacher_->weak().head_height_m > settings_.rise_height_m) return fast;
+      observation.swap(step.observation);
+    }
+  }
+  throw base::UserError("getup slower: π_weak never lifted the head top above " + std::to_string(settings_.rise_height_m) +
+                        " m within " + std::to_string(settings_.max_rise_steps) + " control steps in " +
+                        std::to_string(settings_.rise_attempts) + " falls (at strength " + std::to_string(*teacher_strength_) +
+                        "): Slower imitates a policy that gets up");
+}
+
+void SlowerEnv::build_reference(FastRollout fast, double kappa) {
+  reference_ = std::make_unique<SlowReference>(std::move(fast), kappa, control_dt_s(), world().model_ptr(), standing_q_, standing_com_m_);
+  set_reference(reference_->clip());
+  com_error_sum_ = 0.0;
+  rise_steps_ = 0;
+}
+
+void SlowerEnv::begin_episode(base::Rng& rng) {
+  FastRollout fast = rise(rng);
+  if (edit_) fast = edit_(std::move(fast));
+  const double kappa = fixed_kappa_ ? *fixed_kappa_ : rng.uniform(settings_.kappa_low, settings_.kappa_high);
+  build_reference(std::move(fast), kappa);
+  // ε-RSI (§6); a test always starts at the beginning.
+  const auto rise_steps = static_cast<std::int64_t>(std::floor(reference_->rise_s() / control_dt_s() + 1e-9));
+  const std::int64_t k = fixed_kappa_ ? 0 : rsi_start_step(rng, rise_steps, settings_.rsi_epsilon);
+  const double t0 = static_cast<double>(k) * control_dt_s();
+  if (k == 0) {
+    world().reset(reference_->fast().q.front(), reference_->fast().qd.front());  // the fall's end, exactly
+  } else {
+    const auto [q, qd] = reference_->state(t0);
+    world().reset(q, qd);
+  }
+  set_reference_time(t0);
+}
+
+void SlowerEnv::score(learn::StepResult& out) const {
+  const double t = reference_time_s();
+  const sim::Observation& f = features();
+  const double h = f.com.z();
+  if (t <= reference_->rise_s() + 1e-9) {  // R_slow (eq. 3)
+    SlowState s;
+    s.com_height_error_m = h - reference_->com_height_m(t);
+    s.torso_up_error = f.torso_up - reference_->torso_up(t);
+    const Eigen::VectorXd& qd = world().data().qd;
+    const Eigen::Vector2d hips(qd(hip_right_), qd(hip_left_));
+    s.hip_velocity_error = hips - reference_->hip_velocity(t);
+    out.reward = reward_slow(s);
+    com_error_sum_ += std::abs(s.com_height_error_m);
+    ++rise_steps_;
+    out.terminated = std::abs(s.com_height_error_m) > settings_.track_limit_m;
+    return;
+  }
+  BalanceState b;  // R_balance (eq. 4) after T/κ
+  b.com_velocity_xy = f.com_vel.head<2>();
+  b.torso_up_z = f.torso_up.z();
+  b.com_height_m = h;
+  b.com_height_error_m = h - standing_com_m_;
+  const Eigen::VectorXd& q = world().data().q;
+  for (int i : free_joints_) b.pose_squared_error += (q(i) - standing_q_(i)) * (q(i) - standing_q_(i));
+  out.reward = reward_balance(b);
+  out.terminated = h < settings_.fall_limit_m;
+  out.truncated = t >= reference_->rise_s() + settings_.balance_steps * control_dt_s() - 1e-9;
+}
+
+std::optional<Json> SlowerEnv::save_state() const {
+  Json state = *CharacterEnv::save_state();
+  if (reference_)
+    state["slower"] = {{"fast", reference_->fast().to_json()}, {"kappa", reference_->kappa()}, {"com_error_sum", com_error_sum_},
+                       {"rise_steps", rise_steps_}};
+  return state;
+}
+
+void SlowerEnv::load_state(const Json& state) {
+  CharacterEnv::load_state(state);
+  if (!state.contains("slower")) return;
+  try {
+    const Json& s = state.at("slower");
+    build_reference(FastRollout::from_json(s.at("fast")), s.at("kappa").get<double>());
+    com_error_sum_ = s.at("com_error_sum").get<double>();
+    rise_steps_ = s.at("rise_steps").get<int>();
+  } catch (const Json::exception& e) {
+    throw base::UserError(std::string("getup slower env state: ") + e.what());
+  }
+}
+
+}  // namespace podium::tasks::getup

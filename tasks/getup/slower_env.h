@@ -1,0 +1,124 @@
+#pragma once
+/// The Slower stage's environment (get-up seed §6, Algorithm 2, App. B.2–B.3, D): π_slow tracks a
+/// slowed copy of π_weak's own get-up, then holds a standing pose.
+///
+/// Each episode: a fresh fall in a teacher GetupEnv at π_weak's strength; π_weak (frozen) runs
+/// from it until the head top passes `rise_height_m` (τ_fast, T control steps; capped, and a
+/// policy that never rises throws); κ ~ U(κ_low, κ_high) (or the fixed κ of a test); τ_slow =
+/// τ_fast retimed by κ (character::retime: T/κ long, through every frame of τ_fast), the standing
+/// pose q̂ appended. The episode starts at τ_slow's first state (the fall's end) with probability
+/// ε, else at a uniform control step of τ_slow (ε-RSI, §6). Actions are residual PD targets on
+/// the reference (k_p = the torque limit, k_d = k_p/10, App. D); the state is s_weak without β
+/// plus ŝ' = [q, h_com, o_torso] of τ_slow at t+1 and t+5 (§6; the standing pose's after the
+/// rise). Reward R_slow while t < T/κ, terminated when h_com is more than 0.5 m off the
+/// reference; then R_balance for `balance_steps`, terminated when h_com < 0.5 m (§6).
+#include <memory>
+#include <optional>
+
+#include "getup_env.h"
+#include "podium/character/motion.h"
+#include "podium/learn/frozen_policy.h"
+
+namespace podium::tasks::getup {
+
+struct SlowerSettings {
+  double kappa_low = 0.2, kappa_high = 0.8;  ///< App. D: κ ~ U(0.2, 0.8)
+  /// ε of ε-RSI: the probability of starting at τ_slow's beginning (the seed repository: 0.2).
+  double rsi_epsilon = 0.2;
+  /// Residual bound, rad per joint (the seed repository adds actions in [−1, 1] to the reference).
+  double residual_bound_rad = 1.0;
+  int balance_steps = 100;         ///< §6
+  double rise_height_m = 1.2;      ///< §6: τ_fast ends when the head top passes it
+  int max_rise_steps = 250;        ///< τ_fast's cap (a Weaker episode's length)
+  int rise_attempts = 10;          ///< falls tried per episode before π_weak is declared unable
+  double track_limit_m = 0.5;      ///< §6: |h_com − h'_com| above it ends the episode
+  double fall_limit_m = 0.5;       ///< §6: h_com below it ends the standing phase
+};
+
+/// τ_fast at the control rate: frame 0 is the fall's end, frame T the first with the head up.
+struct FastRollout {
+  std::vector<Eigen::VectorXd> q, qd;
+  std::vector<double> com_height_m;
+  std::vector<Eigen::Vector3d> torso_up;  ///< z components of the torso's axes (o_torso)
+  int steps() const { return static_cast<int>(q.size()) - 1; }  ///< T
+  base::Json to_json() const;
+  static FastRollout from_json(const base::Json& json);
+};
+
+/// What the env tracks at slow time t: τ_slow's pose, COM height, torso axes and hip velocities;
+/// q̂ and its values after the rise.
+class SlowReference {
+ public:
+  SlowReference(FastRollout fast, double kappa, double control_dt_s, const sim::ModelPtr& model, const Eigen::VectorXd& standing_q,
+                double standing_com_m);
+  double kappa() const { return kappa_; }
+  double rise_s() const { return rise_s_; }  ///< T·dt/κ
+  const FastRollout& fast() const { return fast_; }
+  const std::shared_ptr<const character::Clip>& clip() const { return clip_; }  ///< τ_slow then q̂
+  double com_height_m(double t_s) const;
+  Eigen::Vector3d torso_up(double t_s) const;
+  /// The hips' y-joint velocities (right, left) of τ_slow: κ times τ_fast's.
+  Eigen::Vector2d hip_velocity(double t_s) const;
+  /// The state of τ_slow at t (velocities κ·q̇ of τ_fast).
+  std::pair<Eigen::VectorXd, Eigen::VectorXd> state(double t_s) const;
+
+ private:
+  double fast_index(double t_s) const;  // τ_fast's fractional frame at slow time t
+  FastRollout fast_;
+  double kappa_, dt_, rise_s_, standing_com_;
+  std::shared_ptr<const character::Clip> clip_;
+  int hip_right_ = -1, hip_left_ = -1;  // velocity indices of the hips' y joints
+};
+
+/// ε-RSI (§6): the control step of τ_slow (`rise_steps` long) an episode starts at — its
+/// beginning, the fall's end, with probability ε, else uniform in [0, rise_steps).
+std::int64_t rsi_start_step(base::Rng& rng, std::int64_t rise_steps, double epsilon);
+
+class SlowerEnv final : public character::CharacterEnv {
+ public:
+  /// `weak`: π_weak, shared read-only; `weak_strength`: the β it passed at. `fixed_kappa`: tests
+  /// at one speed (then every episode starts at the fall's end, ε = 1).
+  SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, std::shared_ptr<const learn::FrozenPolicy> weak, double weak_strength,
+            std::optional<double> fixed_kappa);
+
+  const SlowReference& reference_motion() const { return *reference_; }
+  bool standing_phase() const { return reference_time_s() > reference_->rise_s() + 1e-9; }
+  /// Mean |h_com − h'_com| over this episode's rise steps so far (0 before the first).
+  double mean_com_error_m() const { return rise_steps_ > 0 ? com_error_sum_ / rise_steps_ : 0.0; }
+  WeakState weak() const { return weak_state(*this, readings_); }
+  const BodyReadings& readings() const { return readings_; }
+  /// Sets the speed of later episodes (tests at several κ); nullopt: sampled.
+  void set_fixed_kappa(std::optional<double> kappa) { fixed_kappa_ = kappa; }
+  /// Transforms τ_fast before retiming (e.g. §8.3's pause: a frame held for a while); empty: none.
+  void set_rollout_edit(std::function<FastRollout(FastRollout)> edit) { edit_ = std::move(edit); }
+
+  /// The episode's start (called by the env's Start part): the fall, τ_fast, κ, τ_slow, ε-RSI.
+  void begin_episode(base::Rng& rng);
+  /// Reward and termination of a step (the env's RewardFn); adds to the episode's COM error.
+  void score(learn::StepResult& out) const;
+  std::optional<base::Json> save_state() const override;
+  void load_state(const base::Json& state) override;
+
+ private:
+  SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, sim::ModelPtr model, std::shared_ptr<const learn::FrozenPolicy> weak,
+            double weak_strength, std::optional<double> fixed_kappa);
+  FastRollout rise(base::Rng& rng);
+  void build_reference(FastRollout fast, double kappa);
+
+  SlowerSettings settings_;
+  std::shared_ptr<const learn::FrozenPolicy> weak_;
+  std::shared_ptr<double> teacher_strength_;
+  std::unique_ptr<GetupEnv> teacher_;
+  std::optional<double> fixed_kappa_;
+  std::function<FastRollout(FastRollout)> edit_;
+  BodyReadings readings_;
+  Eigen::VectorXd standing_q_;
+  double standing_com_m_ = 0.0;
+  std::vector<int> free_joints_;  // q indices of the hinges r_pose compares (locked ones excluded)
+  int hip_right_ = -1, hip_left_ = -1;  // q̇ indices of the hips' y joints (r_hip)
+  std::unique_ptr<SlowReference> reference_;
+  mutable double com_error_sum_ = 0.0;  // the episode's tracking statistics, kept by score()
+  mutable int rise_steps_ = 0;
+};
+
+}  // namespace podium::tasks::getup

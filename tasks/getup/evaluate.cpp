@@ -19,11 +19,24 @@ EvaluateConfig read_evaluate(base::ConfigReader& r) {
   c.pause_at = r.number("pause_at", c.pause_at, {.min = 0.0, .max = 1.0}, "Evaluate: §8.3's held frame, as a fraction of τ_fast");
   c.pause_steps = r.integer<int>("pause_steps", c.pause_steps, {0, 100000}, "Evaluate: control steps of τ_fast the frame is held");
   c.pause_kappa = r.number("pause_kappa", c.pause_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Evaluate: κ of the paused motion");
+  c.strengths = r.numbers("eval_strengths", c.strengths, {.min = 0.0, .max = 1.0, .exclusive_min = true},
+                          "Evaluate: further strengths β for π_weak's fast runs (its own is always run)");
+  c.shipped = r.objects(
+      "shipped",
+      [](base::ConfigReader& p) {
+        ShippedPolicy s;
+        s.weak_policy = p.string("weak_policy", base::required, "π_weak's TorchScript file");
+        s.weak_strength = p.number("weak_strength", base::required, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "the β π_weak passed at");
+        s.slow_policy = p.string("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
+        return s;
+      },
+      "Evaluate without an input trial: trial i evaluates entry i mod n (paths relative to where `podium run` starts)");
   return c;
 }
 
 Json SpeedResult::to_json() const {
-  return {{"name", name},   {"kappa", kappa}, {"success_rate", success_rate}, {"rise_time_s", rise_time_s},
+  return {{"name", name},   {"kappa", kappa},         {"strength", strength},
+          {"success_rate", success_rate}, {"rise_time_s", rise_time_s},
           {"risen", risen}, {"com_error_m", com_error_m}, {"fast_rise_time_s", fast_rise_time_s}};
 }
 
@@ -75,7 +88,6 @@ void summarise(SpeedResult& r, const character::EvaluationReport& report, const 
 EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, const EvaluateConfig& c, const fs::path& slow_policy,
                              const WeakPolicy& weak, const fs::path& work_dir, const std::atomic<bool>* cancel) {
   const auto teacher = std::make_shared<const learn::FrozenPolicy>(weak.policy);
-  const learn::FrozenPolicy pi_slow(slow_policy);
   std::vector<std::uint64_t> falls;
   for (int k = 0; k < c.falls; ++k) falls.push_back(base::derive_seed(c.falls_seed, static_cast<std::uint64_t>(k)));
   const auto check_cancel = [&] {
@@ -83,9 +95,12 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
   };
   EvaluateOutcome out;
 
-  // Fast: π_weak from the same falls SlowerEnv's teacher gets first (its generator's first draw).
-  {
-    auto beta = std::make_shared<double>(weak.strength);
+  // Fast: π_weak from the same falls SlowerEnv's teacher gets first (its generator's first draw),
+  // at its own strength (its strategy features come from these runs) and the further ones.
+  std::vector<double> strengths = {weak.strength};
+  strengths.insert(strengths.end(), c.strengths.begin(), c.strengths.end());
+  for (std::size_t b = 0; b < strengths.size(); ++b) {
+    auto beta = std::make_shared<double>(strengths[b]);
     GetupEnv env(s.env, beta, false);
     character::EvaluationConfig e;
     for (std::uint64_t f : falls) e.start_seeds.push_back(base::Rng(f).next());
@@ -97,18 +112,23 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
       clock.observe(fall, ce, static_cast<const GetupEnv&>(ce).weak().head_height_m);
       if (ce.step_index() > 0) strategies[fall].observe(ce);
     };
+    SpeedResult r;
+    char name[32];
+    std::snprintf(name, sizeof name, "fast_b%g", strengths[b]);
+    r.name = b == 0 ? "fast" : name;
+    r.strength = strengths[b];
     e.record = {0};
-    e.record_dir = work_dir / "rollouts" / "fast";
+    e.record_dir = work_dir / "rollouts" / r.name;
     check_cancel();
     const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
-    SpeedResult r;
-    r.name = "fast";
     summarise(r, report, clock, env.control_dt_s());
     out.speeds.push_back(r);
+    if (b > 0) continue;
     std::vector<StrategyFeatures> per_fall;
     for (const auto& rec : strategies) per_fall.push_back(rec.features());
     out.features = mean_features(per_fall);
   }
+  if (slow_policy.empty()) return out;
 
   // Slow: π_slow at each κ, and the paused motion.
   struct Run {
@@ -123,6 +143,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     runs.push_back({name, k, false});
   }
   if (c.pause_steps > 0) runs.push_back({"pause", c.pause_kappa, true});
+  const learn::FrozenPolicy pi_slow(slow_policy);
   for (const Run& run : runs) {
     check_cancel();
     SlowerEnv env(s.env, slower.env, teacher, weak.strength, run.kappa);

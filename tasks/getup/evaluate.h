@@ -10,6 +10,13 @@
 
 namespace podium::tasks::getup {
 
+/// A policy pair evaluated without a Slower input (the demo's shipped policies).
+struct ShippedPolicy {
+  std::filesystem::path weak_policy;          ///< π_weak's TorchScript export
+  double weak_strength = 1.0;                 ///< the β it passed at
+  std::filesystem::path slow_policy;          ///< π_slow's; empty: fast runs only
+};
+
 struct EvaluateConfig {
   int falls = 20;                             ///< issue 18: 20 falls
   std::uint64_t falls_seed = 2;               ///< ≠ the tests' eval_seed; training draws its own streams
@@ -17,14 +24,19 @@ struct EvaluateConfig {
   double pause_at = 0.5;                      ///< §8.3: the held frame, as a fraction of τ_fast
   int pause_steps = 40;                       ///< control steps τ_fast holds it (before retiming)
   double pause_kappa = 0.5;
+  std::vector<double> strengths;              ///< further strengths β for π_weak's fast runs
+  /// Without an input trial, trial i evaluates shipped[i mod n] (paths relative to the directory
+  /// the worker runs in, as `podium run` is started).
+  std::vector<ShippedPolicy> shipped;
 };
 
 EvaluateConfig read_evaluate(base::ConfigReader& r);
 
 /// One speed's results over the falls.
 struct SpeedResult {
-  std::string name;                 ///< "fast", "k0.25", ..., "pause"
+  std::string name;                 ///< "fast", "fast_b0.9", "k0.25", ..., "pause"
   double kappa = 0.0;               ///< 0 for fast
+  double strength = 0.0;            ///< β of a fast run (π_weak's own for "fast")
   double success_rate = 0.0;
   double rise_time_s = 0.0;         ///< mean over the falls whose head rose (NaN-free: 0 when none)
   int risen = 0;                    ///< falls whose head rose at all
@@ -41,7 +53,7 @@ struct EvaluateOutcome {
   const SpeedResult& at(const std::string& name) const;
 };
 
-/// π_slow (`slow_policy`) with its teacher `weak`; work_dir receives rollouts/.
+/// π_slow (`slow_policy`; empty: fast runs only) with its teacher `weak`; work_dir receives rollouts/.
 EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, const EvaluateConfig& c, const std::filesystem::path& slow_policy,
                              const WeakPolicy& weak, const std::filesystem::path& work_dir, const std::atomic<bool>* cancel);
 

@@ -1,8 +1,9 @@
 #pragma once
 /// The get-up rewards of the get-up seed (001, appendix B) as pure functions of a few state
-/// numbers, each term a character::tolerance f(i, b, m, v). Terms whose value at the margin is 0
-/// (eqs. 6 and 8) cannot be Gaussian; they use dm_control's `linear` sigmoid, as dm_control's
-/// humanoid `upright` term with the same bounds and margin as eq. 6 does [Tassa et al. 2020].
+/// numbers, each term a character::tolerance f(i, b, m, v) with App. B's bounds, margin and value.
+/// The sigmoids follow the seed repository where App. B's "Gaussian" cannot work: r_h is
+/// long-tailed (a Gaussian leaves a lying character no signal), r_straight linear and r_feet
+/// quadratic (value 0 at the margin) [Tassa et al. 2020's dm_control `tolerance`].
 ///
 /// Head height: the seed's bound 1.55 m (eq. 5) is above humanoid21's standing head origin
 /// (1.472 m), so r_h could never reach 1 on our model if measured there. We measure at the top of

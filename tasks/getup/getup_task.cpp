@@ -25,7 +25,7 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
   c.stage = r.choice("stage", c.stage, {"weaker", "slower", "evaluate"},
                      "weaker: Discover + Weaker (Algorithm 1); slower: imitation of π_weak retimed (Algorithm 2), one input "
-                     "from a weaker stage; evaluate: unseen falls at several speeds, one input from a slower stage");
+                     "from a weaker stage; evaluate: unseen falls at several speeds, one input from a slower stage or `shipped` policies");
   c.settings = read_settings(r);
   c.slower = read_slower(r);
   c.evaluate = read_evaluate(r);
@@ -79,7 +79,8 @@ Json stage_description(const std::string& stage) {
     Json d = features;
     d["metrics"] = {metric("eval/success_rate", "", "success over the unseen falls; step = κ (1 = fast: π_weak itself)"),
                     metric("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m; step = κ"),
-                    metric("eval/com_error_m", "m", "mean COM-height tracking error of π_slow; step = κ")};
+                    metric("eval/com_error_m", "m", "mean COM-height tracking error of π_slow; step = κ"),
+                    metric("eval/strength_success_rate", "", "π_weak's success over the unseen falls; step = strength β")};
     d["objectives"] = {"slow_success_rate", "fast_success_rate"};
     return d;
   }
@@ -158,15 +159,28 @@ class GetupTask final : public plugins::Task {
   }
 
   static plugins::RunResult run_evaluate_stage(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
-    const auto& in = one_input(request, "evaluate", {"policy", "weak_policy"}, "weak_strength", "slower");
-    const WeakPolicy weak{in.artifacts.at("weak_policy"), in.info["weak_strength"].get<double>()};
-    const EvaluateOutcome out = run_evaluate(c.settings, c.slower, c.evaluate, in.artifacts.at("policy"), weak, request.work_dir, request.cancel);
+    WeakPolicy weak;
+    std::filesystem::path slow;
+    if (request.inputs.empty() && !c.evaluate.shipped.empty()) {
+      const ShippedPolicy& p = c.evaluate.shipped[request.trial_index % c.evaluate.shipped.size()];
+      weak = {p.weak_policy, p.weak_strength};
+      slow = p.slow_policy;
+    } else {
+      const auto& in = one_input(request, "evaluate", {"policy", "weak_policy"}, "weak_strength", "slower");
+      weak = {in.artifacts.at("weak_policy"), in.info["weak_strength"].get<double>()};
+      slow = in.artifacts.at("policy");
+    }
+    const EvaluateOutcome out = run_evaluate(c.settings, c.slower, c.evaluate, slow, weak, request.work_dir, request.cancel);
     plugins::RunResult result;
     double slow_success = 0.0;
     int slow_speeds = 0;
     for (const auto& s : out.speeds) {
       if (s.name == "pause") continue;
-      const double step = s.name == "fast" ? 1.0 : s.kappa;  // κ = 1: π_weak's own speed
+      if (s.strength > 0) {  // a fast run: by strength, and π_weak's own one also as κ = 1
+        sink.metric("eval/strength_success_rate", s.strength, s.success_rate);
+        if (s.name != "fast") continue;
+      }
+      const double step = s.name == "fast" ? 1.0 : s.kappa;
       sink.metric("eval/success_rate", step, s.success_rate);
       sink.metric("eval/rise_time_s", step, s.rise_time_s);
       if (s.name != "fast") {
@@ -174,14 +188,15 @@ class GetupTask final : public plugins::Task {
         slow_success += s.success_rate, ++slow_speeds;
       }
     }
-    result.objectives = {slow_speeds > 0 ? slow_success / slow_speeds : 0.0, out.at("fast").success_rate};
+    // Without π_slow (shipped π_weak alone) the primary objective is the fast success.
+    result.objectives = {slow_speeds > 0 ? slow_success / slow_speeds : out.at("fast").success_rate, out.at("fast").success_rate};
     result.features = out.features.as_vector();
     // `trajectory` (what the replay page shows) is the slow speed nearest κ = 0.5; the others
     // keep their names (trajectory_fast, trajectory_k0.25, trajectory_pause, ...).
     std::size_t shown = 0;
     for (std::size_t i = 0; i < out.speeds.size(); ++i) {
       const auto& s = out.speeds[i];
-      if (s.name != "fast" && s.name != "pause" &&
+      if (s.strength == 0 && s.name != "pause" &&
           (shown == 0 || std::abs(s.kappa - 0.5) < std::abs(out.speeds[shown].kappa - 0.5)))
         shown = i;
     }

@@ -171,6 +171,14 @@ TEST_F(Api, TrajectoryEndpointServesTheReplayArtifact) {
     ++frames;
   }
   EXPECT_EQ(frames, 90);
+  // Another trajectory artifact by name; a name that is no trajectory is refused.
+  const auto fast = client.Get(("/api/trials/" + std::to_string(trial.id) + "/trajectory?artifact=trajectory_fast").c_str());
+  ASSERT_TRUE(fast);
+  EXPECT_EQ(fast->status, 200);
+  EXPECT_EQ(fast->body, r->body);
+  const auto other = client.Get(("/api/trials/" + std::to_string(trial.id) + "/trajectory?artifact=policy").c_str());
+  ASSERT_TRUE(other);
+  EXPECT_EQ(other->status, 400);
   int status = 0;
   const auto landscape_trial = store()->campaign_trials(landscape_)[0];
   server_->get_json("/api/trials/" + std::to_string(landscape_trial.id) + "/trajectory", &status);

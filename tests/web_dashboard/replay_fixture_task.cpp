@@ -90,6 +90,8 @@ class ReplayFixtureTask final : public plugins::Task {
     result.objectives = {max_tip_z};
     result.features = {max_tip_z, angle};
     result.artifacts.push_back({"trajectory", path});
+    std::filesystem::copy_file(path, request.work_dir / "trajectory_fast.jsonl", std::filesystem::copy_options::overwrite_existing);
+    result.artifacts.push_back({"trajectory_fast", request.work_dir / "trajectory_fast.jsonl"});  // a second motion
     return result;
   }
 };

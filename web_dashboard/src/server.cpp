@@ -259,8 +259,11 @@ struct Server::Impl {
     }));
     http.Get(R"(/api/trials/([^/]+)/trajectory)", api([this](const auto& req, auto& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+      // ?artifact=NAME picks another recorded motion of the trial (trajectory_fast, ...).
+      const std::string name = req.has_param("artifact") ? req.get_param_value("artifact") : "trajectory";
+      if (name.rfind("trajectory", 0) != 0) throw HttpError(400, "artifact \"" + name + "\" is not a trajectory (its name starts with trajectory)");
       auto q = pool.acquire();
-      send_file(req, res, artifact_file(*q, options.database, id, artifact_index(*q, id, "trajectory")),
+      send_file(req, res, artifact_file(*q, options.database, id, artifact_index(*q, id, name)),
                 "application/x-ndjson", false);  // sim/'s JSON-lines trajectory file
     }));
     http.Get(R"(/api/.*)", api([](const auto& req, auto&) -> void { throw HttpError(404, "no endpoint " + req.path); }));

@@ -2,12 +2,17 @@
 // bodies as capsules, boxes and spheres, the ground (with holes where terrain regions replace it),
 // the terrain's boxes (tiles, flat patches, slopes) and the props (bar, box, blocks); play, pause,
 // scrub, speed, camera orbit, props and terrain shown or hidden; with ?compare=ID a second trial
-// side by side on the same clock.
+// side by side on the same clock. A trial may be written ID:NAME to show its trajectory artifact
+// NAME (e.g. 12:trajectory_fast beside 12:trajectory, a get-up fast and slowed).
 import * as THREE from './vendor/three.module.js';
 import { OrbitControls } from './vendor/OrbitControls.js';
 
 const params = new URLSearchParams(location.search);
-const ids = [params.get('trial'), params.get('compare')].filter(Boolean);
+const views_asked = [params.get('trial'), params.get('compare')].filter(Boolean).map(v => {
+  const at = v.indexOf(':');
+  return at < 0 ? { id: v, artifact: 'trajectory' } : { id: v.slice(0, at), artifact: v.slice(at + 1) };
+});
+const ids = views_asked.map(v => v.id);
 const palette = [0x4e79a7, 0xf28e2b];
 const width = ids.length > 1 ? 560 : 900, height = 520;
 
@@ -111,8 +116,8 @@ async function main() {
   if (!ids.length) throw new Error('no trial given (replay.html?trial=ID[&compare=ID])');
   document.getElementById('crumb-trial').href = `trial.html?id=${encodeURIComponent(ids[0])}`;
   document.getElementById('crumb-trial').textContent = `trial #${ids[0]}`;
-  const trajs = await Promise.all(ids.map(async id => {
-    const r = await fetch(`/api/trials/${encodeURIComponent(id)}/trajectory`);
+  const trajs = await Promise.all(views_asked.map(async ({ id, artifact }) => {
+    const r = await fetch(`/api/trials/${encodeURIComponent(id)}/trajectory?artifact=${encodeURIComponent(artifact)}`);
     if (!r.ok) throw new Error(`trial ${id}: ${(await r.json()).error}`);
     // Line 1: the header (links and their shapes); then one frame per line.
     const lines = (await r.text()).split('\n').filter(l => l.trim());
@@ -122,7 +127,8 @@ async function main() {
     if (!traj.frames.length) throw new Error(`trial ${id}: trajectory has no frames`);
     return traj;
   }));
-  const views = trajs.map((t, i) => makeView(t, `trial #${ids[i]}`, palette[i]));
+  const label = v => v.artifact === 'trajectory' ? `trial #${v.id}` : `trial #${v.id} · ${v.artifact.replace(/^trajectory_/, '')}`;
+  const views = trajs.map((t, i) => makeView(t, label(views_asked[i]), palette[i]));
   const main = views[0];
   const frames = main.traj.frames.length, duration = Math.max(...views.map(v => v.duration));
   const scrub = document.getElementById('scrub'), counter = document.getElementById('frame');

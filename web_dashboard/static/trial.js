@@ -62,6 +62,12 @@ async function refreshTrial() {
   const trajectory = t.artifacts.some(a => a.name === 'trajectory');
   document.getElementById('replay-link').hidden = !trajectory;
   document.getElementById('replay-href').href = `replay.html?trial=${t.id}`;
+  // Further recorded motions (a get-up evaluation's fast, slowed and paused runs), each beside the
+  // main one.
+  const others = t.artifacts.filter(a => a.name.startsWith('trajectory_'));
+  const more = document.getElementById('replay-more');
+  more.replaceChildren(...others.flatMap(a => [' · ', podium.link(
+    `replay.html?trial=${t.id}:${encodeURIComponent(a.name)}&compare=${t.id}`, `${a.name.replace(/^trajectory_/, '')} beside it`)]));
   podium.fill(document.getElementById('attempts'), ['#', 'state', 'worker', 'host', 'job', 'exit code', 'signal', 'started', 'finished', 'error'],
     t.attempt_list.map(a => [a.number, a.state, a.worker, a.host, a.job_id, a.exit_code ?? '–', a.signal ?? '–',
       podium.time(a.started_at), podium.time(a.finished_at), podium.el('span', { class: 'error' }, a.error)]));

@@ -117,6 +117,16 @@ run('browser', async h => {
   assert.equal(both.length, 2);
   for (const s of both) assert.ok(s.colours > 20 && s.differing > 0.02, `blank canvas: ${JSON.stringify(s)}`);
 
+  step('a trial\'s second recorded motion beside its first (ID:NAME), linked from the trial page');
+  await page.goto(`${url}trial.html?id=${physicsTrials[0].id}`);
+  const beside = page.locator('#replay-more a');
+  await waitFor('the further motion\'s link', async () => (await beside.count()) === 1);
+  assert.equal(await beside.textContent(), 'fast beside it');
+  await beside.click();
+  await waitFor('two viewports of one trial', () => page.evaluate(() => window.podiumReplay && window.podiumReplay.rendered > 5));
+  assert.equal((await canvasStats()).length, 2);
+  assert.match(await page.locator('#viewports').textContent(), /fast/);
+
   step('live: the campaign page updates while the campaign runs, without a reload');
   await page.goto(`${url}campaign.html?id=${live}`);
   await waitFor('live page', async () => (await page.locator('#summary').getAttribute('data-done')) === '0');

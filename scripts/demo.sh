@@ -1,28 +1,40 @@
 #!/usr/bin/env bash
-# The demo, end to end: installs what is missing, builds, runs the demo campaign and prints where
-# the results are. Usage: scripts/demo.sh [SPEC.json]   (default campaigns/demo.json)
+# The demo, end to end: installs what is missing, builds, runs the get-up demo campaign (the
+# shipped get-up policies from fresh falls at several strengths and speeds, then a smoke-sized
+# Discover + Weaker training stage) and prints where the results and the motions are.
+# Usage: scripts/demo.sh [SPEC.json]   (default campaigns/getup_demo.json; campaigns/demo.json is
+# the strategy-search demo on an analytic landscape)
 set -euo pipefail
-cd "$(dirname "$0")/.."
+cd "$(dirname "$0")/.."   # the shipped policies' paths in the spec are relative to the repository
 scripts/setup.sh
-spec="${1:-campaigns/demo.json}"
+export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
+spec="${1:-campaigns/getup_demo.json}"
 mkdir -p runs
 db="$PWD/runs/demo.db"
 id=$(build/bin/podium submit "$spec" --db "$db")
 echo "demo: submitted $spec as campaign $id in $db"
+start=$(date +%s)
 build/bin/podium run --db "$db" --workers 2
+echo "demo: the campaign ran in $(( $(date +%s) - start )) s"
 build/bin/podium status "$id" --db "$db"
+build/bin/podium trials "$id" --db "$db"
 build/bin/podium export "$id" --format json --db "$db" | /usr/bin/python3 -c "$(cat <<'PY'
 import json, sys
 rows = json.load(sys.stdin)
 for stage in dict.fromkeys(r["stage"] for r in rows):
     done = [r for r in rows if r["stage"] == stage and r["state"] == "done"]
     strategies = len({r["strategy"] for r in done})
-    print(f"demo: stage {stage}: {strategies} distinct strategies in {len(done)} trials")
+    print(f"demo: stage {stage}: {len(done)} trials done, {strategies} distinct strategies")
+    for r in done:
+        for s in (r.get("result") or {}).get("speeds", []):
+            what = f"strength {s['strength']:.3f}" if s["strength"] > 0 else (f"kappa {s['kappa']:g}" if s["name"] != "pause" else "paused")
+            print(f"demo:   {r['name']} {s['name']:>10} ({what}): success {s['success_rate']:.2f}, "
+                  f"rise {s['rise_time_s']:.2f} s, COM error {s['com_error_m']:.3f} m")
 PY
 )"
 echo
 echo "demo: database      $db"
 echo "demo: run folder    $(build/bin/podium status "$id" --db "$db" --json | /usr/bin/python3 -c 'import json,sys; print(json.load(sys.stdin)["run_dir"])')"
 echo "demo: trials        build/bin/podium trials $id --db $db"
-echo "demo: export        build/bin/podium export $id --format csv --db $db"
-echo "demo: dashboard     build/bin/podium serve --db $db   (then open http://127.0.0.1:8080/)"
+echo "demo: dashboard     build/bin/podium serve --db $db   (then open http://127.0.0.1:8080/campaign.html?id=$id;"
+echo "                    a trial's page links its 3D replays: the get-up fast, slowed by kappa, and paused)"

@@ -199,6 +199,7 @@ std::string export_campaign(const store::Store& store, std::int64_t campaign_id,
       for (std::size_t i = 0; i < t.features.size() && i < features.size(); ++i) f[features[i]["name"]] = t.features[i];
       row["features"] = f;
       row["strategy"] = t.strategy ? Json(*t.strategy) : Json(nullptr);
+      if (format == "json") row["result"] = t.result_info;  // the task's free-form results (RunResult::info)
       rows.push_back(row);
     }
   }

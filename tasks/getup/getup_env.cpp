@@ -11,9 +11,7 @@ namespace podium::tasks::getup {
 
 namespace {
 
-// s_weak (§7 (1)–(5), App. C), every part facing-invariant: joint angles and velocities, head
-// height, COM height and velocity in the heading frame, end effectors in the root frame, the z
-// components of the torso axes, and β̂ (Algorithm 1: a ~ π(s, β̂)).
+// s_weak and β̂ (Algorithm 1: a ~ π(s, β̂)).
 character::CharacterEnvParts parts_for(const EnvSettings& s, const sim::ModelPtr& model) {
   using namespace character;
   CharacterEnvParts p;
@@ -22,12 +20,7 @@ character::CharacterEnvParts parts_for(const EnvSettings& s, const sim::ModelPtr
   p.world.control_hz = s.control_hz;
   p.episode_steps = s.episode_steps;
   p.action = std::make_unique<TorqueActions>();
-  p.observation.push_back(std::make_unique<JointAngles>(model));
-  p.observation.push_back(std::make_unique<JointVelocities>());
-  p.observation.push_back(std::make_unique<HeadHeight>());
-  p.observation.push_back(std::make_unique<CenterOfMass>());
-  p.observation.push_back(std::make_unique<EndEffectors>());
-  p.observation.push_back(std::make_unique<TorsoAxes>(true));
+  add_weak_observation(p.observation, model);
   p.observation.push_back(std::make_unique<TaskScalars>(
       1, [](const CharacterEnv& env, std::span<double> out) { out[0] = static_cast<const GetupEnv&>(env).strength(); }));
   p.start = std::make_unique<RagdollDrop>(s.fall, RagdollDrop::Lying::any);
@@ -40,6 +33,16 @@ character::CharacterEnvParts parts_for(const EnvSettings& s, const sim::ModelPtr
 }
 
 }  // namespace
+
+void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart>>& parts, const sim::ModelPtr& model) {
+  using namespace character;
+  parts.push_back(std::make_unique<JointAngles>(model));
+  parts.push_back(std::make_unique<JointVelocities>());
+  parts.push_back(std::make_unique<HeadHeight>());
+  parts.push_back(std::make_unique<CenterOfMass>());
+  parts.push_back(std::make_unique<EndEffectors>());
+  parts.push_back(std::make_unique<TorsoAxes>(true));
+}
 
 sim::ModelEdits variant_edits(const std::string& variant) {
   sim::ModelEdits edits;

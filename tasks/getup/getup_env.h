@@ -30,6 +30,11 @@ struct EnvSettings {
   double min_strength = 0.05;      ///< lower clip of β̂ (SAC needs a bound in (0, 1])
 };
 
+/// Appends s_weak's body parts (§7 (1)–(5), App. C; every part facing-invariant): joint angles and
+/// velocities, head height, COM height and velocity in the heading frame, end effectors in the
+/// root frame, the z components of the torso axes. GetupEnv adds β̂; SlowerEnv the reference.
+void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart>>& parts, const sim::ModelPtr& model);
+
 /// The model edits of a variant (empty for "none"). Throws base::UserError on an unknown name.
 sim::ModelEdits variant_edits(const std::string& variant);
 

@@ -48,12 +48,7 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
   // truncates each episode at its own T/κ + balance_steps).
   p.episode_steps = static_cast<int>(std::ceil(s.max_rise_steps / s.kappa_low)) + s.balance_steps + 1;
   p.action = std::make_unique<ResidualActions>(model, sim::Control::pd, s.residual_bound_rad);
-  p.observation.push_back(std::make_unique<JointAngles>(model));
-  p.observation.push_back(std::make_unique<JointVelocities>());
-  p.observation.push_back(std::make_unique<HeadHeight>());
-  p.observation.push_back(std::make_unique<CenterOfMass>());
-  p.observation.push_back(std::make_unique<EndEffectors>());
-  p.observation.push_back(std::make_unique<TorsoAxes>(true));
+  add_weak_observation(p.observation, model);
   const auto bridge = std::make_shared<PoseBridge>(model);
   const std::size_t frame = bridge->size() + 4;
   p.observation.push_back(std::make_unique<TaskScalars>(2 * frame, [bridge, frame](const CharacterEnv& env, std::span<double> out) {

@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""Issue 18's figures for a get-up campaign, read from its Podium database (read-only):
+per Weaker trial the curriculum, the exported policy's test, the head-height curve's first and
+last tenth and the wall time; per Slower and Evaluate trial their results. Markdown on stdout.
+
+Usage: tasks/getup/report.py DATABASE CAMPAIGN_NAME
+"""
+import json
+import sqlite3
+import sys
+
+
+def main(db_path, campaign):
+    db = sqlite3.connect(f"file:{db_path}?mode=ro", uri=True)
+    row = db.execute("SELECT id FROM campaigns WHERE name = ? ORDER BY id DESC", (campaign,)).fetchone()
+    if row is None:
+        sys.exit(f"report.py: {db_path}: no campaign named {campaign!r}")
+    stages = db.execute("SELECT id, name, task_config FROM stages WHERE campaign_id = ? ORDER BY idx", (row[0],)).fetchall()
+    for stage_id, name, config in stages:
+        stage = json.loads(config).get("stage", "weaker")
+        print(f"\n### stage `{name}` ({stage})\n")
+        trials = db.execute("SELECT id, idx, seed, state, error, result_info, started_at, finished_at FROM trials "
+                            "WHERE stage_id = ? ORDER BY idx", (stage_id,)).fetchall()
+        for trial_id, idx, seed, state, error, info, started, finished in trials:
+            wall = (finished - started) / 60 if finished and started else float("nan")
+            print(f"- `{name}/{idx}` (trial seed {seed & 0xFFFFFFFFFFFFFFFF}): {state}, {wall:.1f} min" + (f", error: {error}" if error else ""))
+            if not info:
+                continue
+            info = json.loads(info)
+            series = {}
+            for metric, step, value in db.execute("SELECT name, step, value FROM metrics WHERE trial_id = ? ORDER BY step",
+                                                  (trial_id,)):
+                series.setdefault(metric, []).append((step, value))
+            if stage == "weaker":
+                heads = [v for _, v in series.get("head_height_m", [])]
+                tenth = max(1, len(heads) // 10)
+                first, last = sum(heads[:tenth]) / tenth, sum(heads[-tenth:]) / tenth
+                print(f"  - environment steps {info['env_steps']}, curriculum advances {info['levels']}, "
+                      f"final strength {info['final_strength']:.4f}; exported policy passed at β = {info['policy_strength']:.4f}"
+                      f" (passed any test: {info['passed']}): success {info['success_rate']:.2f} over the fixed starts, "
+                      f"test return {info['test_return']:.1f}")
+                print(f"  - head height (m), mean of the first and last tenth of {len(heads)} tests: {first:.3f} → {last:.3f} "
+                      f"(+{last - first:.3f}); best test: {max(heads):.3f}")
+                best = max(series.get("test_return", [(0, 0)]), key=lambda p: p[1])
+                print(f"  - best test return {best[1]:.1f} at step {best[0]:.0f}; first success > 0 at step "
+                      f"{next((s for s, v in series.get('success_rate', []) if v > 0), 'never')}")
+                print(f"  - strategy features {[round(x, 3) for x in info.get('features', [])]}")
+            elif stage == "slower":
+                print(f"  - environment steps {info['env_steps']}, last test at κ = 0.5: success {info['success_rate']:.2f}, "
+                      f"COM error {info['com_error_m']:.3f} m, return {info['test_return']:.1f}; π_weak's β {info['weak_strength']:.4f}")
+            else:
+                for s in info["speeds"]:
+                    print(f"  - {s['name']:>8}: success {s['success_rate']:.2f}, risen {s['risen']}, rise time {s['rise_time_s']:.2f} s, "
+                          f"COM error {s['com_error_m']:.3f} m, τ_fast {s['fast_rise_time_s']:.2f} s")
+                print(f"  - strategy features {[round(x, 3) for x in info['features']]}")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    main(sys.argv[1], sys.argv[2])

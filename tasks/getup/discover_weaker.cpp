@@ -85,7 +85,9 @@ WeakerSchedule::Decision WeakerSchedule::on_test(std::int64_t steps, double test
     budget_.on_advance(steps);
     return Decision::advance;
   }
-  return budget_.exhausted(steps) ? Decision::end : Decision::carry_on;  // N_c > M_i: end training
+  // N_c > M_i: end training. Discover (β = 1, level 0) has no budget: the seed gives none, and its
+  // repository applies M_i only once β < 1.
+  return curriculum_.level() > 0 && budget_.exhausted(steps) ? Decision::end : Decision::carry_on;
 }
 
 void WeakerSchedule::load_state(const Json& state) {

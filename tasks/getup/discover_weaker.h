@@ -41,7 +41,8 @@ base::Json sac_spec(const Settings& s);
 
 /// Algorithm 1's decision at each test, on character's ThresholdCurriculum and StepBudget. The
 /// budget follows §5's text, M_i = clip(1.5·N_{i−1}, N_min, N_max) (Algorithm 1's listing omits
-/// the 1.5), with M_0 = N_max for Discover (the seed gives none).
+/// the 1.5), from the first advance on: Discover runs until it passes ω or total_steps (the seed
+/// gives it no budget; its repository applies M_i only once β < 1).
 class WeakerSchedule {
  public:
   enum class Decision { advance, carry_on, end };

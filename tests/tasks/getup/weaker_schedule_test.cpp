@@ -27,8 +27,10 @@ TEST(WeakerSchedule, AdvancesAboveOmegaAndEndsAfterItsStepBudget) {
 
 TEST(WeakerSchedule, TheBudgetGrowsWithTheLastLevelsSteps) {
   WeakerSchedule s({}, {});
-  EXPECT_EQ(s.on_test(800'000, 0.0), Decision::carry_on);  // Discover: M_0 = N_max
-  EXPECT_EQ(s.on_test(820'000, 0.0), Decision::end);
+  EXPECT_EQ(s.on_test(5'000'000, 0.0), Decision::carry_on);  // Discover has no budget
+  EXPECT_EQ(s.on_test(5'020'000, 61.0), Decision::advance);   // N_0 = 5.02e6: M_1 = N_max
+  EXPECT_EQ(s.on_test(5'820'000, 0.0), Decision::carry_on);
+  EXPECT_EQ(s.on_test(5'840'000, 0.0), Decision::end);
   WeakerSchedule t({}, {});
   EXPECT_EQ(t.on_test(400'000, 61.0), Decision::advance);  // N_0 = 4e5: M_1 = 6e5
   EXPECT_EQ(t.on_test(1'000'000, 0.0), Decision::carry_on);

@@ -10,6 +10,17 @@ import sqlite3
 import sys
 
 
+def curve_table(series, every=100_000):
+    """The learning curves every `every` environment steps, as a Markdown table."""
+    names = ["test_return", "head_height_m", "success_rate", "curriculum/strength", "sac/alpha"]
+    by_step = {name: dict(series.get(name, [])) for name in names}
+    steps = sorted(s for s in by_step["test_return"] if s % every == 0)
+    print("\n  | env steps | " + " | ".join(names) + " |\n  |---|" + "---|" * len(names))
+    for step in steps:
+        print(f"  | {step:.0f} | " + " | ".join(f"{by_step[n].get(step, float('nan')):.4g}" for n in names) + " |")
+    print()
+
+
 def main(db_path, campaign):
     db = sqlite3.connect(f"file:{db_path}?mode=ro", uri=True)
     row = db.execute("SELECT id FROM campaigns WHERE name = ? ORDER BY id DESC", (campaign,)).fetchone()
@@ -24,13 +35,15 @@ def main(db_path, campaign):
         for trial_id, idx, seed, state, error, info, started, finished in trials:
             wall = (finished - started) / 60 if finished and started else float("nan")
             print(f"- `{name}/{idx}` (trial seed {seed & 0xFFFFFFFFFFFFFFFF}): {state}, {wall:.1f} min" + (f", error: {error}" if error else ""))
-            if not info:
-                continue
-            info = json.loads(info)
             series = {}
             for metric, step, value in db.execute("SELECT name, step, value FROM metrics WHERE trial_id = ? ORDER BY step",
                                                   (trial_id,)):
                 series.setdefault(metric, []).append((step, value))
+            if not info:  # running or failed: its curves so far
+                if stage == "weaker":
+                    curve_table(series)
+                continue
+            info = json.loads(info)
             if stage == "weaker":
                 heads = [v for _, v in series.get("head_height_m", [])]
                 tenth = max(1, len(heads) // 10)
@@ -45,6 +58,8 @@ def main(db_path, campaign):
                 print(f"  - best test return {best[1]:.1f} at step {best[0]:.0f}; first success > 0 at step "
                       f"{next((s for s, v in series.get('success_rate', []) if v > 0), 'never')}")
                 print(f"  - strategy features {[round(x, 3) for x in info.get('features', [])]}")
+            if stage == "weaker":
+                curve_table(series)
             elif stage == "slower":
                 print(f"  - environment steps {info['env_steps']}, last test at κ = 0.5: success {info['success_rate']:.2f}, "
                       f"COM error {info['com_error_m']:.3f} m, return {info['test_return']:.1f}; π_weak's β {info['weak_strength']:.4f}")

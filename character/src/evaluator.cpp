@@ -18,6 +18,11 @@ base::Json EvaluationReport::to_json() const {
   return j;
 }
 
+double EvaluationReport::mean(const std::string& measure) const {
+  const auto& values = measures.at(measure);
+  return std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
+}
+
 EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const EvaluationConfig& config) {
   if (config.start_seeds.empty()) throw base::UserError("evaluator: no start seeds");
   for (std::size_t r : config.record)

@@ -3,7 +3,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 #include <stdexcept>
 
 #include "podium/base/error.h"
@@ -117,7 +116,6 @@ character::EvaluationConfig test_config(const Settings& s) {
   return c;
 }
 
-double mean(const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size()); }
 
 }  // namespace
 
@@ -171,7 +169,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - test_start).count());
     base::log_info(line);
     send("test_return", steps, result.mean_return);
-    send("head_height_m", steps, mean(result.measures.at("head_height_m")));
+    send("head_height_m", steps, result.mean("head_height_m"));
     send("success_rate", steps, result.success_rate);
     if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));
     if (sac) send("sac/alpha", steps, sac->alpha());

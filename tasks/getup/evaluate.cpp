@@ -149,12 +149,12 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     SlowerEnv env(s.env, slower.env, teacher, weak.strength, run.kappa);
     if (run.pause) env.set_rollout_edit([&c](FastRollout f) { return paused(std::move(f), c.pause_at, c.pause_steps); });
     character::EvaluationConfig e = slower_test(slower.env, falls);
+    e.measures.push_back({"fast_rise_time_s", [](const character::CharacterEnv& ce) {
+                            return static_cast<const SlowerEnv&>(ce).reference_motion().fast().steps() * ce.control_dt_s();
+                          }});
     RiseClock clock{std::vector<int>(falls.size(), -1), slower.env.rise_height_m};
-    std::vector<double> fast_rise(falls.size(), 0.0);
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
-      const auto& se = static_cast<const SlowerEnv&>(ce);
-      clock.observe(fall, ce, se.weak().head_height_m);
-      fast_rise[fall] = se.reference_motion().fast().steps() * ce.control_dt_s();
+      clock.observe(fall, ce, static_cast<const SlowerEnv&>(ce).weak().head_height_m);
     };
     e.record = {0};
     e.record_dir = work_dir / "rollouts" / run.name;
@@ -163,11 +163,8 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     r.name = run.name;
     r.kappa = run.kappa;
     summarise(r, report, clock, env.control_dt_s());
-    double err = 0.0, fast = 0.0;
-    for (double x : report.measures.at("com_error_m")) err += x;
-    for (double x : fast_rise) fast += x;
-    r.com_error_m = err / static_cast<double>(falls.size());
-    r.fast_rise_time_s = fast / static_cast<double>(falls.size());
+    r.com_error_m = report.mean("com_error_m");
+    r.fast_rise_time_s = report.mean("fast_rise_time_s");
     out.speeds.push_back(r);
   }
   return out;

@@ -53,15 +53,6 @@ character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std
   return c;
 }
 
-namespace {
-
-double mean(const std::vector<double>& v) {
-  double sum = 0.0;
-  for (double x : v) sum += x;
-  return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
-}
-
-}  // namespace
 
 SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, std::uint64_t seed, const fs::path& work_dir,
                          const std::atomic<bool>* cancel, const Reporter& report) {
@@ -92,15 +83,16 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
     const auto steps = static_cast<double>(learner->env_steps());
     const auto started = std::chrono::steady_clock::now();
     const auto result = character::evaluate(test_env, act, tests);
+    const double com_error_m = result.mean("com_error_m");
     char line[200];
     std::snprintf(line, sizeof line, "getup slower: step %.0f: test return %.2f, COM error %.3f m, success %.2f at κ %.2f (test %.1f s)",
-                  steps, result.mean_return, mean(result.measures.at("com_error_m")), result.success_rate, c.test_kappa,
+                  steps, result.mean_return, com_error_m, result.success_rate, c.test_kappa,
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     base::log_info(line);
     checkpoint.metric("slow/test_return", steps, result.mean_return);
-    checkpoint.metric("slow/com_error_m", steps, mean(result.measures.at("com_error_m")));
+    checkpoint.metric("slow/com_error_m", steps, com_error_m);
     checkpoint.metric("slow/success_rate", steps, result.success_rate);
-    extra["last"] = {{"test_return", result.mean_return}, {"com_error_m", mean(result.measures.at("com_error_m"))},
+    extra["last"] = {{"test_return", result.mean_return}, {"com_error_m", com_error_m},
                      {"success_rate", result.success_rate}};
     report.progress(steps / static_cast<double>(c.total_steps));
     checkpoint.on_update(*learner, envs, extra);

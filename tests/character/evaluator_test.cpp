@@ -38,14 +38,16 @@ TEST(Evaluator, FixedStartsGiveTheSameReportTwice) {
   ASSERT_EQ(first.returns.size(), 3u);
   EXPECT_EQ(first.returns, second.returns);
   EXPECT_EQ(first.measures.at("final_head_height_m"), second.measures.at("final_head_height_m"));
-  double mean = 0, rate = 0;
+  double mean = 0, rate = 0, head = 0;
   for (std::size_t i = 0; i < 3; ++i) {
     mean += first.returns[i] / 3;
+    head += first.measures.at("final_head_height_m")[i] / 3;
     rate += (first.measures.at("final_head_height_m")[i] > 0.3) / 3.0;
     EXPECT_GT(first.returns[i], 0.0);  // reward = head height, 8 steps
   }
   EXPECT_DOUBLE_EQ(first.mean_return, mean);
   EXPECT_DOUBLE_EQ(first.success_rate, rate);
+  EXPECT_DOUBLE_EQ(first.mean("final_head_height_m"), head);
   EXPECT_NE(first.returns[0], first.returns[1]);  // different falls
   const base::Json j = first.to_json();
   EXPECT_EQ(j["measures"]["final_head_height_m"].size(), 3u);

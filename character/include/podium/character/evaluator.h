@@ -41,6 +41,8 @@ struct EvaluationReport {
   std::vector<std::filesystem::path> trajectories;     ///< of the recorded starts, in start order
   double mean_return = 0.0;
   double success_rate = 0.0;                           ///< 0 without `success`
+  /// The mean over the starts of a configured measure (throws std::out_of_range for another name).
+  double mean(const std::string& measure) const;
   base::Json to_json() const;
 };
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "podium/base/error.h"
 
@@ -50,6 +51,10 @@ void CharacterEnv::step(std::span<const double> action, learn::StepResult& out) 
   if (action.size() != action_space_.size())
     throw base::UserError("character env: an action of " + std::to_string(action.size()) + " values, the action space has " +
                           std::to_string(action_space_.size()));
+  for (std::size_t j = 0; j < action.size(); ++j)
+    if (!std::isfinite(action[j]))  // a diverged policy: fail the trial with the reason, not silently
+      throw std::runtime_error("character env: action " + std::to_string(j) + " is " + std::to_string(action[j]) +
+                               ", not finite (the policy has diverged)");
   last_action_.assign(action.begin(), action.end());
   parts_.action->command(*this, action, command_);
   const sim::StepReport report = world_->control_step(parts_.action->control(), command_);

@@ -137,7 +137,7 @@ void deterministic_action(Mlp net, const RunningNormalizer* normalizer, const Po
   for (std::size_t j = 0; j < action.size(); ++j) {
     const double u = p[0][std::int64_t(j)];
     const double center = 0.5 * (head.high[j] + head.low[j]), half = 0.5 * (head.high[j] - head.low[j]);
-    action[j] = center + half * (head.tanh_squash ? u * bound : std::clamp(u, -1.0, 1.0));
+    action[j] = center + half * (head.tanh_squash ? u * bound : std::clamp(u, -1.0, 1.0) * scale);
   }
 }
 

@@ -87,10 +87,10 @@ struct Ppo::Impl {
   const RunningNormalizer* used_normalizer() const { return config.normalize_observations ? &normalizer : nullptr; }
   detail::PolicyHead head() const { return {int(n_act), false, 1.0, action_space.low, action_space.high}; }
   base::Json record() const { return detail::policy_record("ppo", policy, n_obs, action_space, 1.0, used_normalizer()); }
-  static void check_scale(double scale, const char* where) {
-    if (scale != 1.0)
-      throw base::UserError(std::string("ppo: ") + where + ": action_scale " + std::to_string(scale) +
-                            " is not 1; per-copy action bounds are SAC's (get-up seed §5)");
+  static double checked_scale(double scale) {
+    if (!(scale > 0.0 && scale <= 1.0))
+      throw base::UserError("ppo: action_scale " + std::to_string(scale) + " is outside (0, 1]: it shrinks the action box");
+    return scale;
   }
 
   static double schedule(double start, double end, std::int64_t step, std::int64_t span) {
@@ -124,7 +124,6 @@ struct Ppo::Impl {
     {
       torch::NoGradGuard no_grad;
       for (std::int64_t t = 0; t < T; ++t) {
-        for (std::size_t i = 0; i < envs.size(); ++i) check_scale(envs.action_scale(i), "environment copy");
         auto obs = observe(envs, true);
         auto mu = policy->forward(obs);
         auto v = value->forward(obs).reshape({K});
@@ -135,9 +134,13 @@ struct Ppo::Impl {
         act_t.push_back(a);
         logp_t.push_back(logp);
         auto ap = a.accessor<float, 2>();
-        for (std::int64_t i = 0; i < K; ++i)
+        // The policy acts in [−1, 1]; a copy's action_scale shrinks its box (get-up seed §5: torques
+        // within ±β times the limits), as SAC's bound does.
+        for (std::int64_t i = 0; i < K; ++i) {
+          const double scale = checked_scale(envs.action_scale(static_cast<std::size_t>(i)));
           for (std::int64_t j = 0; j < A; ++j)
-            env_actions[static_cast<std::size_t>(i * A + j)] = center[j] + half[j] * std::clamp<double>(ap[i][j], -1.0, 1.0);
+            env_actions[static_cast<std::size_t>(i * A + j)] = center[j] + half[j] * scale * std::clamp<double>(ap[i][j], -1.0, 1.0);
+        }
         envs.step(env_actions);
         std::vector<std::int64_t> truncated;
         std::vector<double> final_obs;
@@ -257,14 +260,14 @@ void Ppo::train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCal
 void Ppo::act(std::span<const double> observation, std::span<double> action, bool deterministic, double action_scale) {
   auto& m = *impl_;
   PODIUM_CHECK(observation.size() == m.n_obs && action.size() == m.n_act, "ppo act: observation/action sizes");
-  m.check_scale(action_scale, "act");
-  if (deterministic) return detail::deterministic_action(m.policy, m.used_normalizer(), m.head(), observation, action, 1.0);
+  m.checked_scale(action_scale);
+  if (deterministic) return detail::deterministic_action(m.policy, m.used_normalizer(), m.head(), observation, action, action_scale);
   torch::NoGradGuard no_grad;
   auto mu = m.policy->forward(m.batch(std::vector<double>(observation.begin(), observation.end()), 1));
   mu = mu + m.sigma() * detail::normal_tensor(m.rng, {1, std::int64_t(m.n_act)});
   auto p = mu.accessor<float, 2>();
   for (std::size_t j = 0; j < m.n_act; ++j)
-    action[j] = m.center[j] + m.half[j] * std::clamp<double>(p[0][std::int64_t(j)], -1.0, 1.0);
+    action[j] = m.center[j] + m.half[j] * action_scale * std::clamp<double>(p[0][std::int64_t(j)], -1.0, 1.0);
 }
 
 void Ppo::save_checkpoint(const std::filesystem::path& path, const VecEnv& envs, const base::Json& user_state) const {

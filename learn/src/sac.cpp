@@ -99,6 +99,7 @@ struct Sac::Impl {
   double bound;
   double target_entropy;
   std::int64_t env_steps = 0, updates = 0;
+  std::int64_t skipped_updates = 0;  // updates whose loss was not finite: no step taken
   std::int64_t update_steps = 0;  // env steps taken since updates began; updates = ⌊update_steps · ratio⌋
   // Replay buffer: observations in float64 (normalised when sampled), the rest float32;
   // buf_scale holds the copy's action_scale() s when it acted (its bound is then β·s).
@@ -220,6 +221,12 @@ struct Sac::Impl {
     lap(times.target);
     auto x = torch::cat({o, a}, 1);
     auto critic_loss = 0.5 * ((q1->forward(x).reshape({-1}) - y).pow(2).mean() + (q2->forward(x).reshape({-1}) - y).pow(2).mean());
+    // A non-finite loss would turn Adam's moments, and then every weight, into NaN for good: skip
+    // the update (it still counts, so the update schedule goes on) and report it.
+    if (!std::isfinite(critic_loss.item<double>())) {
+      ++skipped_updates, ++updates;
+      return;
+    }
     critic_opt->zero_grad();
     critic_loss.backward();
     if (config.max_grad_norm > 0) {
@@ -236,6 +243,10 @@ struct Sac::Impl {
       // gradients (the critic step would zero them before use), a fifth of this step's products.
       FrozenParameters frozen(critic_params);
       auto actor_loss = (alpha * logp - q_min(q1, q2, o, a_new)).mean();
+      if (!std::isfinite(actor_loss.item<double>())) {
+        ++skipped_updates, ++updates;
+        return;
+      }
       actor_loss.backward();
     }
     if (config.max_grad_norm > 0) torch::nn::utils::clip_grad_norm_(actor->parameters(), config.max_grad_norm);
@@ -286,6 +297,7 @@ double Sac::action_bound() const { return impl_->bound; }
 double Sac::alpha() const { return impl_->log_alpha.exp().item<double>(); }
 std::int64_t Sac::replay_size() const { return impl_->buf_size; }
 std::int64_t Sac::updates() const { return impl_->updates; }
+std::int64_t Sac::skipped_updates() const { return impl_->skipped_updates; }
 SacUpdateTimes Sac::update_times() const { return impl_->times; }
 
 void Sac::train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCallback& callback) {
@@ -399,7 +411,7 @@ void Sac::save_checkpoint(const std::filesystem::path& path, const VecEnv& envs,
   archive.write("buf_term", m.buf_term.slice(0, 0, m.buf_size));
   archive.write("buf_scale", m.buf_scale.slice(0, 0, m.buf_size));
   detail::write_json(archive, "state",
-                     {{"config", m.config.to_json()}, {"env_steps", m.env_steps}, {"updates", m.updates},
+                     {{"config", m.config.to_json()}, {"env_steps", m.env_steps}, {"updates", m.updates}, {"skipped_updates", m.skipped_updates},
                       {"update_steps", m.update_steps}, {"bound", m.bound}, {"buf_size", m.buf_size},
                       {"buf_pos", m.buf_pos}, {"rng", m.rng.save()}, {"normalizer", m.normalizer.save()},
                       {"envs", envs.save_state()}, {"policy", m.record()}, {"user_state", user_state}});
@@ -443,6 +455,7 @@ base::Json Sac::load_checkpoint(const std::filesystem::path& path, VecEnv& envs)
   m.buf_pos = state.at("buf_pos").get<std::int64_t>();
   m.env_steps = state.at("env_steps").get<std::int64_t>();
   m.updates = state.at("updates").get<std::int64_t>();
+  m.skipped_updates = state.value("skipped_updates", std::int64_t{0});  // absent in checkpoints before it existed
   m.update_steps = state.at("update_steps").get<std::int64_t>();
   m.bound = state.at("bound").get<double>();
   m.rng.load(state.at("rng").get<std::string>());

@@ -22,6 +22,8 @@ namespace podium::sim {
 
 namespace {
 
+constexpr double kBlownUpSpeed = 1e3;  // m/s or rad/s
+
 std::unique_ptr<btConvexShape> make_shape(const Geom& g) {
   switch (g.type) {
     case ShapeType::sphere: return std::make_unique<btSphereShape>(g.radius);
@@ -268,7 +270,9 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
   b.character->body().updateCollisionObjectWorldTransforms(b.scratch_q, b.scratch_m);
   ++step_count_;
   for (int i = 0; i < model_->nv(); ++i) {
-    if (!std::isfinite(data_.qd(i))) {
+    // A speed no body reaches (1000 m/s or rad/s) is a blown-up state as much as a NaN is: left
+    // running, it overflows observation statistics downstream (a get-up SAC run diverged so).
+    if (!(std::abs(data_.qd(i)) < kBlownUpSpeed)) {
       failure_ = StepReport{false, i, step_count_};
       return failure_;
     }

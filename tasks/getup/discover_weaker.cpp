@@ -11,6 +11,7 @@
 #include "podium/character/evaluator.h"
 #include "podium/learn/frozen_policy.h"
 #include "podium/learn/learner.h"
+#include "podium/learn/ppo.h"
 #include "podium/learn/sac.h"
 #include "podium/learn/training_checkpoint.h"
 
@@ -38,15 +39,25 @@ Settings read_settings(base::ConfigReader& r) {
                               "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
   e.min_strength = r.number("min_strength", e.min_strength, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "lower clip of β̂");
 
+  s.algorithm = r.choice("algorithm", s.algorithm, {"sac", "ppo"},
+                         "the learner (the seed: SAC; PPO only as a measured choice for a preset)");
   s.sac_preset = r.choice("sac_preset", s.sac_preset, {"quick", "paper"}, "learn's SacConfig preset (paper: Table 1)");
   s.sac = r.raw_object("sac", "SacConfig fields over the preset (learn/include/podium/learn/sac.h)");
+  s.ppo = r.raw_object("ppo", "PpoConfig fields over its defaults (learn/include/podium/learn/ppo.h), when algorithm is ppo");
   if (s.sac.contains("log_interval_steps")) r.fail("sac", "log_interval_steps is set by the task (one callback per vector step)");
   Json sac = (s.sac_preset == "paper" ? learn::SacConfig::paper() : learn::SacConfig::quick()).to_json();
   for (const auto& [key, value] : s.sac.items()) sac[key] = value;
+  Json ppo = learn::PpoConfig{}.to_json();
+  for (const auto& [key, value] : s.ppo.items()) ppo[key] = value;
   try {
     learn::SacConfig::from_json(sac);
   } catch (const base::UserError& error) {
     r.fail("sac", error.what());
+  }
+  try {
+    learn::PpoConfig::from_json(ppo);
+  } catch (const base::UserError& error) {
+    r.fail("ppo", error.what());
   }
 
   s.total_steps = r.integer<std::int64_t>("total_steps", s.total_steps, {1}, "environment steps at most; a multiple of eval_every");
@@ -73,7 +84,8 @@ Settings read_settings(base::ConfigReader& r) {
   return s;
 }
 
-Json sac_spec(const Settings& s) {
+Json learner_spec(const Settings& s) {
+  if (s.algorithm == "ppo") return {{"algorithm", "ppo"}, {"preset", "quick"}, {"config", s.ppo}};
   Json config = s.sac;
   config["log_interval_steps"] = s.copies;  // a callback per vector step: cancellation is checked there
   return {{"algorithm", "sac"}, {"preset", s.sac_preset}, {"config", config}};
@@ -126,7 +138,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   for (int i = 0; i < s.copies; ++i) copies.push_back(std::make_unique<GetupEnv>(s.env, beta, true));
   learn::VecEnv envs(std::move(copies), s.threads, base::derive_seed(seed, 1));
   GetupEnv test_env(s.env, beta, false);  // tests at β^i exactly (App. D)
-  const auto learner = learn::make_learner(sac_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
+  const auto learner = learn::make_learner(learner_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
   const auto* sac = dynamic_cast<const learn::Sac*>(learner.get());
   const character::EvaluationConfig tests = test_config(s);
   const fs::path policy = work_dir / "policy.pt";
@@ -172,7 +184,10 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     send("head_height_m", steps, result.mean("head_height_m"));
     send("success_rate", steps, result.success_rate);
     if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));
-    if (sac) send("sac/alpha", steps, sac->alpha());
+    if (sac) {
+      send("sac/alpha", steps, sac->alpha());
+      send("sac/skipped_updates", steps, static_cast<double>(sac->skipped_updates()));
+    }
     const Json tested = {{"strength", tested_at}, {"test_return", result.mean_return}, {"success_rate", result.success_rate},
                          {"env_steps", learner->env_steps()}};
     extra["last"] = tested;

@@ -20,8 +20,10 @@ namespace podium::tasks::getup {
 /// The task config (defaults: the seed's settings, the `paper` preset; presets in getup_task.cpp).
 struct Settings {
   EnvSettings env;
+  std::string algorithm = "sac";                        ///< the seed's learner; "ppo" for a preset that measures it faster
   std::string sac_preset = "paper";                     ///< learn's SacConfig::paper() (Table 1)
   base::Json sac = base::Json::object();                ///< SacConfig fields over the preset
+  base::Json ppo = base::Json::object();                ///< PpoConfig fields over its defaults
   std::int64_t total_steps = 10'000'000;                ///< environment steps at most (issue 18: 10⁷)
   std::int64_t eval_every = 20'000;                     ///< App. D: every 20 000 simulation steps
   int eval_starts = 10;                                 ///< App. D: 10 fixed initial states
@@ -36,8 +38,8 @@ struct Settings {
 
 /// Reads (and on a describing reader describes) the config; every check of describe() is here.
 Settings read_settings(base::ConfigReader& r);
-/// The SAC spec for learn::make_learner, with the log interval the trial needs.
-base::Json sac_spec(const Settings& s);
+/// The learner spec for learn::make_learner (SAC with the log interval the trial needs, or PPO).
+base::Json learner_spec(const Settings& s);
 
 /// Algorithm 1's decision at each test, on character's ThresholdCurriculum and StepBudget. The
 /// budget follows §5's text, M_i = clip(1.5·N_{i−1}, N_min, N_max) (Algorithm 1's listing omits

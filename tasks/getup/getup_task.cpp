@@ -90,7 +90,8 @@ Json stage_description(const std::string& stage) {
                   metric("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
                   metric("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),
                   metric("train_return", "", "mean return of the training episodes since the last test"),
-                  metric("sac/alpha", "", "SAC's temperature α")};
+                  metric("sac/alpha", "", "SAC's temperature α"),
+                  metric("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far")};
   d["objectives"] = {"success_rate", "weakness"};  // of the exported policy; weakness = 1 − its β^i
   return d;
 }

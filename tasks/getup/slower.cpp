@@ -66,7 +66,7 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
   for (int i = 0; i < s.copies; ++i) copies.push_back(std::make_unique<SlowerEnv>(s.env, c.env, teacher, weak.strength, std::nullopt));
   learn::VecEnv envs(std::move(copies), s.threads, base::derive_seed(seed, 1));
   SlowerEnv test_env(s.env, c.env, teacher, weak.strength, c.test_kappa);
-  const auto learner = learn::make_learner(sac_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
+  const auto learner = learn::make_learner(learner_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
   std::vector<std::uint64_t> starts;
   for (int k = 0; k < s.eval_starts; ++k) starts.push_back(base::derive_seed(s.eval_seed, static_cast<std::uint64_t>(k)));
   const character::EvaluationConfig tests = slower_test(c.env, starts);

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numbers>
 
 #include "podium/base/error.h"
@@ -372,6 +373,14 @@ TEST(CharacterEnv, RejectsMissingPartsAndWrongActions) {
   env.reset(obs);
   learn::StepResult out;
   EXPECT_THROW(env.step(std::vector<double>(3, 0.0), out), base::UserError);
+  std::vector<double> diverged(env.action_space().size(), 0.0);
+  diverged[2] = std::numeric_limits<double>::quiet_NaN();
+  try {  // a diverged policy fails the trial with the reason
+    env.step(diverged, out);
+    ADD_FAILURE() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("action 2 is nan, not finite"), std::string::npos) << e.what();
+  }
   EXPECT_THROW(TargetActions(env.world().model_ptr(), sim::Control::torque), base::UserError);
 }
 

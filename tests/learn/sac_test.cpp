@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "podium/base/rng.h"
 
@@ -109,15 +110,68 @@ TEST(Sac, EachCopyActsWithinItsOwnPerEpisodeScale) {
   }
 }
 
-TEST(Ppo, RefusesPerCopyActionScales) {
+TEST(Ppo, EachCopyActsWithinItsOwnPerEpisodeScale) {
   Pendulum probe;
   PpoConfig c;
-  c.rollout_steps = 10;
+  c.rollout_steps = 250;
+  c.sigma_start = c.sigma_end = 2.0;  // wide noise: the clamp to the copy's box is what bounds |a|
   Ppo ppo(c, probe.observation_space(), probe.action_space(), 1);
   std::vector<std::unique_ptr<Env>> copies;
-  copies.push_back(std::make_unique<WeakenedPendulum>());
+  std::vector<WeakenedPendulum*> envs;
+  for (int i = 0; i < 2; ++i) {
+    auto e = std::make_unique<WeakenedPendulum>();
+    envs.push_back(e.get());
+    copies.push_back(std::move(e));
+  }
   VecEnv vec(std::move(copies), 1, 1);
-  EXPECT_THROW(ppo.train_until(vec, 10), base::UserError);
+  ppo.train_until(vec, 1000);  // 2+ episodes per copy
+  for (const auto* e : envs) {
+    EXPECT_GE(e->scales_seen_.size(), 2u);
+    EXPECT_LE(e->largest_, 1.0 + 1e-6);  // |a| ≤ s·limit in every episode of every copy
+    EXPECT_GT(e->largest_, 0.9);          // and the box is the copy's, not a smaller one
+  }
+  WeakenedPendulum eval;  // the deterministic policy acts at the environment's scale too
+  eval.seed(9);
+  evaluate(ppo, eval, 2);
+  EXPECT_LE(eval.largest_, 1.0 + 1e-6);
+  std::vector<double> obs{1, 0, 0}, action(1);
+  EXPECT_THROW(ppo.act(obs, action, true, 1.2), base::UserError);  // beyond the action box
+}
+
+// A pendulum that once pays an infinite reward: every batch that samples it has an infinite
+// critic loss, as a diverging critic would.
+class PoisonedPendulum final : public Env {
+ public:
+  BoxSpace observation_space() const override { return inner_.observation_space(); }
+  BoxSpace action_space() const override { return inner_.action_space(); }
+  void seed(std::uint64_t seed) override { inner_.seed(seed); }
+  void reset(std::vector<double>& observation) override { inner_.reset(observation); }
+  void step(std::span<const double> action, StepResult& out) override {
+    inner_.step(action, out);
+    if (++steps_ == 50) out.reward = std::numeric_limits<double>::infinity();
+  }
+
+ private:
+  Pendulum inner_;
+  int steps_ = 0;
+};
+
+TEST(Sac, SkipsUpdatesWithANonFiniteLossAndKeepsItsWeightsFinite) {
+  Pendulum probe;
+  SacConfig c;
+  c.warmup_steps = 40;
+  c.batch_size = 16;
+  Sac sac(c, probe.observation_space(), probe.action_space(), 3);
+  std::vector<std::unique_ptr<Env>> copies;
+  copies.push_back(std::make_unique<PoisonedPendulum>());
+  VecEnv vec(std::move(copies), 1, 3);
+  sac.train_until(vec, 400);
+  EXPECT_GT(sac.skipped_updates(), 0);                 // batches with the infinite reward
+  EXPECT_LT(sac.skipped_updates(), sac.updates());     // the others still learn
+  for (float w : sac.parameters()) ASSERT_TRUE(std::isfinite(w));
+  std::vector<double> obs{1, 0, 0}, action(1);
+  sac.act(obs, action, true, 1.0);
+  EXPECT_TRUE(std::isfinite(action[0]));
 }
 
 TEST(Sac, FractionalUpdateToDataRatioCountsUpdatesFromEnvironmentSteps) {

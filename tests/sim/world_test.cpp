@@ -256,6 +256,21 @@ TEST(World, DivergenceIsReportedWithDofAndStep) {
   EXPECT_TRUE(world.control_step(Control::torque, Eigen::VectorXd::Zero(model->nv())).ok);
 }
 
+TEST(World, ASpeedNoBodyReachesIsReportedAsDivergence) {
+  const ModelPtr model = load_shipped_model("humanoid21");
+  World world(model, WorldConfig{});
+  Eigen::VectorXd qd = Eigen::VectorXd::Zero(model->nv());
+  qd(3) = 5e3;  // the root flies at 5 km/s: finite, but no body moves so
+  world.set_state(model->standing_pose(), qd);
+  const StepReport r = world.sim_step(Control::torque, Eigen::VectorXd::Zero(model->nv()));
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(r.bad_dof, 3);
+  EXPECT_EQ(r.bad_step, 1);
+  qd(3) = 50.0;  // fast, but a body can move so
+  world.reset(model->standing_pose(), qd);
+  EXPECT_TRUE(world.sim_step(Control::torque, Eigen::VectorXd::Zero(model->nv())).ok);
+}
+
 TEST(World, StrengthMultiplierScalesTorqueLimits) {
   const ModelPtr model = load_shipped_model("humanoid21");
   World world(model, WorldConfig{});

@@ -37,7 +37,17 @@ TEST(GetupConfig, DefaultsAreTheSeedsSettings) {
   EXPECT_EQ(s.curriculum.factor, 0.95);
   EXPECT_EQ(s.budget.min_steps, 300000);
   EXPECT_EQ(s.budget.max_steps, 800000);
-  EXPECT_EQ(sac_spec(s)["preset"], "paper");
+  EXPECT_EQ(learner_spec(s)["algorithm"], "sac");
+  EXPECT_EQ(learner_spec(s)["preset"], "paper");
+}
+
+TEST(GetupConfig, PpoIsAChoiceWithItsOwnFields) {
+  const Settings s = read({{"algorithm", "ppo"}, {"ppo", {{"hidden", {32, 32}}, {"rollout_steps", 250}}}});
+  const Json spec = learner_spec(s);
+  EXPECT_EQ(spec["algorithm"], "ppo");
+  EXPECT_EQ(spec["config"]["rollout_steps"], 250);
+  EXPECT_EQ(error_path({{"algorithm", "td3"}}), "algorithm");
+  EXPECT_EQ(error_path({{"ppo", {{"rollout_step", 250}}}}), "ppo");
 }
 
 TEST(GetupConfig, BadValuesAreReportedAtTheirPath) {

@@ -82,6 +82,8 @@ class Sac final : public Learner {
   std::int64_t replay_size() const;
   /// Network updates done so far (⌊updates_per_step × env steps since updates began⌋).
   std::int64_t updates() const;
+  /// Updates skipped because a loss was not finite (a diverging critic); counted in updates().
+  std::int64_t skipped_updates() const;
   SacUpdateTimes update_times() const;
 
  private:

@@ -37,8 +37,8 @@ struct WorldConfig {
 
 /// What one control step did.
 struct StepReport {
-  bool ok = true;        ///< false once the state held a NaN/Inf (the trial should end failed)
-  int bad_dof = -1;      ///< first non-finite velocity DoF, when !ok
+  bool ok = true;        ///< false once a velocity was NaN/Inf or beyond 1000 m/s or rad/s (a blown-up state)
+  int bad_dof = -1;      ///< first such velocity DoF, when !ok
   long long bad_step = -1;  ///< simulation step at which it appeared
 };
 

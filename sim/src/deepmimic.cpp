@@ -22,6 +22,24 @@ double field(const Json& obj, const char* key, const std::string& where) {
   return obj[key].get<double>();
 }
 
+double torque_field(const Json& j, const char* key, const std::string& where) {
+  if (!j.contains(key)) throw UserError(where + "." + key + ": missing (N·m; a moving joint needs TorqueLim, or TorqueLimX/Y/Z if spherical)");
+  if (!j[key].is_number() || !(j[key].get<double>() > 0)) throw UserError(where + "." + key + ": " + j[key].dump() + " is not a number > 0 (N·m)");
+  return j[key].get<double>();
+}
+
+// The joint's torque limit as our model file's "torque_limit". Spherical joints may give one per
+// axis of the joint frame, TorqueLimX/Y/Z (the thesis's jumper: hips 500/50/500 N·m, §3.6.2;
+// arpspoof/Jump reads them in place of TorqueLim when TorqueLimX is present); after the y-up →
+// z-up turn, DeepMimic's x, y, z axes are our x, z, −y, so [X, Y, Z] becomes [X, Z, Y].
+Json torque_limit(const Json& j, bool spherical, const std::string& where) {
+  if (spherical && (j.contains("TorqueLimX") || j.contains("TorqueLimY") || j.contains("TorqueLimZ"))) {
+    const double x = torque_field(j, "TorqueLimX", where), y = torque_field(j, "TorqueLimY", where), z = torque_field(j, "TorqueLimZ", where);
+    return Json{x, z, y};
+  }
+  return torque_field(j, "TorqueLim", where);
+}
+
 }  // namespace
 
 ModelPtr load_deepmimic(const std::filesystem::path& character, const std::filesystem::path& controller) {
@@ -43,8 +61,8 @@ ModelPtr load_deepmimic(const std::filesystem::path& character, const std::files
   Json end_effectors = Json::array();
   for (std::size_t i = 0; i < joints.size(); ++i) {
     const Json& j = joints[i];
-    const std::string jw = where + ": " + base::json_path_index("Skeleton.Joints", i);
     const std::string name = j.value("Name", "joint" + std::to_string(i));
+    const std::string jw = where + ": joint " + name + " (" + base::json_path_index("Skeleton.Joints", i) + ")";
     const std::string type = j.value("Type", "");
     const int parent = j.value("Parent", -1);
     Json body = {{"name", name}};
@@ -53,10 +71,9 @@ ModelPtr load_deepmimic(const std::filesystem::path& character, const std::files
       body["parent"] = names[parent];
       body["pos"] = zup(field(j, "AttachX", jw), field(j, "AttachY", jw), field(j, "AttachZ", jw));
       Json joint = {{"name", name}};
-      const double torque = j.contains("TorqueLim") && j["TorqueLim"].is_number() ? j["TorqueLim"].get<double>() : 0.0;
       if (type == "spherical" || type == "revolute") {
         joint["type"] = type;
-        joint["torque_limit"] = torque > 0 ? torque : 1.0;
+        joint["torque_limit"] = torque_limit(j, type == "spherical", jw);
         if (gains.count(name)) {
           joint["kp"] = gains[name].first;
           joint["kd"] = gains[name].second;

@@ -76,6 +76,19 @@ Geom parse_geom(const Json& g, const std::string& where) {
   return geom;
 }
 
+// "torque_limit": N·m for every DoF of the joint, or for a spherical joint [x, y, z] about the
+// link's axes (the thesis's jumper has hips 500/500/50 N·m, §3.6.2; DeepMimic's TorqueLimX/Y/Z).
+Eigen::Vector3d parse_torque_limit(const Json& j, JointType type, const std::string& where) {
+  if (!j.contains("torque_limit") || j["torque_limit"].is_number()) return Eigen::Vector3d::Constant(positive(j, "torque_limit", where));
+  const Json& t = j["torque_limit"];
+  const std::string w = base::json_path_join(where, "torque_limit");
+  if (type != JointType::spherical)
+    throw UserError(w + ": " + show(t) + " is not a number > 0 (N·m" + (t.is_array() ? "; per-axis limits are for spherical joints)" : ")"));
+  if (!t.is_array() || t.size() != 3 || !std::all_of(t.begin(), t.end(), [](const Json& x) { return x.is_number() && x.get<double>() > 0; }))
+    throw UserError(w + ": " + show(t) + " is not a number > 0 or [x, y, z] of numbers > 0 (N·m about the link's axes)");
+  return {t[0].get<double>(), t[1].get<double>(), t[2].get<double>()};
+}
+
 double angle_in(const Json& j, double lo, double hi, const std::string& where) {
   if (!j.is_number() || !(j.get<double>() >= lo && j.get<double>() <= hi))
     throw UserError(where + ": " + show(j) + " is not an angle in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] rad");
@@ -279,8 +292,10 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
           throw UserError(jw + ".type: \"" + type + "\" is not one of revolute, spherical");
         }
         if (j.contains("lock")) parse_lock(j["lock"], jw + ".lock", link);
-        link.torque_limit_nm = positive(j, "torque_limit", jw);
-        link.kp = number(j, "kp", link.torque_limit_nm, jw);
+        link.torque_limit_nm = parse_torque_limit(j, link.joint, jw);
+        // Default kp = the torque limit (get-up seed App. D); per-axis limits: the largest (one
+        // stiffness per joint, as DeepMimic's controller files give).
+        link.kp = number(j, "kp", link.torque_limit_nm.maxCoeff(), jw);
         link.kd = number(j, "kd", 0.1 * link.kp, jw);
         if (link.kp < 0 || link.kd < 0) throw UserError(jw + ": kp and kd must be ≥ 0");
         link.parent = parent_link;
@@ -349,7 +364,7 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
   m.kd_ = Eigen::VectorXd::Zero(nv);
   for (const Link& l : m.links_) {
     if (l.joint == JointType::free) continue;
-    m.torque_limits_.segment(l.v_index, l.nv).setConstant(l.torque_limit_nm);
+    m.torque_limits_.segment(l.v_index, l.nv) = l.torque_limit_nm.head(l.nv);
     m.kp_.segment(l.v_index, l.nv).setConstant(l.kp);
     m.kd_.segment(l.v_index, l.nv).setConstant(l.kd);
   }

@@ -21,7 +21,7 @@ TEST(Model, Humanoid21HasTable2JointsAndMuJoCoLayout) {
   EXPECT_EQ(m->links().size(), 22u);  // root + 21 hinges
   EXPECT_EQ(m->bodies().size(), 16u);  // humanoid.xml bodies
   const Link& knee = m->links()[m->find_link("knee_right")];
-  EXPECT_EQ(knee.torque_limit_nm, 80.0);
+  EXPECT_EQ(knee.torque_limit_nm(0), 80.0);
   EXPECT_NEAR(knee.axis.y(), -1.0, 1e-12);
   EXPECT_EQ(knee.lower, -2.79);
   const Link& ankle = m->links()[m->find_link("ankle_x_right")];
@@ -64,6 +64,31 @@ TEST(Model, ErrorsNameThePathValueAndRule) {
     EXPECT_NE(std::string(e.what()).find("bodies[1].joints[0].range: [1,-1] is not [lower, upper]"), std::string::npos) << e.what();
   }
   EXPECT_THROW(load_shipped_model("humanoid99"), base::UserError);
+}
+
+// Per-axis limits (the thesis's jumper, §3.6.2): one bound per DoF about the link's x, y, z.
+TEST(Model, SphericalJointsTakePerAxisTorqueLimits) {
+  const ModelPtr m = CharacterModel::from_json(two_bodies({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {100, 300, 50}}}), "m");
+  EXPECT_EQ(m->torque_limits().tail<3>(), Eigen::Vector3d(100, 300, 50));
+  EXPECT_EQ(m->kp().tail<3>(), Eigen::Vector3d::Constant(300.0));  // default kp: the largest limit
+  EXPECT_EQ(m->kd().tail<3>(), Eigen::Vector3d::Constant(30.0));
+  auto error = [](const Json& joint) {
+    try {
+      CharacterModel::from_json(two_bodies(joint), "m");
+    } catch (const base::UserError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(error({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"torque_limit", {1, 2, 3}}}),
+            "m: bodies[1].joints[0].torque_limit: [1,2,3] is not a number > 0 (N·m; per-axis limits are for spherical joints)");
+  EXPECT_EQ(error({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {1, 2}}}),
+            "m: bodies[1].joints[0].torque_limit: [1,2] is not a number > 0 or [x, y, z] of numbers > 0 (N·m about the link's axes)");
+  EXPECT_EQ(error({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {1, 0, 2}}}),
+            "m: bodies[1].joints[0].torque_limit: [1,0,2] is not a number > 0 or [x, y, z] of numbers > 0 (N·m about the link's axes)");
+  EXPECT_EQ(error({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"torque_limit", "strong"}}),
+            "m: bodies[1].joints[0].torque_limit: \"strong\" is not a number > 0 (N·m)");
+  EXPECT_EQ(error({{"name", "j"}, {"type", "spherical"}}), "m: bodies[1].joints[0].torque_limit: missing is not > 0");
 }
 
 }  // namespace

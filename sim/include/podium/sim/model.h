@@ -52,7 +52,9 @@ struct Link {
   double twist_lower = 1.0, twist_upper = -1.0;  // rad (lower > upper: none)
   bool locked = false;  // held at `lock` (a cast): revolute angle in lock(0), spherical quaternion wxyz
   Eigen::Vector4d lock = Eigen::Vector4d(1, 0, 0, 0);
-  double torque_limit_nm = 0.0;     // per-DoF torque bound before the strength multiplier
+  // Per-DoF torque bounds before the strength multiplier, N·m: the first nv entries (revolute:
+  // (0); spherical: about the link's x, y, z axes, which may differ, as the thesis's jumper's do).
+  Eigen::Vector3d torque_limit_nm = Eigen::Vector3d::Zero();
   double kp = 0.0, kd = 0.0;        // PD gains, N·m/rad and N·m·s/rad
 };
 
@@ -127,7 +129,7 @@ ModelPtr edit_model(const ModelPtr& model, const ModelEdits& edits);
 
 /// Loads a model file of the project's own JSON format.
 ModelPtr load_model(const std::filesystem::path& path);
-/// Loads a model shipped in sim/models/ by name ("humanoid21", "humanoid34").
+/// Loads a model shipped in sim/models/ by name ("humanoid21", "humanoid34", "athlete").
 ModelPtr load_shipped_model(const std::string& name);
 /// The folder of shipped models (compiled in; overridable with PODIUM_SIM_MODELS).
 std::filesystem::path shipped_models_dir();
@@ -137,7 +139,9 @@ std::filesystem::path shipped_models_dir();
 ModelPtr make_chain(int n_links, JointType joint = JointType::spherical);
 
 /// Loads a DeepMimic character (`Skeleton.Joints`, `BodyDefs`) and optional PD controller file
-/// (`PDControllers[]` with `Kp`, `Kd`), converting DeepMimic's y-up frames to z-up.
+/// (`PDControllers[]` with `Kp`, `Kd`), converting DeepMimic's y-up frames to z-up. A joint's
+/// torque limit is `TorqueLim`, or for a spherical joint per axis `TorqueLimX`, `TorqueLimY`,
+/// `TorqueLimZ` (arpspoof/Jump's jumper). Throws base::UserError naming the file, joint and field.
 ModelPtr load_deepmimic(const std::filesystem::path& character, const std::filesystem::path& controller = {});
 
 }  // namespace podium::sim

@@ -54,7 +54,7 @@ std::size_t LinkStates::size(const sim::CharacterModel& model) const {
 void LinkStates::write(const CharacterEnv& env, std::span<double> out) const {
   const auto& model = env.model();
   const auto& d = env.world().data();
-  const Eigen::Matrix3d Ht = heading_of(d).transpose();
+  const Eigen::Matrix3d Ht = frame_ == Frame::world ? Eigen::Matrix3d::Identity() : Eigen::Matrix3d(heading_of(d).transpose());
   std::vector<Eigen::Vector3d> omega, velocity;
   if (blocks_.velocities) link_velocities(model, d, omega, velocity);
   std::size_t at = 0;

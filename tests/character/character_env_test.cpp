@@ -177,6 +177,35 @@ TEST(CharacterEnv, FacingInvariantPartsIgnoreHeadingAndPlace) {
   }
 }
 
+// World-frame link states (the jumps' global features, thesis §3.4.1) turn with the character:
+// positions relative to the root rotate by the turn, and at heading 0 they equal the heading
+// frame's values.
+TEST(CharacterEnv, WorldFrameLinkStatesTurnWithTheCharacter) {
+  CharacterEnvParts parts;
+  parts.model = sim::load_shipped_model("humanoid34");
+  parts.action = std::make_unique<TorqueActions>();
+  parts.observation.push_back(std::make_unique<LinkStates>(LinkStates::Blocks{}, LinkStates::Frame::world));
+  parts.observation.push_back(std::make_unique<LinkStates>(LinkStates::Blocks{}, LinkStates::Frame::heading));
+  parts.start = std::make_unique<StandingStart>();
+  parts.reward = [](const CharacterEnv&, std::span<const double>, learn::StepResult& out) { out.reward = 0; };
+  CharacterEnv env(std::move(parts));
+  std::vector<double> obs;
+  env.reset(obs);
+  const std::size_t half = obs.size() / 2;
+  for (std::size_t k = 0; k < half; ++k) EXPECT_NEAR(obs[k], obs[half + k], 1e-12) << "entry " << k;
+  Eigen::VectorXd q = env.world().data().q;
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ()));
+  set_quat(q, 3, turn * quat_at(q, 3));
+  env.world().set_state(q, env.world().data().qd);
+  std::vector<double> turned;
+  env.observe(turned);
+  const int hand = env.model().find_body("right_hand");  // 15 values per body; position first
+  const Eigen::Vector3d before(obs[15 * hand], obs[15 * hand + 1], obs[15 * hand + 2]);
+  const Eigen::Vector3d after(turned[15 * hand], turned[15 * hand + 1], turned[15 * hand + 2]);
+  EXPECT_LT((after - turn * before).norm(), 1e-9);
+  EXPECT_GT((after - before).norm(), 1e-2);  // the hand is beside the root: it moved
+}
+
 TEST(CharacterEnv, RagdollDropLandsSupineOrProneWhereAsked) {
   for (auto lying : {RagdollDrop::Lying::supine, RagdollDrop::Lying::prone}) {
     CharacterEnvParts parts = testing::getup_like_parts(5);

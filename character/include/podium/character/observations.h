@@ -40,17 +40,22 @@ class HeadHeight : public ObservationPart {
 /// Per body, in the heading frame: position relative to the root origin (3), rotation as its
 /// first two matrix columns (6), linear and angular velocity (3 + 3), each block optional
 /// (DeepMimic-style link state; thesis §3.6.2). Size: bodies × chosen blocks. Facing-invariant.
+/// With Frame::world the same blocks are in world axes instead (thesis §3.4.1: the jumps' global
+/// features, which tell states apart by where the character faces relative to the bar); not
+/// facing-invariant.
 class LinkStates : public ObservationPart {
  public:
   struct Blocks {
     bool positions = true, rotations = true, velocities = true;
   };
-  explicit LinkStates(Blocks blocks) : blocks_(blocks) {}
+  enum class Frame { heading, world };
+  explicit LinkStates(Blocks blocks, Frame frame = Frame::heading) : blocks_(blocks), frame_(frame) {}
   std::size_t size(const sim::CharacterModel& model) const override;
   void write(const CharacterEnv& env, std::span<double> out) const override;
 
  private:
   Blocks blocks_;
+  Frame frame_;
 };
 
 /// End effectors relative to the root link in its own frame (get-up seed App. C, egocentric):

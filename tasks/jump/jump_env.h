@@ -13,6 +13,7 @@
 /// at one rate); set_difficulty moves the props and c_offset at once and says whether the rate
 /// still fits, else the trial builds a new env at the new z.
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -48,7 +49,7 @@ struct JumpSettings {
   RulesConfig rules;
   double latent_bound = 3.0;  ///< P-VAE latent box ±3σ
   double offset_bound = 2.0;  ///< per-joint offsets, rad (authors' repository: offset scale 2)
-  double novelty_threshold_rad = 1.5707963267948966;  ///< d_threshold of eq. 3.12 (§3.6.2: π/2)
+  double novelty_threshold_rad = std::numbers::pi / 2;  ///< d_threshold of eq. 3.12 (§3.6.2: π/2)
 };
 
 /// Reads JumpSettings' keys (all optional: kind, model, takeoff_foot, difficulty_m, sim_hz,
@@ -70,6 +71,9 @@ class JumpEnv final : public character::CharacterEnv {
   explicit JumpEnv(const JumpSettings& settings, PosePrior prior = {});
 
   void reset(std::vector<double>& observation) override;
+  /// CharacterEnv's state (the World snapshot, exact) plus z and the episode's rules, sums and
+  /// feature; loads into a JumpEnv of the same settings and control rate (z may differ: it is set
+  /// from the state), which then continues the episode bitwise.
   std::optional<base::Json> save_state() const override;
   void load_state(const base::Json& state) override;
 
@@ -86,7 +90,8 @@ class JumpEnv final : public character::CharacterEnv {
   const TakeoffState& takeoff() const { return takeoff_; }
   int takeoff_foot() const { return foot_; }
   /// The episode so far: outcome and reason (jump_rules.h), the reward terms at its end, and the
-  /// strategy feature.
+  /// strategy feature. A blown-up state ends the episode (CharacterEnv: terminated, reward 0)
+  /// with the outcome still in_flight.
   Outcome outcome() const { return referee_.outcome(); }
   const std::string& outcome_reason() const { return referee_.reason(); }
   const RewardTerms& reward_terms() const { return terms_; }
@@ -112,7 +117,9 @@ class JumpEnv final : public character::CharacterEnv {
   std::vector<std::vector<double>> known_;
 };
 
-/// StepResult::info of JumpEnv, in order.
+/// StepResult::info of JumpEnv, in order: success (0/1), outcome (Outcome's value: 0 in flight,
+/// 1 success, 2 touched_obstacle, 3 touched_ground, 4 timed_out), head_first (0/1), the episode's
+/// mean root angular speed (rad/s) and mean L1 offset (rad) so far, the Stage 1 feature (rad), z (m).
 std::vector<std::string> jump_info_names();
 
 }  // namespace podium::tasks::jump

@@ -11,6 +11,7 @@
 /// has α ≈ 0 after a curve to the left); α = π/2 puts it straight across the run.
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <numbers>
 
 #include "jump_schedules.h"
 #include "podium/sim/terrain.h"
@@ -21,7 +22,7 @@ namespace podium::tasks::jump {
 /// wall 1.2 m from the take-off point, 5 cm thick, 20 m long; block 2 cm behind it, 4 m deep,
 /// top at clip(h − 0.7, 0.02, 0.75) for a bar (obstacle) height h).
 struct SuiteLayout {
-  double approach_angle_rad = 1.5707963267948966;  ///< α; π/2: the bar across the run
+  double approach_angle_rad = std::numbers::pi / 2;  ///< α (high jump only); π/2: the bar across the run
   double wall_distance_m = 1.2;      ///< take-off point to the wall's near face, along n
   double wall_thickness_m = 0.05;
   double wall_length_m = 20.0;

@@ -87,7 +87,7 @@ TEST(JumpEnv, ApproachAngleTurnsTheSuiteAboutTheTakeoffPoint) {
 }
 
 TEST(JumpEnv, CompositeTargetsAddTheirOffsetsToTheNaturalnessTerm) {
-  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
+  const sim::ModelPtr model = sim::load_shipped_model("athlete");
   const character::PoseBridge bridge(model);
   auto vae = std::make_shared<learn::PoseVae>(learn::VaeConfig::pose_vae(), bridge.lower(), bridge.upper(), 0, 7);
   JumpEnv env(settings(), PosePrior{vae});
@@ -95,7 +95,7 @@ TEST(JumpEnv, CompositeTargetsAddTheirOffsetsToTheNaturalnessTerm) {
   EXPECT_EQ(env.action_space().high.back(), 2.0);
   std::vector<double> obs;
   env.reset(obs);
-  testing::place(env, {3.0, 0.0, 1.0348 + 0.03});
+  testing::place(env, {3.0, 0.0, env.model().standing_pose()(2) + 0.03});  // just above the block
   std::vector<double> action(env.action_space().size(), 0.0);
   for (std::size_t k = 13; k < action.size(); ++k) action[k] = k % 2 ? 0.5 : -0.5;  // ‖a_offset‖₁ = 14 rad
   learn::StepResult out;
@@ -184,7 +184,7 @@ TEST(JumpEnv, BadSettingsAreRejectedWithTheirName) {
 }
 
 TEST(JumpEnv, SettingsReadFromConfig) {
-  const base::Json config = {{"kind", "obstacle"}, {"model", "humanoid34"}, {"difficulty_m", 0.3}, {"takeoff_features", {1.0, 2.0, 3.0}}};
+  const base::Json config = {{"kind", "obstacle"}, {"model", "athlete"}, {"difficulty_m", 0.3}, {"takeoff_features", {1.0, 2.0, 3.0}}};
   base::ConfigReader r(config, "", "jump config");
   const JumpSettings s = read_jump_settings(r);
   r.finish();

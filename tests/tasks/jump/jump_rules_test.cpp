@@ -15,7 +15,7 @@ using testing::step_until_decided;
 
 // At z = 0.5 m with the bar across the run (α = π/2): the wall's near face at x = 1.2 m, 5 cm
 // thick; the block from x = 1.27 m to 5.27 m, its top at 2 cm.
-constexpr double kStanding = 1.0348;  // humanoid34's standing root height
+const double kStanding = sim::load_shipped_model("athlete")->standing_pose()(2);  // the athlete's standing root height
 
 TEST(JumpRules, LandingOnTheBlockClearOfTheWallSucceeds) {
   JumpEnv env(settings());

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the jump env tests: settings on humanoid34 and scripted states.
+// Shared by the jump env tests: settings on the athlete and scripted states.
 #include <Eigen/Geometry>
 #include <cstdlib>
 #include <filesystem>
@@ -10,11 +10,9 @@
 
 namespace podium::tasks::jump::testing {
 
-// humanoid34 until sim/models/athlete.json lands; then switch to JumpSettings' default "athlete".
 inline JumpSettings settings(JumpKind kind = JumpKind::high_jump, double z_m = 0.5) {
-  JumpSettings s;
+  JumpSettings s;  // model: "athlete"
   s.kind = kind;
-  s.model = "humanoid34";
   s.difficulty_m = z_m;
   return s;
 }

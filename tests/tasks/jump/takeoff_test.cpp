@@ -33,7 +33,7 @@ Support support_of(const sim::ModelPtr& model, const TakeoffState& s, int foot) 
 }
 
 TEST(Takeoff, ShippedStateIsOneLegSupportAtRunningSpeed) {
-  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
+  const sim::ModelPtr model = sim::load_shipped_model("athlete");
   const int foot = model->find_body("right_foot");
   const TakeoffState s = read_takeoff_json(model, shipped_takeoff_path(), foot);
   EXPECT_EQ(s.q(0), 0.0);
@@ -50,7 +50,7 @@ TEST(Takeoff, ShippedStateIsOneLegSupportAtRunningSpeed) {
 }
 
 TEST(Takeoff, FeaturesSetRootAngularAndLateralVelocity) {
-  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
+  const sim::ModelPtr model = sim::load_shipped_model("athlete");
   const TakeoffState ref = read_takeoff_json(model, shipped_takeoff_path(), model->find_body("right_foot"));
   ASSERT_EQ(takeoff_features(JumpKind::high_jump).size(), 4u);
   ASSERT_EQ(takeoff_features(JumpKind::obstacle).size(), 3u);
@@ -74,7 +74,7 @@ TEST(Takeoff, FeaturesSetRootAngularAndLateralVelocity) {
 }
 
 TEST(Takeoff, StateFileErrorsNameTheKey) {
-  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
+  const sim::ModelPtr model = sim::load_shipped_model("athlete");
   const auto path = std::filesystem::temp_directory_path() / "podium_jump_bad_takeoff.json";
   std::ofstream(path) << R"({"root_rotation": [0, 0, 0], "root_velocity": [6, 0, 0], "root_angular_velocity": [0, 0, 0],
                             "joints": {"tail": 0.3}})";
@@ -82,7 +82,7 @@ TEST(Takeoff, StateFileErrorsNameTheKey) {
     read_takeoff_json(model, path, model->find_body("right_foot"));
     FAIL();
   } catch (const base::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find("joints.tail: model humanoid34 has no such joint"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("joints.tail: model athlete has no such joint"), std::string::npos) << e.what();
   }
   // Standing on both feet is not a one-leg take-off.
   std::ofstream(path) << R"({"root_rotation": [0, 0, 0], "root_velocity": [6, 0, 0], "root_angular_velocity": [0, 0, 0]})";
@@ -101,7 +101,7 @@ TEST(Takeoff, StateFileErrorsNameTheKey) {
 TEST(Takeoff, CapturedRunUpEndLoadsWhenPresent) {
   const auto dir = testing::captured_jump_dir();
   if (dir.empty()) GTEST_SKIP() << "../shared/data/jump absent (PODIUM_SHARED_DIR)";
-  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
+  const sim::ModelPtr model = sim::load_shipped_model("athlete");
   const auto path = dir / "states/jumper_run_p1.npy";
   EXPECT_THROW(read_takeoff_npy(model, path, model->find_body("right_foot")), base::UserError);
   const int foot = model->find_body("left_foot");
@@ -127,7 +127,7 @@ TEST(Takeoff, CapturedRunUpEndLoadsWhenPresent) {
 TEST(Takeoff, CapturedJumpTakeoffFrameWhenPresent) {
   const auto dir = testing::captured_jump_dir();
   if (dir.empty()) GTEST_SKIP() << "../shared/data/jump absent (PODIUM_SHARED_DIR)";
-  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
+  const sim::ModelPtr model = sim::load_shipped_model("athlete");
   for (auto [name, foot_name] : {std::pair{"VC5_high_jump__fosbury_flop_06.txt", "right_foot"}, {"VC5_high_jump__scissor_01.txt", "right_foot"},
                                  {"VC5_high_jump__straddle_02.txt", "left_foot"}}) {
     const character::Clip clip = character::read_deepmimic_clip(model, dir / "motions/beyond" / name);

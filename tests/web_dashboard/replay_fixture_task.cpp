@@ -89,6 +89,7 @@ class ReplayFixtureTask final : public plugins::Task {
     plugins::RunResult result;
     result.objectives = {max_tip_z};
     result.features = {max_tip_z, angle};
+    result.info["summary"] = {{"tip peak m", max_tip_z}};  // the strategy gallery shows it
     result.artifacts.push_back({"trajectory", path});
     std::filesystem::copy_file(path, request.work_dir / "trajectory_fast.jsonl", std::filesystem::copy_options::overwrite_existing);
     result.artifacts.push_back({"trajectory_fast", request.work_dir / "trajectory_fast.jsonl"});  // a second motion

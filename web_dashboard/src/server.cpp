@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "api.h"
+#include "encoded_body.h"
 #include "guarded_http.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
@@ -79,15 +80,6 @@ void send_json(httplib::Response& res, const Json& body) {
   res.set_content(body.dump(), "application/json");
 }
 
-// True if every requested byte range starts inside a file of `size` bytes (RFC 9110 §14.1.2;
-// httplib checks this for in-memory bodies but not for streamed ones).
-bool satisfiable(const httplib::Ranges& ranges, std::uintmax_t size) {
-  for (const auto& [first, last] : ranges) {
-    if (first < 0 ? last <= 0 : static_cast<std::uintmax_t>(first) >= size || (last >= 0 && last < first)) return false;
-  }
-  return true;
-}
-
 // A file streamed in chunks (checkpoints can be large).
 void send_file(const httplib::Request& req, httplib::Response& res, const fs::path& file, const std::string& mime,
                bool attachment) {
@@ -116,25 +108,26 @@ void send_file(const httplib::Request& req, httplib::Response& res, const fs::pa
 // Response bodies by URL, valid for one database version. Bounded: when full, it starts over.
 class ResponseCache {
  public:
-  std::shared_ptr<const std::string> find(const std::string& key, std::int64_t version) {
+  std::shared_ptr<const EncodedBody> find(const std::string& key, std::int64_t version) {
     std::lock_guard lock(mutex_);
     const auto it = entries_.find(key);
     return it != entries_.end() && it->second.first == version ? it->second.second : nullptr;
   }
-  void put(const std::string& key, std::int64_t version, std::shared_ptr<const std::string> body) {
+  void put(const std::string& key, std::int64_t version, std::shared_ptr<const EncodedBody> body) {
     std::lock_guard lock(mutex_);
-    if (bytes_ + body->size() > kMaxBytes) {
+    const std::size_t size = body->plain.size() + body->gzip.size();
+    if (bytes_ + size > kMaxBytes) {
       entries_.clear();
       bytes_ = 0;
     }
-    bytes_ += body->size();
+    bytes_ += size;
     entries_[key] = {version, std::move(body)};
   }
 
  private:
   static constexpr std::size_t kMaxBytes = 64u << 20;
   std::mutex mutex_;
-  std::map<std::string, std::pair<std::int64_t, std::shared_ptr<const std::string>>> entries_;
+  std::map<std::string, std::pair<std::int64_t, std::shared_ptr<const EncodedBody>>> entries_;
   std::size_t bytes_ = 0;
 };
 
@@ -203,11 +196,11 @@ struct Server::Impl {
       auto body = options.cache ? cache.find(key, version) : nullptr;
       if (!body) {
         auto q = pool.acquire();
-        body = std::make_shared<const std::string>(body_text(build(req, *q)));
+        body = EncodedBody::make(body_text(build(req, *q)));
         if (options.cache) cache.put(key, version, body);
       }
       res.set_header("Cache-Control", "no-store");
-      res.set_content(*body, "application/json");
+      send_body(req, res, body, "application/json");
     });
   }
 
@@ -271,7 +264,7 @@ struct Server::Impl {
       const std::string path = req.matches[1].str().empty() ? "index.html" : req.matches[1].str();
       if (const auto* f = files.find(path)) {
         res.set_header("Cache-Control", "no-cache");
-        res.set_content(f->content, f->mime);
+        send_body(req, res, f->body, f->mime);
       } else {
         res.status = 404;
         res.set_content("not found\n", "text/plain");

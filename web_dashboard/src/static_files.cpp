@@ -31,7 +31,7 @@ StaticFiles::StaticFiles(const fs::path& dir) {
     std::ifstream in(entry.path(), std::ios::binary);
     std::stringstream text;
     text << in.rdbuf();
-    files_[fs::relative(entry.path(), dir).generic_string()] = {text.str(), mime_of(entry.path())};
+    files_[fs::relative(entry.path(), dir).generic_string()] = {EncodedBody::make(text.str()), mime_of(entry.path())};
   }
 }
 

@@ -4,12 +4,16 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <memory>
 #include <string>
+
+#include "encoded_body.h"
 
 namespace podium::web_dashboard {
 
 struct StaticFile {
-  std::string content, mime;
+  std::shared_ptr<const EncodedBody> body;  ///< compressed once, at startup
+  std::string mime;
 };
 
 class StaticFiles {

@@ -204,6 +204,8 @@ function renderHistory() {
 function renderStrategies(list) {
   document.getElementById('no-strategies').hidden = list.length > 0;
   const stages = state.detail.stages;
+  window.podiumStrategies = { list, stages };  // for gallery.js
+  document.dispatchEvent(new CustomEvent('podium-strategies', { detail: window.podiumStrategies }));
   podium.fill(document.getElementById('strategies'), ['stage', 'strategy', 'trials', 'best objective', 'representative trial', 'features', ''],
     list.map(s => {
       const names = featureNames(s.stage);

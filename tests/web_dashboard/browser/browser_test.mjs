@@ -57,7 +57,7 @@ run('browser', async h => {
   assert.equal(await page.locator('#curves .uplot').count(), 1);
   assert.equal(await page.locator('#replay-link').isVisible(), true);
 
-  const canvasStats = () => page.evaluate(() => [...document.querySelectorAll('#viewports canvas')].map(c => {
+  const canvasStats = (selector = '#viewports canvas') => page.evaluate(selector => [...document.querySelectorAll(selector)].map(c => {
     const copy = document.createElement('canvas');
     copy.width = c.width; copy.height = c.height;
     const ctx = copy.getContext('2d');
@@ -70,7 +70,7 @@ run('browser', async h => {
       if (Math.abs(data[i] - data[0]) + Math.abs(data[i + 1] - data[1]) + Math.abs(data[i + 2] - data[2]) > 30) differing++;
     }
     return { colours: colours.size, differing: differing / (data.length / 4) };
-  }));
+  }), selector);
 
   step('3D replay: renders, frame counter advances');
   await page.goto(`${url}replay.html?trial=${physicsTrials[0].id}`);
@@ -116,6 +116,33 @@ run('browser', async h => {
   const both = await canvasStats();
   assert.equal(both.length, 2);
   for (const s of both) assert.ok(s.colours > 20 && s.differing > 0.02, `blank canvas: ${JSON.stringify(s)}`);
+
+  step('strategy gallery: one moving replay per strategy on the campaign page');
+  const strategyCount = (await api(`/api/campaigns/${physics}`)).strategy_table.length;
+  assert.ok(strategyCount >= 1, 'the replay campaign has no strategies');
+  await page.goto(`${url}campaign.html?id=${physics}`);
+  await waitFor('a card per strategy', () => page.evaluate(n => window.podiumGallery?.cards === n, Math.min(strategyCount, 12)));
+  await page.locator('#gallery').scrollIntoViewIfNeeded();  // cards are drawn only on screen
+  const drawnBefore = await page.evaluate(() => window.podiumGallery.rendered);
+  await waitFor('every card drawn twice', () => page.evaluate(n => window.podiumGallery.rendered >= n, drawnBefore + 2 * Math.min(strategyCount, 12)));
+  assert.equal(await page.locator('#gallery .card').count(), Math.min(strategyCount, 12));
+  await waitFor('the task\'s summary on a card', async () => /tip peak m: /.test(await page.locator('#gallery .card').first().innerText()));
+  const galleryStats = await canvasStats('#gallery canvas');
+  assert.equal(galleryStats.length, Math.min(strategyCount, 12));
+  for (const s of galleryStats) assert.ok(s.colours > 20 && s.differing > 0.02, `blank gallery canvas: ${JSON.stringify(s)}`);
+  const galleryPixels = () => page.evaluate(() => {
+    const c = document.querySelector('#gallery canvas');
+    const copy = document.createElement('canvas');
+    copy.width = c.width; copy.height = c.height;
+    copy.getContext('2d').drawImage(c, 0, 0);
+    return Array.from(copy.getContext('2d').getImageData(0, 0, c.width, c.height).data.filter((_, i) => i % 16 === 0));
+  });
+  const before = await galleryPixels();
+  await page.waitForTimeout(700);
+  const after = await galleryPixels();
+  const moved = before.filter((v, i) => v !== after[i]).length / before.length;
+  console.log(`   gallery: ${strategyCount} strategies, the first card's motion changed ${(100 * moved).toFixed(2)}% of its pixels in 0.7 s`);
+  assert.ok(moved > 0.001, 'the gallery replay does not move');
 
   step('a trial\'s second recorded motion beside its first (ID:NAME), linked from the trial page');
   await page.goto(`${url}trial.html?id=${physicsTrials[0].id}`);

@@ -1,0 +1,65 @@
+#include "encoded_body.h"
+
+#include <zlib.h>
+
+#include <stdexcept>
+
+namespace podium::web_dashboard {
+
+namespace {
+
+std::string gzip_of(const std::string& text) {
+  z_stream z{};
+  // windowBits 15 + 16: a gzip header and trailer, as Content-Encoding: gzip needs.
+  if (deflateInit2(&z, 6, Z_DEFLATED, 15 + 16, 8, Z_DEFAULT_STRATEGY) != Z_OK) throw std::runtime_error("zlib: deflateInit2 failed");
+  std::string out(deflateBound(&z, static_cast<uLong>(text.size())), '\0');
+  z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(text.data()));
+  z.avail_in = static_cast<uInt>(text.size());
+  z.next_out = reinterpret_cast<Bytef*>(out.data());
+  z.avail_out = static_cast<uInt>(out.size());
+  const int status = deflate(&z, Z_FINISH);
+  out.resize(z.total_out);
+  deflateEnd(&z);
+  if (status != Z_STREAM_END) throw std::runtime_error("zlib: deflate did not finish");
+  return out;
+}
+
+bool accepts_gzip(const httplib::Request& req) {
+  return req.get_header_value("Accept-Encoding").find("gzip") != std::string::npos;
+}
+
+}  // namespace
+
+bool satisfiable(const httplib::Ranges& ranges, std::uintmax_t size) {
+  for (const auto& [first, last] : ranges) {
+    if (first < 0 ? last <= 0 : static_cast<std::uintmax_t>(first) >= size || (last >= 0 && last < first)) return false;
+  }
+  return true;
+}
+
+std::shared_ptr<const EncodedBody> EncodedBody::make(std::string text) {
+  auto body = std::make_shared<EncodedBody>();
+  if (text.size() >= 1024) body->gzip = gzip_of(text);
+  body->plain = std::move(text);
+  return body;
+}
+
+void send_body(const httplib::Request& req, httplib::Response& res, std::shared_ptr<const EncodedBody> body,
+               const std::string& mime) {
+  if (!satisfiable(req.ranges, body->plain.size())) {
+    res.status = 416;
+    res.set_header("Content-Range", "bytes */" + std::to_string(body->plain.size()));
+    return;
+  }
+  const bool gzip = !body->gzip.empty() && req.ranges.empty() && accepts_gzip(req);
+  if (!body->gzip.empty()) res.set_header("Vary", "Accept-Encoding");
+  if (gzip) res.set_header("Content-Encoding", "gzip");
+  const std::string& bytes = gzip ? body->gzip : body->plain;
+  if (bytes.empty()) return res.set_content("", mime);  // a sized provider needs a size
+  res.set_content_provider(bytes.size(), mime, [body, &bytes](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+    sink.write(bytes.data() + offset, length);
+    return true;
+  });
+}
+
+}  // namespace podium::web_dashboard

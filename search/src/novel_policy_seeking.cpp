@@ -37,10 +37,11 @@ NovelPolicySeeking::NovelPolicySeeking(const SearchSetup& setup, const std::stri
       input.x.push_back(v->get<double>());
     }
     const Json features = in.value("features", Json::array());
-    if (!features.is_array() || (!features.empty() && features.size() != features_.size()))
-      throw UserError(at + ".features: " + features.dump() + " does not have the " + std::to_string(features_.size()) +
-                      " values the task declares");
-    if (!features.empty()) input.found.push_back(features.get<std::vector<double>>());
+    if (!features.is_array()) throw UserError(at + ".features: " + features.dump() + " is not an array");
+    // An input from a stage with other features (the jumps' Stage 1 up-angle beside Stage 2's
+    // bar-frame rotation) cannot be compared with this stage's: the task reads its own from the
+    // input trial it is handed, and `found` starts empty.
+    if (!features.empty() && features.size() == features_.size()) input.found.push_back(features.get<std::vector<double>>());
     const Json artifacts = in.value("artifacts", Json::object());
     input.warm_start = artifacts.is_object() && artifacts.contains(params_.warm_start_artifact)
                            ? artifacts[params_.warm_start_artifact]

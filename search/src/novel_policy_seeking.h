@@ -2,8 +2,8 @@
 // Novel-policy seeking (thesis §3.5.2, eq. 3.12), as a campaign stage over an earlier stage's
 // results: for each input (one initial state, e.g. one distinct strategy of Stage 1) it runs
 // `trials_per_input` trials in sequence at that input's parameters. Each trial's context carries
-// the features of the policies already found for that input (the input's own, then each finished
-// trial's), so the task can multiply its reward by
+// the features of the policies already found for that input (the input's own when its stage has
+// the same features, then each finished trial's), so the task can multiply its reward by
 //   r_novelty(f) = clip(min_j ‖f − f_j‖ / d_threshold, 0.01, 1),
 // and a warm-start checkpoint (the input's artifact named `warm_start_artifact`, or null).
 // Context: {"novelty": {"features": [[...], ...], "d_threshold": d}, "warm_start": path | null};

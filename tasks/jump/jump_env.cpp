@@ -33,7 +33,9 @@ JumpSettings read_jump_settings(base::ConfigReader& r) {
                            "kind");
   s.model = r.string("model", s.model, "sim/models/<model>.json");
   s.takeoff_foot = r.string("takeoff_foot", s.takeoff_foot, "the body allowed on the ground (§3.6.1)");
-  s.difficulty_m = r.number("difficulty_m", s.difficulty_m, {.min = 0.0, .max = 5.0, .exclusive_min = true}, "z at the start (Table 3.1)");
+  // A config's default is kind-independent (describe lists one), so 0 stands for the kind's z_min.
+  s.difficulty_m = r.number("difficulty_m", 0.0, {.min = 0.0, .max = 5.0}, "z at the start; 0: Table 3.1's z_min for the kind");
+  if (s.difficulty_m == 0.0) s.difficulty_m = difficulty_curriculum(s.kind).initial;
   s.sim_hz = r.number("sim_hz", s.sim_hz, {.min = 30.0}, "physics steps per second (§3.6.2: 600)");
   s.takeoff_state = r.string("takeoff_state", s.takeoff_state, "reference take-off state file (.json, .npy, .txt); empty: shipped");
   s.takeoff_features = r.numbers("takeoff_features", s.takeoff_features, {}, "Stage 1's x (take-off features); empty: none");

@@ -52,7 +52,8 @@ struct JumpSettings {
   double novelty_threshold_rad = std::numbers::pi / 2;  ///< d_threshold of eq. 3.12 (§3.6.2: π/2)
 };
 
-/// Reads JumpSettings' keys (all optional: kind, model, takeoff_foot, difficulty_m, sim_hz,
+/// Reads JumpSettings' keys (all optional: kind, model, takeoff_foot, difficulty_m (0, the
+/// default: Table 3.1's z_min for the kind), sim_hz,
 /// takeoff_state, takeoff_features, approach_angle_rad, wall_distance_m, obstacle_distance_m,
 /// clearance_m, time_limit_s, latent_bound, offset_bound, novelty_threshold_rad) for a plugin's
 /// config; errors name the key.
@@ -95,6 +96,8 @@ class JumpEnv final : public character::CharacterEnv {
   Outcome outcome() const { return referee_.outcome(); }
   const std::string& outcome_reason() const { return referee_.reason(); }
   const RewardTerms& reward_terms() const { return terms_; }
+  /// The episode's sums for r_ω and r_naturalness so far (mean root speed, mean L1 offset).
+  const EpisodeSums& sums() const { return sums_; }
   const CrossingRecorder& crossing() const { return crossing_; }
 
  private:

@@ -47,6 +47,18 @@ TEST(NovelPolicySeeking, ContextCarriesFeaturesFoundSoFarForThatInput) {
   EXPECT_TRUE(search->ask(8).empty());
 }
 
+// The jumps' Stage 1 feature is 1-D, Stage 2's 3-D: such an input is handed over, its feature
+// left out of the context (the task reads the input trial itself).
+TEST(NovelPolicySeeking, TakesAnInputWhoseFeatureHasAnotherSize) {
+  SearchSetup s = stage2(1);
+  s.inputs[0]["features"] = {0.3};
+  auto search = make_search("novel_policy", s);
+  const auto first = search->ask(8);
+  ASSERT_EQ(first.size(), 2u);
+  EXPECT_EQ(first[0].context.at("novelty").at("features"), Json::array());
+  EXPECT_EQ(first[1].context.at("novelty").at("features"), Json::parse("[[2.0, 0.1]]"));
+}
+
 TEST(NovelPolicySeeking, RejectsInputsOutsideTheSpaceNamingThePath) {
   SearchSetup s = stage2(2);
   s.inputs[1]["params"]["b"] = 3.0;

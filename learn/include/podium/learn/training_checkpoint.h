@@ -65,6 +65,10 @@ class TrainingCheckpoint {
   /// the next callback is update updates() + 1.
   std::int64_t updates() const { return updates_; }
   const std::filesystem::path& file() const { return file_; }
+  /// Later saves go to `file`; the metric points kept and the update count carry over. For a task
+  /// whose environments must be rebuilt mid-run (a new control rate): a checkpoint loads only into
+  /// environments like those it saved, so it keeps one file per kind of environment.
+  void retarget(std::filesystem::path file) { file_ = std::move(file); }
 
  private:
   // One metric's points, as two columns: a checkpoint may hold thousands of points.

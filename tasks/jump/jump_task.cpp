@@ -1,0 +1,176 @@
+// The jump task plugin (issue 19; thesis ch. 3). One plugin, two stages chosen by the config key
+// `stage`: "explore" (Stage 1, §3.5.1: the take-off features are the params BDS searches; the
+// feature is the 1-D up-angle at the bar) and "novel" (Stage 2, §3.5.2: one Stage 1 trial per
+// trial, warm-started from its policy, rewarded for a bar-frame rotation unlike those found).
+// `kind` picks the high jump or the obstacle jump. README.md gives the metrics and the presets.
+
+#include <numbers>
+
+#include "podium/plugins/export.h"
+#include "train_jump.h"
+
+namespace podium::tasks::jump {
+
+using base::Json;
+
+namespace {
+
+struct TaskConfig {
+  std::string stage = "explore";
+  TrainSettings train;
+};
+
+TaskConfig read_task_config(base::ConfigReader& r) {
+  TaskConfig c;
+  c.stage = r.choice("stage", c.stage, {"explore", "novel"},
+                     "explore: Stage 1 (§3.5.1), params = take-off features, feature = up-angle; novel: Stage 2 (§3.5.2), one input "
+                     "trial of an explore stage, its policy warm-started, feature = bar-frame rotation");
+  c.train = read_train_settings(r);
+  return c;
+}
+
+TaskConfig config_from(const Json& config) {
+  base::ConfigReader r(config, "", "jump config");
+  TaskConfig c = read_task_config(r);
+  r.finish();
+  return c;
+}
+
+// smoke: seconds per trial (16-16 networks, 4 iterations of 64 samples, 2 copies; mechanics only:
+// no jump is learnt). quick: this 2-core machine, about 10 min per trial on one core (see
+// README.md "Presets": 256-128 ReLU, 1024 samples per iteration, 150 Hz simulation, measured to
+// give 600 Hz's outcomes). paper: §3.6.2 (4096 samples per iteration = 16 copies × 256, 1024-512
+// ReLU, 5 epochs of 256, γ = 1, λ = 0.95, clip 0.02, LRs 2.5e-5 / 1e-2, 12,000 iterations, 600 Hz).
+Json presets() {
+  return {{"smoke",
+           {{"ppo_preset", "quick"},
+            {"ppo", {{"hidden", {16, 16}}, {"rollout_steps", 32}, {"epochs", 2}, {"minibatch_size", 32}, {"gamma", 1.0}}},
+            {"copies", 2}, {"threads", 1}, {"total_samples", 256}, {"sim_hz", 150.0}, {"eval_every", 2}, {"eval_jumps", 2},
+            {"final_jumps", 2}, {"checkpoint_every", 1}}},
+          {"quick",
+           {{"ppo_preset", "paper"},
+            {"ppo", {{"hidden", {256, 128}}, {"rollout_steps", 256}, {"sigma_anneal_steps", 400'000}, {"policy_lr_start", 1e-4},
+                     {"policy_lr_end", 1e-4}, {"clip", 0.1}}},
+            {"copies", 4}, {"threads", 1}, {"total_samples", 400'000}, {"sim_hz", 150.0}, {"eval_every", 25}, {"eval_jumps", 5},
+            {"final_jumps", 20}, {"checkpoint_every", 10}}},
+          {"paper",
+           {{"ppo_preset", "paper"}, {"ppo", {{"rollout_steps", 256}}}, {"copies", 16}, {"threads", 16}, {"total_samples", 12'000LL * 4096},
+            {"sim_hz", 600.0}, {"eval_every", 50}, {"eval_jumps", 5}, {"final_jumps", 20}, {"checkpoint_every", 10}}}};
+}
+
+Json metric(const char* name, const char* unit, const char* text) {
+  Json m = {{"name", name}, {"description", text}};
+  if (*unit) m["unit"] = unit;
+  return m;
+}
+
+Json metrics() {
+  return {metric("train/avg_reward", "", "the iteration's curriculum score (curriculum_score); step = samples"),
+          metric("train/episodes", "", "episodes ended in the iteration"),
+          metric("curriculum/z_m", "m", "bar height (obstacle width) z after the iteration (Table 3.1)"),
+          metric("curriculum/control_hz", "Hz", "the copies' control rate f_control(ρ(z))"),
+          metric("eval/success_rate", "", "test jumps at the current z that land on the block (the first deterministic)"),
+          metric("eval/return", "", "mean reward of the test jumps (eq. 3.16 × naturalness × novelty)"),
+          metric("eval/up_angle_rad", "rad", "the deterministic test jump's up-angle at the bar"),
+          metric("eval/mean_offset_l1", "rad", "mean L1 norm of the P-VAE offsets in the test jumps (0 with plain targets)"),
+          metric("eval/success_rate_start_bar", "", "the final policy's evaluation jumps at the starting bar (issue 19's acceptance)"),
+          metric("eval/success_rate_final", "", "the final policy's evaluation jumps at the z reached")};
+}
+
+Json feature(const char* name, double low, double high) {
+  return {{"name", name}, {"low", low}, {"high", high}, {"metric", "euclidean"}, {"unit", "rad"}};
+}
+
+Json describe_stage(const TaskConfig& c) {
+  Json params = Json::array();
+  for (const TakeoffFeature& f : takeoff_features(c.train.env.kind)) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
+  Json d = {{"params", params}, {"metrics", metrics()}, {"objectives", {"z_reached_m", "success_rate_start_bar"}}};
+  constexpr double pi = std::numbers::pi;
+  // 0.5 rad apart is another strategy: facing up (flop, ≈ 0), side-on (scissor, π/2) and facing
+  // down (straddle, π) lie ≥ π/2 apart; 0.5 rad (29°) splits them with room for the spread of one
+  // technique over retrained policies, and [0, π] holds about six such cells — the thesis's six
+  // strategies in ten samples.
+  if (c.stage == "explore") {
+    d["features"] = {feature("up_angle_rad", 0.0, pi)};
+  } else {
+    d["features"] = {feature("rotation_x", -pi, pi), feature("rotation_y", -pi, pi), feature("rotation_z", -pi, pi)};
+  }
+  d["strategy_threshold"] = 0.5;
+  return d;
+}
+
+std::vector<double> takeoff_params(const TaskConfig& c, const Json& params) {
+  std::vector<double> x;
+  for (const TakeoffFeature& f : takeoff_features(c.train.env.kind)) {
+    if (!params.contains(f.name) || !params[f.name].is_number())
+      throw base::UserError("jump " + c.stage + ": params." + f.name + " is missing or not a number (got " + params.dump() + ")");
+    x.push_back(params[f.name].get<double>());
+  }
+  return x;
+}
+
+// Stage 2's hand-over: the Stage 1 trial's policy and its 3-D feature, and the features the
+// novel-policy search found since (its context).
+TrialInputs novel_inputs(const plugins::RunRequest& request) {
+  if (request.inputs.size() != 1)
+    throw base::UserError("jump novel: needs exactly one input trial from an explore stage (inputs with \"per_trial\": \"each\"), got " +
+                          std::to_string(request.inputs.size()));
+  const plugins::InputTrial& in = request.inputs.front();
+  const std::string name = in.stage + "/" + std::to_string(in.trial_index);
+  if (!in.artifacts.count("policy")) throw base::UserError("jump novel: input trial " + name + " has no artifact policy (is it a jump trial?)");
+  const Json rotation = in.info.value("bar_frame_rotation", Json());
+  if (!rotation.is_array() || rotation.size() != 3)
+    throw base::UserError("jump novel: input trial " + name + " has no info.bar_frame_rotation of 3 values (is it a jump trial?)");
+  TrialInputs inputs;
+  const Json warm = request.context.value("warm_start", Json());
+  inputs.warm_start = warm.is_string() ? warm.get<std::string>() : in.artifacts.at("policy").string();
+  inputs.known.push_back(rotation.get<std::vector<double>>());
+  const Json found = request.context.contains("novelty") ? request.context["novelty"].value("features", Json::array()) : Json::array();
+  for (const auto& f : found)
+    if (f.is_array() && f.size() == 3) inputs.known.push_back(f.get<std::vector<double>>());
+  return inputs;
+}
+
+}  // namespace
+
+class JumpTask final : public plugins::Task {
+ public:
+  Json describe(const Json& config) const override {
+    const TaskConfig c = config_from(config);
+    const Json accepted = base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); });
+    Json d = describe_stage(c);
+    d["presets"] = presets();
+    d["config"] = accepted;
+    d["config_defaults"] = base::ConfigReader::defaults(accepted);
+    return d;
+  }
+
+  plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
+    TaskConfig c = config_from(request.config);
+    TrialInputs inputs;
+    if (c.stage == "novel") {
+      inputs = novel_inputs(request);
+      if (request.context.contains("novelty") && request.context["novelty"].contains("d_threshold"))
+        c.train.env.novelty_threshold_rad = request.context["novelty"]["d_threshold"].get<double>();
+    } else if (!request.inputs.empty()) {
+      throw base::UserError("jump explore: takes no input trials (Stage 1 starts from scratch, §3.5.1)");
+    }
+    c.train.env.takeoff_features = takeoff_params(c, request.params);
+    const Reporter reporter{[&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
+                            [&sink](double fraction) { sink.progress(fraction); }};
+    const JumpOutcome out = run_jump_trial(c.train, request.seed, inputs, request.work_dir, request.cancel, reporter);
+
+    plugins::RunResult result;
+    result.objectives = {out.z_reached_m, out.start_bar.success_rate};
+    const JumpEvaluation& shown = out.shown();
+    if (c.stage == "explore") result.features = {shown.up_angle_rad};
+    else result.features = {shown.bar_rotation(0), shown.bar_rotation(1), shown.bar_rotation(2)};
+    result.artifacts = {{"policy", out.policy}, {"trajectory", shown.trajectory}};
+    result.info = out.to_json();
+    return result;
+  }
+};
+
+}  // namespace podium::tasks::jump
+
+PODIUM_EXPORT_TASK(podium::tasks::jump::JumpTask, "jump")

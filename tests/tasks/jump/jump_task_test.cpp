@@ -1,0 +1,108 @@
+// The jump plugin through the real `podium` binary: the task conformance suite (its resume case
+// kills a smoke trial mid-run and checks the resumed attempt's result and metrics equal an
+// uninterrupted run's), the stages' descriptions, and campaigns/highjump.json at the smoke preset
+// end to end (explore → novel, each novel trial handed one explore strategy's policy).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <set>
+
+#include "campaign_spec.h"
+#include "podium/base/json.h"
+#include "podium/plugins/loader.h"
+#include "podium/store/store.h"
+#include "process.h"
+#include "task_conformance.h"
+
+namespace podium::tasks::jump {
+namespace {
+
+using base::Json;
+namespace fs = std::filesystem;
+
+PODIUM_TASK_CONFORMANCE(Jump, {.task = "jump", .long_config = {{"total_samples", 100'000'000}},
+                               .resume_config = {{"total_samples", 1024}}, .kill_after_metric_points = 24,
+                               .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"}});
+
+TEST(JumpTask, StagesDeclareTheTakeoffFeaturesAndTheirStrategyFeature) {
+  const auto task = plugins::load_task("jump");
+  const Json explore = task->describe({{"stage", "explore"}});
+  ASSERT_EQ(explore["params"].size(), 4u);  // α, ω_x, ω_y, |v_y| (§3.6.1)
+  EXPECT_EQ(explore["params"][0]["name"], "approach_angle_rad");
+  ASSERT_EQ(explore["features"].size(), 1u);  // the up-angle
+  EXPECT_DOUBLE_EQ(explore["features"][0]["high"].get<double>(), M_PI);
+  EXPECT_EQ(explore["objectives"][0], "z_reached_m");
+  const Json novel = task->describe({{"stage", "novel"}, {"kind", "obstacle"}});
+  EXPECT_EQ(novel["params"].size(), 3u);    // the root angular velocity
+  EXPECT_EQ(novel["features"].size(), 3u);  // the bar-frame rotation
+  try {
+    task->describe({{"stage", "stage2"}});
+    FAIL();
+  } catch (const base::ConfigError& e) {
+    EXPECT_EQ(e.path(), "stage");
+  }
+}
+
+TEST(JumpTask, ABadConfigIsRejectedAtSubmitAtItsJsonPath) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
+  spec["stages"][0]["config"]["copies"] = 0;
+  podium::testing::TempDir dir;
+  podium::testing::write_file(dir / "spec.json", spec.dump());
+  const auto run = podium::testing::run_podium({"submit", (dir / "spec.json").string()}, dir.path());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("stages[0].config.copies: 0 is not"), std::string::npos) << run.err;
+}
+
+// campaigns/highjump.json at the smoke preset through the real CLI, cut to 4 explore samples and
+// one novel trial per strategy.
+TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
+  for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  spec["stages"][0]["budget"]["trials"] = 4;
+  spec["stages"][1]["search"]["config"]["trials_per_input"] = 1;
+  spec["stages"][1]["budget"]["trials"]["per_input"] = 1;
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const std::int64_t id = std::stoll(podium::testing::submit_spec(dir.path(), spec));
+  const auto run = podium::testing::run_podium({"run"}, dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  const auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  const auto stages = store->stages(id);
+  ASSERT_EQ(stages.size(), 2u);
+  std::map<std::string, std::vector<store::TrialRecord>> trials;
+  for (const auto& stage : stages) {
+    EXPECT_EQ(stage.state, "done") << stage.name << ": " << stage.error;
+    trials[stage.name] = store->trials(stage.id);
+    for (const auto& t : trials[stage.name]) ASSERT_EQ(t.state, "done") << stage.name << "/" << t.index << ": " << t.error;
+  }
+  ASSERT_EQ(trials["explore"].size(), 4u);
+  std::set<std::int64_t> strategies;
+  for (const auto& t : trials["explore"]) {
+    ASSERT_EQ(t.features.size(), 1u);
+    EXPECT_TRUE(t.features[0] >= 0.0 && t.features[0] <= M_PI) << t.features[0];
+    EXPECT_EQ(t.result_info["bar_frame_rotation"].size(), 3u);
+    if (t.strategy) strategies.insert(*t.strategy);
+    std::set<std::string> names;
+    for (const auto& a : store->artifacts(t.id)) names.insert(a.name);
+    EXPECT_EQ(names, (std::set<std::string>{"policy", "trajectory"}));
+    std::set<std::string> metrics;
+    for (const auto& m : store->metrics(t.id)) metrics.insert(m.name);
+    for (const char* m : {"curriculum/z_m", "curriculum/control_hz", "train/avg_reward", "eval/success_rate_start_bar"})
+      EXPECT_TRUE(metrics.count(m)) << m;
+  }
+  // One novel trial per distinct explore strategy, each at its input's take-off state.
+  ASSERT_EQ(trials["novel"].size(), strategies.size());
+  std::set<Json> explore_params, novel_params;
+  for (const auto& t : trials["explore"]) explore_params.insert(t.params);
+  for (const auto& t : trials["novel"]) {
+    EXPECT_EQ(t.features.size(), 3u);
+    EXPECT_TRUE(explore_params.count(t.params)) << t.params;
+    novel_params.insert(t.params);
+  }
+  EXPECT_EQ(novel_params.size(), strategies.size());
+}
+
+}  // namespace
+}  // namespace podium::tasks::jump

@@ -6,6 +6,7 @@
 
 #include <numbers>
 
+#include "captured_techniques.h"
 #include "podium/plugins/export.h"
 #include "train_jump.h"
 
@@ -18,6 +19,7 @@ namespace {
 struct TaskConfig {
   std::string stage = "explore";
   TrainSettings train;
+  std::string captured_motions;  ///< the captured techniques' folder ("": no labels)
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
@@ -26,6 +28,10 @@ TaskConfig read_task_config(base::ConfigReader& r) {
                      "explore: Stage 1 (§3.5.1), params = take-off features, feature = up-angle; novel: Stage 2 (§3.5.2), one input "
                      "trial of an explore stage, its policy warm-started, feature = bar-frame rotation");
   c.train = read_train_settings(r);
+  c.captured_motions = r.string("captured_motions", c.captured_motions,
+                                "folder of the captured Fosbury flop, straddle and scissor jumps (DeepMimic format, e.g. "
+                                "../shared/data/jump/data/motions/beyond): an explore trial is labelled by its nearest technique; "
+                                "\"\": no label");
   return c;
 }
 
@@ -86,16 +92,12 @@ Json describe_stage(const TaskConfig& c) {
   for (const TakeoffFeature& f : takeoff_features(c.train.env.kind)) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
   Json d = {{"params", params}, {"metrics", metrics()}, {"objectives", {"z_reached_m", "success_rate_start_bar"}}};
   constexpr double pi = std::numbers::pi;
-  // 0.5 rad apart is another strategy: facing up (flop, ≈ 0), side-on (scissor, π/2) and facing
-  // down (straddle, π) lie ≥ π/2 apart; 0.5 rad (29°) splits them with room for the spread of one
-  // technique over retrained policies, and [0, π] holds about six such cells — the thesis's six
-  // strategies in ten samples.
   if (c.stage == "explore") {
     d["features"] = {feature("up_angle_rad", 0.0, pi)};
   } else {
     d["features"] = {feature("rotation_x", -pi, pi), feature("rotation_y", -pi, pi), feature("rotation_z", -pi, pi)};
   }
-  d["strategy_threshold"] = 0.5;
+  d["strategy_threshold"] = kUpAngleStrategyThresholdRad;  // strategy_feature.h says why (Stage 2: the same radians)
   return d;
 }
 
@@ -167,6 +169,15 @@ class JumpTask final : public plugins::Task {
     else result.features = {shown.bar_rotation(0), shown.bar_rotation(1), shown.bar_rotation(2)};
     result.artifacts = {{"policy", out.policy}, {"trajectory", shown.trajectory}};
     result.info = out.to_json();
+    // What the dashboard's strategy gallery shows beside the motion.
+    Json summary = {{"bar reached m", out.z_reached_m}, {"success at the starting bar", out.start_bar.success_rate}};
+    if (c.stage == "explore" && !c.captured_motions.empty()) {
+      const auto techniques = captured_techniques(c.captured_motions, sim::load_shipped_model(c.train.env.model));
+      const CapturedTechnique& nearest = nearest_technique(techniques, shown.up_angle_rad);
+      summary["nearest captured technique"] = nearest.name;
+      result.info["nearest_technique"] = {{"name", nearest.name}, {"up_angle_rad", nearest.up_angle_rad}};
+    }
+    result.info["summary"] = summary;
     return result;
   }
 };

@@ -27,10 +27,12 @@ void CrossingRecorder::observe(const Eigen::Vector3d& com, const Eigen::Quaterni
   last_root_ = root;
 }
 
-double CrossingRecorder::up_angle() const {
-  const Eigen::Vector3d forward = root_ * Eigen::Vector3d::UnitX();
+double up_angle(const Eigen::Quaterniond& root) {
+  const Eigen::Vector3d forward = root * Eigen::Vector3d::UnitX();
   return std::acos(std::clamp(forward.z(), -1.0, 1.0));
 }
+
+double CrossingRecorder::up_angle() const { return jump::up_angle(root_); }
 
 Eigen::Vector3d CrossingRecorder::bar_frame_rotation() const { return character::log_map(suite_.bar_frame.conjugate() * root_); }
 

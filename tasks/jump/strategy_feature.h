@@ -20,6 +20,15 @@
 
 namespace podium::tasks::jump {
 
+/// Stage 1's strategy threshold: up-angles 0.5 rad apart are other strategies. Facing up (a flop,
+/// ≈ 0), side-on (a scissor, π/2) and facing down (a straddle, π) lie ≥ π/2 apart; 0.5 rad (29°)
+/// splits them with room for the spread of one technique over retrained policies, and [0, π]
+/// holds about six such cells — the thesis's six strategies in ten samples.
+inline constexpr double kUpAngleStrategyThresholdRad = 0.5;
+
+/// Stage 1's feature of a root orientation: the angle (rad) between its forward axis and up.
+double up_angle(const Eigen::Quaterniond& root);
+
 class CrossingRecorder {
  public:
   explicit CrossingRecorder(const JumpSuite& suite) : suite_(suite) {}

@@ -120,7 +120,7 @@ std::size_t PoseVae::condition_size() const { return std::size_t(impl_->n_cond);
 const std::vector<double>& PoseVae::lower() const { return impl_->lower; }
 const std::vector<double>& PoseVae::upper() const { return impl_->upper; }
 
-std::vector<double> PoseVae::train(const PoseDataset& data) {
+std::vector<double> PoseVae::train(const PoseDataset& data, const EpochCallback& after_epoch) {
   auto& m = *impl_;
   if (data.size() == 0) throw base::UserError("vae: the pose dataset is empty");
   auto x_all = m.rows(data.poses, m.n_pose, "poses");
@@ -154,6 +154,7 @@ std::vector<double> PoseVae::train(const PoseDataset& data) {
       ++batches;
     }
     losses.push_back(total / double(batches));
+    if (after_epoch && !after_epoch(epoch, losses.back())) break;
   }
   return losses;
 }
@@ -227,6 +228,28 @@ void PoseVae::load(const std::filesystem::path& path) {
   m.cond_mean = mean;
   m.cond_std = std;
   m.rng.load(state.at("rng").get<std::string>());
+}
+
+std::unique_ptr<PoseVae> PoseVae::from_file(const std::filesystem::path& path) {
+  const std::string where = path.string();
+  if (!std::filesystem::is_regular_file(path)) throw base::UserError("pose VAE: " + where + ": no such file");
+  try {
+    torch::serialize::InputArchive archive;
+    archive.load_from(where);
+    const base::Json state = detail::read_json(archive, "state");
+    torch::Tensor cond_mean;
+    archive.read("cond_mean", cond_mean);
+    auto vae = std::make_unique<PoseVae>(VaeConfig::from_json(state.at("config")), state.at("lower").get<std::vector<double>>(),
+                                         state.at("upper").get<std::vector<double>>(), std::size_t(cond_mean.numel()), 0);
+    vae->load(path);
+    return vae;
+  } catch (const c10::Error& e) {
+    // torch's messages run over many lines (a backtrace); its first line says what was wrong.
+    const std::string message = e.what_without_backtrace();
+    throw base::UserError("pose VAE: " + where + ": not a saved VAE (" + message.substr(0, message.find('\n')) + ")");
+  } catch (const base::Json::exception& e) {
+    throw base::UserError("pose VAE: " + where + ": not a saved VAE (" + e.what() + ")");
+  }
 }
 
 std::vector<double> pose_action_to_target(const PoseVae& vae, std::span<const double> action,

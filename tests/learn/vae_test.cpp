@@ -119,6 +119,27 @@ TEST(ConditionalVae, DecodedPosesFollowTheCondition) {
   EXPECT_GT(change / 20, 0.1);
 }
 
+// from_file needs no config: a C-VAE of another latent size comes back as it was saved, and the
+// epoch callback ends training early.
+TEST(PoseVae, FromFileRebuildsTheSavedVae) {
+  const auto data = pose_set();
+  VaeConfig c = VaeConfig::conditional();
+  c.latent_size = 5;
+  c.epochs = 10;
+  PoseVae vae(c, data.lower, data.upper, 3, 8);
+  const auto losses = vae.train(data, [](int epoch, double) { return epoch < 1; });
+  EXPECT_EQ(losses.size(), 2u);
+  const fs::path path = fs::temp_directory_path() / "podium_learn_vae_from_file_test.pt";
+  vae.save(path);
+  const auto loaded = PoseVae::from_file(path);
+  EXPECT_EQ(loaded->latent_size(), 5u);
+  EXPECT_EQ(loaded->condition_size(), 3u);
+  const std::vector<double> z(5, 0.3), cond{0.6, -0.2, 0.1};
+  EXPECT_EQ(loaded->decode(z, cond), vae.decode(z, cond));
+  fs::remove(path);
+  EXPECT_THROW(PoseVae::from_file(path), base::UserError);
+}
+
 TEST(PoseVae, DecoderAsActionSpace) {
   const auto data = pose_set();
   VaeConfig c = VaeConfig::pose_vae();

@@ -5,6 +5,7 @@
 /// joint limits (mid + half·tanh), so every decoded pose respects them.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -43,9 +44,12 @@ class PoseVae {
   const std::vector<double>& lower() const;
   const std::vector<double>& upper() const;
 
+  /// Called after each epoch (from 0) with its mean loss; returning false ends training there
+  /// (a cancelled trial, a caller's progress report).
+  using EpochCallback = std::function<bool(int epoch, double mean_loss)>;
   /// Trains for config.epochs; returns the mean loss of each epoch. Conditions are standardised
   /// with the dataset's mean and deviation (kept with the model).
-  std::vector<double> train(const PoseDataset& data);
+  std::vector<double> train(const PoseDataset& data, const EpochCallback& after_epoch = {});
   /// The encoder's Gaussian q(z | x, c) = N(mean, diag(std²)).
   struct Posterior {
     std::vector<double> mean;  ///< μ(x, c), latent_size()
@@ -61,6 +65,9 @@ class PoseVae {
   void save(const std::filesystem::path& path) const;
   /// Loads save()'s file into a VAE built with the same config and sizes.
   void load(const std::filesystem::path& path);
+  /// save()'s file as a new VAE, built with the config, limits and condition size stored in it;
+  /// throws base::UserError naming the file when it is missing or not a saved VAE.
+  static std::unique_ptr<PoseVae> from_file(const std::filesystem::path& path);
 
  private:
   struct Impl;

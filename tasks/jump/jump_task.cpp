@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "captured_techniques.h"
+#include "pose_prior.h"
 #include "podium/plugins/export.h"
 #include "train_jump.h"
 
@@ -19,15 +20,19 @@ namespace {
 struct TaskConfig {
   std::string stage = "explore";
   TrainSettings train;
+  PosePriorSettings pose;        ///< the pose_vae stage's training
   std::string captured_motions;  ///< the captured techniques' folder ("": no labels)
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice("stage", c.stage, {"explore", "novel"},
-                     "explore: Stage 1 (§3.5.1), params = take-off features, feature = up-angle; novel: Stage 2 (§3.5.2), one input "
-                     "trial of an explore stage, its policy warm-started, feature = bar-frame rotation");
+  c.stage = r.choice("stage", c.stage, {"pose_vae", "explore", "novel"},
+                     "pose_vae: trains the P-VAE (§3.4.2) the jumps act through; explore: Stage 1 (§3.5.1), params = take-off "
+                     "features, feature = up-angle, optional input: a pose_vae trial; novel: Stage 2 (§3.5.2), one input trial of an "
+                     "explore stage, its policy warm-started (and its P-VAE), feature = bar-frame rotation");
   c.train = read_train_settings(r);
+  c.pose = read_pose_prior_settings(r);
+  c.pose.model = c.train.env.model;
   c.captured_motions = r.string("captured_motions", c.captured_motions,
                                 "folder of the captured Fosbury flop, straddle and scissor jumps (DeepMimic format, e.g. "
                                 "../shared/data/jump/data/motions/beyond): an explore trial is labelled by its nearest technique; "
@@ -42,8 +47,10 @@ TaskConfig config_from(const Json& config) {
   return c;
 }
 
-// smoke: seconds per trial (16-16 networks, 4 iterations of 64 samples, 2 copies; mechanics only:
-// no jump is learnt). quick: this 2-core machine, about 10 min per trial on one core (see
+// smoke: seconds per trial (16-16 networks, 4 iterations of 64 samples, 2 copies, a 2-epoch P-VAE;
+// mechanics only: no jump is learnt). The P-VAE: quick 600 epochs of the shipped 2,400 poses (about
+// the thesis's number of updates, 80 epochs of 20,000 poses; ≈ 50 s), paper 80 epochs of the poses
+// the user points `pose_set` at (the thesis's: ../shared/data/jump/data/vae/txt). quick: this 2-core machine, about 10 min per trial on one core (see
 // README.md "Presets": 256-128 ReLU, 1024 samples per iteration, 150 Hz simulation, measured to
 // give 600 Hz's outcomes). paper: §3.6.2 (4096 samples per iteration = 16 copies × 256, 1024-512
 // ReLU, 5 epochs of 256, γ = 1, λ = 0.95, clip 0.02, LRs 2.5e-5 / 1e-2, 12,000 iterations, 600 Hz).
@@ -52,13 +59,13 @@ Json presets() {
            {{"ppo_preset", "quick"},
             {"ppo", {{"hidden", {16, 16}}, {"rollout_steps", 32}, {"epochs", 2}, {"minibatch_size", 32}, {"gamma", 1.0}}},
             {"copies", 2}, {"threads", 1}, {"total_samples", 256}, {"sim_hz", 150.0}, {"eval_every", 2}, {"eval_jumps", 2},
-            {"final_jumps", 2}, {"checkpoint_every", 1}}},
+            {"final_jumps", 2}, {"checkpoint_every", 1}, {"vae_epochs", 2}}},
           {"quick",
            {{"ppo_preset", "paper"},
             {"ppo", {{"hidden", {256, 128}}, {"rollout_steps", 256}, {"sigma_anneal_steps", 400'000}, {"policy_lr_start", 1e-4},
                      {"policy_lr_end", 1e-4}, {"clip", 0.1}}},
             {"copies", 4}, {"threads", 1}, {"total_samples", 400'000}, {"sim_hz", 150.0}, {"eval_every", 25}, {"eval_jumps", 5},
-            {"final_jumps", 20}, {"checkpoint_every", 10}}},
+            {"final_jumps", 20}, {"checkpoint_every", 10}, {"vae_epochs", 600}}},
           {"paper",
            {{"ppo_preset", "paper"}, {"ppo", {{"rollout_steps", 256}}}, {"copies", 16}, {"threads", 16}, {"total_samples", 12'000LL * 4096},
             {"sim_hz", 600.0}, {"eval_every", 50}, {"eval_jumps", 5}, {"final_jumps", 20}, {"checkpoint_every", 10}}}};
@@ -88,6 +95,10 @@ Json feature(const char* name, double low, double high) {
 }
 
 Json describe_stage(const TaskConfig& c) {
+  if (c.stage == "pose_vae")
+    return {{"params", Json::array()}, {"features", Json::array()}, {"objectives", {"fit"}},
+            {"metrics", {metric("pose_vae_loss", "", "mean P-VAE loss (MSE + β·KL) per epoch; step = epoch"),
+                         metric("pose_vae_rmse_rad", "rad", "reconstruction RMSE over the training poses at the last epoch")}}};
   Json params = Json::array();
   for (const TakeoffFeature& f : takeoff_features(c.train.env.kind)) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
   Json d = {{"params", params}, {"metrics", metrics()}, {"objectives", {"z_reached_m", "success_rate_start_bar"}}};
@@ -124,6 +135,10 @@ TrialInputs novel_inputs(const plugins::RunRequest& request) {
   if (!rotation.is_array() || rotation.size() != 3)
     throw base::UserError("jump novel: input trial " + name + " has no info.bar_frame_rotation of 3 values (is it a jump trial?)");
   TrialInputs inputs;
+  if (in.artifacts.count("pose_vae")) {  // the P-VAE its Stage 1 trial acted through
+    inputs.prior_file = in.artifacts.at("pose_vae");
+    inputs.prior = load_pose_prior(inputs.prior_file);
+  }
   const Json warm = request.context.value("warm_start", Json());
   inputs.warm_start = warm.is_string() ? warm.get<std::string>() : in.artifacts.at("policy").string();
   inputs.known.push_back(rotation.get<std::vector<double>>());
@@ -131,6 +146,33 @@ TrialInputs novel_inputs(const plugins::RunRequest& request) {
   for (const auto& f : found)
     if (f.is_array() && f.size() == 3) inputs.known.push_back(f.get<std::vector<double>>());
   return inputs;
+}
+
+// Stage 1's optional hand-over: the campaign's P-VAE (a pose_vae trial's `pose_vae` artifact).
+TrialInputs explore_inputs(const plugins::RunRequest& request) {
+  TrialInputs inputs;
+  if (request.inputs.empty()) return inputs;  // plain PD targets
+  const plugins::InputTrial& in = request.inputs.front();
+  if (request.inputs.size() != 1 || !in.artifacts.count("pose_vae"))
+    throw base::UserError("jump explore: takes at most one input trial, a pose_vae trial (its artifact pose_vae), got " +
+                          std::to_string(request.inputs.size()) + " from stage " + in.stage);
+  inputs.prior_file = in.artifacts.at("pose_vae");
+  inputs.prior = load_pose_prior(inputs.prior_file);
+  return inputs;
+}
+
+plugins::RunResult run_pose_vae(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  const PoseVaeOutcome out = train_pose_prior(
+      c.pose, request.work_dir, request.seed, request.cancel,
+      {[&sink](double fraction) { sink.progress(fraction); },
+       [&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); }});
+  if (out.file.empty()) throw std::runtime_error("jump pose_vae: cancelled");
+  plugins::RunResult result;
+  result.objectives = {-out.rmse_rad};
+  result.artifacts = {{"pose_vae", out.file}};
+  result.info = {{"poses", out.poses}, {"rmse_rad", out.rmse_rad},
+                 {"summary", {{"poses", out.poses}, {"reconstruction RMSE rad", out.rmse_rad}}}};
+  return result;
 }
 
 }  // namespace
@@ -149,13 +191,14 @@ class JumpTask final : public plugins::Task {
 
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     TaskConfig c = config_from(request.config);
+    if (c.stage == "pose_vae") return run_pose_vae(c, request, sink);
     TrialInputs inputs;
     if (c.stage == "novel") {
       inputs = novel_inputs(request);
       if (request.context.contains("novelty") && request.context["novelty"].contains("d_threshold"))
         c.train.env.novelty_threshold_rad = request.context["novelty"]["d_threshold"].get<double>();
-    } else if (!request.inputs.empty()) {
-      throw base::UserError("jump explore: takes no input trials (Stage 1 starts from scratch, §3.5.1)");
+    } else {
+      inputs = explore_inputs(request);
     }
     c.train.env.takeoff_features = takeoff_params(c, request.params);
     const Reporter reporter{[&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
@@ -168,6 +211,11 @@ class JumpTask final : public plugins::Task {
     if (c.stage == "explore") result.features = {shown.up_angle_rad};
     else result.features = {shown.bar_rotation(0), shown.bar_rotation(1), shown.bar_rotation(2)};
     result.artifacts = {{"policy", out.policy}, {"trajectory", shown.trajectory}};
+    if (inputs.prior.vae) {  // handed on: Stage 2 acts through the same P-VAE as its Stage 1 trial
+      const auto copy = request.work_dir / "pose_vae.pt";
+      std::filesystem::copy_file(inputs.prior_file, copy, std::filesystem::copy_options::overwrite_existing);
+      result.artifacts.push_back({"pose_vae", copy});
+    }
     result.info = out.to_json();
     // What the dashboard's strategy gallery shows beside the motion.
     Json summary = {{"bar reached m", out.z_reached_m}, {"success at the starting bar", out.start_bar.success_rate}};

@@ -69,7 +69,7 @@ double iteration_score(const std::string& score, const learn::TrainStats& stats,
 }
 
 JumpTrainer::JumpTrainer(const TrainSettings& settings, std::uint64_t seed, const TrialInputs& inputs, double z_built)
-    : s_(settings), seed_(seed), known_(inputs.known), curriculum_(settings.curriculum) {
+    : s_(settings), seed_(seed), prior_(inputs.prior), known_(inputs.known), curriculum_(settings.curriculum) {
   build_copies(z_built);
   learner_ = learn::make_learner(learner_spec(s_), envs_->observation_space(), envs_->action_space(), base::derive_seed(seed, 2));
   if (!inputs.warm_start.empty()) learner_->warm_start(inputs.warm_start);
@@ -81,7 +81,7 @@ void JumpTrainer::build_copies(double z) {
   std::vector<std::unique_ptr<learn::Env>> copies;
   copies_.clear();
   for (int i = 0; i < s_.copies; ++i) {
-    auto env = std::make_unique<JumpEnv>(settings);
+    auto env = std::make_unique<JumpEnv>(settings, prior_);
     env->set_known_features(known_);
     copies_.push_back(env.get());
     copies.push_back(std::move(env));
@@ -108,7 +108,7 @@ bool JumpTrainer::feed(double score) {
 std::unique_ptr<JumpEnv> JumpTrainer::test_env(double z) const {
   JumpSettings settings = s_.env;
   settings.difficulty_m = z;
-  auto env = std::make_unique<JumpEnv>(settings);
+  auto env = std::make_unique<JumpEnv>(settings, prior_);
   env->set_known_features(known_);
   return env;
 }

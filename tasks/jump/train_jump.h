@@ -51,8 +51,11 @@ base::Json learner_spec(const TrainSettings& s);
 /// ended in it, mean_return · episodes.
 double iteration_score(const std::string& score, const learn::TrainStats& stats, std::int64_t samples);
 
-/// What Stage 2 brings to a trial (§3.5.2); empty in Stage 1.
+/// What a trial is handed: the P-VAE (both stages, when the campaign trains one) and what Stage 2
+/// brings (§3.5.2).
 struct TrialInputs {
+  PosePrior prior;                             ///< composite PD targets (§3.4.2); none: plain targets
+  std::filesystem::path prior_file;            ///< the file `prior` was loaded from
   std::filesystem::path warm_start;            ///< a PPO policy file (TorchScript or checkpoint)
   std::vector<std::vector<double>> known;      ///< bar-frame rotations already found (eq. 3.12)
 };
@@ -84,6 +87,7 @@ class JumpTrainer {
 
   TrainSettings s_;
   std::uint64_t seed_;
+  PosePrior prior_;
   std::vector<std::vector<double>> known_;
   character::ThresholdCurriculum curriculum_;
   double z_built_ = 0.0;

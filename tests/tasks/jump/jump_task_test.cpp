@@ -40,28 +40,28 @@ TEST(JumpTask, StagesDeclareTheTakeoffFeaturesAndTheirStrategyFeature) {
     task->describe({{"stage", "stage2"}});
     FAIL();
   } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("stage: \"stage2\" is not one of explore, novel"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("stage: \"stage2\" is not one of pose_vae, explore, novel"), std::string::npos) << e.what();
   }
 }
 
 TEST(JumpTask, ABadConfigIsRejectedAtSubmitAtItsJsonPath) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
-  spec["stages"][0]["config"]["copies"] = 0;
+  spec["stages"][1]["config"]["copies"] = 0;
   podium::testing::TempDir dir;
   podium::testing::write_file(dir / "spec.json", spec.dump());
   const auto run = podium::testing::run_podium({"submit", (dir / "spec.json").string()}, dir.path());
   EXPECT_EQ(run.exit_code, 2);
-  EXPECT_NE(run.err.find("stages[0].config.copies: 0 is not"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("stages[1].config.copies: 0 is not"), std::string::npos) << run.err;
 }
 
 // campaigns/highjump.json at the smoke preset through the real CLI, cut to 4 explore samples and
-// one novel trial per strategy.
+// one novel trial per strategy: the P-VAE, Stage 1 acting through it, Stage 2 through the same one.
 TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
-  spec["stages"][0]["budget"]["trials"] = 4;
-  spec["stages"][1]["search"]["config"]["trials_per_input"] = 1;
-  spec["stages"][1]["budget"]["trials"]["per_input"] = 1;
+  spec["stages"][1]["budget"]["trials"] = 4;
+  spec["stages"][2]["search"]["config"]["trials_per_input"] = 1;
+  spec["stages"][2]["budget"]["trials"]["per_input"] = 1;
   spec["trial_timeout_s"] = 120;
   podium::testing::TempDir dir;
   const std::int64_t id = std::stoll(podium::testing::submit_spec(dir.path(), spec));
@@ -70,13 +70,17 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
 
   const auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
   const auto stages = store->stages(id);
-  ASSERT_EQ(stages.size(), 2u);
+  ASSERT_EQ(stages.size(), 3u);
   std::map<std::string, std::vector<store::TrialRecord>> trials;
   for (const auto& stage : stages) {
     EXPECT_EQ(stage.state, "done") << stage.name << ": " << stage.error;
     trials[stage.name] = store->trials(stage.id);
     for (const auto& t : trials[stage.name]) ASSERT_EQ(t.state, "done") << stage.name << "/" << t.index << ": " << t.error;
   }
+  ASSERT_EQ(trials["pose_vae"].size(), 1u);
+  std::set<std::string> vae_artifacts;
+  for (const auto& a : store->artifacts(trials["pose_vae"][0].id)) vae_artifacts.insert(a.name);
+  EXPECT_EQ(vae_artifacts, (std::set<std::string>{"pose_vae"}));
   ASSERT_EQ(trials["explore"].size(), 4u);
   std::set<std::int64_t> strategies;
   for (const auto& t : trials["explore"]) {
@@ -86,7 +90,8 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
     if (t.strategy) strategies.insert(*t.strategy);
     std::set<std::string> names;
     for (const auto& a : store->artifacts(t.id)) names.insert(a.name);
-    EXPECT_EQ(names, (std::set<std::string>{"policy", "trajectory"}));
+    EXPECT_EQ(names, (std::set<std::string>{"policy", "trajectory", "pose_vae"}));  // the P-VAE handed on to Stage 2
+    EXPECT_TRUE(t.result_info["summary"].contains("bar reached m")) << t.result_info.dump();
     std::set<std::string> metrics;
     for (const auto& m : store->metrics(t.id)) metrics.insert(m.name);
     for (const char* m : {"curriculum/z_m", "curriculum/control_hz", "train/avg_reward", "eval/success_rate_start_bar"})

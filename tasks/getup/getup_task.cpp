@@ -32,12 +32,7 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   return c;
 }
 
-TaskConfig config_from(const Json& config) {
-  base::ConfigReader r(config, "", "getup config");
-  TaskConfig c = read_task_config(r);
-  r.finish();
-  return c;
-}
+TaskConfig config_from(const Json& config) { return base::ConfigReader::parse(config, "getup config", read_task_config); }
 
 Json accepted_config() { return base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); }); }
 

@@ -40,12 +40,7 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   return c;
 }
 
-TaskConfig config_from(const Json& config) {
-  base::ConfigReader r(config, "", "jump config");
-  TaskConfig c = read_task_config(r);
-  r.finish();
-  return c;
-}
+TaskConfig config_from(const Json& config) { return base::ConfigReader::parse(config, "jump config", read_task_config); }
 
 // smoke: seconds per trial (16-16 networks, 4 iterations of 64 samples, 2 copies, a 2-epoch P-VAE;
 // mechanics only: no jump is learnt). The P-VAE: quick 600 epochs of the shipped 2,400 poses (about

@@ -64,12 +64,7 @@ TaskConfig read_config(base::ConfigReader& r) {
   return c;
 }
 
-TaskConfig parse_config(const Json& config) {
-  base::ConfigReader r(config, "", "landscape config");
-  TaskConfig c = read_config(r);
-  r.finish();
-  return c;
-}
+TaskConfig parse_config(const Json& config) { return base::ConfigReader::parse(config, "landscape config", read_config); }
 
 // Injected failure, for reliability tests of the executor.
 void fail_now(const std::string& mode) {

@@ -2,6 +2,7 @@
 // its JSON path.
 #include <gtest/gtest.h>
 
+#include "config_errors.h"
 #include "discover_weaker.h"
 
 namespace podium::tasks::getup {
@@ -9,21 +10,9 @@ namespace {
 
 using base::Json;
 
-Settings read(const Json& config) {
-  base::ConfigReader r(config, "", "getup config");
-  Settings s = read_settings(r);
-  r.finish();
-  return s;
-}
+Settings read(const Json& config) { return base::ConfigReader::parse(config, "getup config", read_settings); }
 
-std::string error_path(const Json& config) {
-  try {
-    read(config);
-  } catch (const base::ConfigError& e) {
-    return e.path();
-  }
-  return "(accepted)";
-}
+std::string error_path(const Json& config) { return podium::testing::config_error_path(config, read_settings); }
 
 TEST(GetupConfig, DefaultsAreTheSeedsSettings) {
   const Settings s = read(Json::object());

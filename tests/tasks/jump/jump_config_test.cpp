@@ -2,6 +2,7 @@
 // error at its JSON path; the defaults are the thesis's settings.
 #include <gtest/gtest.h>
 
+#include "config_errors.h"
 #include "train_jump.h"
 
 namespace podium::tasks::jump {
@@ -9,21 +10,9 @@ namespace {
 
 using base::Json;
 
-TrainSettings read(const Json& config) {
-  base::ConfigReader r(config, "", "jump config");
-  TrainSettings s = read_train_settings(r);
-  r.finish();
-  return s;
-}
+TrainSettings read(const Json& config) { return base::ConfigReader::parse(config, "jump config", read_train_settings); }
 
-std::string error_path(const Json& config) {
-  try {
-    read(config);
-  } catch (const base::ConfigError& e) {
-    return e.path();
-  }
-  return "(accepted)";
-}
+std::string error_path(const Json& config) { return podium::testing::config_error_path(config, read_train_settings); }
 
 TEST(JumpConfig, DefaultsAreTheThesisSettings) {
   const TrainSettings s = read(Json::object());

@@ -185,9 +185,7 @@ TEST(JumpEnv, BadSettingsAreRejectedWithTheirName) {
 
 TEST(JumpEnv, SettingsReadFromConfig) {
   const base::Json config = {{"kind", "obstacle"}, {"model", "athlete"}, {"difficulty_m", 0.3}, {"takeoff_features", {1.0, 2.0, 3.0}}};
-  base::ConfigReader r(config, "", "jump config");
-  const JumpSettings s = read_jump_settings(r);
-  r.finish();
+  const JumpSettings s = base::ConfigReader::parse(config, "jump config", read_jump_settings);
   EXPECT_EQ(s.kind, JumpKind::obstacle);
   EXPECT_EQ(s.difficulty_m, 0.3);
   EXPECT_EQ(s.takeoff_features.size(), 3u);

@@ -58,6 +58,16 @@ class ConfigReader {
   ConfigReader(const Json& config, std::string path, std::string source = "");
   ConfigReader(Json&&, std::string, std::string = "") = delete;  // would dangle
 
+  /// Reads the whole of `config` (path "") with `read(ConfigReader&)`, then finish(): a task's
+  /// config in one call. Returns what `read` returns.
+  template <class Read>
+  static auto parse(const Json& config, std::string source, Read&& read) {
+    ConfigReader r(config, "", std::move(source));
+    auto value = read(r);
+    r.finish();
+    return value;
+  }
+
   /// What `read(reader)` accepts: `read` runs once on a describing reader, on which every read
   /// returns its default (a required key: a placeholder) and validates nothing, and an array of
   /// objects runs its element reader once. The description is a list of keys:

@@ -8,6 +8,7 @@
 
 #include "captured_techniques.h"
 #include "pose_prior.h"
+#include "shipped_jumps.h"
 #include "podium/plugins/export.h"
 #include "train_jump.h"
 
@@ -21,18 +22,21 @@ struct TaskConfig {
   std::string stage = "explore";
   TrainSettings train;
   PosePriorSettings pose;        ///< the pose_vae stage's training
+  std::vector<ShippedJump> shipped;  ///< the evaluate stage's policies
   std::string captured_motions;  ///< the captured techniques' folder ("": no labels)
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice("stage", c.stage, {"pose_vae", "explore", "novel"},
+  c.stage = r.choice("stage", c.stage, {"pose_vae", "explore", "novel", "evaluate"},
                      "pose_vae: trains the P-VAE (§3.4.2) the jumps act through; explore: Stage 1 (§3.5.1), params = take-off "
                      "features, feature = up-angle, optional input: a pose_vae trial; novel: Stage 2 (§3.5.2), one input trial of an "
-                     "explore stage, its policy warm-started (and its P-VAE), feature = bar-frame rotation");
+                     "explore stage, its policy warm-started (and its P-VAE), feature = bar-frame rotation; evaluate: final_jumps jumps of "
+                     "the `shipped` policies (trial i: entry i mod n), feature = up-angle");
   c.train = read_train_settings(r);
   c.pose = read_pose_prior_settings(r);
   c.pose.model = c.train.env.model;
+  c.shipped = read_shipped_jumps(r);
   c.captured_motions = r.string("captured_motions", c.captured_motions,
                                 "folder of the captured Fosbury flop, straddle and scissor jumps (DeepMimic format, e.g. "
                                 "../shared/data/jump/data/motions/beyond): an explore trial is labelled by its nearest technique; "
@@ -98,7 +102,11 @@ Json describe_stage(const TaskConfig& c) {
   for (const TakeoffFeature& f : takeoff_features(c.train.env.kind)) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
   Json d = {{"params", params}, {"metrics", metrics()}, {"objectives", {"z_reached_m", "success_rate_start_bar"}}};
   constexpr double pi = std::numbers::pi;
-  if (c.stage == "explore") {
+  if (c.stage == "evaluate") {
+    d["params"] = Json::array();  // each trial's take-off state is its shipped entry's
+    d["objectives"] = {"success_rate"};
+  }
+  if (c.stage == "explore" || c.stage == "evaluate") {
     d["features"] = {feature("up_angle_rad", 0.0, pi)};
   } else {
     d["features"] = {feature("rotation_x", -pi, pi), feature("rotation_y", -pi, pi), feature("rotation_z", -pi, pi)};
@@ -156,6 +164,36 @@ TrialInputs explore_inputs(const plugins::RunRequest& request) {
   return inputs;
 }
 
+// What the dashboard's strategy gallery shows beside a trial's motion: `summary`, and the nearest
+// captured technique to a Stage 1 feature when the captures' folder is configured (also in info).
+Json labelled(const TaskConfig& c, Json summary, double up_angle_rad, Json& info) {
+  if (!c.captured_motions.empty()) {
+    const auto techniques = captured_techniques(c.captured_motions, sim::load_shipped_model(c.train.env.model));
+    const CapturedTechnique& nearest = nearest_technique(techniques, up_angle_rad);
+    summary["nearest captured technique"] = nearest.name;
+    info["nearest_technique"] = {{"name", nearest.name}, {"up_angle_rad", nearest.up_angle_rad}};
+  }
+  return summary;
+}
+
+plugins::RunResult run_shipped(const TaskConfig& c, const plugins::RunRequest& request) {
+  if (c.shipped.empty() || !request.inputs.empty())
+    throw base::UserError("jump evaluate: needs `shipped` policies and no input trials");
+  const ShippedJump& entry = c.shipped[request.trial_index % c.shipped.size()];
+  EvaluationJumps jumps = c.train.eval;
+  jumps.jumps = c.train.final_jumps;
+  const JumpEvaluation e = evaluate_shipped(entry, c.train.env, jumps, request.work_dir / "rollouts");
+  plugins::RunResult result;
+  result.objectives = {e.success_rate};
+  result.features = {e.up_angle_rad};
+  if (!e.trajectory.empty()) result.artifacts = {{"trajectory", e.trajectory}};
+  result.info = {{"success_rate", e.success_rate}, {"up_angle_rad", e.up_angle_rad}, {"policy", entry.policy}};
+  const double z = entry.z_m > 0 ? entry.z_m : difficulty_curriculum(c.train.env.kind).initial;
+  result.info["summary"] = labelled(c, {{"bar m", z}, {"success over " + std::to_string(jumps.jumps) + " jumps", e.success_rate}},
+                                    e.up_angle_rad, result.info);
+  return result;
+}
+
 plugins::RunResult run_pose_vae(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
   const PoseVaeOutcome out = train_pose_prior(
       c.pose, request.work_dir, request.seed, request.cancel,
@@ -187,6 +225,7 @@ class JumpTask final : public plugins::Task {
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     TaskConfig c = config_from(request.config);
     if (c.stage == "pose_vae") return run_pose_vae(c, request, sink);
+    if (c.stage == "evaluate") return run_shipped(c, request);
     TrialInputs inputs;
     if (c.stage == "novel") {
       inputs = novel_inputs(request);
@@ -212,15 +251,9 @@ class JumpTask final : public plugins::Task {
       result.artifacts.push_back({"pose_vae", copy});
     }
     result.info = out.to_json();
-    // What the dashboard's strategy gallery shows beside the motion.
-    Json summary = {{"bar reached m", out.z_reached_m}, {"success at the starting bar", out.start_bar.success_rate}};
-    if (c.stage == "explore" && !c.captured_motions.empty()) {
-      const auto techniques = captured_techniques(c.captured_motions, sim::load_shipped_model(c.train.env.model));
-      const CapturedTechnique& nearest = nearest_technique(techniques, shown.up_angle_rad);
-      summary["nearest captured technique"] = nearest.name;
-      result.info["nearest_technique"] = {{"name", nearest.name}, {"up_angle_rad", nearest.up_angle_rad}};
-    }
-    result.info["summary"] = summary;
+    const Json summary = {{"bar reached m", out.z_reached_m}, {"success at the starting bar", out.start_bar.success_rate}};
+    result.info["summary"] = c.stage == "explore" ? labelled(c, summary, shown.up_angle_rad, result.info)
+                                                  : summary;  // Stage 2's feature is 3-D: not labelled
     return result;
   }
 };

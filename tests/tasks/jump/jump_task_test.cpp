@@ -107,6 +107,28 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
     novel_params.insert(t.params);
   }
   EXPECT_EQ(novel_params.size(), strategies.size());
+
+  // The demo's path: an explore trial's policy, P-VAE and take-off jumped again by the evaluate
+  // stage, without training (the trial names it and records the motion).
+  const store::TrialRecord& first = trials["explore"].front();
+  std::map<std::string, std::string> files;
+  for (const auto& a : store->artifacts(first.id)) files[a.name] = a.path;
+  std::vector<double> takeoff;
+  for (const char* name : {"approach_angle", "root_omega_x", "root_omega_y", "lateral_speed"}) takeoff.push_back(first.params[name].get<double>());
+  const Json shipped = {{"name", "shipped"}, {"seed", 3}, {"workers", 1}, {"retries", 0}, {"trial_timeout_s", 120},
+                        {"stages", {{{"name", "jumps"}, {"task", "jump"}, {"preset", "smoke"},
+                                     {"config", {{"stage", "evaluate"}, {"kind", "high_jump"},
+                                                 {"shipped", {{{"policy", files["policy"]}, {"pose_vae", files["pose_vae"]}, {"takeoff", takeoff}}}}}},
+                                     {"search", {{"algorithm", "random"}}}, {"budget", {{"trials", 1}}}}}}};
+  const std::int64_t replayed = std::stoll(podium::testing::submit_spec(dir.path(), shipped));
+  ASSERT_EQ(podium::testing::run_podium({"run"}, dir.path()).exit_code, 0);
+  const auto again = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  const auto jumps = again->trials(again->stages(replayed).at(0).id);
+  ASSERT_EQ(jumps.size(), 1u);
+  ASSERT_EQ(jumps[0].state, "done") << jumps[0].error;
+  ASSERT_EQ(jumps[0].features.size(), 1u);
+  EXPECT_NEAR(jumps[0].features[0], first.features[0], 1e-9);  // the same deterministic jump as the trial's own evaluation
+  EXPECT_EQ(again->artifacts(jumps[0].id).at(0).name, "trajectory");
 }
 
 }  // namespace

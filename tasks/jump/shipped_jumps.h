@@ -1,0 +1,29 @@
+#pragma once
+/// Jump policies evaluated without training (the demo's shipped quick-run strategies): each from
+/// its own take-off state, at a bar height, with the P-VAE it was trained through.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "jump_evaluation.h"
+#include "podium/base/config.h"
+
+namespace podium::tasks::jump {
+
+struct ShippedJump {
+  std::string policy;              ///< TorchScript export of a jump trial
+  std::string pose_vae;            ///< the P-VAE it acts through ("" : plain targets)
+  std::vector<double> takeoff;     ///< its take-off features, in takeoff_features(kind)'s order
+  double z_m = 0.0;                ///< the bar (box width) to jump; 0: the kind's starting z
+};
+
+/// The `shipped` config list (paths relative to where `podium run` starts).
+std::vector<ShippedJump> read_shipped_jumps(base::ConfigReader& r);
+
+/// `jump` evaluation jumps (the first deterministic, recorded in `record_dir`) of `shipped` with
+/// `settings` (its kind, model and rates). Throws base::UserError naming a missing file or a
+/// take-off of the wrong size.
+JumpEvaluation evaluate_shipped(const ShippedJump& shipped, JumpSettings settings, const EvaluationJumps& jumps,
+                                const std::filesystem::path& record_dir);
+
+}  // namespace podium::tasks::jump

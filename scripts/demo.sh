@@ -30,6 +30,9 @@ for stage in dict.fromkeys(r["stage"] for r in rows):
             what = f"strength {s['strength']:.3f}" if s["strength"] > 0 else (f"kappa {s['kappa']:g}" if s["name"] != "pause" else "paused")
             print(f"demo:   {r['name']} {s['name']:>10} ({what}): success {s['success_rate']:.2f}, "
                   f"rise {s['rise_time_s']:.2f} s, COM error {s['com_error_m']:.3f} m")
+        summary = (r.get("result") or {}).get("summary")
+        if summary and "speeds" not in (r.get("result") or {}):
+            print(f"demo:   {r['name']}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}" for k, v in summary.items()))
 PY
 )"
 echo
@@ -37,4 +40,5 @@ echo "demo: database      $db"
 echo "demo: run folder    $(build/bin/podium status "$id" --db "$db" --json | /usr/bin/python3 -c 'import json,sys; print(json.load(sys.stdin)["run_dir"])')"
 echo "demo: trials        build/bin/podium trials $id --db $db"
 echo "demo: dashboard     build/bin/podium serve --db $db   (then open http://127.0.0.1:8080/campaign.html?id=$id;"
-echo "                    a trial's page links its 3D replays: the get-up fast, slowed by kappa, and paused)"
+echo "                    the strategy gallery plays each strategy; a trial's page links its 3D replays:"
+echo "                    the get-up fast, slowed by kappa, and paused; a jump over its bar)"

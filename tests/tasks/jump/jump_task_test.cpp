@@ -44,6 +44,27 @@ TEST(JumpTask, StagesDeclareTheTakeoffFeaturesAndTheirStrategyFeature) {
   }
 }
 
+TEST(JumpTask, TakeoffBoxNarrowsTheSearchedRangesAndQuickUsesIt) {
+  const auto task = plugins::load_task("jump");
+  const Json d = task->describe({{"stage", "explore"}, {"takeoff_box", {{"root_omega_x", {-1.0, 2.0}}}}});
+  EXPECT_EQ(d["params"][1]["name"], "root_omega_x");
+  EXPECT_EQ(d["params"][1]["low"], -1.0);
+  EXPECT_EQ(d["params"][1]["high"], 2.0);
+  EXPECT_EQ(d["params"][0]["low"], -0.5);  // the others keep takeoff.h's defaults
+  const Json quick = task->describe({{"stage", "explore"}})["presets"]["quick"];
+  Json config = quick;
+  config["stage"] = "explore";
+  EXPECT_EQ(task->describe(config)["params"][0]["low"], 0.4);
+  for (const Json& bad : {Json{{"root_omega_x", {2.0, 1.0}}}, Json{{"root_omega_x", {1.0}}}, Json{{"omega", {0.0, 1.0}}}}) {
+    try {
+      task->describe({{"stage", "explore"}, {"takeoff_box", bad}});
+      ADD_FAILURE() << bad.dump();
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find("takeoff_box"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(JumpTask, ABadConfigIsRejectedAtSubmitAtItsJsonPath) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
   spec["stages"][1]["config"]["copies"] = 0;

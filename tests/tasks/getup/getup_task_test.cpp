@@ -4,13 +4,11 @@
 
 #include <cmath>
 #include <fstream>
-#include <map>
 #include <set>
 
-#include "campaign_spec.h"
+#include "finished_campaign.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
-#include "podium/store/store.h"
 #include "process.h"
 #include "task_conformance.h"
 
@@ -71,43 +69,28 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
   spec["trial_timeout_s"] = 300;
   podium::testing::TempDir dir;
-  const std::int64_t id = std::stoll(podium::testing::submit_spec(dir.path(), spec));
-  const auto run = podium::testing::run_podium({"run"}, dir.path());
-  ASSERT_EQ(run.exit_code, 0) << run.err;
-
-  const auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
-  const auto stages = store->stages(id);
-  ASSERT_EQ(stages.size(), 3u);
-  std::map<std::string, std::vector<store::TrialRecord>> trials;
-  for (const auto& stage : stages) {
-    EXPECT_EQ(stage.state, "done") << stage.name << ": " << stage.error;
-    trials[stage.name] = store->trials(stage.id);
-    ASSERT_EQ(trials[stage.name].size(), 2u) << stage.name;
-    for (const auto& t : trials[stage.name]) ASSERT_EQ(t.state, "done") << stage.name << "/" << t.index << ": " << t.error;
-  }
-  const auto artifact_names = [&](const store::TrialRecord& t) {
-    std::set<std::string> names;
-    for (const auto& a : store->artifacts(t.id)) names.insert(a.name);
-    return names;
-  };
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  const auto& trials = campaign.trials;
+  ASSERT_EQ(trials.size(), 3u);
+  for (const auto& [stage, list] : trials) ASSERT_EQ(list.size(), 2u) << stage;
   std::set<double> weak_strengths, handed_strengths;
-  for (const auto& t : trials["weaker"]) {
+  for (const auto& t : trials.at("weaker")) {
     EXPECT_EQ(t.features.size(), 4u);  // the strategy features
-    EXPECT_TRUE(artifact_names(t).count("policy"));
+    EXPECT_TRUE(campaign.artifact_names(t).count("policy"));
     weak_strengths.insert(t.result_info["policy_strength"].get<double>());
   }
-  for (const auto& t : trials["slower"]) {
-    const auto names = artifact_names(t);
+  for (const auto& t : trials.at("slower")) {
+    const auto names = campaign.artifact_names(t);
     for (const char* a : {"policy", "weak_policy", "trajectory"}) EXPECT_TRUE(names.count(a)) << a;
     handed_strengths.insert(t.result_info["weak_strength"].get<double>());
   }
   EXPECT_EQ(handed_strengths, weak_strengths);  // each Slower trial got one Weaker policy's strength
-  for (const auto& t : trials["evaluate"]) {
+  for (const auto& t : trials.at("evaluate")) {
     EXPECT_EQ(t.features.size(), 4u);
-    const auto names = artifact_names(t);
+    const auto names = campaign.artifact_names(t);
     for (const char* a : {"trajectory", "trajectory_fast", "trajectory_pause"}) EXPECT_TRUE(names.count(a)) << a;
     std::set<double> steps;
-    for (const auto& m : store->metrics(t.id))
+    for (const auto& m : campaign.store->metrics(t.id))
       if (m.name == "eval/success_rate") steps.insert(m.step);
     EXPECT_EQ(steps, (std::set<double>{0.5, 1.0}));  // the smoke preset's κ = 0.5, and fast
   }

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "campaign_spec.h"
+#include "finished_campaign.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
 #include "podium/store/store.h"
@@ -85,44 +86,29 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
   spec["stages"][2]["budget"]["trials"]["per_input"] = 1;
   spec["trial_timeout_s"] = 120;
   podium::testing::TempDir dir;
-  const std::int64_t id = std::stoll(podium::testing::submit_spec(dir.path(), spec));
-  const auto run = podium::testing::run_podium({"run"}, dir.path());
-  ASSERT_EQ(run.exit_code, 0) << run.err;
-
-  const auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
-  const auto stages = store->stages(id);
-  ASSERT_EQ(stages.size(), 3u);
-  std::map<std::string, std::vector<store::TrialRecord>> trials;
-  for (const auto& stage : stages) {
-    EXPECT_EQ(stage.state, "done") << stage.name << ": " << stage.error;
-    trials[stage.name] = store->trials(stage.id);
-    for (const auto& t : trials[stage.name]) ASSERT_EQ(t.state, "done") << stage.name << "/" << t.index << ": " << t.error;
-  }
-  ASSERT_EQ(trials["pose_vae"].size(), 1u);
-  std::set<std::string> vae_artifacts;
-  for (const auto& a : store->artifacts(trials["pose_vae"][0].id)) vae_artifacts.insert(a.name);
-  EXPECT_EQ(vae_artifacts, (std::set<std::string>{"pose_vae"}));
-  ASSERT_EQ(trials["explore"].size(), 4u);
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  const auto& trials = campaign.trials;
+  ASSERT_EQ(trials.size(), 3u);
+  ASSERT_EQ(trials.at("pose_vae").size(), 1u);
+  EXPECT_EQ(campaign.artifact_names(trials.at("pose_vae")[0]), (std::set<std::string>{"pose_vae"}));
+  ASSERT_EQ(trials.at("explore").size(), 4u);
   std::set<std::int64_t> strategies;
-  for (const auto& t : trials["explore"]) {
+  for (const auto& t : trials.at("explore")) {
     ASSERT_EQ(t.features.size(), 1u);
     EXPECT_TRUE(t.features[0] >= 0.0 && t.features[0] <= M_PI) << t.features[0];
     EXPECT_EQ(t.result_info["bar_frame_rotation"].size(), 3u);
     if (t.strategy) strategies.insert(*t.strategy);
-    std::set<std::string> names;
-    for (const auto& a : store->artifacts(t.id)) names.insert(a.name);
-    EXPECT_EQ(names, (std::set<std::string>{"policy", "trajectory", "pose_vae"}));  // the P-VAE handed on to Stage 2
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory", "pose_vae"}));  // the P-VAE handed on to Stage 2
     EXPECT_TRUE(t.result_info["summary"].contains("bar reached m")) << t.result_info.dump();
-    std::set<std::string> metrics;
-    for (const auto& m : store->metrics(t.id)) metrics.insert(m.name);
+    const auto metrics = campaign.metric_names(t);
     for (const char* m : {"curriculum/z_m", "curriculum/control_hz", "train/avg_reward", "eval/success_rate_start_bar"})
       EXPECT_TRUE(metrics.count(m)) << m;
   }
   // One novel trial per distinct explore strategy, each at its input's take-off state.
-  ASSERT_EQ(trials["novel"].size(), strategies.size());
+  ASSERT_EQ(trials.at("novel").size(), strategies.size());
   std::set<Json> explore_params, novel_params;
-  for (const auto& t : trials["explore"]) explore_params.insert(t.params);
-  for (const auto& t : trials["novel"]) {
+  for (const auto& t : trials.at("explore")) explore_params.insert(t.params);
+  for (const auto& t : trials.at("novel")) {
     EXPECT_EQ(t.features.size(), 3u);
     EXPECT_TRUE(explore_params.count(t.params)) << t.params;
     novel_params.insert(t.params);
@@ -131,9 +117,9 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
 
   // The demo's path: an explore trial's policy, P-VAE and take-off jumped again by the evaluate
   // stage, without training (the trial names it and records the motion).
-  const store::TrialRecord& first = trials["explore"].front();
+  const store::TrialRecord& first = trials.at("explore").front();
   std::map<std::string, std::string> files;
-  for (const auto& a : store->artifacts(first.id)) files[a.name] = a.path;
+  for (const auto& a : campaign.store->artifacts(first.id)) files[a.name] = a.path;
   std::vector<double> takeoff;
   for (const char* name : {"approach_angle", "root_omega_x", "root_omega_y", "lateral_speed"}) takeoff.push_back(first.params[name].get<double>());
   const Json shipped = {{"name", "shipped"}, {"seed", 3}, {"workers", 1}, {"retries", 0}, {"trial_timeout_s", 120},

@@ -9,16 +9,15 @@ Markdown on stdout.
 Usage: tasks/jump/report.py DATABASE CAMPAIGN_NAME
 """
 import json
-import sqlite3
 import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from campaign_db import open_campaign  # noqa: E402
 
 
 def main(db_path, campaign):
-    db = sqlite3.connect(f"file:{db_path}?mode=ro", uri=True)
-    row = db.execute("SELECT id FROM campaigns WHERE name = ? ORDER BY id DESC", (campaign,)).fetchone()
-    if row is None:
-        sys.exit(f"report.py: {db_path}: no campaign named {campaign!r}")
-    stages = db.execute("SELECT id, name, task_config FROM stages WHERE campaign_id = ? ORDER BY idx", (row[0],)).fetchall()
+    db, stages = open_campaign(db_path, campaign)
     for stage_id, name, config in stages:
         stage = json.loads(config).get("stage", "explore")
         trials = db.execute("SELECT id, idx, state, error, params, strategy, result_info, started_at, finished_at FROM trials "

@@ -55,38 +55,32 @@ Json presets() {
           {"paper", {{"total_steps", 10'000'000}, {"sac_preset", "paper"}, {"sac", Json::object()}, {"slow_total_steps", 2'000'000}}}};
 }
 
-Json metric(const char* name, const char* unit, const char* text) {
-  Json m = {{"name", name}, {"description", text}};
-  if (*unit) m["unit"] = unit;
-  return m;
-}
-
 Json stage_description(const std::string& stage) {
   if (stage == "slower")
     return {{"features", Json::array()},
             {"metrics",
-             {metric("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa; step = environment steps"),
-              metric("slow/com_error_m", "m", "mean |h_com − h'_com| over the rise on those starts"),
-              metric("slow/success_rate", "", "fraction of those starts standing at the end")}},
+             {plugins::metric_entry("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa; step = environment steps"),
+              plugins::metric_entry("slow/com_error_m", "m", "mean |h_com − h'_com| over the rise on those starts"),
+              plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end")}},
             {"objectives", {"success_rate", "neg_com_error_m"}}};
   const Json features = {{"features", StrategyFeatures::describe()}, {"strategy_threshold", 0.3}};
   if (stage == "evaluate") {
     Json d = features;
-    d["metrics"] = {metric("eval/success_rate", "", "success over the unseen falls; step = κ (1 = fast: π_weak itself)"),
-                    metric("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m; step = κ"),
-                    metric("eval/com_error_m", "m", "mean COM-height tracking error of π_slow; step = κ"),
-                    metric("eval/strength_success_rate", "", "π_weak's success over the unseen falls; step = strength β")};
+    d["metrics"] = {plugins::metric_entry("eval/success_rate", "", "success over the unseen falls; step = κ (1 = fast: π_weak itself)"),
+                    plugins::metric_entry("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m; step = κ"),
+                    plugins::metric_entry("eval/com_error_m", "m", "mean COM-height tracking error of π_slow; step = κ"),
+                    plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls; step = strength β")};
     d["objectives"] = {"slow_success_rate", "fast_success_rate"};
     return d;
   }
   Json d = features;
-  d["metrics"] = {metric("test_return", "", "mean R_weak return on the fixed starts at β^i; step = environment steps"),
-                  metric("head_height_m", "m", "mean head-top height at the end of the test episodes"),
-                  metric("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
-                  metric("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),
-                  metric("train_return", "", "mean return of the training episodes since the last test"),
-                  metric("sac/alpha", "", "SAC's temperature α"),
-                  metric("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far")};
+  d["metrics"] = {plugins::metric_entry("test_return", "", "mean R_weak return on the fixed starts at β^i; step = environment steps"),
+                  plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes"),
+                  plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
+                  plugins::metric_entry("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),
+                  plugins::metric_entry("train_return", "", "mean return of the training episodes since the last test"),
+                  plugins::metric_entry("sac/alpha", "", "SAC's temperature α"),
+                  plugins::metric_entry("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far")};
   d["objectives"] = {"success_rate", "weakness"};  // of the exported policy; weakness = 1 − its β^i
   return d;
 }

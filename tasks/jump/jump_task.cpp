@@ -91,23 +91,17 @@ Json presets() {
             {"sim_hz", 600.0}, {"eval_every", 50}, {"eval_jumps", 5}, {"final_jumps", 20}, {"checkpoint_every", 10}}}};
 }
 
-Json metric(const char* name, const char* unit, const char* text) {
-  Json m = {{"name", name}, {"description", text}};
-  if (*unit) m["unit"] = unit;
-  return m;
-}
-
 Json metrics() {
-  return {metric("train/avg_reward", "", "the iteration's curriculum score (curriculum_score); step = samples"),
-          metric("train/episodes", "", "episodes ended in the iteration"),
-          metric("curriculum/z_m", "m", "bar height (obstacle width) z after the iteration (Table 3.1)"),
-          metric("curriculum/control_hz", "Hz", "the copies' control rate f_control(ρ(z))"),
-          metric("eval/success_rate", "", "test jumps at the current z that land on the block (the first deterministic)"),
-          metric("eval/return", "", "mean reward of the test jumps (eq. 3.16 × naturalness × novelty)"),
-          metric("eval/up_angle_rad", "rad", "the deterministic test jump's up-angle at the bar"),
-          metric("eval/mean_offset_l1", "rad", "mean L1 norm of the P-VAE offsets in the test jumps (0 with plain targets)"),
-          metric("eval/success_rate_start_bar", "", "the final policy's evaluation jumps at the starting bar (issue 19's acceptance)"),
-          metric("eval/success_rate_final", "", "the final policy's evaluation jumps at the z reached")};
+  return {plugins::metric_entry("train/avg_reward", "", "the iteration's curriculum score (curriculum_score); step = samples"),
+          plugins::metric_entry("train/episodes", "", "episodes ended in the iteration"),
+          plugins::metric_entry("curriculum/z_m", "m", "bar height (obstacle width) z after the iteration (Table 3.1)"),
+          plugins::metric_entry("curriculum/control_hz", "Hz", "the copies' control rate f_control(ρ(z))"),
+          plugins::metric_entry("eval/success_rate", "", "test jumps at the current z that land on the block (the first deterministic)"),
+          plugins::metric_entry("eval/return", "", "mean reward of the test jumps (eq. 3.16 × naturalness × novelty)"),
+          plugins::metric_entry("eval/up_angle_rad", "rad", "the deterministic test jump's up-angle at the bar"),
+          plugins::metric_entry("eval/mean_offset_l1", "rad", "mean L1 norm of the P-VAE offsets in the test jumps (0 with plain targets)"),
+          plugins::metric_entry("eval/success_rate_start_bar", "", "the final policy's evaluation jumps at the starting bar (issue 19's acceptance)"),
+          plugins::metric_entry("eval/success_rate_final", "", "the final policy's evaluation jumps at the z reached")};
 }
 
 Json feature(const char* name, double low, double high) {
@@ -117,8 +111,8 @@ Json feature(const char* name, double low, double high) {
 Json describe_stage(const TaskConfig& c) {
   if (c.stage == "pose_vae")
     return {{"params", Json::array()}, {"features", Json::array()}, {"objectives", {"fit"}},
-            {"metrics", {metric("pose_vae_loss", "", "mean P-VAE loss (MSE + β·KL) per epoch; step = epoch"),
-                         metric("pose_vae_rmse_rad", "rad", "reconstruction RMSE over the training poses at the last epoch")}}};
+            {"metrics", {plugins::metric_entry("pose_vae_loss", "", "mean P-VAE loss (MSE + β·KL) per epoch; step = epoch"),
+                         plugins::metric_entry("pose_vae_rmse_rad", "rad", "reconstruction RMSE over the training poses at the last epoch")}}};
   Json params = Json::array();
   for (const TakeoffFeature& f : c.box) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
   Json d = {{"params", params}, {"metrics", metrics()}, {"objectives", {"z_reached_m", "success_rate_start_bar"}}};

@@ -47,6 +47,13 @@ namespace podium::plugins {
 
 using base::Json;
 
+/// One entry of a description's "metrics" list; an empty unit is left out.
+inline Json metric_entry(const std::string& name, const std::string& unit, const std::string& description) {
+  Json m = {{"name", name}, {"description", description}};
+  if (!unit.empty()) m["unit"] = unit;
+  return m;
+}
+
 /// Bumped whenever Task, RunRequest, RunResult or TaskDescriptor change layout or meaning.
 inline constexpr int kAbiVersion = 3;
 

@@ -75,6 +75,7 @@ Json stage_description(const std::string& stage) {
   }
   Json d = features;
   d["metrics"] = {plugins::metric_entry("test_return", "", "mean R_weak return on the fixed starts at β^i; step = environment steps"),
+                  plugins::metric_entry("test_return_min", "", "the lowest of those returns: R_test, which advances β above ω (§5)"),
                   plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes"),
                   plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
                   plugins::metric_entry("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),

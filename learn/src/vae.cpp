@@ -17,6 +17,12 @@ namespace podium::learn {
 
 using detail::Mlp;
 
+VaeConfig VaeConfig::pose_vae() {
+  VaeConfig c;
+  c.beta = 1e-5 * c.batch_size;
+  return c;
+}
+
 VaeConfig VaeConfig::conditional() {
   VaeConfig c;
   c.latent_size = 16;

@@ -11,12 +11,6 @@ namespace podium::tasks::jump {
 
 namespace fs = std::filesystem;
 
-learn::VaeConfig thesis_pose_vae_config() {
-  learn::VaeConfig c = learn::VaeConfig::pose_vae();  // 2 × 256 tanh, latent 13, Adam 1e-4, batch 128, 80 epochs
-  c.beta = 1e-5 * c.batch_size;  // the thesis's β weighs the KL summed over a minibatch; PoseVae's, the per-pose mean
-  return c;
-}
-
 PosePriorSettings read_pose_prior_settings(base::ConfigReader& r) {
   PosePriorSettings s;
   learn::VaeConfig& v = s.vae;

@@ -23,13 +23,6 @@
 
 namespace podium::tasks::jump {
 
-/// Thesis §3.4.2: encoder and decoder 2 × 256 tanh, d_latent = 13, Adam 1e-4, minibatch 128,
-/// 80 epochs, β = 1e-5. That β (kl_coeff = 0.00001 in the authors' arpspoof/Jump utils/vae.py)
-/// weighs the KL divergence *summed* over the minibatch against the per-entry mean squared error;
-/// PoseVae averages the KL over the minibatch, so the same loss has β = 1e-5 × 128 = 1.28e-3.
-/// It matters: with 1e-5 per pose the encodings drift off the origin (means up to ±0.8 on the
-/// shipped set) and decode(0), the policy's zero latent action, is no training pose.
-learn::VaeConfig thesis_pose_vae_config();
 
 struct PosePriorSettings {
   /// "" : the shipped set (shipped_pose_set_path()); a folder: every *.txt below it (recursively)
@@ -37,7 +30,13 @@ struct PosePriorSettings {
   std::string pose_set;
   /// The skeleton the poses are for: JumpSettings::model (not a config key of its own).
   std::string model = "athlete";
-  learn::VaeConfig vae = thesis_pose_vae_config();
+  /// learn::VaeConfig::pose_vae(), the thesis's (§3.4.2: 2 × 256 tanh, d_latent 13, Adam 1e-4,
+  /// minibatch 128, 80 epochs, β 1e-5). That β (kl_coeff = 0.00001 in the authors' arpspoof/Jump
+  /// utils/vae.py) weighs the KL *summed* over the minibatch against the per-entry mean squared
+  /// error; PoseVae averages the KL, so the same loss has β = 1.28e-3 per pose. It matters: with
+  /// 1e-5 per pose the encodings drift off the origin (means up to ±0.8 on the shipped set) and
+  /// decode(0), the policy's zero latent action, is no training pose.
+  learn::VaeConfig vae = learn::VaeConfig::pose_vae();
 };
 
 /// Reads pose_set, vae_epochs, vae_latent_size, vae_beta, vae_learning_rate and vae_batch_size

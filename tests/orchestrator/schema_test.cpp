@@ -1,5 +1,6 @@
 // The JSON Schema in campaigns/ and the C++ validator must agree: every shipped spec passes both,
-// and each kind of violation is rejected by both (schema checked with python3-jsonschema).
+// and each kind of violation is rejected by both (schema checked with python3-jsonschema); and
+// every shipped spec submits through the real CLI.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -38,6 +39,17 @@ TEST(CampaignSchema, ShippedSpecsPassSchemaAndValidator) {
   for (const auto& spec : specs) {
     EXPECT_NE(out.find(spec.string() + " valid"), std::string::npos) << out;
     EXPECT_NO_THROW(parse_spec(base::read_json_file(spec), spec.string())) << spec;
+  }
+}
+
+// The tasks check each stage's resolved config (defaults, preset, spec) at submit: every shipped
+// spec is accepted by its plugins, as a user would submit it.
+TEST(CampaignSchema, ShippedSpecsAreAcceptedByTheirTasks) {
+  podium::testing::TempDir dir;
+  for (const auto& entry : fs::directory_iterator(kSource / "campaigns")) {
+    if (entry.path().extension() != ".json" || entry.path().filename() == "campaign.schema.json") continue;
+    const auto run = podium::testing::run_podium({"submit", entry.path().string()}, dir.path());
+    EXPECT_EQ(run.exit_code, 0) << entry.path() << ": " << run.err;
   }
 }
 

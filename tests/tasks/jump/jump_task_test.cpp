@@ -1,7 +1,7 @@
 // The jump plugin through the real `podium` binary: the task conformance suite (its resume case
 // kills a smoke trial mid-run and checks the resumed attempt's result and metrics equal an
-// uninterrupted run's), the stages' descriptions, and campaigns/highjump.json at the smoke preset
-// end to end (explore → novel, each novel trial handed one explore strategy's policy).
+// uninterrupted run's), the stages' descriptions, and campaigns/highjump.json and obstaclejump.json
+// at the smoke preset end to end (explore → novel, each novel trial handed one explore strategy's policy).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -134,6 +134,31 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
   ASSERT_EQ(jumps[0].features.size(), 1u);
   EXPECT_NEAR(jumps[0].features[0], first.features[0], 1e-9);  // the same deterministic jump as the trial's own evaluation
   EXPECT_EQ(again->artifacts(jumps[0].id).at(0).name, "trajectory");
+}
+
+// campaigns/obstaclejump.json at the smoke preset, cut to 3 explore samples and one novel trial
+// per strategy: the box's 3-D take-off (root angular velocity) and the same two stages.
+TEST(JumpCampaign, ObstacleSmokeRunsExploreThenNovelEndToEnd) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/obstaclejump.json");
+  for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  spec["stages"][1]["budget"]["trials"] = 3;
+  spec["stages"][2]["search"]["config"]["trials_per_input"] = 1;
+  spec["stages"][2]["budget"]["trials"]["per_input"] = 1;
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  const auto& trials = campaign.trials;
+  ASSERT_EQ(trials.at("explore").size(), 3u);
+  std::set<std::int64_t> strategies;
+  for (const auto& t : trials.at("explore")) {
+    EXPECT_EQ(t.params.size(), 3u) << t.params;  // ω_x, ω_y, ω_z
+    ASSERT_EQ(t.features.size(), 1u);
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory", "pose_vae"}));
+    EXPECT_TRUE(campaign.metric_names(t).count("curriculum/z_m"));
+    if (t.strategy) strategies.insert(*t.strategy);
+  }
+  ASSERT_EQ(trials.at("novel").size(), strategies.size());
+  for (const auto& t : trials.at("novel")) EXPECT_EQ(t.features.size(), 3u);
 }
 
 }  // namespace

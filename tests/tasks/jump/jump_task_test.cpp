@@ -72,15 +72,22 @@ TEST(JumpTask, ABadConfigIsRejectedAtSubmitAtItsJsonPath) {
   EXPECT_NE(run.err.find("stages[1].config.copies: 0 is not"), std::string::npos) << run.err;
 }
 
-// campaigns/highjump.json at the smoke preset through the real CLI, cut to 4 explore samples and
-// one novel trial per strategy: the P-VAE, Stage 1 acting through it, Stage 2 through the same one.
-TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
-  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
+// A shipped jump campaign (pose_vae → explore → novel) at the smoke preset, cut to
+// `explore_samples` Stage 1 samples and one novel trial per strategy.
+Json smoke_campaign(const std::string& file, int explore_samples) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns" / file);
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
-  spec["stages"][1]["budget"]["trials"] = 4;
+  spec["stages"][1]["budget"]["trials"] = explore_samples;
   spec["stages"][2]["search"]["config"]["trials_per_input"] = 1;
   spec["stages"][2]["budget"]["trials"]["per_input"] = 1;
   spec["trial_timeout_s"] = 120;
+  return spec;
+}
+
+// campaigns/highjump.json at the smoke preset through the real CLI, cut to 4 explore samples and
+// one novel trial per strategy: the P-VAE, Stage 1 acting through it, Stage 2 through the same one.
+TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
+  const Json spec = smoke_campaign("highjump.json", 4);
   podium::testing::TempDir dir;
   const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
   const auto& trials = campaign.trials;
@@ -139,12 +146,7 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
 // campaigns/obstaclejump.json at the smoke preset, cut to 3 explore samples and one novel trial
 // per strategy: the box's 3-D take-off (root angular velocity) and the same two stages.
 TEST(JumpCampaign, ObstacleSmokeRunsExploreThenNovelEndToEnd) {
-  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/obstaclejump.json");
-  for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
-  spec["stages"][1]["budget"]["trials"] = 3;
-  spec["stages"][2]["search"]["config"]["trials_per_input"] = 1;
-  spec["stages"][2]["budget"]["trials"]["per_input"] = 1;
-  spec["trial_timeout_s"] = 120;
+  const Json spec = smoke_campaign("obstaclejump.json", 3);
   podium::testing::TempDir dir;
   const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
   const auto& trials = campaign.trials;

@@ -1,4 +1,4 @@
-"""Shared by the tasks' report.py scripts: a campaign's stages, read-only from its Podium database."""
+"""Shared by the tasks' report.py scripts: a campaign's stages, read-only from its Podium database, and trial wall times."""
 import sqlite3
 import sys
 
@@ -12,3 +12,8 @@ def open_campaign(db_path, campaign):
         sys.exit(f"report.py: {db_path}: no campaign named {campaign!r}")
     stages = db.execute("SELECT id, name, task_config FROM stages WHERE campaign_id = ? ORDER BY idx", (row[0],)).fetchall()
     return db, stages
+
+
+def minutes(started, finished):
+    """A trial's wall time in minutes from its stored start and finish (NaN while either is missing)."""
+    return (finished - started) / 60 if finished and started else float("nan")

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from campaign_db import open_campaign  # noqa: E402
+from campaign_db import minutes, open_campaign  # noqa: E402
 
 
 def curve_table(series, every=100_000):
@@ -32,8 +32,7 @@ def main(db_path, campaign):
         trials = db.execute("SELECT id, idx, seed, state, error, result_info, started_at, finished_at FROM trials "
                             "WHERE stage_id = ? ORDER BY idx", (stage_id,)).fetchall()
         for trial_id, idx, seed, state, error, info, started, finished in trials:
-            wall = (finished - started) / 60 if finished and started else float("nan")
-            print(f"- `{name}/{idx}` (trial seed {seed & 0xFFFFFFFFFFFFFFFF}): {state}, {wall:.1f} min" + (f", error: {error}" if error else ""))
+            print(f"- `{name}/{idx}` (trial seed {seed & 0xFFFFFFFFFFFFFFFF}): {state}, {minutes(started, finished):.1f} min" + (f", error: {error}" if error else ""))
             series = {}
             for metric, step, value in db.execute("SELECT name, step, value FROM metrics WHERE trial_id = ? ORDER BY step",
                                                   (trial_id,)):

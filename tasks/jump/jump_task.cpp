@@ -56,7 +56,7 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   c.box = read_takeoff_box(r, c.train.env.kind);
   c.pose = read_pose_prior_settings(r);
   c.pose.model = c.train.env.model;
-  c.shipped = read_shipped_jumps(r);
+  c.shipped = read_shipped_jumps(r, c.train.env.kind);
   c.captured_motions = r.string("captured_motions", c.captured_motions,
                                 "folder of the captured Fosbury flop, straddle and scissor jumps (DeepMimic format, e.g. "
                                 "../shared/data/jump/data/motions/beyond): an explore trial is labelled by its nearest technique; "
@@ -202,8 +202,7 @@ plugins::RunResult run_shipped(const TaskConfig& c, const plugins::RunRequest& r
   result.features = {e.up_angle_rad};
   if (!e.trajectory.empty()) result.artifacts = {{"trajectory", e.trajectory}};
   result.info = {{"success_rate", e.success_rate}, {"up_angle_rad", e.up_angle_rad}, {"policy", entry.policy}};
-  const double z = entry.z_m > 0 ? entry.z_m : difficulty_curriculum(c.train.env.kind).initial;
-  result.info["summary"] = labelled(c, {{"bar m", z}, {"success over " + std::to_string(jumps.jumps) + " jumps", e.success_rate}},
+  result.info["summary"] = labelled(c, {{"bar m", entry.z_m}, {"success over " + std::to_string(jumps.jumps) + " jumps", e.success_rate}},
                                     e.up_angle_rad, result.info);
   return result;
 }

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from campaign_db import open_campaign  # noqa: E402
+from campaign_db import minutes, open_campaign  # noqa: E402
 
 
 def main(db_path, campaign):
@@ -26,7 +26,7 @@ def main(db_path, campaign):
         if stage == "pose_vae":
             for _, idx, state, error, _, _, info, started, finished in trials:
                 info = json.loads(info or "{}")
-                print(f"- `{name}/{idx}`: {state}, {(finished - started) / 60:.1f} min, {info.get('poses')} poses, "
+                print(f"- `{name}/{idx}`: {state}, {minutes(started, finished):.1f} min, {info.get('poses')} poses, "
                       f"reconstruction RMSE {info.get('rmse_rad', float('nan')):.3f} rad" + (f", error: {error}" if error else ""))
             continue
         print("| trial | params | bar reached m | success at start bar (20) | success at bar reached (20) | feature | strategy | technique | samples | min |")
@@ -38,11 +38,10 @@ def main(db_path, campaign):
             start = info.get("start_bar", {}).get("success_rate", float("nan"))
             final = info.get("final_bar", {}).get("success_rate", float("nan"))
             technique = info.get("nearest_technique", {}).get("name", "–")
-            wall = (finished - started) / 60 if finished and started else float("nan")
             p = ", ".join(f"{k} {v:.2f}" for k, v in json.loads(params).items())
             print(f"| `{name}/{idx}` {state if state != 'done' else ''} | {p} | {info.get('z_reached_m', float('nan')):.2f} | {start:.2f} | "
                   f"{final:.2f} | {', '.join(f'{v:.3f}' for v in feature)} | {strategy if strategy is not None else '–'} | {technique} | "
-                  f"{info.get('samples', '–')} | {wall:.1f} |" + (f" error: {error}" if error else ""))
+                  f"{info.get('samples', '–')} | {minutes(started, finished):.1f} |" + (f" error: {error}" if error else ""))
             if strategy is not None:
                 strategies.add(strategy)
                 if start >= 0.5:

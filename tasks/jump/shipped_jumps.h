@@ -14,11 +14,12 @@ struct ShippedJump {
   std::string policy;              ///< TorchScript export of a jump trial
   std::string pose_vae;            ///< the P-VAE it acts through ("" : plain targets)
   std::vector<double> takeoff;     ///< its take-off features, in takeoff_features(kind)'s order
-  double z_m = 0.0;                ///< the bar (box width) to jump; 0: the kind's starting z
+  double z_m = 0.0;                ///< the bar (box width) to jump
 };
 
-/// The `shipped` config list (paths relative to where `podium run` starts).
-std::vector<ShippedJump> read_shipped_jumps(base::ConfigReader& r);
+/// The `shipped` config list (paths relative to where `podium run` starts); an entry's `z_m` 0 (or
+/// absent) becomes `kind`'s starting z.
+std::vector<ShippedJump> read_shipped_jumps(base::ConfigReader& r, JumpKind kind);
 
 /// `jump` evaluation jumps (the first deterministic, recorded in `record_dir`) of `shipped` with
 /// `settings` (its kind, model and rates). Throws base::UserError naming a missing file or a

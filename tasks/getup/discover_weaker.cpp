@@ -150,7 +150,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   WeakerSchedule schedule(s.curriculum, s.budget);
   learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
                                        [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
-  Json extra = {{"passed", nullptr}, {"last", nullptr}, {"ended", false}};
+  Json extra = {{"passed", nullptr}, {"best", nullptr}, {"ended", false}};
   const auto send = [&](const std::string& name, double step, double value) { checkpoint.metric(name, step, value); };
   if (auto saved = checkpoint.resume(*learner, envs)) {
     extra = *saved;
@@ -195,15 +195,17 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     }
     const Json tested = {{"strength", tested_at}, {"test_return", result.mean_return}, {"test_return_min", min_return}, {"success_rate", result.success_rate},
                          {"env_steps", learner->env_steps()}};
-    extra["last"] = tested;
-    switch (schedule.on_test(learner->env_steps(), min_return)) {
-      case WeakerSchedule::Decision::advance:  // π passed at β^i: it is π_weak until a weaker one passes
-        learner->export_torchscript(policy);
-        extra["passed"] = tested;
-        break;
-      case WeakerSchedule::Decision::end: extra["ended"] = true; break;
-      case WeakerSchedule::Decision::carry_on: break;
+    const WeakerSchedule::Decision decision = schedule.on_test(learner->env_steps(), min_return);
+    if (decision == WeakerSchedule::Decision::advance) {  // π passed at β^i: it is π_weak until a weaker one passes
+      learner->export_torchscript(policy);
+      extra["passed"] = tested;
+    } else if (extra.at("passed").is_null() && (extra.at("best").is_null() || result.mean_return > extra.at("best").at("test_return").get<double>())) {
+      // Until a test passes, the policy of the best mean test return is kept (the seed
+      // repository's best_model, what its Slower loads as the teacher).
+      learner->export_torchscript(policy);
+      extra["best"] = tested;
     }
+    if (decision == WeakerSchedule::Decision::end) extra["ended"] = true;
     *beta = schedule.strength();
     send("curriculum/strength", steps, *beta);
     extra["schedule"] = schedule.state();
@@ -213,8 +215,8 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
 
   TrialOutcome out;
   out.passed = !extra.at("passed").is_null();
-  if (!out.passed) learner->export_torchscript(policy);
-  const Json& exported = out.passed ? extra.at("passed") : extra.at("last");
+  if (extra.at(out.passed ? "passed" : "best").is_null()) throw std::logic_error("getup: training ended before its first test");
+  const Json& exported = out.passed ? extra.at("passed") : extra.at("best");
   out.policy = policy;
   out.policy_strength = exported.at("strength").get<double>();
   out.success_rate = exported.at("success_rate").get<double>();

@@ -72,7 +72,7 @@ struct TrialOutcome {
   std::filesystem::path policy;      ///< TorchScript export of π_weak (see run_discover_weaker)
   std::filesystem::path trajectory;  ///< its rollout from the first fixed start
   double policy_strength = 1.0;      ///< β^i at which the exported policy passed its test
-  bool passed = false;               ///< whether any test passed ω (false: the last policy is exported)
+  bool passed = false;               ///< whether any test passed ω (false: the best-returning policy is exported)
   double success_rate = 0.0;         ///< of the exported policy on the fixed starts, at policy_strength
   double test_return = 0.0;          ///< likewise
   double final_strength = 1.0;       ///< β^i when the trial ended
@@ -84,8 +84,9 @@ struct TrialOutcome {
 
 /// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt when a previous attempt left
 /// one (metric points it covers are sent again; the store drops repeats). The exported policy is
-/// the one that passed the last curriculum test (π_weak at the weakest strength it mastered), or
-/// the final one when no test passed. Throws when `cancel` is set (checked every vector step).
+/// the one that passed the last curriculum test (π_weak at the weakest strength it mastered), or,
+/// when no test passed, the one of the best mean test return (the seed repository's best_model).
+/// Throws when `cancel` is set (checked every vector step).
 TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const std::filesystem::path& work_dir,
                                  const std::atomic<bool>* cancel, const Reporter& report);
 

@@ -2,8 +2,10 @@
 // whose curriculum advances at every test (the smoke preset's ω is below any return).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "finished_campaign.h"
@@ -22,11 +24,18 @@ PODIUM_TASK_CONFORMANCE(Getup, {.task = "getup", .long_config = {{"total_steps",
                                 .resume_config = {{"total_steps", 1200}}, .kill_after_metric_points = 30,
                                 .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"}});
 
-TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) {
+// One smoke Weaker trial through `podium trial --batch`: its result and its metric points by name.
+struct SmokeTrial {
+  Json result;
+  std::map<std::string, std::vector<double>> metrics;
+};
+
+SmokeTrial run_smoke_trial(const Json& overrides) {
   const auto task = plugins::load_task("getup");
   const Json description = task->describe(Json::object());
   Json config = description["config_defaults"];
   config.update(description["presets"]["smoke"]);
+  config.update(overrides);
   podium::testing::TempDir dir;
   const Json order = {{"key", 1}, {"task", "getup"}, {"config", config}, {"params", Json::object()},
                       {"context", Json::object()}, {"inputs", Json::array()}, {"previous_attempt", nullptr},
@@ -34,32 +43,51 @@ TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) {
   podium::testing::write_file(dir / "order.json", order.dump());
   podium::testing::write_file(dir / "batch.txt", (dir / "order.json").string() + "\n");
   const auto run = podium::testing::run_podium({"trial", "--batch", (dir / "batch.txt").string()}, dir.path());
-  ASSERT_EQ(run.exit_code, 0) << run.err;
-  const Json result = base::read_json_file(dir / "result.json");
-  ASSERT_EQ(result["type"], "result") << result;
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  SmokeTrial trial;
+  trial.result = base::read_json_file(dir / "result.json");
+  EXPECT_EQ(trial.result["type"], "result") << trial.result;
+  std::ifstream metrics(dir / "metrics.jsonl");
+  for (std::string line; std::getline(metrics, line);) {
+    const Json m = Json::parse(line);
+    trial.metrics[m["name"].get<std::string>()].push_back(m["value"].get<double>());
+  }
+  for (const auto& a : trial.result["artifacts"]) EXPECT_TRUE(fs::is_regular_file(a["path"].get<std::string>())) << a;
+  return trial;
+}
 
+TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) {
+  const SmokeTrial trial = run_smoke_trial(Json::object());
   // 400 steps, a test every 100: four tests, each passed, so β = 0.95⁴ at the end and the
   // exported policy is the one that passed at 0.95³.
-  const Json& info = result["info"];
+  const Json& info = trial.result["info"];
   EXPECT_EQ(info["levels"], 4);
   EXPECT_TRUE(info["passed"].get<bool>());
   EXPECT_NEAR(info["final_strength"].get<double>(), std::pow(0.95, 4), 1e-12);
   EXPECT_NEAR(info["policy_strength"].get<double>(), std::pow(0.95, 3), 1e-12);
-  EXPECT_NEAR(result["objectives"][1].get<double>(), 1.0 - std::pow(0.95, 3), 1e-12);
+  EXPECT_NEAR(trial.result["objectives"][1].get<double>(), 1.0 - std::pow(0.95, 3), 1e-12);
 
-  std::vector<double> strengths, heads;
-  std::ifstream metrics(dir / "metrics.jsonl");
-  for (std::string line; std::getline(metrics, line);) {
-    const Json m = Json::parse(line);
-    if (m["name"] == "curriculum/strength") strengths.push_back(m["value"].get<double>());
-    if (m["name"] == "head_height_m") heads.push_back(m["value"].get<double>());
-  }
+  const std::vector<double>& strengths = trial.metrics.at("curriculum/strength");
   ASSERT_EQ(strengths.size(), 4u);
   for (std::size_t i = 0; i < strengths.size(); ++i) EXPECT_NEAR(strengths[i], std::pow(0.95, double(i + 1)), 1e-12);
+  const std::vector<double>& heads = trial.metrics.at("head_height_m");
   ASSERT_EQ(heads.size(), 4u);
   for (double h : heads) EXPECT_TRUE(h > 0.0 && h < 2.0) << h;  // head-top heights in metres
+}
 
-  for (const auto& a : result["artifacts"]) EXPECT_TRUE(fs::is_regular_file(a["path"].get<std::string>())) << a;
+// No test passes ω: β stays 1 and the exported policy is the one of the best mean test return
+// (the seed repository's best_model), not the last.
+TEST(GetupTask, SmokeTrialWithoutAPassExportsTheBestTestedPolicy) {
+  const SmokeTrial trial = run_smoke_trial({{"threshold", 1e9}});
+  const Json& info = trial.result["info"];
+  EXPECT_EQ(info["levels"], 0);
+  EXPECT_FALSE(info["passed"].get<bool>());
+  EXPECT_EQ(info["policy_strength"].get<double>(), 1.0);
+  const std::vector<double>& returns = trial.metrics.at("test_return");
+  ASSERT_EQ(returns.size(), 4u);
+  const double best = *std::max_element(returns.begin(), returns.end());
+  ASSERT_NE(best, returns.back()) << "this seed's last test is its best: the test cannot tell best from last";
+  EXPECT_EQ(info["test_return"].get<double>(), best);
 }
 
 // campaigns/getup.json at the smoke preset through the real CLI: Weaker over two seeds, Slower

@@ -3,6 +3,10 @@
 // copies are rebuilt (same learner) when f_control(ρ(z)) changes.
 #include <gtest/gtest.h>
 
+#include <map>
+#include <utility>
+
+#include "process.h"
 #include "train_jump.h"
 
 namespace podium::tasks::jump {
@@ -60,6 +64,60 @@ TEST(JumpTrainer, FreezesAtZFreeze) {
   EXPECT_FALSE(t.frozen());
   t.feed(31.0);
   EXPECT_TRUE(t.frozen());
+}
+
+// A whole trial whose bar rises at every iteration (R_T below any score): its copies are rebuilt
+// at 12 Hz at the third iteration (0.53 m). Interrupted after the fourth, the next attempt finds
+// the 12 Hz checkpoint (the 10 Hz one removed), builds its copies at the z they were built at,
+// trains only the two iterations left and ends exactly where the uninterrupted trial ends.
+struct TrialRecord {
+  std::map<std::pair<std::string, double>, double> metrics;  // a resent point overwrites itself
+  int progress_calls = 0;
+  Reporter reporter() {
+    return {[this](const std::string& name, double step, double value) { metrics[{name, step}] = value; },
+            [this](double) { ++progress_calls; }};
+  }
+};
+
+TEST(JumpTrial, ResumesAcrossAControlRateRebuild) {
+  TrainSettings s = small();
+  s.env.sim_hz = 120;  // divisible by 10 and 12
+  s.curriculum.threshold = -1e9;
+  s.z_freeze_m = 0.0;
+  s.total_samples = 6 * 2 * 2;  // 6 iterations of 2 steps × 2 copies
+  s.eval_every = 2;
+  s.eval.jumps = 1;
+  s.final_jumps = 2;
+  s.checkpoint_every = 1;
+  const testing::TempDir whole, split;
+
+  TrialRecord a;
+  const JumpOutcome full = run_jump_trial(s, 7, {}, whole.path(), nullptr, a.reporter());
+  ASSERT_NEAR(full.z_reached_m, 0.56, 1e-9);
+  ASSERT_EQ(a.metrics.at({"curriculum/control_hz", 12.0}), 12.0);  // rebuilt by sample 12 (iteration 3)
+
+  TrialRecord b;
+  std::atomic<bool> cancel{false};
+  Reporter first = b.reporter();
+  const auto record = first.metric;
+  first.metric = [&](const std::string& name, double step, double value) {
+    record(name, step, value);
+    if (name == "curriculum/z_m" && value > 0.535) cancel = true;  // after iteration 4's checkpoint
+  };
+  EXPECT_THROW(run_jump_trial(s, 7, {}, split.path(), &cancel, first), std::runtime_error);
+  EXPECT_TRUE(std::filesystem::exists(split / "training_12hz.ckpt"));
+  EXPECT_FALSE(std::filesystem::exists(split / "training_10hz.ckpt"));
+
+  b.progress_calls = 0;
+  const JumpOutcome resumed = run_jump_trial(s, 7, {}, split.path(), nullptr, b.reporter());
+  EXPECT_EQ(b.progress_calls, 1 + 2 + 1);  // before the loop, iterations 5 and 6, the end
+  EXPECT_EQ(resumed.samples, full.samples);
+  EXPECT_EQ(resumed.levels, full.levels);
+  EXPECT_EQ(resumed.z_reached_m, full.z_reached_m);
+  EXPECT_EQ(resumed.final_bar.return_mean, full.final_bar.return_mean);
+  EXPECT_EQ(resumed.final_bar.mean_offset_l1, full.final_bar.mean_offset_l1);
+  EXPECT_EQ(resumed.start_bar.mean_offset_l1, full.start_bar.mean_offset_l1);
+  EXPECT_EQ(b.metrics, a.metrics);
 }
 
 }  // namespace

@@ -48,10 +48,10 @@ Json presets() {
             {"rise_height_m", 0.1}, {"max_rise_steps", 50}, {"balance_steps", 10}, {"slow_total_steps", 200}, {"slow_eval_every", 100},
             {"eval_falls", 2}, {"eval_kappas", {0.5}}, {"pause_steps", 2}}},
           {"quick",
-           {{"total_steps", 1'200'000}, {"sac_preset", "paper"},
+           {{"total_steps", 2'000'000}, {"sac_preset", "paper"},
             {"sac",
-             {{"hidden", {128, 128}}, {"batch_size", 256}, {"updates_per_step", 0.5}, {"actor_lr", 3e-4}, {"critic_lr", 3e-4}}},
-            {"slow_total_steps", 300'000}}},
+             {{"hidden", {128, 128}}, {"batch_size", 256}, {"updates_per_step", 0.25}, {"actor_lr", 3e-4}, {"critic_lr", 3e-4}}},
+            {"slow_total_steps", 200'000}}},
           {"paper", {{"total_steps", 10'000'000}, {"sac_preset", "paper"}, {"sac", Json::object()}, {"slow_total_steps", 2'000'000}}}};
 }
 

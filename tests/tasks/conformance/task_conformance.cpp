@@ -3,14 +3,13 @@
 
 #include <chrono>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <map>
 #include <set>
 
 #include "podium/base/error.h"
 #include "podium/plugins/loader.h"
-#include "process.h"
+#include "batch_trial.h"
 #include "worker_client.h"
 
 namespace podium::testing {
@@ -100,24 +99,8 @@ Json order_for(const ConformanceCase& c, const Json& overrides, const fs::path& 
   }
   const Json previous = attempt == 1 ? Json(nullptr)
                                      : Json{{"number", attempt - 1}, {"state", "interrupted"}, {"error", "killed by the test"}};
-  return {{"key", 1},
-          {"task", c.task},
-          {"config", config},
-          {"params", params},
-          {"context", Json::object()},
-          {"inputs", Json::array()},
-          {"previous_attempt", previous},
-          {"seed", seed},
-          {"trial_index", 0},
-          {"attempt", attempt},
-          {"work_dir", work_dir.string()}};
-}
-
-std::vector<Json> metric_lines(const fs::path& attempt_dir) {
-  std::vector<Json> lines;
-  std::ifstream in(attempt_dir / "metrics.jsonl");
-  for (std::string line; std::getline(in, line);) lines.push_back(Json::parse(line));
-  return lines;
+  return order_json({.task = c.task, .config = config, .params = params, .previous_attempt = previous, .seed = seed,
+                     .attempt = attempt, .work_dir = work_dir});
 }
 
 struct TrialRun {
@@ -135,15 +118,11 @@ Json comparable(Json result, const fs::path& work_dir) {
 
 // One `podium trial --batch` process: order.json, metrics.jsonl and result.json in attempt_dir.
 TrialRun run_trial(const Json& order, const fs::path& attempt_dir) {
-  fs::create_directories(attempt_dir);
-  write_file(attempt_dir / "order.json", order.dump());
-  write_file(attempt_dir / "batch.txt", (attempt_dir / "order.json").string() + "\n");
-  const int status = wait_process(spawn_podium({"trial", "--batch", (attempt_dir / "batch.txt").string()}, attempt_dir));
-  EXPECT_EQ(status, 0) << "podium trial --batch failed; stderr in " << attempt_dir / "spawn.err";
+  const BatchTrial run = run_batch_trial(order, attempt_dir);
+  EXPECT_EQ(run.run.exit_code, 0) << "podium trial --batch failed: " << run.run.err;
+  EXPECT_EQ(run.result.value("type", ""), "result") << run.result << "\norder: " << order;
   const fs::path work_dir = order["work_dir"].get<std::string>();
-  const Json result = base::read_json_file(attempt_dir / "result.json");
-  EXPECT_EQ(result.value("type", ""), "result") << result << "\norder: " << order;
-  return {comparable(result, work_dir), metric_lines(attempt_dir), work_dir};
+  return {comparable(run.result, work_dir), run.metrics, work_dir};
 }
 
 // Two smoke trials with one seed, run once per task and shared by the tests that inspect them.

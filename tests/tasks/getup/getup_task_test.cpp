@@ -4,14 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <set>
 
 #include "finished_campaign.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
-#include "process.h"
+#include "batch_trial.h"
 #include "task_conformance.h"
 
 namespace podium::tasks::getup {
@@ -37,21 +36,12 @@ SmokeTrial run_smoke_trial(const Json& overrides) {
   config.update(description["presets"]["smoke"]);
   config.update(overrides);
   podium::testing::TempDir dir;
-  const Json order = {{"key", 1}, {"task", "getup"}, {"config", config}, {"params", Json::object()},
-                      {"context", Json::object()}, {"inputs", Json::array()}, {"previous_attempt", nullptr},
-                      {"seed", 3}, {"trial_index", 0}, {"attempt", 1}, {"work_dir", (dir / "trial").string()}};
-  podium::testing::write_file(dir / "order.json", order.dump());
-  podium::testing::write_file(dir / "batch.txt", (dir / "order.json").string() + "\n");
-  const auto run = podium::testing::run_podium({"trial", "--batch", (dir / "batch.txt").string()}, dir.path());
-  EXPECT_EQ(run.exit_code, 0) << run.err;
-  SmokeTrial trial;
-  trial.result = base::read_json_file(dir / "result.json");
-  EXPECT_EQ(trial.result["type"], "result") << trial.result;
-  std::ifstream metrics(dir / "metrics.jsonl");
-  for (std::string line; std::getline(metrics, line);) {
-    const Json m = Json::parse(line);
-    trial.metrics[m["name"].get<std::string>()].push_back(m["value"].get<double>());
-  }
+  const auto run = podium::testing::run_batch_trial(
+      podium::testing::order_json({.task = "getup", .config = config, .seed = 3, .work_dir = dir / "trial"}), dir.path());
+  EXPECT_EQ(run.run.exit_code, 0) << run.run.err;
+  EXPECT_EQ(run.result["type"], "result") << run.result;
+  SmokeTrial trial{run.result, {}};
+  for (const Json& m : run.metrics) trial.metrics[m["name"].get<std::string>()].push_back(m["value"].get<double>());
   for (const auto& a : trial.result["artifacts"]) EXPECT_TRUE(fs::is_regular_file(a["path"].get<std::string>())) << a;
   return trial;
 }

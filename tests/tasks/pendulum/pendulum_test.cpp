@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "podium/base/json.h"
-#include "process.h"
+#include "batch_trial.h"
 #include "task_conformance.h"
 
 namespace podium::tests::pendulum {
@@ -19,16 +19,12 @@ PODIUM_TASK_CONFORMANCE(TestPendulum, {.task = "test_pendulum", .long_config = {
 
 // `podium trial --batch` on one order in `dir`; returns result.json.
 Json run_trial(const fs::path& dir, const Json& inputs, double log10_lr) {
-  fs::create_directories(dir);
-  const Json order = {{"key", 1}, {"task", "test_pendulum"}, {"config", {{"updates", 4}}},
-                      {"params", {{"log10_lr", log10_lr}}}, {"context", Json::object()}, {"inputs", inputs},
-                      {"previous_attempt", nullptr}, {"seed", 5}, {"trial_index", 0}, {"attempt", 1},
-                      {"work_dir", (dir / "trial").string()}};
-  podium::testing::write_file(dir / "order.json", order.dump());
-  podium::testing::write_file(dir / "batch.txt", (dir / "order.json").string() + "\n");
-  const auto r = podium::testing::run_podium({"trial", "--batch", (dir / "batch.txt").string()}, dir);
-  EXPECT_EQ(r.exit_code, 0) << r.err;
-  return base::read_json_file(dir / "result.json");
+  const auto run = podium::testing::run_batch_trial(
+      podium::testing::order_json({.task = "test_pendulum", .config = {{"updates", 4}}, .params = {{"log10_lr", log10_lr}},
+                                   .inputs = inputs, .seed = 5, .work_dir = dir / "trial"}),
+      dir);
+  EXPECT_EQ(run.run.exit_code, 0) << run.run.err;
+  return run.result;
 }
 
 TEST(TestPendulumTask, WarmStartsFromItsInputsPolicy) {

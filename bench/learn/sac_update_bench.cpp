@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <exception>
 #include <sys/resource.h>
 #include <memory>
 #include <string>
@@ -55,19 +56,35 @@ double quantile(std::vector<double> v, double q) {
   return v.empty() ? 0.0 : v[std::size_t(q * double(v.size() - 1))];
 }
 
+// A positive whole number, or nothing: a flag read as a number would give 0 observations.
+bool positive_count(const char* text, long long& value) {
+  char* end = nullptr;
+  value = std::strtoll(text, &end, 10);
+  return end != text && *end == '\0' && value > 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::size_t observations = argc > 1 ? std::strtoul(argv[1], nullptr, 10) : 150;
-  const std::int64_t updates = argc > 2 ? std::strtoll(argv[2], nullptr, 10) : 1000;
+  long long observations = 150, updates = 1000;
+  if (argc > 4 || (argc > 1 && !positive_count(argv[1], observations)) || (argc > 2 && !positive_count(argv[2], updates))) {
+    std::fprintf(stderr, "usage: learn_sac_update_bench [OBSERVATIONS>0] [UPDATES>0] [CONFIG_JSON]\n");
+    return 2;
+  }
   podium::base::Json config = {{"hidden", {256, 256}}, {"batch_size", 256}, {"warmup_steps", 1000},
                                {"updates_per_step", 1.0}, {"buffer_capacity", 100000}};
-  if (argc > 3) config.merge_patch(podium::base::Json::parse(argv[3]));
-  const SacConfig c = SacConfig::from_json(config);
+  SacConfig c;
+  try {
+    if (argc > 3) config.merge_patch(podium::base::Json::parse(argv[3]));
+    c = SacConfig::from_json(config);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "learn_sac_update_bench: CONFIG_JSON: %s\n", error.what());
+    return 2;
+  }
   std::vector<std::unique_ptr<Env>> copies;
-  copies.push_back(std::make_unique<RandomEnv>(observations));
+  copies.push_back(std::make_unique<RandomEnv>(static_cast<std::size_t>(observations)));
   VecEnv envs(std::move(copies), 1, 1);
-  RandomEnv probe(observations);
+  RandomEnv probe(static_cast<std::size_t>(observations));
   Sac sac(c, probe.observation_space(), probe.action_space(), 1);
   sac.train_until(envs, c.warmup_steps + 50);  // fill the buffer; the first updates warm caches
   // One environment step = one update; each part's median over the updates.
@@ -92,7 +109,7 @@ int main(int argc, char** argv) {
   }
   rusage usage1{};
   getrusage(RUSAGE_THREAD, &usage1);
-  std::printf("SAC update, %zu observations, 21 actions, config %s: ms over %lld updates\n", observations,
+  std::printf("SAC update, %lld observations, 21 actions, config %s: ms over %lld updates\n", observations,
               c.to_json().dump().c_str(), static_cast<long long>(updates));
   std::printf("(CPU ms of the updating thread per part; cpu: per environment step + update)\n"
               "         median   10%%\n");

@@ -269,15 +269,12 @@ struct Sac::Impl {
 
   void store(const std::vector<double>& obs, const std::vector<double>& next_obs, const float* action, double reward,
              bool terminated, float scale) {
-    auto o = buf_obs[buf_pos];
-    auto o2 = buf_next_obs[buf_pos];
-    for (std::int64_t j = 0; j < n_obs; ++j) {
-      o[j] = obs[static_cast<std::size_t>(j)];
-      o2[j] = next_obs[static_cast<std::size_t>(j)];
-    }
-    std::copy(action, action + n_act, buf_act[buf_pos].data_ptr<float>());
-    buf_rew[buf_pos] = float(reward);
-    buf_term[buf_pos] = terminated ? 1.0f : 0.0f;
+    // Raw pointers into the contiguous buffers: a tensor index per element costs a dispatch each.
+    std::copy_n(obs.begin(), n_obs, buf_obs.data_ptr<double>() + buf_pos * n_obs);
+    std::copy_n(next_obs.begin(), n_obs, buf_next_obs.data_ptr<double>() + buf_pos * n_obs);
+    std::copy(action, action + n_act, buf_act.data_ptr<float>() + buf_pos * n_act);
+    buf_rew.data_ptr<float>()[buf_pos] = float(reward);
+    buf_term.data_ptr<float>()[buf_pos] = terminated ? 1.0f : 0.0f;
     buf_scale.data_ptr<float>()[buf_pos] = scale;
     buf_pos = (buf_pos + 1) % config.buffer_capacity;
     buf_size = std::min(buf_size + 1, config.buffer_capacity);

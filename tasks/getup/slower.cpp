@@ -33,12 +33,20 @@ SlowerConfig read_slower(base::ConfigReader& r) {
   c.total_steps = r.integer<std::int64_t>("slow_total_steps", c.total_steps, {1}, "Slower: environment steps; a multiple of slow_eval_every");
   c.eval_every = r.integer<std::int64_t>("slow_eval_every", c.eval_every, {1}, "Slower: environment steps between tests");
   if (c.total_steps % c.eval_every != 0) r.fail("slow_total_steps", "is not a multiple of slow_eval_every " + std::to_string(c.eval_every));
+  c.gamma = r.number("slow_gamma", c.gamma, {.min = 0.0, .max = 1.0},
+                     "Slower: SAC's discount for π_slow (Table 1: 0.95); `sac.gamma` sets Weaker's");
   c.test_kappa = r.number("slow_test_kappa", c.test_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ of the tests");
   return c;
 }
 
 Json SlowerOutcome::to_json() const {
   return {{"success_rate", success_rate}, {"com_error_m", com_error_m}, {"test_return", test_return}, {"env_steps", env_steps}};
+}
+
+Json slower_learner_spec(const Settings& s, const SlowerConfig& c) {
+  Json spec = learner_spec(s);
+  if (spec["algorithm"] == "sac") spec["config"]["gamma"] = c.gamma;
+  return spec;
 }
 
 character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std::uint64_t> start_seeds) {
@@ -66,7 +74,7 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
   for (int i = 0; i < s.copies; ++i) copies.push_back(std::make_unique<SlowerEnv>(s.env, c.env, teacher, weak.strength, std::nullopt));
   learn::VecEnv envs(std::move(copies), s.threads, base::derive_seed(seed, 1));
   SlowerEnv test_env(s.env, c.env, teacher, weak.strength, c.test_kappa);
-  const auto learner = learn::make_learner(learner_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
+  const auto learner = learn::make_learner(slower_learner_spec(s, c), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
   std::vector<std::uint64_t> starts;
   for (int k = 0; k < s.eval_starts; ++k) starts.push_back(base::derive_seed(s.eval_seed, static_cast<std::uint64_t>(k)));
   const character::EvaluationConfig tests = slower_test(c.env, starts);

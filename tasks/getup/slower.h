@@ -15,6 +15,7 @@ struct SlowerConfig {
   std::int64_t total_steps = 2'000'000;  ///< environment steps (the seed gives no Slower budget)
   std::int64_t eval_every = 20'000;      ///< as Weaker's tests (App. D)
   double test_kappa = 0.5;               ///< issue 18: COM tracking is judged at κ = 0.5
+  double gamma = 0.95;                   ///< SAC's discount for π_slow (Table 1; π_weak's is 0.97)
 };
 
 /// Reads (and describes) the Slower keys of the task config.
@@ -39,6 +40,9 @@ struct SlowerOutcome {
 /// Throws base::UserError when π_weak never gets up (SlowerEnv's reason).
 SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, std::uint64_t seed,
                          const std::filesystem::path& work_dir, const std::atomic<bool>* cancel, const Reporter& report);
+
+/// Slower's learner: the task's (learner_spec), SAC with π_slow's own discount.
+base::Json slower_learner_spec(const Settings& s, const SlowerConfig& c);
 
 /// The test of π_slow at one κ over the given starts (Slower's tests, the Evaluate stage).
 character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std::uint64_t> start_seeds);

@@ -4,6 +4,8 @@
 
 #include "config_errors.h"
 #include "discover_weaker.h"
+#include "podium/learn/sac.h"
+#include "slower.h"
 
 namespace podium::tasks::getup {
 namespace {
@@ -37,6 +39,20 @@ TEST(GetupConfig, PpoIsAChoiceWithItsOwnFields) {
   EXPECT_EQ(spec["config"]["rollout_steps"], 250);
   EXPECT_EQ(error_path({{"algorithm", "td3"}}), "algorithm");
   EXPECT_EQ(error_path({{"ppo", {{"rollout_step", 250}}}}), "ppo");
+}
+
+// Table 1: π_slow learns with discount 0.95, π_weak with the preset's 0.97; the rest is shared.
+TEST(GetupConfig, SlowerLearnsWithItsOwnDiscount) {
+  const auto slower = [](const Json& config) { return base::ConfigReader::parse(config, "getup config", read_slower); };
+  const Settings s = read({{"sac", {{"batch_size", 64}}}});
+  const Json weak = learner_spec(s), slow = slower_learner_spec(s, slower(Json::object()));
+  EXPECT_FALSE(weak["config"].contains("gamma"));  // the preset's
+  EXPECT_EQ(slow["config"]["gamma"], 0.95);
+  EXPECT_EQ(slow["config"]["batch_size"], 64);
+  EXPECT_EQ(slower_learner_spec(s, slower({{"slow_gamma", 0.9}}))["config"]["gamma"], 0.9);
+  EXPECT_EQ(learn::SacConfig::paper().gamma, 0.97);
+  EXPECT_FALSE(slower_learner_spec(read({{"algorithm", "ppo"}}), slower(Json::object()))["config"].contains("gamma"));
+  EXPECT_EQ(podium::testing::config_error_path({{"slow_gamma", 1.5}}, read_slower), "slow_gamma");
 }
 
 TEST(GetupConfig, BadValuesAreReportedAtTheirPath) {

@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 
+#include "bench_args.h"
 #include "podium/learn/classic_control.h"
 #include "podium/learn/ppo.h"
 #include "podium/learn/sac.h"
@@ -15,27 +16,28 @@
 using namespace podium::learn;
 
 int main(int argc, char** argv) {
-  if (argc < 4) {
-    std::fprintf(stderr, "usage: %s ppo|sac SEED ENV_STEPS [COPIES] [THREADS] [CONFIG_JSON]\n", argv[0]);
+  long long seed_arg = 0, steps = 0, copies = 8, threads = 1;
+  using podium::bench::whole_number;
+  const std::string algo = argc > 1 ? argv[1] : "";
+  if (argc < 4 || argc > 7 || (algo != "ppo" && algo != "sac") || !whole_number(argv[2], 0, seed_arg) || !whole_number(argv[3], 1, steps) ||
+      (argc > 4 && !whole_number(argv[4], 1, copies)) || (argc > 5 && !whole_number(argv[5], 1, threads))) {
+    std::fprintf(stderr, "usage: %s ppo|sac SEED ENV_STEPS>0 [COPIES>0] [THREADS>0] [CONFIG_JSON]\n", argv[0]);
     return 2;
   }
-  const std::string algo = argv[1];
-  const std::uint64_t seed = std::strtoull(argv[2], nullptr, 10);
-  const std::int64_t steps = std::strtoll(argv[3], nullptr, 10);
-  const int copies = argc > 4 ? std::atoi(argv[4]) : 8;
-  const int threads = argc > 5 ? std::atoi(argv[5]) : 1;
-  const auto config = argc > 6 ? podium::base::Json::parse(argv[6]) : podium::base::Json::object();
+  const auto seed = static_cast<std::uint64_t>(seed_arg);
   std::vector<std::unique_ptr<Env>> envs;
-  for (int i = 0; i < copies; ++i) envs.push_back(std::make_unique<Pendulum>());
-  VecEnv vec(std::move(envs), threads, seed);
+  for (long long i = 0; i < copies; ++i) envs.push_back(std::make_unique<Pendulum>());
+  VecEnv vec(std::move(envs), static_cast<int>(threads), seed);
   Pendulum probe;
   std::unique_ptr<Learner> learner;
-  if (algo == "ppo") {
-    learner = std::make_unique<Ppo>(PpoConfig::from_json(config), probe.observation_space(), probe.action_space(), seed);
-  } else if (algo == "sac") {
-    learner = std::make_unique<Sac>(SacConfig::from_json(config), probe.observation_space(), probe.action_space(), seed);
-  } else {
-    std::fprintf(stderr, "unknown algorithm %s\n", algo.c_str());
+  try {
+    const auto config = argc > 6 ? podium::base::Json::parse(argv[6]) : podium::base::Json::object();
+    if (algo == "ppo")
+      learner = std::make_unique<Ppo>(PpoConfig::from_json(config), probe.observation_space(), probe.action_space(), seed);
+    else
+      learner = std::make_unique<Sac>(SacConfig::from_json(config), probe.observation_space(), probe.action_space(), seed);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "learn_pendulum_bench: CONFIG_JSON: %s\n", error.what());
     return 2;
   }
   double rollout_s = 0, update_s = 0;
@@ -52,6 +54,6 @@ int main(int argc, char** argv) {
   double mean = 0;
   for (double r : returns) mean += r / double(returns.size());
   std::printf("%s seed %llu: final evaluation mean return %.1f over 10 episodes; wall %.1f s (rollout %.1f s, update %.1f s), %.0f env steps/s\n",
-              algo.c_str(), static_cast<unsigned long long>(seed), mean, wall, rollout_s, update_s, double(steps) / wall);
+              algo.c_str(), static_cast<unsigned long long>(seed_arg), mean, wall, rollout_s, update_s, double(steps) / wall);
   return 0;
 }

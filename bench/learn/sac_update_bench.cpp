@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
+
 #include "podium/base/rng.h"
 #include "podium/learn/sac.h"
 
@@ -56,18 +58,11 @@ double quantile(std::vector<double> v, double q) {
   return v.empty() ? 0.0 : v[std::size_t(q * double(v.size() - 1))];
 }
 
-// A positive whole number, or nothing: a flag read as a number would give 0 observations.
-bool positive_count(const char* text, long long& value) {
-  char* end = nullptr;
-  value = std::strtoll(text, &end, 10);
-  return end != text && *end == '\0' && value > 0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   long long observations = 150, updates = 1000;
-  if (argc > 4 || (argc > 1 && !positive_count(argv[1], observations)) || (argc > 2 && !positive_count(argv[2], updates))) {
+  if (argc > 4 || (argc > 1 && !podium::bench::whole_number(argv[1], 1, observations)) || (argc > 2 && !podium::bench::whole_number(argv[2], 1, updates))) {
     std::fprintf(stderr, "usage: learn_sac_update_bench [OBSERVATIONS>0] [UPDATES>0] [CONFIG_JSON]\n");
     return 2;
   }

@@ -1,0 +1,15 @@
+#pragma once
+// Checked command-line numbers for learn/'s benches: a flag or a typo read by atoi would run the
+// bench with 0 and print figures of nothing.
+#include <cstdlib>
+
+namespace podium::bench {
+
+/// Whether `text` is a whole decimal number ≥ `min` and nothing else; the number in `value`.
+inline bool whole_number(const char* text, long long min, long long& value) {
+  char* end = nullptr;
+  value = std::strtoll(text, &end, 10);
+  return end != text && *end == '\0' && value >= min;
+}
+
+}  // namespace podium::bench

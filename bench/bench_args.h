@@ -1,5 +1,5 @@
 #pragma once
-// Checked command-line numbers for learn/'s benches: a flag or a typo read by atoi would run the
+// Checked command-line numbers for the benches: a flag or a typo read by atoi would run the
 // bench with 0 and print figures of nothing.
 #include <cstdlib>
 

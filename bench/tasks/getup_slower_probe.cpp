@@ -1,0 +1,94 @@
+// Where π_slow loses its reference (issue 18, bar (d)): for fresh falls, π_weak's τ_fast (how long
+// it stays low and how fast it climbs the upper half of its COM rise) and how a π_slow, or the bare PD tracking of the
+// reference (zero residual), follows τ_slow at one κ: the steps tracked, how the episode ended,
+// the COM against the reference where τ_slow ends, the highest head top.
+//
+//   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY]
+//
+// WEAK_POLICY: a Weaker TorchScript export and the strength β it passed at; SLOW_POLICY: a Slower
+// export trained on that π_weak (omitted: zero residual). Falls use seeds 1000, 1001, … with
+// the task's default settings (800/40 Hz, τ_fast until the head top passes 1.2 m).
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_args.h"
+#include "podium/learn/frozen_policy.h"
+#include "slower_env.h"
+
+using namespace podium;
+using podium::tasks::getup::FastRollout;
+
+namespace {
+
+// The fast seconds τ_fast takes for the upper half of its COM climb (from its last frame below
+// halfway between the fall's end and the head-up frame).
+double final_climb_s(const FastRollout& fast, double dt) {
+  const double low = fast.com_height_m.front(), high = fast.com_height_m.back();
+  int from = fast.steps();
+  while (from > 0 && fast.com_height_m[static_cast<std::size_t>(from - 1)] > low + 0.5 * (high - low)) --from;
+  return (fast.steps() - from) * dt;
+}
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  long long falls = 10;
+  const double strength = argc > 2 ? std::strtod(argv[2], nullptr) : 0.0, kappa = argc > 3 ? std::strtod(argv[3], nullptr) : 0.0;
+  if (argc < 4 || argc > 6 || !(strength > 0.0 && strength <= 1.0) || !(kappa > 0.0) || (argc > 4 && !bench::whole_number(argv[4], 1, falls))) {
+    std::fprintf(stderr, "usage: getup_slower_probe WEAK_POLICY STRENGTH(0,1] KAPPA>0 [FALLS>0] [SLOW_POLICY]\n");
+    return 2;
+  }
+  try {
+    const auto weak = std::make_shared<const learn::FrozenPolicy>(argv[1]);
+    const std::unique_ptr<learn::FrozenPolicy> slow = argc > 5 ? std::make_unique<learn::FrozenPolicy>(argv[5]) : nullptr;
+    tasks::getup::SlowerEnv env({}, {}, weak, strength, kappa);
+    std::vector<double> observation, action(env.action_space().size(), 0.0), low_s, climb_s;
+    int reached = 0, stood = 0;
+    std::printf("κ %.2f, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)\n", kappa,
+                slow ? "π_slow" : "zero residual (PD on the reference)");
+    for (long long k = 0; k < falls; ++k) {
+      env.seed(1000 + static_cast<std::uint64_t>(k));
+      env.reset(observation);
+      const FastRollout& fast = env.reference_motion().fast();
+      const double dt = env.control_dt_s();
+      learn::StepResult step;
+      int steps = 0;
+      double head_max = 0.0, com_at_end = 0.0, ref_at_end = 0.0;
+      for (;;) {
+        if (slow) slow->act(observation, action);
+        env.step(action, step);
+        ++steps;
+        head_max = std::max(head_max, env.weak().head_height_m);
+        if (!env.standing_phase()) {
+          com_at_end = env.features().com.z();
+          ref_at_end = env.reference_motion().com_height_m(env.reference_time_s());
+        }
+        if (step.terminated || step.truncated) break;
+        observation.swap(step.observation);
+      }
+      const bool standing = env.standing_phase();
+      const char* ended = !standing ? "lost the COM" : step.terminated ? "fell after T/κ" : "stood to the end";
+      reached += standing;
+      stood += standing && !step.terminated;
+      climb_s.push_back(final_climb_s(fast, dt));
+      low_s.push_back(fast.steps() * dt - climb_s.back());
+      std::printf("%4lld  %8d  %5.2f  %13.2f  %5d  %-16s  %.2f / %.2f           %.2f\n", k, fast.steps(), low_s.back(), climb_s.back(), steps,
+                  ended, com_at_end, ref_at_end, head_max);
+    }
+    std::printf("medians: low %.2f s, upper climb %.2f s (fast time); reached T/κ in %d/%lld, stood to the end in %d/%lld\n",
+                median(low_s), median(climb_s), reached, falls, stood, falls);
+  } catch (const std::exception& error) {
+    std::fprintf(stderr, "getup_slower_probe: %s\n", error.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,6 +1,7 @@
 #pragma once
 // Checked command-line numbers for the benches: a flag or a typo read by atoi would run the
 // bench with 0 and print figures of nothing.
+#include <cmath>
 #include <cstdlib>
 
 namespace podium::bench {
@@ -10,6 +11,13 @@ inline bool whole_number(const char* text, long long min, long long& value) {
   char* end = nullptr;
   value = std::strtoll(text, &end, 10);
   return end != text && *end == '\0' && value >= min;
+}
+
+/// Whether `text` is a finite decimal number and nothing else; the number in `value`.
+inline bool real_number(const char* text, double& value) {
+  char* end = nullptr;
+  value = std::strtod(text, &end);
+  return end != text && *end == '\0' && std::isfinite(value);
 }
 
 }  // namespace podium::bench

@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "bench_args.h"
-
 #include "podium/base/rng.h"
 #include "podium/learn/sac.h"
 

@@ -1,7 +1,8 @@
-// Where π_slow loses its reference (issue 18, bar (d)): for fresh falls, π_weak's τ_fast (how long
-// it stays low and how fast it climbs the upper half of its COM rise) and how a π_slow, or the bare PD tracking of the
-// reference (zero residual), follows τ_slow at one κ: the steps tracked, how the episode ended,
-// the COM against the reference where τ_slow ends, the highest head top.
+// Where π_slow loses its reference (issue 18, bar (d)): for fresh falls, π_weak's τ_fast (how
+// long it stays low and how fast it climbs the upper half of its COM rise) and how a π_slow, or
+// the bare PD tracking of the reference (zero residual), follows τ_slow at one κ: the steps
+// tracked, how the episode ended, the COM against the reference where τ_slow ends, the highest
+// head top.
 //
 //   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY]
 //
@@ -42,8 +43,9 @@ double median(std::vector<double> v) {
 
 int main(int argc, char** argv) {
   long long falls = 10;
-  const double strength = argc > 2 ? std::strtod(argv[2], nullptr) : 0.0, kappa = argc > 3 ? std::strtod(argv[3], nullptr) : 0.0;
-  if (argc < 4 || argc > 6 || !(strength > 0.0 && strength <= 1.0) || !(kappa > 0.0) || (argc > 4 && !bench::whole_number(argv[4], 1, falls))) {
+  double strength = 0.0, kappa = 0.0;
+  if (argc < 4 || argc > 6 || !bench::real_number(argv[2], strength) || !(strength > 0.0 && strength <= 1.0) ||
+      !bench::real_number(argv[3], kappa) || !(kappa > 0.0) || (argc > 4 && !bench::whole_number(argv[4], 1, falls))) {
     std::fprintf(stderr, "usage: getup_slower_probe WEAK_POLICY STRENGTH(0,1] KAPPA>0 [FALLS>0] [SLOW_POLICY]\n");
     return 2;
   }

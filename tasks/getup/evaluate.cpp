@@ -30,7 +30,8 @@ EvaluateConfig read_evaluate(base::ConfigReader& r) {
         s.slow_policy = p.string("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
         return s;
       },
-      "Evaluate without an input trial: trial i evaluates entry i mod n (paths relative to where `podium run` starts)");
+      "Slower or Evaluate without an input trial: trial i takes entry i mod n (Slower imitates its weak_policy; paths "
+      "relative to where `podium run` starts)");
   return c;
 }
 

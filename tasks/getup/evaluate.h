@@ -10,7 +10,8 @@
 
 namespace podium::tasks::getup {
 
-/// A policy pair evaluated without a Slower input (the demo's shipped policies).
+/// A policy pair used without an input trial: the demo's shipped policies for Evaluate, or a
+/// π_weak file for Slower to imitate.
 struct ShippedPolicy {
   std::filesystem::path weak_policy;          ///< π_weak's TorchScript export
   double weak_strength = 1.0;                 ///< the β it passed at
@@ -25,8 +26,8 @@ struct EvaluateConfig {
   int pause_steps = 40;                       ///< control steps τ_fast holds it (before retiming)
   double pause_kappa = 0.5;
   std::vector<double> strengths;              ///< further strengths β for π_weak's fast runs
-  /// Without an input trial, trial i evaluates shipped[i mod n] (paths relative to the directory
-  /// the worker runs in, as `podium run` is started).
+  /// Without an input trial, trial i evaluates shipped[i mod n] — and a Slower trial imitates its
+  /// weak_policy (paths relative to the directory the worker runs in, as `podium run` is started).
   std::vector<ShippedPolicy> shipped;
 };
 

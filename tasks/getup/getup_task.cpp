@@ -25,10 +25,16 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
   c.stage = r.choice("stage", c.stage, {"weaker", "slower", "evaluate"},
                      "weaker: Discover + Weaker (Algorithm 1); slower: imitation of π_weak retimed (Algorithm 2), one input "
-                     "from a weaker stage; evaluate: unseen falls at several speeds, one input from a slower stage or `shipped` policies");
+                     "from a weaker stage or a `shipped` π_weak; evaluate: unseen falls at several speeds, one input from a slower "
+                     "stage or `shipped` policies");
   c.settings = read_settings(r);
   c.slower = read_slower(r);
   c.evaluate = read_evaluate(r);
+  // Slower trains π_slow: a shipped one would be ignored, so it is refused.
+  if (c.stage == "slower")
+    for (std::size_t i = 0; i < c.evaluate.shipped.size(); ++i)
+      if (!c.evaluate.shipped[i].slow_policy.empty())
+        r.fail("shipped", "entry " + std::to_string(i) + " has a slow_policy, but a slower stage trains π_slow (give weak_policy alone)");
   return c;
 }
 
@@ -138,8 +144,14 @@ class GetupTask final : public plugins::Task {
 
  private:
   static plugins::RunResult run_slower_stage(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
-    const auto& in = one_input(request, "slower", {"policy"}, "policy_strength", "weaker");
-    const WeakPolicy weak{in.artifacts.at("policy"), in.info["policy_strength"].get<double>()};
+    WeakPolicy weak;
+    if (request.inputs.empty() && !c.evaluate.shipped.empty()) {
+      const ShippedPolicy& p = c.evaluate.shipped[request.trial_index % c.evaluate.shipped.size()];
+      weak = {p.weak_policy, p.weak_strength};
+    } else {
+      const auto& in = one_input(request, "slower", {"policy"}, "policy_strength", "weaker");
+      weak = {in.artifacts.at("policy"), in.info["policy_strength"].get<double>()};
+    }
     const SlowerOutcome out = run_slower(c.settings, c.slower, weak, request.seed, request.work_dir, request.cancel, reporter_for(sink));
     plugins::RunResult result;
     result.objectives = {out.success_rate, -out.com_error_m};

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "finished_campaign.h"
+#include "podium/base/config.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
 #include "batch_trial.h"
@@ -78,6 +79,33 @@ TEST(GetupTask, SmokeTrialWithoutAPassExportsTheBestTestedPolicy) {
   const double best = *std::max_element(returns.begin(), returns.end());
   ASSERT_NE(best, returns.back()) << "this seed's last test is its best: the test cannot tell best from last";
   EXPECT_EQ(info["test_return"].get<double>(), best);
+}
+
+// Without an input trial, Slower imitates a π_weak file from `shipped` (here the committed one).
+TEST(GetupTask, SmokeSlowerTrialImitatesAShippedWeakPolicy) {
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
+  const double strength = 0.7737809375;
+  const SmokeTrial trial =
+      run_smoke_trial({{"stage", "slower"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", strength}}}}});
+  EXPECT_EQ(trial.result["info"]["weak_strength"].get<double>(), strength);
+  std::set<std::string> names;
+  for (const auto& a : trial.result["artifacts"]) names.insert(a["name"].get<std::string>());
+  EXPECT_EQ(names, (std::set<std::string>{"policy", "weak_policy", "trajectory"}));
+  EXPECT_TRUE(trial.metrics.count("slow/test_return"));
+}
+
+// A slower stage trains π_slow, so a shipped slow_policy there is refused at submit, at its key.
+TEST(GetupTask, SlowerRefusesAShippedSlowPolicy) {
+  const auto task = plugins::load_task("getup");
+  const Json entry = {{"weak_policy", "w.pt"}, {"weak_strength", 0.9}, {"slow_policy", "s.pt"}};
+  EXPECT_NO_THROW(task->describe({{"stage", "evaluate"}, {"shipped", {entry}}}));
+  try {
+    task->describe({{"stage", "slower"}, {"shipped", {entry}}});
+    ADD_FAILURE() << "a slower stage took a shipped slow_policy";
+  } catch (const base::ConfigError& e) {
+    EXPECT_EQ(e.path(), "shipped");
+    EXPECT_NE(std::string(e.what()).find("slow_policy"), std::string::npos) << e.what();
+  }
 }
 
 // campaigns/getup.json at the smoke preset through the real CLI: Weaker over two seeds, Slower

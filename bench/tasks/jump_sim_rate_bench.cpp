@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "jump_env.h"
 #include "podium/character/pose_bridge.h"
 #include "podium/base/rng.h"
@@ -124,15 +125,22 @@ void compare(jump::JumpKind kind, double z, int n, std::uint64_t seed) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int n = 20;
-  std::uint64_t seed = 7;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--sequences")) n = std::stoi(argv[i + 1]);
-    else if (!std::strcmp(argv[i], "--seed")) seed = std::stoull(argv[i + 1]);
+  long long n = 20, seed = 7;
+  bool ok = argc % 2 == 1;
+  for (int i = 1; ok && i + 1 < argc; i += 2) {
+    if (!std::strcmp(argv[i], "--sequences")) ok = podium::bench::whole_number(argv[i + 1], 1, n) && n <= 100'000;
+    else if (!std::strcmp(argv[i], "--seed")) ok = podium::bench::whole_number(argv[i + 1], 0, seed);
+    else ok = false;
+  }
+  if (!ok) {
+    std::fprintf(stderr, "usage: %s [--sequences N ≥ 1] [--seed S ≥ 0]\n", argv[0]);
+    return 2;
   }
   std::printf("jump_sim_rate_bench: outcomes at lower simulation rates against 600 Hz (thesis §3.6.2)\n");
-  compare(jump::JumpKind::high_jump, 0.5, n, seed);
-  compare(jump::JumpKind::high_jump, 0.75, n, seed);
-  compare(jump::JumpKind::obstacle, 0.05, n, seed);
+  const int sequences_n = static_cast<int>(n);
+  const auto seed_u = static_cast<std::uint64_t>(seed);
+  compare(jump::JumpKind::high_jump, 0.5, sequences_n, seed_u);
+  compare(jump::JumpKind::high_jump, 0.75, sequences_n, seed_u);
+  compare(jump::JumpKind::obstacle, 0.05, sequences_n, seed_u);
   return 0;
 }

@@ -108,6 +108,13 @@ const plugins::InputTrial& one_input(const plugins::RunRequest& request, const s
   return in;
 }
 
+// The `shipped` entry a trial without input trials takes (entry i mod n); null when the trial has
+// inputs or nothing is shipped.
+const ShippedPolicy* shipped_for(const TaskConfig& c, const plugins::RunRequest& request) {
+  if (!request.inputs.empty() || c.evaluate.shipped.empty()) return nullptr;
+  return &c.evaluate.shipped[request.trial_index % c.evaluate.shipped.size()];
+}
+
 Reporter reporter_for(plugins::Sink& sink) {
   return {[&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
           [&sink](double fraction) { sink.progress(fraction); }};
@@ -145,9 +152,8 @@ class GetupTask final : public plugins::Task {
  private:
   static plugins::RunResult run_slower_stage(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
     WeakPolicy weak;
-    if (request.inputs.empty() && !c.evaluate.shipped.empty()) {
-      const ShippedPolicy& p = c.evaluate.shipped[request.trial_index % c.evaluate.shipped.size()];
-      weak = {p.weak_policy, p.weak_strength};
+    if (const ShippedPolicy* p = shipped_for(c, request)) {
+      weak = {p->weak_policy, p->weak_strength};
     } else {
       const auto& in = one_input(request, "slower", {"policy"}, "policy_strength", "weaker");
       weak = {in.artifacts.at("policy"), in.info["policy_strength"].get<double>()};
@@ -164,10 +170,9 @@ class GetupTask final : public plugins::Task {
   static plugins::RunResult run_evaluate_stage(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
     WeakPolicy weak;
     std::filesystem::path slow;
-    if (request.inputs.empty() && !c.evaluate.shipped.empty()) {
-      const ShippedPolicy& p = c.evaluate.shipped[request.trial_index % c.evaluate.shipped.size()];
-      weak = {p.weak_policy, p.weak_strength};
-      slow = p.slow_policy;
+    if (const ShippedPolicy* p = shipped_for(c, request)) {
+      weak = {p->weak_policy, p->weak_strength};
+      slow = p->slow_policy;
     } else {
       const auto& in = one_input(request, "evaluate", {"policy", "weak_policy"}, "weak_strength", "slower");
       weak = {in.artifacts.at("weak_policy"), in.info["weak_strength"].get<double>()};

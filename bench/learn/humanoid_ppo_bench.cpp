@@ -6,10 +6,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "podium/learn/ppo.h"
 #include "podium/sim/starts.h"
 #include "podium/sim/world.h"
@@ -127,9 +128,19 @@ double median(std::vector<double> v) {
 // Rounds alternate raw and training measurements so machine noise hits both alike; medians are
 // reported. Seeds 1..ROUNDS.
 int main(int argc, char** argv) {
-  const int iterations = argc > 1 ? std::atoi(argv[1]) : 5;
-  const int threads = argc > 2 ? std::atoi(argv[2]) : 2;
-  const int rounds = argc > 3 ? std::atoi(argv[3]) : 5;
+  int iterations = 5, threads = 2, rounds = 5;
+  const auto fail = [&](const std::string& error) {
+    std::fprintf(stderr, "%s: %s\nusage: %s [ITERATIONS ≥ 1] [THREADS 1..512] [ROUNDS ≥ 1]\n", argv[0], error.c_str(), argv[0]);
+    return 2;
+  };
+  // argv[i], if given, as a count in [1, max].
+  const auto count = [&](int i, long long max, int& out) { return i >= argc || bench::count(argv[i], 1, max, out); };
+  if (argc > 4) return fail("unexpected argument '" + std::string(argv[4]) + "'");
+  // A million at most (far beyond a useful run); at most 512 threads: their 2 × threads copies
+  // share 1024 rollout steps, at least one each.
+  if (!count(1, 1'000'000, iterations)) return fail("bad value '" + std::string(argv[1]) + "' for ITERATIONS");
+  if (!count(2, 512, threads)) return fail("bad value '" + std::string(argv[2]) + "' for THREADS");
+  if (!count(3, 1'000'000, rounds)) return fail("bad value '" + std::string(argv[3]) + "' for ROUNDS");
   const auto model = sim::load_shipped_model("humanoid21");
   std::vector<double> raw, rollout, overall, share, per_core, per_thread;
   std::printf("humanoid21 balance, PPO 256-256, %d rollout threads, %d copies, 800 Hz sim / 40 Hz control, %d iterations x 1024 steps\n",

@@ -9,6 +9,7 @@
 #include <map>
 #include <string>
 
+#include "bench_args.h"
 #include "landscape_model.h"
 #include "podium/search/search.h"
 
@@ -17,15 +18,25 @@ using podium::search::Json;
 int main(int argc, char** argv) {
   int observations = 100, proposals = 12;
   Json config = Json::object();
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string key = argv[i], value = argv[i + 1];
-    if (key == "--observations") observations = std::stoi(value);
-    else if (key == "--proposals") proposals = std::stoi(value);
-    else if (key == "--bds-config") config = Json::parse(value);
-    else {
-      std::fprintf(stderr, "unknown option %s\n", key.c_str());
-      return 2;
+  const auto fail = [&](const std::string& error) {
+    std::fprintf(stderr, "%s: %s\nusage: %s [--observations N ≥ 1] [--proposals N ≥ 1] [--bds-config JSON]\n", argv[0],
+                 error.c_str(), argv[0]);
+    return 2;
+  };
+  for (int i = 1; i < argc; i += 2) {
+    const std::string key = argv[i];
+    if (i + 1 == argc) return fail("no value after " + key);
+    const char* value = argv[i + 1];
+    bool ok = true;
+    // A million at most each: far beyond a useful run, and the proposal loop counts in int.
+    if (key == "--observations") ok = podium::bench::count(value, 1, 1'000'000, observations);
+    else if (key == "--proposals") ok = podium::bench::count(value, 1, 1'000'000, proposals);
+    else if (key == "--bds-config") {
+      ok = Json::accept(value);  // a typo in the JSON: the usage, not an uncaught parse_error
+      if (ok) config = Json::parse(value);
     }
+    else return fail("unknown option " + key);
+    if (!ok) return fail("bad value '" + std::string(value) + "' for " + key);
   }
   const int dim = 4;
   const podium::tasks::landscape::LandscapeModel model({"plateaus", dim, 1, 6});

@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "bench_args.h"
 #include "landscape_model.h"
 #include "podium/search/search.h"
 #include "podium/search/strategies.h"
@@ -98,35 +99,44 @@ Stat stat(const std::vector<double>& v) {
 
 int main(int argc, char** argv) {
   Options o;
-  if (argc % 2 == 0) {  // options come in pairs; a lone word (e.g. --help) gets the usage
-    std::fprintf(stderr, "usage: see the comment at the top of bench/search/diversity_bench.cpp\n");
+  const auto fail = [&](const std::string& error) {
+    std::fprintf(stderr, "%s: %s\nusage: see the comment at the top of bench/search/diversity_bench.cpp\n", argv[0], error.c_str());
     return 2;
-  }
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string key = argv[i], value = argv[i + 1];
+  };
+  // Counts within [min, max]: dim and regions as the landscape task allows them, the rest small
+  // enough that landscapes × seeds stays an int.
+  for (int i = 1; i < argc; i += 2) {
+    const std::string key = argv[i];
+    if (i + 1 == argc) return fail("no value after " + key);
+    const char* value = argv[i + 1];
+    bool ok = true;
     if (key == "--split") o.split = value;
-    else if (key == "--landscapes") o.landscapes = std::stoi(value);
-    else if (key == "--seeds") o.seeds = std::stoi(value);
-    else if (key == "--dim") o.dim = std::stoi(value);
-    else if (key == "--regions") o.regions = std::stoi(value);
-    else if (key == "--threshold") o.threshold = std::stod(value);
-    else if (key == "--max-frequency") o.max_frequency = std::stod(value);
-    else if (key == "--batch") o.batch = std::stoi(value);
-    else if (key == "--threads") o.threads = std::stoi(value);
-    else if (key == "--bds-config") o.bds_config = Json::parse(value);
-    else if (key == "--novelty-config") o.novelty_config = Json::parse(value);
+    else if (key == "--landscapes") ok = podium::bench::count(value, 1, 10'000, o.landscapes);
+    else if (key == "--seeds") ok = podium::bench::count(value, 1, 10'000, o.seeds);
+    else if (key == "--dim") ok = podium::bench::count(value, 1, 1000, o.dim);
+    else if (key == "--regions") ok = podium::bench::count(value, 2, 10'000, o.regions);
+    else if (key == "--threshold") ok = podium::bench::real_number(value, o.threshold) && o.threshold >= 0;
+    else if (key == "--max-frequency") ok = podium::bench::real_number(value, o.max_frequency) && o.max_frequency >= 0;
+    else if (key == "--batch") ok = podium::bench::count(value, 1, 10'000, o.batch);
+    else if (key == "--threads") ok = podium::bench::count(value, 1, 10'000, o.threads);
+    else if (key == "--bds-config") {
+      ok = Json::accept(value);  // a typo in the JSON: the usage, not an uncaught parse_error
+      if (ok) o.bds_config = Json::parse(value);
+    }
+    else if (key == "--novelty-config") {
+      ok = Json::accept(value);  // a typo in the JSON: the usage, not an uncaught parse_error
+      if (ok) o.novelty_config = Json::parse(value);
+    }
     else if (key == "--families") o.families = split(value);
     else if (key == "--algorithms") o.algorithms = split(value);
     else if (key == "--budgets") {
       o.budgets.clear();
-      for (const auto& b : split(value)) o.budgets.push_back(std::stoi(b));
+      for (const auto& b : split(value)) ok = ok && podium::bench::count(b.c_str(), 1, 10'000, o.budgets.emplace_back());
     }
-    else {
-      std::fprintf(stderr, "unknown option %s\n", key.c_str());
-      return 2;
-    }
+    else return fail("unknown option " + key);
+    if (!ok) return fail("bad value '" + std::string(value) + "' for " + key);
   }
-  if (o.budgets.empty() || !std::is_sorted(o.budgets.begin(), o.budgets.end()) || o.budgets.front() < 1) {
+  if (o.budgets.empty() || !std::is_sorted(o.budgets.begin(), o.budgets.end())) {
     std::fprintf(stderr, "--budgets must be ascending positive evaluation counts\n");
     return 2;
   }

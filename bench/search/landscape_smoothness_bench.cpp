@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "gaussian_process.h"
 #include "landscape_model.h"
 #include "podium/search/search.h"
@@ -51,22 +52,34 @@ int main(int argc, char** argv) {
   std::string family = "plateaus";
   std::vector<double> frequencies = {1.5, 1.0, 0.75, 0.5};
   int first = 1001, landscapes = 20, samples = 20, dim = 3, regions = 6;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    const std::string key = argv[i], value = argv[i + 1];
+  const auto fail = [&](const std::string& error) {
+    std::fprintf(stderr,
+                 "%s: %s\nusage: %s [--family F] [--frequencies F,... ≥ 0] [--first-landscape N ≥ 0] [--landscapes N ≥ 1] "
+                 "[--samples N ≥ 1] [--dim 1..1000] [--regions 2..10000]\n",
+                 argv[0], error.c_str(), argv[0]);
+    return 2;
+  };
+  // Counts within [min, max]: dim and regions as the landscape task allows them, the rest small
+  // enough that first + landscapes stays an int.
+  for (int i = 1; i < argc; i += 2) {
+    const std::string key = argv[i];
+    if (i + 1 == argc) return fail("no value after " + key);
+    const char* value = argv[i + 1];
+    bool ok = true;
     if (key == "--family") family = value;
     else if (key == "--frequencies") {
       frequencies.clear();
       std::stringstream in(value);
-      for (std::string item; std::getline(in, item, ',');) frequencies.push_back(std::stod(item));
-    } else if (key == "--first-landscape") first = std::stoi(value);
-    else if (key == "--landscapes") landscapes = std::stoi(value);
-    else if (key == "--samples") samples = std::stoi(value);
-    else if (key == "--dim") dim = std::stoi(value);
-    else if (key == "--regions") regions = std::stoi(value);
-    else {
-      std::fprintf(stderr, "unknown option %s\n", key.c_str());
-      return 2;
-    }
+      for (std::string item; ok && std::getline(in, item, ',');)
+        ok = podium::bench::real_number(item.c_str(), frequencies.emplace_back()) && frequencies.back() >= 0;
+      ok = ok && !frequencies.empty();
+    } else if (key == "--first-landscape") ok = podium::bench::count(value, 0, 1'000'000'000, first);
+    else if (key == "--landscapes") ok = podium::bench::count(value, 1, 1'000'000, landscapes);
+    else if (key == "--samples") ok = podium::bench::count(value, 1, 1'000'000, samples);
+    else if (key == "--dim") ok = podium::bench::count(value, 1, 1000, dim);
+    else if (key == "--regions") ok = podium::bench::count(value, 2, 10'000, regions);
+    else return fail("unknown option " + key);
+    if (!ok) return fail("bad value '" + std::string(value) + "' for " + key);
   }
   const auto features = podium::search::Feature::list_from_json(
       podium::search::Json::parse(R"([{"name": "f0", "low": 0, "high": 1}, {"name": "f1", "low": 0, "high": 1}])"),

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "podium/base/rng.h"
 #include "podium/sim/dynamics.h"
 #include "podium/sim/starts.h"
@@ -227,7 +228,13 @@ Result median_of_3(Run&& run) {
 int main(int argc, char** argv) {
   std::vector<double> rates = {30.0, 60.0, 120.0, 240.0, 480.0, 800.0};
   if (argc > 1) rates.assign(argc - 1, 0.0);
-  for (int i = 1; i < argc; ++i) rates[i - 1] = std::stod(argv[i]);
+  for (int i = 1; i < argc; ++i) {
+    // The workload's 10 Hz control must divide the rate (World refuses it otherwise).
+    if (!podium::bench::real_number(argv[i], rates[i - 1]) || rates[i - 1] < kControlHz || std::fmod(rates[i - 1], kControlHz) != 0) {
+      std::fprintf(stderr, "%s: bad value '%s' for HZ\nusage: %s [HZ ...]  (each a multiple of %g)\n", argv[0], argv[i], argv[0], kControlHz);
+      return 2;
+    }
+  }
   const ModelPtr model = load_shipped_model("humanoid21");
   std::printf("Benchmark B: humanoid21, random SPD targets every 1/%g s, ragdoll drop every %g s, %g simulated s per row (median of seeds 1-3, fastest of %d repetitions each), one core\n",
               kControlHz, kEpisodeSeconds, kSimSeconds, kRepetitions);

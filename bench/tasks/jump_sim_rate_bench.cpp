@@ -125,10 +125,11 @@ void compare(jump::JumpKind kind, double z, int n, std::uint64_t seed) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  long long n = 20, seed = 7;
+  int sequences_n = 20;
+  long long seed = 7;
   bool ok = argc % 2 == 1;
   for (int i = 1; ok && i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--sequences")) ok = podium::bench::whole_number(argv[i + 1], 1, n) && n <= 100'000;
+    if (!std::strcmp(argv[i], "--sequences")) ok = podium::bench::count(argv[i + 1], 1, 100'000, sequences_n);
     else if (!std::strcmp(argv[i], "--seed")) ok = podium::bench::whole_number(argv[i + 1], 0, seed);
     else ok = false;
   }
@@ -137,7 +138,6 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::printf("jump_sim_rate_bench: outcomes at lower simulation rates against 600 Hz (thesis §3.6.2)\n");
-  const int sequences_n = static_cast<int>(n);
   const auto seed_u = static_cast<std::uint64_t>(seed);
   compare(jump::JumpKind::high_jump, 0.5, sequences_n, seed_u);
   compare(jump::JumpKind::high_jump, 0.75, sequences_n, seed_u);

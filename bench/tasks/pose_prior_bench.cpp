@@ -22,15 +22,13 @@ using namespace podium::tasks::jump;
 
 int main(int argc, char** argv) {
   PosePriorSettings s;
-  long long epochs = s.vae.epochs;
-  if (argc > 5 || (argc > 2 && !(bench::whole_number(argv[2], 1, epochs) && epochs <= 1'000'000)) ||
+  if (argc > 5 || (argc > 2 && !bench::count(argv[2], 1, 1'000'000, s.vae.epochs)) ||
       (argc > 3 && !(bench::real_number(argv[3], s.vae.learning_rate) && s.vae.learning_rate > 0)) ||
       (argc > 4 && !(bench::real_number(argv[4], s.vae.beta) && s.vae.beta >= 0))) {
     std::fprintf(stderr, "usage: %s [POSE_SET] [EPOCHS ≥ 1] [LEARNING_RATE > 0] [BETA ≥ 0]\n", argv[0]);
     return 2;
   }
   if (argc > 1) s.pose_set = argv[1];
-  s.vae.epochs = static_cast<int>(epochs);
   const auto dir = std::filesystem::temp_directory_path() / "jump_pose_prior_bench";
   std::filesystem::create_directories(dir);
 

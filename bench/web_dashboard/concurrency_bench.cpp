@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "concurrency_load.h"
 
 using podium::web_dashboard::testing::LoadRun;
@@ -19,8 +19,17 @@ int main(int argc, char** argv) {
   ::setenv("PODIUM_BIN", PODIUM_BENCH_BIN, 0);
   ::setenv("PODIUM_PLUGIN_PATH", PODIUM_BENCH_PLUGIN_DIR, 0);
   int rounds = 5;
-  for (int i = 1; i + 1 < argc; ++i)
-    if (std::strcmp(argv[i], "--rounds") == 0) rounds = std::atoi(argv[i + 1]);
+  const auto fail = [&](const std::string& error) {
+    std::fprintf(stderr, "%s: %s\nusage: %s [--rounds N ≥ 1]\n", argv[0], error.c_str(), argv[0]);
+    return 2;
+  };
+  for (int i = 1; i < argc; i += 2) {
+    const std::string key = argv[i];
+    if (i + 1 == argc) return fail("no value after " + key);
+    if (key != "--rounds") return fail("unknown option " + key);
+    // A million at most: far beyond a useful run.
+    if (!podium::bench::count(argv[i + 1], 1, 1'000'000, rounds)) return fail("bad value '" + std::string(argv[i + 1]) + "' for " + key);
+  }
   constexpr int kTrials = 2000;
   std::vector<double> alone, hammered, ratios;
   long long requests = 0, errors = 0, locked = 0;

@@ -10,11 +10,11 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <thread>
 
+#include "bench_args.h"
 #include "podium/base/rng.h"
 #include "podium/store/store.h"
 #include "podium/web_dashboard/server.h"
@@ -110,9 +110,19 @@ Stats measure(httplib::Client& client, int port, const std::vector<std::string>&
 int main(int argc, char** argv) {
   int repeat = 50;
   fs::path keep;
-  for (int i = 1; i + 1 < argc; i += 2) {
-    if (!std::strcmp(argv[i], "--repeat")) repeat = std::atoi(argv[i + 1]);
-    if (!std::strcmp(argv[i], "--keep")) keep = argv[i + 1];
+  const auto fail = [&](const std::string& error) {
+    std::fprintf(stderr, "%s: %s\nusage: %s [--repeat N ≥ 1] [--keep DIR]\n", argv[0], error.c_str(), argv[0]);
+    return 2;
+  };
+  for (int i = 1; i < argc; i += 2) {
+    const std::string key = argv[i];
+    if (i + 1 == argc) return fail("no value after " + key);
+    const char* value = argv[i + 1];
+    if (key == "--repeat") {
+      // A million at most: far beyond a useful run, and repeat + 2 stays an int.
+      if (!podium::bench::count(value, 1, 1'000'000, repeat)) return fail("bad value '" + std::string(value) + "' for " + key);
+    } else if (key == "--keep") keep = value;
+    else return fail("unknown option " + key);
   }
   const fs::path dir = keep.empty() ? fs::temp_directory_path() / ("podium-latency-bench-" + std::to_string(::getpid())) : keep;
   fs::create_directories(dir);

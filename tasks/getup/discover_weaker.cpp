@@ -93,19 +93,30 @@ Json learner_spec(const Settings& s) {
 }
 
 WeakerSchedule::Decision WeakerSchedule::on_test(std::int64_t steps, double test_return) {
+  if (ended_) return Decision::carry_on;
+  const double tested_at = curriculum_.value();
   if (curriculum_.observe(test_return)) {  // Algorithm 1: R_test > ω
     budget_.on_advance(steps);
+    last_passed_ = tested_at;
     return Decision::advance;
   }
-  // N_c > M_i: end training. Discover (β = 1, level 0) has no budget: the seed gives none, and its
-  // repository applies M_i only once β < 1.
-  return curriculum_.level() > 0 && budget_.exhausted(steps) ? Decision::end : Decision::carry_on;
+  // N_c > M_i: end the curriculum. Discover (β = 1, level 0) has no budget: the seed gives none,
+  // and its repository applies M_i only once β < 1.
+  if (curriculum_.level() == 0 || !budget_.exhausted(steps)) return Decision::carry_on;
+  ended_ = true;
+  return Decision::end_curriculum;
+}
+
+Json WeakerSchedule::state() const {
+  return {{"curriculum", curriculum_.state()}, {"budget", budget_.state()}, {"last_passed", last_passed_}, {"ended", ended_}};
 }
 
 void WeakerSchedule::load_state(const Json& state) {
   try {
     curriculum_.load_state(state.at("curriculum"));
     budget_.load_state(state.at("budget"));
+    last_passed_ = state.at("last_passed").get<double>();
+    ended_ = state.at("ended").get<bool>();
   } catch (const Json::exception& e) {
     throw base::UserError(std::string("getup schedule state: ") + e.what());
   }
@@ -150,7 +161,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   WeakerSchedule schedule(s.curriculum, s.budget);
   learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
                                        [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
-  Json extra = {{"passed", nullptr}, {"best", nullptr}, {"ended", false}};
+  Json extra = {{"passed", nullptr}, {"best", nullptr}};
   const auto send = [&](const std::string& name, double step, double value) { checkpoint.metric(name, step, value); };
   if (auto saved = checkpoint.resume(*learner, envs)) {
     extra = *saved;
@@ -166,7 +177,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     if (t.episodes > 0) train_sum += t.mean_return * static_cast<double>(t.episodes), train_episodes += t.episodes;
     rollout_s += t.rollout_seconds, update_s += t.update_seconds;
   };
-  while (!extra.at("ended").get<bool>() && learner->env_steps() < s.total_steps) {
+  while (learner->env_steps() < s.total_steps) {
     train_sum = rollout_s = update_s = 0.0, train_episodes = 0;
     const std::int64_t updates_before = sac ? sac->updates() : 0;
     learner->train_until(envs, learner->env_steps() + s.eval_every, on_vector_step);
@@ -195,8 +206,10 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     }
     const Json tested = {{"strength", tested_at}, {"test_return", result.mean_return}, {"test_return_min", min_return}, {"success_rate", result.success_rate},
                          {"env_steps", learner->env_steps()}};
+    const bool polishing = schedule.ended();  // tested at the last strength passed
     const WeakerSchedule::Decision decision = schedule.on_test(learner->env_steps(), min_return);
-    if (decision == WeakerSchedule::Decision::advance) {  // π passed at β^i: it is π_weak until a weaker one passes
+    if (decision == WeakerSchedule::Decision::advance ||  // π passed at β^i: it is π_weak until a weaker one passes
+        (polishing && result.mean_return > extra.at("passed").at("test_return").get<double>())) {
       learner->export_torchscript(policy);
       extra["passed"] = tested;
     } else if (extra.at("passed").is_null() && (extra.at("best").is_null() || result.mean_return > extra.at("best").at("test_return").get<double>())) {
@@ -205,7 +218,6 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
       learner->export_torchscript(policy);
       extra["best"] = tested;
     }
-    if (decision == WeakerSchedule::Decision::end) extra["ended"] = true;
     *beta = schedule.strength();
     send("curriculum/strength", steps, *beta);
     extra["schedule"] = schedule.state();

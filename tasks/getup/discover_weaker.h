@@ -2,7 +2,8 @@
 /// The Discover and Weaker stages as one trial (get-up seed §4–5, Algorithm 1, App. D): SAC on
 /// GetupEnv; every `eval_every` environment steps the deterministic policy is tested on fixed
 /// starts at β^i; a test return above ω advances the strong-to-weak curriculum β ← 0.95β; the
-/// trial ends when a level needs more than M_i steps (or at `total_steps`).
+/// curriculum ends when a level needs more than M_i steps, and training goes on at the last
+/// strength passed until `total_steps`.
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
@@ -44,22 +45,31 @@ base::Json learner_spec(const Settings& s);
 /// Algorithm 1's decision at each test, on character's ThresholdCurriculum and StepBudget. The
 /// budget follows §5's text, M_i = clip(1.5·N_{i−1}, N_min, N_max) (Algorithm 1's listing omits
 /// the 1.5), from the first advance on: Discover runs until it passes ω or total_steps (the seed
-/// gives it no budget; its repository applies M_i only once β < 1).
+/// gives it no budget; its repository applies M_i only once β < 1). When a level runs out of
+/// budget the curriculum ends ("Terminate curriculum", Algorithm 1) and β returns to the last
+/// strength passed, where training goes on: the seed repository's main.py (update_power) does the
+/// same and trains on to its 10⁷ steps.
 class WeakerSchedule {
  public:
-  enum class Decision { advance, carry_on, end };
+  enum class Decision { advance, carry_on, end_curriculum };
   WeakerSchedule(const character::ThresholdCurriculum::Config& curriculum, const character::StepBudget::Config& budget)
-      : curriculum_(curriculum), budget_(budget) {}
-  /// The test at environment step `steps` scored `test_return` at strength() = β^i.
+      : curriculum_(curriculum), budget_(budget), last_passed_(curriculum.initial) {}
+  /// The test at environment step `steps` scored `test_return` at strength(); once the curriculum
+  /// has ended, always carry_on.
   Decision on_test(std::int64_t steps, double test_return);
-  double strength() const { return curriculum_.value(); }
+  /// β^i, or once the curriculum has ended, the last strength passed.
+  double strength() const { return ended_ ? last_passed_ : curriculum_.value(); }
+  /// Curriculum advances (tests passed).
   int level() const { return curriculum_.level(); }
-  base::Json state() const { return {{"curriculum", curriculum_.state()}, {"budget", budget_.state()}}; }
+  bool ended() const { return ended_; }
+  base::Json state() const;
   void load_state(const base::Json& state);
 
  private:
   character::ThresholdCurriculum curriculum_;
   character::StepBudget budget_;
+  double last_passed_;  // the strength of the last test passed
+  bool ended_ = false;
 };
 
 /// Where the trial reports (a plugins::Sink without the plugin types).
@@ -75,7 +85,7 @@ struct TrialOutcome {
   bool passed = false;               ///< whether any test passed ω (false: the best-returning policy is exported)
   double success_rate = 0.0;         ///< of the exported policy on the fixed starts, at policy_strength
   double test_return = 0.0;          ///< likewise
-  double final_strength = 1.0;       ///< β^i when the trial ended
+  double final_strength = 1.0;       ///< β when the trial ended (after the curriculum's end: the last passed)
   int levels = 0;                    ///< curriculum advances
   std::int64_t env_steps = 0;
   StrategyFeatures features;         ///< of the exported policy over the fixed starts
@@ -84,8 +94,9 @@ struct TrialOutcome {
 
 /// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt when a previous attempt left
 /// one (metric points it covers are sent again; the store drops repeats). The exported policy is
-/// the one that passed the last curriculum test (π_weak at the weakest strength it mastered), or,
-/// when no test passed, the one of the best mean test return (the seed repository's best_model).
+/// the one that passed the last curriculum test (π_weak at the weakest strength it mastered) or,
+/// after the curriculum ended, a later one tested at that strength with a higher mean return; when
+/// no test passed, the one of the best mean test return (the seed repository's best_model).
 /// Throws when `cancel` is set (checked every vector step).
 TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const std::filesystem::path& work_dir,
                                  const std::atomic<bool>* cancel, const Reporter& report);

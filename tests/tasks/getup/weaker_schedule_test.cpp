@@ -1,5 +1,6 @@
 // Algorithm 1's curriculum decisions on a scripted sequence of test returns (issue 18 acceptance:
-// advances exactly when the return exceeds ω; ends when a level needs more than M_i steps).
+// advances exactly when the return exceeds ω; ends when a level needs more than M_i steps, and
+// then holds the last strength passed).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,11 +19,19 @@ TEST(WeakerSchedule, AdvancesAboveOmegaAndEndsAfterItsStepBudget) {
   EXPECT_EQ(s.on_test(40'000, 60.0), Decision::carry_on);  // not above ω
   EXPECT_EQ(s.on_test(60'000, 60.5), Decision::advance);
   EXPECT_DOUBLE_EQ(s.strength(), 0.95);
-  // N_0 = 60 000: M_1 = clip(1.5 · 60 000, 3e5, 8e5) = 3e5 steps after 60 000.
-  EXPECT_EQ(s.on_test(360'000, 59.0), Decision::carry_on);  // used exactly M_1
-  EXPECT_EQ(s.on_test(380'000, 59.0), Decision::end);       // more than M_1
+  EXPECT_EQ(s.on_test(80'000, 61.0), Decision::advance);
+  EXPECT_DOUBLE_EQ(s.strength(), 0.95 * 0.95);
+  // N_1 = 20 000: M_2 = clip(1.5 · 20 000, 3e5, 8e5) = 3e5 steps after 80 000.
+  EXPECT_EQ(s.on_test(380'000, 59.0), Decision::carry_on);  // used exactly M_2
+  EXPECT_FALSE(s.ended());
+  EXPECT_EQ(s.on_test(400'000, 59.0), Decision::end_curriculum);  // more than M_2
+  EXPECT_TRUE(s.ended());
+  EXPECT_DOUBLE_EQ(s.strength(), 0.95);  // back to the last strength passed
+  EXPECT_EQ(s.level(), 2);
+  // Training goes on there; no test advances the ended curriculum.
+  EXPECT_EQ(s.on_test(420'000, 90.0), Decision::carry_on);
   EXPECT_DOUBLE_EQ(s.strength(), 0.95);
-  EXPECT_EQ(s.level(), 1);
+  EXPECT_EQ(s.level(), 2);
 }
 
 TEST(WeakerSchedule, TheBudgetGrowsWithTheLastLevelsSteps) {
@@ -30,11 +39,12 @@ TEST(WeakerSchedule, TheBudgetGrowsWithTheLastLevelsSteps) {
   EXPECT_EQ(s.on_test(5'000'000, 0.0), Decision::carry_on);  // Discover has no budget
   EXPECT_EQ(s.on_test(5'020'000, 61.0), Decision::advance);   // N_0 = 5.02e6: M_1 = N_max
   EXPECT_EQ(s.on_test(5'820'000, 0.0), Decision::carry_on);
-  EXPECT_EQ(s.on_test(5'840'000, 0.0), Decision::end);
+  EXPECT_EQ(s.on_test(5'840'000, 0.0), Decision::end_curriculum);
+  EXPECT_DOUBLE_EQ(s.strength(), 1.0);
   WeakerSchedule t({}, {});
   EXPECT_EQ(t.on_test(400'000, 61.0), Decision::advance);  // N_0 = 4e5: M_1 = 6e5
   EXPECT_EQ(t.on_test(1'000'000, 0.0), Decision::carry_on);
-  EXPECT_EQ(t.on_test(1'020'000, 0.0), Decision::end);
+  EXPECT_EQ(t.on_test(1'020'000, 0.0), Decision::end_curriculum);
 }
 
 TEST(WeakerSchedule, ItsStateRoundTrips) {
@@ -45,6 +55,12 @@ TEST(WeakerSchedule, ItsStateRoundTrips) {
   t.load_state(s.state());
   EXPECT_DOUBLE_EQ(t.strength(), 0.95 * 0.95);
   EXPECT_EQ(t.on_test(200'000 + 300'001, 0.0), s.on_test(200'000 + 300'001, 0.0));
+  // An ended curriculum stays ended, at the last strength passed.
+  WeakerSchedule u({}, {});
+  u.load_state(s.state());
+  EXPECT_TRUE(u.ended());
+  EXPECT_DOUBLE_EQ(u.strength(), 0.95);
+  EXPECT_EQ(u.on_test(600'000, 99.0), Decision::carry_on);
 }
 
 }  // namespace

@@ -115,8 +115,11 @@ void WeakerSchedule::load_state(const Json& state) {
   try {
     curriculum_.load_state(state.at("curriculum"));
     budget_.load_state(state.at("budget"));
-    last_passed_ = state.at("last_passed").get<double>();
-    ended_ = state.at("ended").get<bool>();
+    // Checkpoints of trials begun before session 14 lack both: their curriculum runs, and its
+    // last pass was one factor above β^i (or none at level 0).
+    const double above = curriculum_.level() > 0 ? curriculum_.value() / factor_ : curriculum_.value();
+    last_passed_ = state.value("last_passed", above);
+    ended_ = state.value("ended", false);
   } catch (const Json::exception& e) {
     throw base::UserError(std::string("getup schedule state: ") + e.what());
   }

@@ -53,7 +53,7 @@ class WeakerSchedule {
  public:
   enum class Decision { advance, carry_on, end_curriculum };
   WeakerSchedule(const character::ThresholdCurriculum::Config& curriculum, const character::StepBudget::Config& budget)
-      : curriculum_(curriculum), budget_(budget), last_passed_(curriculum.initial) {}
+      : curriculum_(curriculum), budget_(budget), factor_(curriculum.factor), last_passed_(curriculum.initial) {}
   /// The test at environment step `steps` scored `test_return` at strength(); once the curriculum
   /// has ended, always carry_on.
   Decision on_test(std::int64_t steps, double test_return);
@@ -68,6 +68,7 @@ class WeakerSchedule {
  private:
   character::ThresholdCurriculum curriculum_;
   character::StepBudget budget_;
+  double factor_;       // β^{i+1} = factor·β^i
   double last_passed_;  // the strength of the last test passed
   bool ended_ = false;
 };

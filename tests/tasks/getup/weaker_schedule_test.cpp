@@ -63,5 +63,22 @@ TEST(WeakerSchedule, ItsStateRoundTrips) {
   EXPECT_EQ(u.on_test(600'000, 99.0), Decision::carry_on);
 }
 
+// A checkpoint written before the curriculum could end (no "last_passed", no "ended") resumes a
+// running curriculum whose last pass was one factor above β^i.
+TEST(WeakerSchedule, AnOlderStateResumesARunningCurriculum) {
+  WeakerSchedule s({}, {});
+  s.on_test(100'000, 70.0);
+  s.on_test(200'000, 70.0);
+  base::Json old = s.state();
+  old.erase("last_passed");
+  old.erase("ended");
+  WeakerSchedule t({}, {});
+  t.load_state(old);
+  EXPECT_FALSE(t.ended());
+  EXPECT_DOUBLE_EQ(t.strength(), 0.95 * 0.95);
+  EXPECT_EQ(t.on_test(200'000 + 300'001, 0.0), Decision::end_curriculum);
+  EXPECT_DOUBLE_EQ(t.strength(), 0.95);
+}
+
 }  // namespace
 }  // namespace podium::tasks::getup

@@ -2,7 +2,9 @@
 // Checked command-line numbers for the benches: a flag or a typo read by atoi would run the
 // bench with 0 and print figures of nothing.
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <string>
 
 namespace podium::bench {
 
@@ -27,6 +29,40 @@ inline bool real_number(const char* text, double& value) {
   char* end = nullptr;
   value = std::strtod(text, &end);
   return end != text && *end == '\0' && std::isfinite(value);
+}
+
+/// Whether `text` is JSON; parsed into `value` when it is (a typo then gets the usage, not an
+/// uncaught parse_error).
+template <class Json>
+bool json_value(const char* text, Json& value) {
+  if (!Json::accept(text)) return false;
+  value = Json::parse(text);
+  return true;
+}
+
+/// How one `--flag value` pair read.
+enum class Flag { read, bad_value, unknown };
+inline Flag checked(bool ok) { return ok ? Flag::read : Flag::bad_value; }
+
+/// Reads argv[1..] as `--flag value` pairs, each through `read(key, value)` → Flag. On a flag
+/// without a value, an unknown flag or a bad value: prints "ARGV0: what" and "usage: ARGV0 USAGE"
+/// and returns false (the bench then exits 2).
+template <class Read>
+bool read_flags(int argc, char** argv, const char* usage, Read&& read) {
+  const auto fail = [&](const std::string& error) {
+    std::fprintf(stderr, "%s: %s\nusage: %s %s\n", argv[0], error.c_str(), argv[0], usage);
+    return false;
+  };
+  for (int i = 1; i < argc; i += 2) {
+    const std::string key = argv[i];
+    if (i + 1 == argc) return fail("no value after " + key);
+    switch (read(key, argv[i + 1])) {
+      case Flag::read: break;
+      case Flag::unknown: return fail("unknown option " + key);
+      case Flag::bad_value: return fail("bad value '" + std::string(argv[i + 1]) + "' for " + key);
+    }
+  }
+  return true;
 }
 
 }  // namespace podium::bench

@@ -18,26 +18,16 @@ using podium::search::Json;
 int main(int argc, char** argv) {
   int observations = 100, proposals = 12;
   Json config = Json::object();
-  const auto fail = [&](const std::string& error) {
-    std::fprintf(stderr, "%s: %s\nusage: %s [--observations N ≥ 1] [--proposals N ≥ 1] [--bds-config JSON]\n", argv[0],
-                 error.c_str(), argv[0]);
+  // A million at most each: far beyond a useful run, and the proposal loop counts in int.
+  using podium::bench::checked, podium::bench::Flag;
+  if (!podium::bench::read_flags(argc, argv, "[--observations N ≥ 1] [--proposals N ≥ 1] [--bds-config JSON]",
+                                 [&](const std::string& key, const char* value) {
+                                   if (key == "--observations") return checked(podium::bench::count(value, 1, 1'000'000, observations));
+                                   if (key == "--proposals") return checked(podium::bench::count(value, 1, 1'000'000, proposals));
+                                   if (key == "--bds-config") return checked(podium::bench::json_value(value, config));
+                                   return Flag::unknown;
+                                 }))
     return 2;
-  };
-  for (int i = 1; i < argc; i += 2) {
-    const std::string key = argv[i];
-    if (i + 1 == argc) return fail("no value after " + key);
-    const char* value = argv[i + 1];
-    bool ok = true;
-    // A million at most each: far beyond a useful run, and the proposal loop counts in int.
-    if (key == "--observations") ok = podium::bench::count(value, 1, 1'000'000, observations);
-    else if (key == "--proposals") ok = podium::bench::count(value, 1, 1'000'000, proposals);
-    else if (key == "--bds-config") {
-      ok = Json::accept(value);  // a typo in the JSON: the usage, not an uncaught parse_error
-      if (ok) config = Json::parse(value);
-    }
-    else return fail("unknown option " + key);
-    if (!ok) return fail("bad value '" + std::string(value) + "' for " + key);
-  }
   const int dim = 4;
   const podium::tasks::landscape::LandscapeModel model({"plateaus", dim, 1, 6});
   podium::search::SearchSetup setup;

@@ -99,43 +99,33 @@ Stat stat(const std::vector<double>& v) {
 
 int main(int argc, char** argv) {
   Options o;
-  const auto fail = [&](const std::string& error) {
-    std::fprintf(stderr, "%s: %s\nusage: see the comment at the top of bench/search/diversity_bench.cpp\n", argv[0], error.c_str());
-    return 2;
-  };
   // Counts within [min, max]: dim and regions as the landscape task allows them, the rest small
   // enough that landscapes × seeds stays an int.
-  for (int i = 1; i < argc; i += 2) {
-    const std::string key = argv[i];
-    if (i + 1 == argc) return fail("no value after " + key);
-    const char* value = argv[i + 1];
-    bool ok = true;
+  using podium::bench::checked, podium::bench::count, podium::bench::Flag;
+  const auto read = [&](const std::string& key, const char* value) {
     if (key == "--split") o.split = value;
-    else if (key == "--landscapes") ok = podium::bench::count(value, 1, 10'000, o.landscapes);
-    else if (key == "--seeds") ok = podium::bench::count(value, 1, 10'000, o.seeds);
-    else if (key == "--dim") ok = podium::bench::count(value, 1, 1000, o.dim);
-    else if (key == "--regions") ok = podium::bench::count(value, 2, 10'000, o.regions);
-    else if (key == "--threshold") ok = podium::bench::real_number(value, o.threshold) && o.threshold >= 0;
-    else if (key == "--max-frequency") ok = podium::bench::real_number(value, o.max_frequency) && o.max_frequency >= 0;
-    else if (key == "--batch") ok = podium::bench::count(value, 1, 10'000, o.batch);
-    else if (key == "--threads") ok = podium::bench::count(value, 1, 10'000, o.threads);
-    else if (key == "--bds-config") {
-      ok = Json::accept(value);  // a typo in the JSON: the usage, not an uncaught parse_error
-      if (ok) o.bds_config = Json::parse(value);
-    }
-    else if (key == "--novelty-config") {
-      ok = Json::accept(value);  // a typo in the JSON: the usage, not an uncaught parse_error
-      if (ok) o.novelty_config = Json::parse(value);
-    }
+    else if (key == "--landscapes") return checked(count(value, 1, 10'000, o.landscapes));
+    else if (key == "--seeds") return checked(count(value, 1, 10'000, o.seeds));
+    else if (key == "--dim") return checked(count(value, 1, 1000, o.dim));
+    else if (key == "--regions") return checked(count(value, 2, 10'000, o.regions));
+    else if (key == "--threshold") return checked(podium::bench::real_number(value, o.threshold) && o.threshold >= 0);
+    else if (key == "--max-frequency") return checked(podium::bench::real_number(value, o.max_frequency) && o.max_frequency >= 0);
+    else if (key == "--batch") return checked(count(value, 1, 10'000, o.batch));
+    else if (key == "--threads") return checked(count(value, 1, 10'000, o.threads));
+    else if (key == "--bds-config") return checked(podium::bench::json_value(value, o.bds_config));
+    else if (key == "--novelty-config") return checked(podium::bench::json_value(value, o.novelty_config));
     else if (key == "--families") o.families = split(value);
     else if (key == "--algorithms") o.algorithms = split(value);
     else if (key == "--budgets") {
       o.budgets.clear();
-      for (const auto& b : split(value)) ok = ok && podium::bench::count(b.c_str(), 1, 10'000, o.budgets.emplace_back());
-    }
-    else return fail("unknown option " + key);
-    if (!ok) return fail("bad value '" + std::string(value) + "' for " + key);
-  }
+      bool ok = true;
+      for (const auto& b : split(value)) ok = ok && count(b.c_str(), 1, 10'000, o.budgets.emplace_back());
+      return checked(ok);
+    } else return Flag::unknown;
+    return Flag::read;
+  };
+  if (!podium::bench::read_flags(argc, argv, "[--FLAG VALUE ...] (the flags: the comment at the top of bench/search/diversity_bench.cpp)", read))
+    return 2;
   if (o.budgets.empty() || !std::is_sorted(o.budgets.begin(), o.budgets.end())) {
     std::fprintf(stderr, "--budgets must be ascending positive evaluation counts\n");
     return 2;

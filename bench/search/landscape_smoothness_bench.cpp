@@ -52,35 +52,31 @@ int main(int argc, char** argv) {
   std::string family = "plateaus";
   std::vector<double> frequencies = {1.5, 1.0, 0.75, 0.5};
   int first = 1001, landscapes = 20, samples = 20, dim = 3, regions = 6;
-  const auto fail = [&](const std::string& error) {
-    std::fprintf(stderr,
-                 "%s: %s\nusage: %s [--family F] [--frequencies F,... ≥ 0] [--first-landscape N ≥ 0] [--landscapes N ≥ 1] "
-                 "[--samples N ≥ 1] [--dim 1..1000] [--regions 2..10000]\n",
-                 argv[0], error.c_str(), argv[0]);
-    return 2;
-  };
   // Counts within [min, max]: dim and regions as the landscape task allows them, the rest small
   // enough that first + landscapes stays an int.
-  for (int i = 1; i < argc; i += 2) {
-    const std::string key = argv[i];
-    if (i + 1 == argc) return fail("no value after " + key);
-    const char* value = argv[i + 1];
-    bool ok = true;
+  using podium::bench::checked, podium::bench::count, podium::bench::Flag;
+  const auto read = [&](const std::string& key, const char* value) {
     if (key == "--family") family = value;
     else if (key == "--frequencies") {
       frequencies.clear();
       std::stringstream in(value);
+      bool ok = true;
       for (std::string item; ok && std::getline(in, item, ',');)
         ok = podium::bench::real_number(item.c_str(), frequencies.emplace_back()) && frequencies.back() >= 0;
-      ok = ok && !frequencies.empty();
-    } else if (key == "--first-landscape") ok = podium::bench::count(value, 0, 1'000'000'000, first);
-    else if (key == "--landscapes") ok = podium::bench::count(value, 1, 1'000'000, landscapes);
-    else if (key == "--samples") ok = podium::bench::count(value, 1, 1'000'000, samples);
-    else if (key == "--dim") ok = podium::bench::count(value, 1, 1000, dim);
-    else if (key == "--regions") ok = podium::bench::count(value, 2, 10'000, regions);
-    else return fail("unknown option " + key);
-    if (!ok) return fail("bad value '" + std::string(value) + "' for " + key);
-  }
+      return checked(ok && !frequencies.empty());
+    } else if (key == "--first-landscape") return checked(count(value, 0, 1'000'000'000, first));
+    else if (key == "--landscapes") return checked(count(value, 1, 1'000'000, landscapes));
+    else if (key == "--samples") return checked(count(value, 1, 1'000'000, samples));
+    else if (key == "--dim") return checked(count(value, 1, 1000, dim));
+    else if (key == "--regions") return checked(count(value, 2, 10'000, regions));
+    else return Flag::unknown;
+    return Flag::read;
+  };
+  if (!podium::bench::read_flags(argc, argv,
+                                 "[--family F] [--frequencies F,... ≥ 0] [--first-landscape N ≥ 0] [--landscapes N ≥ 1] "
+                                 "[--samples N ≥ 1] [--dim 1..1000] [--regions 2..10000]",
+                                 read))
+    return 2;
   const auto features = podium::search::Feature::list_from_json(
       podium::search::Json::parse(R"([{"name": "f0", "low": 0, "high": 1}, {"name": "f1", "low": 0, "high": 1}])"),
       "features");

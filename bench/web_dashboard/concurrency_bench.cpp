@@ -19,17 +19,12 @@ int main(int argc, char** argv) {
   ::setenv("PODIUM_BIN", PODIUM_BENCH_BIN, 0);
   ::setenv("PODIUM_PLUGIN_PATH", PODIUM_BENCH_PLUGIN_DIR, 0);
   int rounds = 5;
-  const auto fail = [&](const std::string& error) {
-    std::fprintf(stderr, "%s: %s\nusage: %s [--rounds N ≥ 1]\n", argv[0], error.c_str(), argv[0]);
+  // A million at most: far beyond a useful run.
+  if (!podium::bench::read_flags(argc, argv, "[--rounds N ≥ 1]", [&](const std::string& key, const char* value) {
+        if (key != "--rounds") return podium::bench::Flag::unknown;
+        return podium::bench::checked(podium::bench::count(value, 1, 1'000'000, rounds));
+      }))
     return 2;
-  };
-  for (int i = 1; i < argc; i += 2) {
-    const std::string key = argv[i];
-    if (i + 1 == argc) return fail("no value after " + key);
-    if (key != "--rounds") return fail("unknown option " + key);
-    // A million at most: far beyond a useful run.
-    if (!podium::bench::count(argv[i + 1], 1, 1'000'000, rounds)) return fail("bad value '" + std::string(argv[i + 1]) + "' for " + key);
-  }
   constexpr int kTrials = 2000;
   std::vector<double> alone, hammered, ratios;
   long long requests = 0, errors = 0, locked = 0;

@@ -110,20 +110,14 @@ Stats measure(httplib::Client& client, int port, const std::vector<std::string>&
 int main(int argc, char** argv) {
   int repeat = 50;
   fs::path keep;
-  const auto fail = [&](const std::string& error) {
-    std::fprintf(stderr, "%s: %s\nusage: %s [--repeat N ≥ 1] [--keep DIR]\n", argv[0], error.c_str(), argv[0]);
+  // --repeat: a million at most, far beyond a useful run, and repeat + 2 stays an int.
+  if (!podium::bench::read_flags(argc, argv, "[--repeat N ≥ 1] [--keep DIR]", [&](const std::string& key, const char* value) {
+        if (key == "--repeat") return podium::bench::checked(podium::bench::count(value, 1, 1'000'000, repeat));
+        if (key != "--keep") return podium::bench::Flag::unknown;
+        keep = value;
+        return podium::bench::Flag::read;
+      }))
     return 2;
-  };
-  for (int i = 1; i < argc; i += 2) {
-    const std::string key = argv[i];
-    if (i + 1 == argc) return fail("no value after " + key);
-    const char* value = argv[i + 1];
-    if (key == "--repeat") {
-      // A million at most: far beyond a useful run, and repeat + 2 stays an int.
-      if (!podium::bench::count(value, 1, 1'000'000, repeat)) return fail("bad value '" + std::string(value) + "' for " + key);
-    } else if (key == "--keep") keep = value;
-    else return fail("unknown option " + key);
-  }
   const fs::path dir = keep.empty() ? fs::temp_directory_path() / ("podium-latency-bench-" + std::to_string(::getpid())) : keep;
   fs::create_directories(dir);
   const fs::path db = dir / "bench.db";

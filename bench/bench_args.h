@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 namespace podium::bench {
 
@@ -37,6 +38,26 @@ template <class Json>
 bool json_value(const char* text, Json& value) {
   if (!Json::accept(text)) return false;
   value = Json::parse(text);
+  return true;
+}
+
+/// Whether `text` is a comma-separated list whose items each pass `item(text, value)`, with no
+/// empty item ("1,,2" and "1," are typos); the values in `values`.
+template <class T, class Item>
+bool list(const std::string& text, std::vector<T>& values, Item&& item) {
+  values.clear();
+  for (std::size_t from = 0;;) {
+    const std::size_t comma = text.find(',', from);
+    const std::string piece = text.substr(from, comma == std::string::npos ? std::string::npos : comma - from);
+    if (piece.empty() || !item(piece.c_str(), values.emplace_back())) return false;
+    if (comma == std::string::npos) return true;
+    from = comma + 1;
+  }
+}
+
+/// A list item that is any non-empty text (a name).
+inline bool name(const char* text, std::string& value) {
+  value = text;
   return true;
 }
 

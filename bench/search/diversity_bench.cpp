@@ -20,7 +20,6 @@
 #include <cstdio>
 #include <map>
 #include <mutex>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -33,13 +32,6 @@
 using podium::search::Json;
 
 namespace {
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream in(s);
-  for (std::string item; std::getline(in, item, ',');) out.push_back(item);
-  return out;
-}
-
 struct Options {
   int landscapes = 20, seeds = 10, dim = 3, regions = 6, batch = 1, threads = 1;
   std::string split = "test";
@@ -51,13 +43,13 @@ struct Options {
   std::vector<int> budgets = {10, 20, 50};  // ascending; runs stop at the last (e.g. 10,20 for quick tuning on plateaus)
 };
 
-// Distinct strategies after each budget for one (algorithm, landscape, seed) run.
-std::vector<int> run(const Options& o, const std::string& family, const std::string& algorithm, int landscape_index,
-                     int seed_index) {
-  const int landscape = o.first_landscape + landscape_index, seed = o.first_seed + seed_index;
+podium::tasks::landscape::LandscapeModel landscape_model(const Options& o, const std::string& family, int landscape) {
   podium::tasks::landscape::LandscapeOptions options{family, o.dim, static_cast<std::uint64_t>(landscape), o.regions};
   options.max_frequency = o.max_frequency;
-  const podium::tasks::landscape::LandscapeModel model(options);
+  return podium::tasks::landscape::LandscapeModel(options);
+}
+
+podium::search::SearchSetup search_setup(const Options& o, const std::string& algorithm, int landscape, int seed) {
   podium::search::SearchSetup setup;
   Json space = Json::array();
   for (int i = 0; i < o.dim; ++i) space.push_back({{"name", "x" + std::to_string(i)}, {"low", 0.0}, {"high", 1.0}});
@@ -67,6 +59,15 @@ std::vector<int> run(const Options& o, const std::string& family, const std::str
   if (algorithm == "bds") setup.config = o.bds_config;
   if (algorithm == "novelty") setup.config = o.novelty_config;
   setup.seed = 1000003ull * static_cast<std::uint64_t>(landscape) + static_cast<std::uint64_t>(seed);
+  return setup;
+}
+
+// Distinct strategies after each budget for one (algorithm, landscape, seed) run.
+std::vector<int> run(const Options& o, const std::string& family, const std::string& algorithm, int landscape_index,
+                     int seed_index) {
+  const int landscape = o.first_landscape + landscape_index, seed = o.first_seed + seed_index;
+  const auto model = landscape_model(o, family, landscape);
+  const auto setup = search_setup(o, algorithm, landscape, seed);
   auto search = podium::search::make_search(algorithm, setup);
   std::vector<std::vector<double>> found;
   while (static_cast<int>(found.size()) < o.budgets.back()) {
@@ -87,7 +88,7 @@ std::vector<int> run(const Options& o, const std::string& family, const std::str
 struct Stat {
   double mean, se;
 };
-Stat stat(const std::vector<double>& v) {
+Stat stat(const std::vector<double>& v) {  // v has ≥ 2 runs (main checks)
   double m = 0;
   for (double x : v) m += x;
   m /= static_cast<double>(v.size());
@@ -114,18 +115,19 @@ int main(int argc, char** argv) {
     else if (key == "--threads") return checked(count(value, 1, 10'000, o.threads));
     else if (key == "--bds-config") return checked(podium::bench::json_value(value, o.bds_config));
     else if (key == "--novelty-config") return checked(podium::bench::json_value(value, o.novelty_config));
-    else if (key == "--families") o.families = split(value);
-    else if (key == "--algorithms") o.algorithms = split(value);
-    else if (key == "--budgets") {
-      o.budgets.clear();
-      bool ok = true;
-      for (const auto& b : split(value)) ok = ok && count(b.c_str(), 1, 10'000, o.budgets.emplace_back());
-      return checked(ok);
-    } else return Flag::unknown;
+    else if (key == "--families") return checked(podium::bench::list(value, o.families, podium::bench::name));
+    else if (key == "--algorithms") return checked(podium::bench::list(value, o.algorithms, podium::bench::name));
+    else if (key == "--budgets")
+      return checked(podium::bench::list(value, o.budgets, [&](const char* b, int& v) { return count(b, 1, 10'000, v); }));
+    else return Flag::unknown;
     return Flag::read;
   };
   if (!podium::bench::read_flags(argc, argv, "[--FLAG VALUE ...] (the flags: the comment at the top of bench/search/diversity_bench.cpp)", read))
     return 2;
+  if (o.landscapes * o.seeds < 2) {
+    std::fprintf(stderr, "%s: --landscapes × --seeds must be at least 2: the bars compare with a standard error\n", argv[0]);
+    return 2;
+  }
   if (o.budgets.empty() || !std::is_sorted(o.budgets.begin(), o.budgets.end())) {
     std::fprintf(stderr, "--budgets must be ascending positive evaluation counts\n");
     return 2;
@@ -143,6 +145,20 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "--split must be test, dev, holdout or final\n");
     return 2;
   }
+  // Every family and algorithm is built once here, where a bad name can be reported: inside the
+  // worker threads its exception would abort the bench.
+  for (const auto& f : o.families) try {
+      landscape_model(o, f, o.first_landscape);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s: --families %s: %s\n", argv[0], f.c_str(), e.what());
+      return 2;
+    }
+  for (const auto& a : o.algorithms) try {
+      podium::search::make_search(a, search_setup(o, a, o.first_landscape, o.first_seed));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s: --algorithms %s: %s\n", argv[0], a.c_str(), e.what());
+      return 2;
+    }
   std::printf("split %s (landscape seeds %d.., search seeds %d..): ", o.split.c_str(), o.first_landscape, o.first_seed);
   std::printf("landscapes %d x seeds %d, dim %d, regions %d, max frequency %g, threshold %.3g, batch %d, bds config %s, novelty config %s\n",
               o.landscapes, o.seeds, o.dim, o.regions, o.max_frequency, o.threshold, o.batch, o.bds_config.dump().c_str(),

@@ -11,7 +11,6 @@
 //          (a frequency of 0 is the family's own bound)
 #include <algorithm>
 #include <cstdio>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -57,14 +56,9 @@ int main(int argc, char** argv) {
   using podium::bench::checked, podium::bench::count, podium::bench::Flag;
   const auto read = [&](const std::string& key, const char* value) {
     if (key == "--family") family = value;
-    else if (key == "--frequencies") {
-      frequencies.clear();
-      std::stringstream in(value);
-      bool ok = true;
-      for (std::string item; ok && std::getline(in, item, ',');)
-        ok = podium::bench::real_number(item.c_str(), frequencies.emplace_back()) && frequencies.back() >= 0;
-      return checked(ok && !frequencies.empty());
-    } else if (key == "--first-landscape") return checked(count(value, 0, 1'000'000'000, first));
+    else if (key == "--frequencies")
+      return checked(podium::bench::list(value, frequencies, [](const char* f, double& v) { return podium::bench::real_number(f, v) && v >= 0; }));
+    else if (key == "--first-landscape") return checked(count(value, 0, 1'000'000'000, first));
     else if (key == "--landscapes") return checked(count(value, 1, 1'000'000, landscapes));
     else if (key == "--samples") return checked(count(value, 1, 1'000'000, samples));
     else if (key == "--dim") return checked(count(value, 1, 1000, dim));
@@ -77,6 +71,12 @@ int main(int argc, char** argv) {
                                  "[--samples N ≥ 1] [--dim 1..1000] [--regions 2..10000]",
                                  read))
     return 2;
+  try {  // a bad family name, reported here rather than thrown from the loop below
+    (void)LandscapeModel(podium::tasks::landscape::LandscapeOptions{family, dim, static_cast<std::uint64_t>(first), regions});
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: --family %s: %s\n", argv[0], family.c_str(), e.what());
+    return 2;
+  }
   const auto features = podium::search::Feature::list_from_json(
       podium::search::Json::parse(R"([{"name": "f0", "low": 0, "high": 1}, {"name": "f1", "low": 0, "high": 1}])"),
       "features");

@@ -4,11 +4,12 @@
 // tracked, how the episode ended, the COM against the reference where τ_slow ends, the highest
 // head top.
 //
-//   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY]
+//   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY|-] [REFERENCE_END_M]
 //
 // WEAK_POLICY: a Weaker TorchScript export and the strength β it passed at; SLOW_POLICY: a Slower
-// export trained on that π_weak (omitted: zero residual). Falls use seeds 1000, 1001, … with
-// the task's default settings (800/40 Hz, τ_fast until the head top passes 1.2 m).
+// export trained on that π_weak (omitted or -: zero residual). Falls use seeds 1000, 1001, … with
+// the task's default settings (800/40 Hz, τ_fast until the head top passes REFERENCE_END_M, 1.2 m
+// unless given).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -44,18 +45,20 @@ double median(std::vector<double> v) {
 int main(int argc, char** argv) {
   long long falls = 10;
   double strength = 0.0, kappa = 0.0;
-  if (argc < 4 || argc > 6 || !bench::real_number(argv[2], strength) || !(strength > 0.0 && strength <= 1.0) ||
-      !bench::real_number(argv[3], kappa) || !(kappa > 0.0) || (argc > 4 && !bench::whole_number(argv[4], 1, falls))) {
-    std::fprintf(stderr, "usage: getup_slower_probe WEAK_POLICY STRENGTH(0,1] KAPPA>0 [FALLS>0] [SLOW_POLICY]\n");
+  tasks::getup::SlowerSettings settings;
+  if (argc < 4 || argc > 7 || !bench::real_number(argv[2], strength) || !(strength > 0.0 && strength <= 1.0) ||
+      !bench::real_number(argv[3], kappa) || !(kappa > 0.0) || (argc > 4 && !bench::whole_number(argv[4], 1, falls)) ||
+      (argc > 6 && (!bench::real_number(argv[6], settings.reference_end_m) || !(settings.reference_end_m > 0.0)))) {
+    std::fprintf(stderr, "usage: getup_slower_probe WEAK_POLICY STRENGTH(0,1] KAPPA>0 [FALLS>0] [SLOW_POLICY|-] [REFERENCE_END_M>0]\n");
     return 2;
   }
   try {
     const auto weak = std::make_shared<const learn::FrozenPolicy>(argv[1]);
-    const std::unique_ptr<learn::FrozenPolicy> slow = argc > 5 ? std::make_unique<learn::FrozenPolicy>(argv[5]) : nullptr;
-    tasks::getup::SlowerEnv env({}, {}, weak, strength, kappa);
+    const std::unique_ptr<learn::FrozenPolicy> slow = argc > 5 && std::string(argv[5]) != "-" ? std::make_unique<learn::FrozenPolicy>(argv[5]) : nullptr;
+    tasks::getup::SlowerEnv env({}, settings, weak, strength, kappa);
     std::vector<double> observation, action(env.action_space().size(), 0.0), low_s, climb_s;
     int reached = 0, stood = 0;
-    std::printf("κ %.2f, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)\n", kappa,
+    std::printf("κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)\n", kappa, settings.reference_end_m,
                 slow ? "π_slow" : "zero residual (PD on the reference)");
     for (long long k = 0; k < falls; ++k) {
       env.seed(1000 + static_cast<std::uint64_t>(k));

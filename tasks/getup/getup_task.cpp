@@ -51,7 +51,7 @@ Json presets() {
            {{"episode_steps", 50}, {"fall_steps", 20}, {"total_steps", 400}, {"eval_every", 100}, {"eval_starts", 2},
             {"threshold", -1.0}, {"min_steps", 100}, {"max_steps", 200}, {"checkpoint_every", 1}, {"sac_preset", "quick"},
             {"sac", {{"hidden", {16, 16}}, {"batch_size", 32}, {"warmup_steps", 100}, {"buffer_capacity", 10000}}},
-            {"rise_height_m", 0.1}, {"max_rise_steps", 50}, {"balance_steps", 10}, {"slow_total_steps", 200}, {"slow_eval_every", 100},
+            {"rise_height_m", 0.1}, {"reference_end_height_m", 0.1}, {"max_rise_steps", 50}, {"balance_steps", 10}, {"slow_total_steps", 200}, {"slow_eval_every", 100},
             {"eval_falls", 2}, {"eval_kappas", {0.5}}, {"pause_steps", 2}}},
           {"quick",
            {{"total_steps", 2'000'000}, {"sac_preset", "paper"},

@@ -192,11 +192,11 @@ FastRollout SlowerEnv::rise(base::Rng& rng) {
       teacher_->step(action, step);
       if (step.terminated) break;  // a blown-up state
       keep();
-      if (teacher_->weak().head_height_m > settings_.rise_height_m) return fast;
+      if (teacher_->weak().head_height_m > settings_.reference_end_m) return fast;
       observation.swap(step.observation);
     }
   }
-  throw base::UserError("getup slower: π_weak never lifted the head top above " + std::to_string(settings_.rise_height_m) +
+  throw base::UserError("getup slower: π_weak never lifted the head top above " + std::to_string(settings_.reference_end_m) +
                         " m within " + std::to_string(settings_.max_rise_steps) + " control steps in " +
                         std::to_string(settings_.rise_attempts) + " falls (at strength " + std::to_string(*teacher_strength_) +
                         "): Slower imitates a policy that gets up");

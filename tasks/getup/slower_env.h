@@ -3,7 +3,7 @@
 /// slowed copy of π_weak's own get-up, then holds a standing pose.
 ///
 /// Each episode: a fresh fall in a teacher GetupEnv at π_weak's strength; π_weak (frozen) runs
-/// from it until the head top passes `rise_height_m` (τ_fast, T control steps; capped, and a
+/// from it until the head top passes `reference_end_m` (τ_fast, T control steps; capped, and a
 /// policy that never rises throws); κ ~ U(κ_low, κ_high) (or the fixed κ of a test); τ_slow =
 /// τ_fast retimed by κ (character::retime: T/κ long, through every frame of τ_fast), the standing
 /// pose q̂ appended. The episode starts at τ_slow's first state (the fall's end) with probability
@@ -28,7 +28,10 @@ struct SlowerSettings {
   /// Residual bound, rad per joint (the seed repository adds actions in [−1, 1] to the reference).
   double residual_bound_rad = 1.0;
   int balance_steps = 100;         ///< §6
-  double rise_height_m = 1.2;      ///< §6: τ_fast ends when the head top passes it
+  double rise_height_m = 1.2;      ///< §6: standing means the head top above it
+  /// τ_fast ends at its first frame with the head top above it (§6's text: 1.2 m; the seed
+  /// repository ends one step after the head passes 1.4 m of its ≈ 1.59 m standing height).
+  double reference_end_m = 1.2;
   int max_rise_steps = 250;        ///< τ_fast's cap (a Weaker episode's length)
   int rise_attempts = 10;          ///< falls tried per episode before π_weak is declared unable
   double track_limit_m = 0.5;      ///< §6: |h_com − h'_com| above it ends the episode

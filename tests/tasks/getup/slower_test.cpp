@@ -110,11 +110,11 @@ TEST(SlowerEnv, APolicyThatNeverRisesFailsWithThatReason) {
   }
 }
 
-// With the rise height at 0.1 m τ_fast ends at its first step (the lying head top is higher), so
-// an untrained π_weak gives a reference: enough to check the episode's mechanics.
+// With τ_fast's end at 0.1 m it ends at its first step (the lying head top is higher), so an
+// untrained π_weak gives a reference: enough to check the episode's mechanics.
 SlowerSettings immediate_rise() {
   SlowerSettings s;
-  s.rise_height_m = 0.1;
+  s.reference_end_m = 0.1;
   s.balance_steps = 12;
   return s;
 }

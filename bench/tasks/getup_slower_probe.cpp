@@ -2,7 +2,9 @@
 // long it stays low and how fast it climbs the upper half of its COM rise) and how a π_slow, or
 // the bare PD tracking of the reference (zero residual), follows τ_slow at one κ: the steps
 // tracked, how the episode ended, the COM against the reference where τ_slow ends, the highest
-// head top.
+// head top. At the frame where τ_fast's upper climb starts it also shows what a slowed copy must
+// do without momentum: the bodies on the ground and how far the COM's ground projection lies
+// from the nearer foot (a static rise needs it over a foot; standing: half the stance width).
 //
 //   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY|-] [REFERENCE_END_M]
 //
@@ -11,6 +13,7 @@
 // the task's default settings (800/40 Hz, τ_fast until the head top passes REFERENCE_END_M, 1.2 m
 // unless given).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -35,6 +38,24 @@ double final_climb_s(const FastRollout& fast, double dt) {
   return (fast.steps() - from) * dt;
 }
 
+// The first frame of the upper half of τ_fast's COM climb.
+int climb_start(const FastRollout& fast, double dt) { return fast.steps() - static_cast<int>(std::lround(final_climb_s(fast, dt) / dt)); }
+
+// At pose q: the bodies touching the ground ("+"-joined) and the horizontal distance (m) from the
+// COM to the nearer foot's centroid.
+std::pair<std::string, double> support(sim::World& world, const Eigen::VectorXd& q) {
+  world.reset(q, Eigen::VectorXd::Zero(world.model().nv()));
+  const sim::Observation o = world.observe();
+  const sim::CharacterModel& model = world.model();
+  std::string on_ground;
+  for (std::size_t b = 0; b < model.bodies().size(); ++b)
+    if (o.touches(static_cast<int>(b), sim::Contact::Partner::ground)) on_ground += (on_ground.empty() ? "" : "+") + model.bodies()[b].name;
+  double nearer = INFINITY;
+  for (const char* foot : {"foot_right", "foot_left"})
+    nearer = std::min(nearer, (o.com - world.body_centroid(model.find_body(foot))).head<2>().norm());
+  return {on_ground.empty() ? "-" : on_ground, nearer};
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
@@ -56,9 +77,11 @@ int main(int argc, char** argv) {
     const auto weak = std::make_shared<const learn::FrozenPolicy>(argv[1]);
     const std::unique_ptr<learn::FrozenPolicy> slow = argc > 5 && std::string(argv[5]) != "-" ? std::make_unique<learn::FrozenPolicy>(argv[5]) : nullptr;
     tasks::getup::SlowerEnv env({}, settings, weak, strength, kappa);
-    std::vector<double> observation, action(env.action_space().size(), 0.0), low_s, climb_s;
+    sim::World still(env.world().model_ptr(), sim::WorldConfig{});
+    std::vector<double> observation, action(env.action_space().size(), 0.0), low_s, climb_s, offset_m;
     int reached = 0, stood = 0;
-    std::printf("κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)\n", kappa, settings.reference_end_m,
+    std::printf("standing: COM %.2f m from the nearer foot\n", support(still, env.world().model().standing_pose()).second);
+    std::printf("κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)  at the climb's start: COM–foot (m), on the ground\n", kappa, settings.reference_end_m,
                 slow ? "π_slow" : "zero residual (PD on the reference)");
     for (long long k = 0; k < falls; ++k) {
       env.seed(1000 + static_cast<std::uint64_t>(k));
@@ -86,11 +109,13 @@ int main(int argc, char** argv) {
       stood += standing && !step.terminated;
       climb_s.push_back(final_climb_s(fast, dt));
       low_s.push_back(fast.steps() * dt - climb_s.back());
-      std::printf("%4lld  %8d  %5.2f  %13.2f  %5d  %-16s  %.2f / %.2f           %.2f\n", k, fast.steps(), low_s.back(), climb_s.back(), steps,
-                  ended, com_at_end, ref_at_end, head_max);
+      const auto [on_ground, offset] = support(still, fast.q[static_cast<std::size_t>(climb_start(fast, dt))]);
+      offset_m.push_back(offset);
+      std::printf("%4lld  %8d  %5.2f  %13.2f  %5d  %-16s  %.2f / %.2f           %.2f              %.2f  %s\n", k, fast.steps(), low_s.back(),
+                  climb_s.back(), steps, ended, com_at_end, ref_at_end, head_max, offset, on_ground.c_str());
     }
-    std::printf("medians: low %.2f s, upper climb %.2f s (fast time); reached T/κ in %d/%lld, stood to the end in %d/%lld\n",
-                median(low_s), median(climb_s), reached, falls, stood, falls);
+    std::printf("medians: low %.2f s, upper climb %.2f s (fast time), COM to the nearer foot at the climb's start %.2f m; reached T/κ in %d/%lld, stood to the end in %d/%lld\n",
+                median(low_s), median(climb_s), median(offset_m), reached, falls, stood, falls);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "getup_slower_probe: %s\n", error.what());
     return 1;

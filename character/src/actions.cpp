@@ -68,7 +68,7 @@ learn::BoxSpace ResidualActions::space(const sim::CharacterModel&) const { retur
 void ResidualActions::command(const CharacterEnv& env, std::span<const double> action, Eigen::VectorXd& out) const {
   if (!env.reference()) throw base::UserError("character actions: residual targets need a reference clip");
   std::vector<double> pose = bridge_.pose(env.reference()->sample(env.reference_time_s()));
-  for (std::size_t k = 0; k < pose.size(); ++k) pose[k] = std::clamp(pose[k] + action[k], bridge_.lower()[k], bridge_.upper()[k]);
+  for (std::size_t k = 0; k < pose.size(); ++k) pose[k] += action[k];
   out = bridge_.target(pose);
 }
 

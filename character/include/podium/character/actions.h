@@ -59,7 +59,9 @@ class VaeActions : public ActionMap {
 };
 
 /// Residual targets on the reference motion (get-up seed §6, Algorithm 2): target = the
-/// reference pose at the env's reference clock + Δq, Δq ∈ ±offset_bound, clamped to the limits.
+/// reference pose at the env's reference clock + Δq, Δq ∈ ±offset_bound. Not clamped to the
+/// joint limits: with PD, a target past a limit is how a joint near it gets more than
+/// kp·(limit − q) of torque (the seed repository's slow env adds its actions unclamped).
 class ResidualActions : public ActionMap {
  public:
   ResidualActions(sim::ModelPtr model, sim::Control mode, double offset_bound);

@@ -6,12 +6,12 @@
 // do without momentum: the bodies on the ground and how far the COM's ground projection lies
 // from the nearer foot (a static rise needs it over a foot; standing: half the stance width).
 //
-//   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY|-] [REFERENCE_END_M] [KEPT_END_S]
+//   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY|-] [REFERENCE_END_M]
 //
 // WEAK_POLICY: a Weaker TorchScript export and the strength β it passed at; SLOW_POLICY: a Slower
 // export trained on that π_weak (omitted or -: zero residual). Falls use seeds 1000, 1001, … with
 // the task's default settings (800/40 Hz, τ_fast until the head top passes REFERENCE_END_M, 1.2 m
-// unless given; KEPT_END_S: τ_fast's last seconds kept at their own speed, 0 unless given).
+// unless given).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -67,11 +67,10 @@ int main(int argc, char** argv) {
   long long falls = 10;
   double strength = 0.0, kappa = 0.0;
   tasks::getup::SlowerSettings settings;
-  if (argc < 4 || argc > 8 || !bench::real_number(argv[2], strength) || !(strength > 0.0 && strength <= 1.0) ||
+  if (argc < 4 || argc > 7 || !bench::real_number(argv[2], strength) || !(strength > 0.0 && strength <= 1.0) ||
       !bench::real_number(argv[3], kappa) || !(kappa > 0.0) || (argc > 4 && !bench::whole_number(argv[4], 1, falls)) ||
-      (argc > 6 && (!bench::real_number(argv[6], settings.reference_end_m) || !(settings.reference_end_m > 0.0))) ||
-      (argc > 7 && (!bench::real_number(argv[7], settings.kept_end_s) || settings.kept_end_s < 0.0))) {
-    std::fprintf(stderr, "usage: getup_slower_probe WEAK_POLICY STRENGTH(0,1] KAPPA>0 [FALLS>0] [SLOW_POLICY|-] [REFERENCE_END_M>0] [KEPT_END_S>=0]\n");
+      (argc > 6 && (!bench::real_number(argv[6], settings.reference_end_m) || !(settings.reference_end_m > 0.0)))) {
+    std::fprintf(stderr, "usage: getup_slower_probe WEAK_POLICY STRENGTH(0,1] KAPPA>0 [FALLS>0] [SLOW_POLICY|-] [REFERENCE_END_M>0]\n");
     return 2;
   }
   try {
@@ -82,7 +81,7 @@ int main(int argc, char** argv) {
     std::vector<double> observation, action(env.action_space().size(), 0.0), low_s, climb_s, offset_m;
     int reached = 0, stood = 0;
     std::printf("standing: COM %.2f m from the nearer foot\n", support(still, env.world().model().standing_pose()).second);
-    std::printf("κ %.2f (τ_fast's last %.2f s kept), τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)  at the climb's start: COM–foot (m), on the ground\n", kappa, settings.kept_end_s, settings.reference_end_m,
+    std::printf("κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)  at the climb's start: COM–foot (m), on the ground\n", kappa, settings.reference_end_m,
                 slow ? "π_slow" : "zero residual (PD on the reference)");
     for (long long k = 0; k < falls; ++k) {
       env.seed(1000 + static_cast<std::uint64_t>(k));

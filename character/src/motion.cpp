@@ -89,27 +89,10 @@ Clip resample(const Clip& clip, double dt_s) {
   return out;
 }
 
-Retiming::Retiming(double kappa, double duration_s, double kept_end_s)
-    : kappa_(kappa), duration_s_(duration_s), slowed_s_(std::max(0.0, duration_s - std::max(0.0, kept_end_s))) {
+Clip retime(const Clip& clip, double kappa) {
   if (!(kappa > 0)) throw base::UserError("motion clip: retiming factor κ " + std::to_string(kappa) + " is not > 0");
-}
-
-double Retiming::slow_time(double t) const { return t <= slowed_s_ ? t / kappa_ : slowed_s_ / kappa_ + (t - slowed_s_); }
-
-double Retiming::original_time(double t) const {
-  const double boundary = slowed_s_ / kappa_;
-  return t <= boundary ? t * kappa_ : slowed_s_ + (t - boundary);
-}
-
-double Retiming::rate(double t) const {
-  const bool in_kept_end = slowed_s_ < duration_s_ && t > slowed_s_ / kappa_ + 1e-12;  // the boundary belongs to the slowed part
-  return in_kept_end ? 1.0 : kappa_;
-}
-
-Clip retime(const Clip& clip, double kappa, double kept_end_s) {
-  const Retiming timing(kappa, clip.duration_s(), kept_end_s);
   Clip slowed = clip;
-  for (double& t : slowed.times_s) t = timing.slow_time(t);
+  for (double& t : slowed.times_s) t /= kappa;
   return slowed;
 }
 

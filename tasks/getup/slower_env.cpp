@@ -98,13 +98,14 @@ FastRollout FastRollout::from_json(const Json& j) {
   return f;
 }
 
-SlowReference::SlowReference(FastRollout fast, double kappa, double kept_end_s, double control_dt_s, const sim::ModelPtr& model,
+SlowReference::SlowReference(FastRollout fast, double kappa, double control_dt_s, const sim::ModelPtr& model,
                              const Eigen::VectorXd& standing_q, double standing_com_m)
-    : fast_(std::move(fast)), timing_(kappa, fast_.steps() * control_dt_s, kept_end_s), dt_(control_dt_s), standing_com_(standing_com_m) {
+    : fast_(std::move(fast)), kappa_(kappa), dt_(control_dt_s), standing_com_(standing_com_m) {
   if (fast_.steps() < 1) throw base::UserError("getup slower: τ_fast has no step");
+  if (!(kappa_ > 0.0)) throw base::UserError("getup slower: κ " + std::to_string(kappa_) + " is not > 0");
   character::Clip clip{model, {}, fast_.q, false};
   for (int i = 0; i <= fast_.steps(); ++i) clip.times_s.push_back(i * dt_);
-  character::Clip slow = character::retime(clip, kappa, kept_end_s);  // §6: T/κ long, through every frame of τ_fast
+  character::Clip slow = character::retime(clip, kappa_);  // §6: T/κ long, through every frame of τ_fast
   rise_s_ = slow.duration_s();
   Eigen::VectorXd standing = standing_q;
   standing.head<7>() = slow.poses.back().head<7>();  // the root is no PD target; keep it where the rise ended
@@ -115,7 +116,7 @@ SlowReference::SlowReference(FastRollout fast, double kappa, double kept_end_s, 
   hip_left_ = velocity_index(*model, "hip_y_left");
 }
 
-double SlowReference::fast_index(double t_s) const { return timing_.original_time(t_s) / dt_; }
+double SlowReference::fast_index(double t_s) const { return t_s * kappa_ / dt_; }
 
 double SlowReference::com_height_m(double t_s) const {
   return t_s > rise_s_ + 1e-9 ? standing_com_ : lerp(fast_.com_height_m, fast_index(t_s));
@@ -128,11 +129,11 @@ Eigen::Vector3d SlowReference::torso_up(double t_s) const {
 Eigen::Vector2d SlowReference::hip_velocity(double t_s) const {
   if (t_s > rise_s_ + 1e-9) return Eigen::Vector2d::Zero();
   const Eigen::VectorXd qd = lerp(fast_.qd, fast_index(t_s));
-  return timing_.rate(t_s) * Eigen::Vector2d(qd(hip_right_), qd(hip_left_));
+  return kappa_ * Eigen::Vector2d(qd(hip_right_), qd(hip_left_));
 }
 
 std::pair<Eigen::VectorXd, Eigen::VectorXd> SlowReference::state(double t_s) const {
-  return {clip_->sample(std::min(t_s, rise_s_)), timing_.rate(t_s) * lerp(fast_.qd, fast_index(t_s))};
+  return {clip_->sample(std::min(t_s, rise_s_)), kappa_ * lerp(fast_.qd, fast_index(t_s))};
 }
 
 std::int64_t rsi_start_step(base::Rng& rng, std::int64_t rise_steps, double epsilon) {
@@ -202,8 +203,7 @@ FastRollout SlowerEnv::rise(base::Rng& rng) {
 }
 
 void SlowerEnv::build_reference(FastRollout fast, double kappa) {
-  reference_ = std::make_unique<SlowReference>(std::move(fast), kappa, settings_.kept_end_s, control_dt_s(), world().model_ptr(), standing_q_,
-                                               standing_com_m_);
+  reference_ = std::make_unique<SlowReference>(std::move(fast), kappa, control_dt_s(), world().model_ptr(), standing_q_, standing_com_m_);
   set_reference(reference_->clip());
   com_error_sum_ = 0.0;
   rise_steps_ = 0;

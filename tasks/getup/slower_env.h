@@ -30,11 +30,8 @@ struct SlowerSettings {
   int balance_steps = 100;         ///< §6
   double rise_height_m = 1.2;      ///< §6: standing means the head top above it
   /// τ_fast ends at its first frame with the head top above it (§6's text: 1.2 m; the seed
-  /// repository ends one step after its head origin passes 1.4 m: our head top at 1.49 m).
+  /// repository ends one step after the head passes 1.4 m of its ≈ 1.59 m standing height).
   double reference_end_m = 1.2;
-  /// τ_fast's last seconds that keep their own speed when retimed (character::Retiming; 0: all of
-  /// τ_fast slowed by κ, §6). A variant, not the seed's method: its climb is a hop (RESULTS.md).
-  double kept_end_s = 0.0;
   int max_rise_steps = 250;        ///< τ_fast's cap (a Weaker episode's length)
   int rise_attempts = 10;          ///< falls tried per episode before π_weak is declared unable
   double track_limit_m = 0.5;      ///< §6: |h_com − h'_com| above it ends the episode
@@ -55,24 +52,23 @@ struct FastRollout {
 /// q̂ and its values after the rise.
 class SlowReference {
  public:
-  SlowReference(FastRollout fast, double kappa, double kept_end_s, double control_dt_s, const sim::ModelPtr& model,
-                const Eigen::VectorXd& standing_q, double standing_com_m);
-  double kappa() const { return timing_.kappa(); }
-  double rise_s() const { return rise_s_; }  ///< T·dt/κ (less when an end is kept)
+  SlowReference(FastRollout fast, double kappa, double control_dt_s, const sim::ModelPtr& model, const Eigen::VectorXd& standing_q,
+                double standing_com_m);
+  double kappa() const { return kappa_; }
+  double rise_s() const { return rise_s_; }  ///< T·dt/κ
   const FastRollout& fast() const { return fast_; }
   const std::shared_ptr<const character::Clip>& clip() const { return clip_; }  ///< τ_slow then q̂
   double com_height_m(double t_s) const;
   Eigen::Vector3d torso_up(double t_s) const;
-  /// The hips' y-joint velocities (right, left) of τ_slow: κ times τ_fast's (1 times in a kept end).
+  /// The hips' y-joint velocities (right, left) of τ_slow: κ times τ_fast's.
   Eigen::Vector2d hip_velocity(double t_s) const;
-  /// The state of τ_slow at t (velocities κ·q̇ of τ_fast, q̇ in a kept end).
+  /// The state of τ_slow at t (velocities κ·q̇ of τ_fast).
   std::pair<Eigen::VectorXd, Eigen::VectorXd> state(double t_s) const;
 
  private:
   double fast_index(double t_s) const;  // τ_fast's fractional frame at slow time t
   FastRollout fast_;
-  character::Retiming timing_;
-  double dt_, rise_s_, standing_com_;
+  double kappa_, dt_, rise_s_, standing_com_;
   std::shared_ptr<const character::Clip> clip_;
   int hip_right_ = -1, hip_left_ = -1;  // velocity indices of the hips' y joints
 };

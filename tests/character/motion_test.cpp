@@ -53,31 +53,6 @@ TEST(Motion, RetimingByKappaLastsTOverKappaAndPassesThroughTheOriginalFrames) {
   EXPECT_THROW(retime(fast, 0.0), base::UserError);
 }
 
-// A kept end plays at its own speed: the clip's first part lasts (T − e)/κ, its last e seconds e,
-// and it still passes through every original frame.
-TEST(Motion, RetimingWithAKeptEndSlowsOnlyTheFirstPart) {
-  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
-  const double dt = 1.0 / 40.0;
-  const Clip fast = random_clip(model, 11, dt, 5);  // T = 0.25 s
-  const double kappa = 0.25, kept = 0.1;
-  const Retiming timing(kappa, fast.duration_s(), kept);
-  EXPECT_NEAR(timing.slow_duration_s(), 0.15 / kappa + kept, 1e-12);
-  const Clip slow = retime(fast, kappa, kept);
-  EXPECT_NEAR(slow.duration_s(), timing.slow_duration_s(), 1e-12);
-  for (std::size_t i = 0; i < fast.size(); ++i) {
-    const double t = fast.times_s[i];
-    EXPECT_NEAR(slow.times_s[i], t <= 0.15 + 1e-12 ? t / kappa : 0.6 + (t - 0.15), 1e-12) << i;
-    EXPECT_NEAR(timing.original_time(timing.slow_time(t)), t, 1e-12) << i;
-    EXPECT_LE(config_distance(*model, slow.sample(timing.slow_time(t)), fast.poses[i]), 1e-12) << i;
-  }
-  EXPECT_EQ(timing.rate(0.3), kappa);
-  EXPECT_EQ(timing.rate(0.65), 1.0);
-  // Nothing kept is §6's uniform retiming; keeping all of it leaves the clip as it was.
-  EXPECT_NEAR(Retiming(kappa, 0.25).slow_duration_s(), 1.0, 1e-12);
-  EXPECT_NEAR(Retiming(kappa, 0.25, 1.0).slow_duration_s(), 0.25, 1e-12);
-  EXPECT_THROW(Retiming(-1.0, 0.25), base::UserError);
-}
-
 // Between frames: hinges linearly, ball joints by slerp (half-way = half the relative angle).
 TEST(Motion, SamplingInterpolatesHingesLinearlyAndBallsBySlerp) {
   const sim::ModelPtr model = sim::load_shipped_model("humanoid34");

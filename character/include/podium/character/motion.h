@@ -29,28 +29,10 @@ struct Clip {
 
 /// Frames at 0, dt, 2dt, ... up to the clip's duration (to 1e-9 s), interpolated.
 Clip resample(const Clip& clip, double dt_s);
-/// The time map of a retiming: a clip of `duration_s` slowed by κ ∈ (0, ∞) (κ < 1 slower; get-up
-/// seed §6, Algorithm 2), except its last `kept_end_s` seconds, which play at their own speed
-/// (0: uniform, §6's T/κ). Why keep an end: a get-up becomes dynamic near its end (§8.3), and a
-/// hop slowed down is no motion; the seed repository's `uneven` interpolation keeps a rise's last
-/// frames apart in the same way.
-class Retiming {
- public:
-  Retiming(double kappa, double duration_s, double kept_end_s = 0.0);  ///< throws base::UserError for κ ≤ 0
-  double kappa() const { return kappa_; }
-  double slow_time(double original_s) const;  ///< where original time t falls in the retimed clip
-  double original_time(double slow_s) const;  ///< the inverse
-  double rate(double slow_s) const;           ///< d original / d slow time there: κ, then 1 in the kept end
-  double slow_duration_s() const { return slow_time(duration_s_); }
-
- private:
-  double kappa_, duration_s_, slowed_s_;  // slowed_s_: original seconds before the kept end
-};
-
-/// The same frames at times Retiming::slow_time(t_i) (t_i/κ when nothing is kept), so it passes
-/// through every original frame and sample() interpolates between them.
-/// resample(retime(clip, κ), dt) gives its frames at a control rate.
-Clip retime(const Clip& clip, double kappa, double kept_end_s = 0.0);
+/// Slowed by κ ∈ (0, ∞) (κ < 1 slower; get-up seed §6, Algorithm 2): the same frames at times
+/// t_i/κ, so it lasts T/κ, passes through every original frame, and sample() interpolates
+/// between them. resample(retime(clip, κ), dt) gives its frames at a control rate.
+Clip retime(const Clip& clip, double kappa);
 /// Mirrored left ↔ right across the world x–z plane (y ↦ −y): joints whose names differ by
 /// "left"/"right" exchange their values. Throws base::UserError when the model is not
 /// mirror-symmetric (a partner is missing or its axis is not the mirrored axis).

@@ -4,7 +4,9 @@
 // tracked, how the episode ended, the COM against the reference where τ_slow ends, the highest
 // head top. At the frame where τ_fast's upper climb starts it also shows what a slowed copy must
 // do without momentum: the bodies on the ground and how far the COM's ground projection lies
-// from the nearer foot (a static rise needs it over a foot; standing: half the stance width).
+// from the nearer foot (a static rise needs it over a foot; standing: half the stance width); and
+// the climb's peak knee and hip speed, against which π_slow's PD (k_d = k_p/10, residuals within
+// ±1 rad) keeps k_p·(1 + lag − |q̇|/10) of torque.
 //
 //   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY|-] [REFERENCE_END_M]
 //
@@ -56,6 +58,16 @@ std::pair<std::string, double> support(sim::World& world, const Eigen::VectorXd&
   return {on_ground.empty() ? "-" : on_ground, nearer};
 }
 
+// The largest |q̇| of the knees' and hips' y joints from frame `from` of τ_fast on, rad/s.
+double peak_leg_speed(const sim::CharacterModel& model, const FastRollout& fast, int from) {
+  double peak = 0.0;
+  for (const char* joint : {"knee_right", "knee_left", "hip_y_right", "hip_y_left"}) {
+    const int v = model.links()[static_cast<std::size_t>(model.find_link(joint))].v_index;
+    for (std::size_t i = static_cast<std::size_t>(from); i < fast.qd.size(); ++i) peak = std::max(peak, std::abs(fast.qd[i](v)));
+  }
+  return peak;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
@@ -78,10 +90,10 @@ int main(int argc, char** argv) {
     const std::unique_ptr<learn::FrozenPolicy> slow = argc > 5 && std::string(argv[5]) != "-" ? std::make_unique<learn::FrozenPolicy>(argv[5]) : nullptr;
     tasks::getup::SlowerEnv env({}, settings, weak, strength, kappa);
     sim::World still(env.world().model_ptr(), sim::WorldConfig{});
-    std::vector<double> observation, action(env.action_space().size(), 0.0), low_s, climb_s, offset_m;
+    std::vector<double> observation, action(env.action_space().size(), 0.0), low_s, climb_s, offset_m, speed;
     int reached = 0, stood = 0;
     std::printf("standing: COM %.2f m from the nearer foot\n", support(still, env.world().model().standing_pose()).second);
-    std::printf("κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)  at the climb's start: COM–foot (m), on the ground\n", kappa, settings.reference_end_m,
+    std::printf("κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)  climb: peak leg rad/s; at its start: COM–foot (m), on the ground\n", kappa, settings.reference_end_m,
                 slow ? "π_slow" : "zero residual (PD on the reference)");
     for (long long k = 0; k < falls; ++k) {
       env.seed(1000 + static_cast<std::uint64_t>(k));
@@ -111,11 +123,13 @@ int main(int argc, char** argv) {
       low_s.push_back(fast.steps() * dt - climb_s.back());
       const auto [on_ground, offset] = support(still, fast.q[static_cast<std::size_t>(climb_start(fast, dt))]);
       offset_m.push_back(offset);
-      std::printf("%4lld  %8d  %5.2f  %13.2f  %5d  %-16s  %.2f / %.2f           %.2f              %.2f  %s\n", k, fast.steps(), low_s.back(),
-                  climb_s.back(), steps, ended, com_at_end, ref_at_end, head_max, offset, on_ground.c_str());
+      speed.push_back(peak_leg_speed(env.world().model(), fast, climb_start(fast, dt)));
+      std::printf("%4lld  %8d  %5.2f  %13.2f  %5d  %-16s  %.2f / %.2f           %.2f  %6.1f  %.2f  %s\n", k, fast.steps(), low_s.back(),
+                  climb_s.back(), steps, ended, com_at_end, ref_at_end, head_max, speed.back(), offset, on_ground.c_str());
     }
-    std::printf("medians: low %.2f s, upper climb %.2f s (fast time), COM to the nearer foot at the climb's start %.2f m; reached T/κ in %d/%lld, stood to the end in %d/%lld\n",
-                median(low_s), median(climb_s), median(offset_m), reached, falls, stood, falls);
+    std::printf("medians: low %.2f s, upper climb %.2f s (fast time), its peak leg speed %.1f rad/s, COM to the nearer foot at its start %.2f m; "
+                "reached T/κ in %d/%lld, stood to the end in %d/%lld\n",
+                median(low_s), median(climb_s), median(speed), median(offset_m), reached, falls, stood, falls);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "getup_slower_probe: %s\n", error.what());
     return 1;

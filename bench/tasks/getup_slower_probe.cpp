@@ -6,7 +6,7 @@
 // do without momentum: the bodies on the ground and how far the COM's ground projection lies
 // from the nearer foot (a static rise needs it over a foot; standing: half the stance width); and
 // the climb's peak knee and hip speed, against which π_slow's PD (k_d = k_p/10, residuals within
-// ±1 rad) keeps k_p·(1 + lag − |q̇|/10) of torque.
+// ±1 rad) keeps k_p·(1 + e − |q̇|/10) of torque (e: its tracking lag, rad).
 //
 //   getup_slower_probe WEAK_POLICY STRENGTH KAPPA [FALLS] [SLOW_POLICY|-] [REFERENCE_END_M]
 //

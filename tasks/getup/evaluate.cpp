@@ -21,17 +21,6 @@ EvaluateConfig read_evaluate(base::ConfigReader& r) {
   c.pause_kappa = r.number("pause_kappa", c.pause_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Evaluate: κ of the paused motion");
   c.strengths = r.numbers("eval_strengths", c.strengths, {.min = 0.0, .max = 1.0, .exclusive_min = true},
                           "Evaluate: further strengths β for π_weak's fast runs (its own is always run)");
-  c.shipped = r.objects(
-      "shipped",
-      [](base::ConfigReader& p) {
-        ShippedPolicy s;
-        s.weak_policy = p.string("weak_policy", base::required, "π_weak's TorchScript file");
-        s.weak_strength = p.number("weak_strength", base::required, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "the β π_weak passed at");
-        s.slow_policy = p.string("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
-        return s;
-      },
-      "Slower or Evaluate without an input trial: trial i takes entry i mod n (Slower imitates its weak_policy; paths "
-      "relative to where `podium run` starts)");
   return c;
 }
 

@@ -10,14 +10,6 @@
 
 namespace podium::tasks::getup {
 
-/// A policy pair used without an input trial: the demo's shipped policies for Evaluate, or a
-/// π_weak file for Slower to imitate.
-struct ShippedPolicy {
-  std::filesystem::path weak_policy;          ///< π_weak's TorchScript export
-  double weak_strength = 1.0;                 ///< the β it passed at
-  std::filesystem::path slow_policy;          ///< π_slow's; empty: fast runs only
-};
-
 struct EvaluateConfig {
   int falls = 20;                             ///< issue 18: 20 falls
   std::uint64_t falls_seed = 2;               ///< ≠ the tests' eval_seed; training draws its own streams
@@ -26,9 +18,6 @@ struct EvaluateConfig {
   int pause_steps = 40;                       ///< control steps τ_fast holds it (before retiming)
   double pause_kappa = 0.5;
   std::vector<double> strengths;              ///< further strengths β for π_weak's fast runs
-  /// Without an input trial, trial i evaluates shipped[i mod n] — and a Slower trial imitates its
-  /// weak_policy (paths relative to the directory the worker runs in, as `podium run` is started).
-  std::vector<ShippedPolicy> shipped;
 };
 
 EvaluateConfig read_evaluate(base::ConfigReader& r);

@@ -14,11 +14,22 @@ using base::Json;
 
 namespace {
 
+// A policy pair used without an input trial: the demo's shipped policies for Evaluate, or a
+// π_weak file for Slower to imitate.
+struct ShippedPolicy {
+  std::filesystem::path weak_policy;  // π_weak's TorchScript export
+  double weak_strength = 1.0;         // the β it passed at
+  std::filesystem::path slow_policy;  // π_slow's; empty: fast runs only
+};
+
 struct TaskConfig {
   std::string stage = "weaker";
   Settings settings;
   SlowerConfig slower;
   EvaluateConfig evaluate;
+  // Without an input trial, a Slower or Evaluate trial i takes shipped[i mod n] (paths relative
+  // to the directory `podium run` starts in).
+  std::vector<ShippedPolicy> shipped;
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
@@ -30,10 +41,21 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   c.settings = read_settings(r);
   c.slower = read_slower(r);
   c.evaluate = read_evaluate(r);
+  c.shipped = r.objects(
+      "shipped",
+      [](base::ConfigReader& p) {
+        ShippedPolicy s;
+        s.weak_policy = p.string("weak_policy", base::required, "π_weak's TorchScript file");
+        s.weak_strength = p.number("weak_strength", base::required, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "the β π_weak passed at");
+        s.slow_policy = p.string("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
+        return s;
+      },
+      "Slower or Evaluate without an input trial: trial i takes entry i mod n (Slower imitates its weak_policy; paths "
+      "relative to where `podium run` starts)");
   // Slower trains π_slow: a shipped one would be ignored, so it is refused.
   if (c.stage == "slower")
-    for (std::size_t i = 0; i < c.evaluate.shipped.size(); ++i)
-      if (!c.evaluate.shipped[i].slow_policy.empty())
+    for (std::size_t i = 0; i < c.shipped.size(); ++i)
+      if (!c.shipped[i].slow_policy.empty())
         r.fail("shipped", "entry " + std::to_string(i) + " has a slow_policy, but a slower stage trains π_slow (give weak_policy alone)");
   return c;
 }
@@ -43,7 +65,7 @@ TaskConfig config_from(const Json& config) { return base::ConfigReader::parse(co
 Json accepted_config() { return base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); }); }
 
 // smoke: seconds (short episodes, tiny networks, ω below any return so the curriculum advances at
-// every test; Slower's rise height 0.1 m ends τ_fast at its first step, so the smoke campaign
+// every test; Slower's τ_fast end at 0.1 m ends τ_fast at its first step, so the smoke campaign
 // checks the stages' mechanics, not a get-up). quick: this machine (RESULTS.md). paper: Table 1
 // and App. D.
 Json presets() {
@@ -111,8 +133,8 @@ const plugins::InputTrial& one_input(const plugins::RunRequest& request, const s
 // The `shipped` entry a trial without input trials takes (entry i mod n); null when the trial has
 // inputs or nothing is shipped.
 const ShippedPolicy* shipped_for(const TaskConfig& c, const plugins::RunRequest& request) {
-  if (!request.inputs.empty() || c.evaluate.shipped.empty()) return nullptr;
-  return &c.evaluate.shipped[request.trial_index % c.evaluate.shipped.size()];
+  if (!request.inputs.empty() || c.shipped.empty()) return nullptr;
+  return &c.shipped[request.trial_index % c.shipped.size()];
 }
 
 Reporter reporter_for(plugins::Sink& sink) {

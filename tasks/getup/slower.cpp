@@ -29,7 +29,7 @@ SlowerConfig read_slower(base::ConfigReader& r) {
   e.rise_height_m = r.number("rise_height_m", e.rise_height_m, {.min = 0.0, .exclusive_min = true},
                              "Slower and Evaluate: standing success is the head top above it at the end, m (§6: 1.2)");
   e.reference_end_m = r.number("reference_end_height_m", e.reference_end_m, {.min = 0.0, .exclusive_min = true},
-                               "Slower: τ_fast ends at its first frame with the head top above it, m (§6: 1.2; the seed repository: 1.4 of a taller head)");
+                               "Slower: τ_fast ends at its first frame with the head top above it, m (§6: 1.2; the seed repository: 1.49)");
   e.max_rise_steps = r.integer<int>("max_rise_steps", e.max_rise_steps, {1, 100000}, "Slower: τ_fast's cap in control steps");
   e.rise_attempts = r.integer<int>("rise_attempts", e.rise_attempts, {1, 1000}, "Slower: falls tried for a τ_fast before the trial fails");
   c.total_steps = r.integer<std::int64_t>("slow_total_steps", c.total_steps, {1}, "Slower: environment steps; a multiple of slow_eval_every");

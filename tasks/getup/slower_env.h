@@ -30,7 +30,7 @@ struct SlowerSettings {
   int balance_steps = 100;         ///< §6
   double rise_height_m = 1.2;      ///< §6: standing means the head top above it
   /// τ_fast ends at its first frame with the head top above it (§6's text: 1.2 m; the seed
-  /// repository ends one step after the head passes 1.4 m of its ≈ 1.59 m standing height).
+  /// repository ends one step after its head origin passes 1.4 m: our head top at 1.49 m).
   double reference_end_m = 1.2;
   int max_rise_steps = 250;        ///< τ_fast's cap (a Weaker episode's length)
   int rise_attempts = 10;          ///< falls tried per episode before π_weak is declared unable

@@ -78,7 +78,7 @@ Json presets() {
           {"quick",
            {{"total_steps", 2'000'000}, {"sac_preset", "paper"},
             {"sac",
-             {{"hidden", {128, 128}}, {"batch_size", 256}, {"updates_per_step", 0.25}, {"actor_lr", 3e-4}, {"critic_lr", 3e-4}}},
+             {{"hidden", {128, 128}}, {"batch_size", 256}, {"updates_per_step", 0.5}, {"actor_lr", 3e-4}, {"critic_lr", 3e-4}}},
             {"slow_total_steps", 200'000}}},
           {"paper", {{"total_steps", 10'000'000}, {"sac_preset", "paper"}, {"sac", Json::object()}, {"slow_total_steps", 2'000'000}}}};
 }

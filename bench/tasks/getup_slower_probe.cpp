@@ -121,9 +121,10 @@ int main(int argc, char** argv) {
       stood += standing && !step.terminated;
       climb_s.push_back(final_climb_s(fast, dt));
       low_s.push_back(fast.steps() * dt - climb_s.back());
-      const auto [on_ground, offset] = support(still, fast.q[static_cast<std::size_t>(climb_start(fast, dt))]);
+      const int climb = climb_start(fast, dt);
+      const auto [on_ground, offset] = support(still, fast.q[static_cast<std::size_t>(climb)]);
       offset_m.push_back(offset);
-      speed.push_back(peak_leg_speed(env.world().model(), fast, climb_start(fast, dt)));
+      speed.push_back(peak_leg_speed(env.world().model(), fast, climb));
       std::printf("%4lld  %8d  %5.2f  %13.2f  %5d  %-16s  %.2f / %.2f           %.2f  %6.1f  %.2f  %s\n", k, fast.steps(), low_s.back(),
                   climb_s.back(), steps, ended, com_at_end, ref_at_end, head_max, speed.back(), offset, on_ground.c_str());
     }

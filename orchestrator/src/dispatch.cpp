@@ -185,11 +185,12 @@ void Scheduler::handle(const ExecutorEvent& e) {
     emit(c, "trial_done", {{"stage", s.rec.name}, {"trial", f.trial.index}, {"objectives", obs.objectives}}, false);
   } else {
     store_.finish_attempt(f.attempt_id, state, error, e.exit_code, e.signal);
-    const std::string reason = "attempt " + std::to_string(f.number) + " " + state + ": " + error;
+    const std::string reason = "attempt " + std::to_string(f.number) + " " + state + ": " + error +
+                               (e.retry ? "" : " (not retried: the task rejected its input)");
     if (c.control == "cancelled" || state == "cancelled") {
       store_.set_trial_state(f.trial.id, "cancelled", reason);
       s.held[f.trial.index] = obs;  // told in trial order (advance_search)
-    } else if (f.number <= c.spec.retries) {
+    } else if (f.number <= c.spec.retries && e.retry) {
       store_.set_trial_state(f.trial.id, "pending", reason);
       f.trial.attempts = f.number;
       s.ready.push_front(f.trial);

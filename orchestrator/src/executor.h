@@ -50,6 +50,9 @@ struct ExecutorEvent {
   Json result;
   std::string error;
   std::optional<int> exit_code, signal;
+  // failed: false when the task rejected its input (trial_runner.h's attempt_error), so the
+  // scheduler does not spend another attempt on it.
+  bool retry = true;
 };
 
 class Executor {

@@ -66,7 +66,10 @@ void LocalExecutor::handle_message(Slot& slot, const Json& m, std::vector<Execut
     const bool cancelled = slot.cancel_deadline != Clock::time_point::max();
     e.state = type == "result" ? "done" : (cancelled ? "cancelled" : "failed");
     if (type == "result") e.result = m;
-    else e.error = m.value("message", "task failed");
+    else {
+      e.error = m.value("message", "task failed");
+      e.retry = m.value("retry", true);
+    }
     slot.key = -1;
   } else {
     return;

@@ -144,6 +144,7 @@ bool SlurmExecutor::take_result(Job& job, std::vector<ExecutorEvent>& events) {
   } else {
     e.state = job.cancel_requested ? "cancelled" : "failed";
     e.error = r.value("message", "task failed");
+    e.retry = r.value("retry", true);
   }
   events.push_back(e);
   jobs_.erase(job.order.key);

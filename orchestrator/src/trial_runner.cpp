@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "podium/base/config.h"
 #include "podium/base/error.h"
 #include "podium/plugins/loader.h"
 #include "sha256.h"
@@ -99,6 +100,14 @@ class FileSink final : public plugins::Sink {
 
 }  // namespace
 
+base::Json attempt_error(std::int64_t key, const std::exception& e) {
+  Json error = {{"type", "error"}, {"key", key}, {"message", e.what()}};
+  if (const auto* config = dynamic_cast<const base::ConfigError*>(&e))
+    error.update({{"config_path", config->path()}, {"problem", config->problem()}});
+  if (dynamic_cast<const base::UserError*>(&e)) error["retry"] = false;
+  return error;
+}
+
 int run_batch_trial(const std::string& batch_file) {
   const char* index_text = std::getenv("SLURM_ARRAY_TASK_ID");
   const long index = index_text ? std::strtol(index_text, nullptr, 10) : 0;
@@ -115,7 +124,7 @@ int run_batch_trial(const std::string& batch_file) {
     FileSink sink(files.metrics());
     result = run_attempt(tasks, order, cancel, sink);
   } catch (const std::exception& e) {
-    result = {{"type", "error"}, {"key", order.at("key")}, {"message", e.what()}};
+    result = attempt_error(order.at("key").get<std::int64_t>(), e);
   }
   base::write_json_file_atomic(files.result(), result);
   return 0;

@@ -2,6 +2,8 @@
 // Runs one attempt of a trial inside this process: the shared core of `podium worker` (local
 // executor, results over a pipe) and `podium trial` (Slurm executor, results in files).
 #include <atomic>
+#include <cstdint>
+#include <exception>
 #include <map>
 #include <memory>
 #include <string>
@@ -27,6 +29,12 @@ class TaskCache {
 /// Throws whatever the task throws.
 base::Json run_attempt(TaskCache& tasks, const base::Json& order, const std::atomic<bool>& cancel,
                        plugins::Sink& sink);
+
+/// The error message for an attempt that threw `e`: {"type":"error", "key", "message"}, with
+/// config_path and problem for a base::ConfigError (so submit can name the value inside the spec)
+/// and "retry": false for a base::UserError, the task's verdict on its own input, which another
+/// attempt with the same input would only repeat.
+base::Json attempt_error(std::int64_t key, const std::exception& e);
 
 /// `podium trial --batch FILE`: runs the order named on line $SLURM_ARRAY_TASK_ID of FILE,
 /// appending metrics to <attempt folder>/metrics.jsonl and writing result.json atomically.

@@ -13,7 +13,6 @@
 #include <string>
 #include <thread>
 
-#include "podium/base/config.h"
 #include "podium/base/json.h"
 #include "trial_runner.h"
 
@@ -131,11 +130,7 @@ int run_worker() {
       }
     } catch (const std::exception& e) {
       inbox.running_key = -1;
-      Json error = {{"type", "error"}, {"key", key}, {"message", e.what()}};
-      // A rejected config value keeps its JSON path, so submit can name it inside the spec.
-      if (const auto* config = dynamic_cast<const base::ConfigError*>(&e))
-        error.update({{"config_path", config->path()}, {"problem", config->problem()}});
-      channel.send(error);
+      channel.send(attempt_error(key, e));
     }
     channel.flush();
   }

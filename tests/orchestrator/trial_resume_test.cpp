@@ -63,6 +63,23 @@ TEST(TrialResume, ARetryResumesInTheSameFolderAndStoresEachMetricStepOnce) {
   }
 }
 
+// A task's own verdict on its input (base::UserError) ends the trial at once: another attempt
+// would repeat it. An injected std::runtime_error (above) is retried.
+TEST(TrialResume, ATaskThatRejectsItsInputIsNotRetried) {
+  TempDir dir;
+  const auto id = std::stoll(podium::testing::submit_spec(dir.path(), probe_campaign({{"reject", true}}, 2, 2)));
+  run_podium({"run"}, dir.path());
+  auto s = Store::open(dir / "podium.db", Store::Access::read_only);
+  const auto trials = s->trials(s->stages(id).at(0).id);
+  ASSERT_EQ(trials.size(), 2u);
+  for (const auto& t : trials) {
+    SCOPED_TRACE("trial " + std::to_string(t.index));
+    EXPECT_EQ(t.state, "failed");
+    EXPECT_EQ(t.attempts, 1);
+    EXPECT_NE(t.error.find("probe: rejects its input (not retried: the task rejected its input)"), std::string::npos) << t.error;
+  }
+}
+
 // A trial whose first attempt ran in a folder already in use (a reused run_dir) starts empty.
 TEST(TrialResume, AFirstAttemptStartsInAnEmptyFolder) {
   TempDir dir;

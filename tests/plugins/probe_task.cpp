@@ -6,7 +6,8 @@
 //
 // Config: steps (metric points, one per step), checkpoint_every (steps), sleep_s (per step,
 // cancellable), fail_step / fail_attempts (throw after sending step fail_step's metric, on
-// attempts <= fail_attempts; -1: never), features (2, or 0 to declare none).
+// attempts <= fail_attempts; -1: never), features (2, or 0 to declare none), reject (throw
+// base::UserError at once, on every attempt: a task's verdict on its input).
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "podium/base/error.h"
 #include "podium/plugins/export.h"
 
 namespace podium::tests {
@@ -24,7 +26,8 @@ namespace fs = std::filesystem;
 namespace {
 
 const Json kDefaults = {{"steps", 6},        {"checkpoint_every", 2}, {"sleep_s", 0.0},
-                        {"fail_step", -1},   {"fail_attempts", 1},    {"features", 2}};
+                        {"fail_step", -1},   {"fail_attempts", 1},    {"features", 2},
+                        {"reject", false}};
 
 Json merged(const Json& config) {
   for (const auto& [key, value] : config.items())
@@ -67,6 +70,7 @@ class ProbeTask final : public plugins::Task {
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const Json c = merged(request.config);
     const double x0 = request.params.at("x0").get<double>(), x1 = request.params.at("x1").get<double>();
+    if (c["reject"].get<bool>()) throw base::UserError("probe: rejects its input");
     const fs::path checkpoint = request.work_dir / "checkpoint.json";
     Json info = {{"attempt", request.attempt},
                  {"work_dir_absolute", request.work_dir.is_absolute()},

@@ -15,6 +15,7 @@
 #include "podium/learn/ppo.h"
 #include "podium/learn/sac.h"
 #include "podium/learn/training_checkpoint.h"
+#include "podium/learn/wall_budget.h"
 
 namespace podium::tasks::getup {
 
@@ -62,6 +63,9 @@ Settings read_settings(base::ConfigReader& r) {
   }
 
   s.total_steps = r.integer<std::int64_t>("total_steps", s.total_steps, {1}, "environment steps at most; a multiple of eval_every");
+  s.train_minutes = r.number("train_minutes", s.train_minutes, {.min = 0.0},
+                             "wall-clock minutes of training and tests at most (0: no limit): a preset that fits a slot on any machine; "
+                             "info.stopped_by says which limit ended the trial");
   s.eval_every = r.integer<std::int64_t>("eval_every", s.eval_every, {1}, "environment steps between tests (App. D: 20000)");
   s.eval_starts = r.integer<int>("eval_starts", s.eval_starts, {1, 1000}, "fixed starts per test (App. D: 10)");
   s.eval_seed = r.integer<std::uint64_t>("eval_seed", s.eval_seed, {}, "picks the fixed starts (not the trial's seed)");
@@ -128,7 +132,7 @@ void WeakerSchedule::load_state(const Json& state) {
 Json TrialOutcome::to_json() const {
   return {{"policy_strength", policy_strength}, {"passed", passed},         {"success_rate", success_rate},
           {"test_return", test_return},         {"final_strength", final_strength}, {"levels", levels},
-          {"env_steps", env_steps},             {"features", features.as_vector()}};
+          {"env_steps", env_steps},             {"stopped_by", stopped_by},         {"features", features.as_vector()}};
 }
 
 namespace {
@@ -164,13 +168,17 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   WeakerSchedule schedule(s.curriculum, s.budget);
   learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
                                        [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
-  Json extra = {{"passed", nullptr}, {"best", nullptr}};
+  Json extra = {{"passed", nullptr}, {"best", nullptr}, {"clock", nullptr}};
   const auto send = [&](const std::string& name, double step, double value) { checkpoint.metric(name, step, value); };
   if (auto saved = checkpoint.resume(*learner, envs)) {
     extra = *saved;
     schedule.load_state(extra.at("schedule"));
-    report.progress(static_cast<double>(learner->env_steps()) / static_cast<double>(s.total_steps));
   }
+  learn::WallBudget clock(s.train_minutes, extra.value("clock", Json()));  // checkpoints before session 17 have no clock
+  const auto progress = [&] {
+    report.progress(std::max(static_cast<double>(learner->env_steps()) / static_cast<double>(s.total_steps), clock.fraction_used()));
+  };
+  progress();
   *beta = schedule.strength();
 
   double train_sum = 0.0, rollout_s = 0.0, update_s = 0.0;
@@ -180,7 +188,8 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     if (t.episodes > 0) train_sum += t.mean_return * static_cast<double>(t.episodes), train_episodes += t.episodes;
     rollout_s += t.rollout_seconds, update_s += t.update_seconds;
   };
-  while (learner->env_steps() < s.total_steps) {
+  while (learner->env_steps() < s.total_steps && clock.another_round_fits()) {
+    const auto round_start = std::chrono::steady_clock::now();
     train_sum = rollout_s = update_s = 0.0, train_episodes = 0;
     const std::int64_t updates_before = sac ? sac->updates() : 0;
     learner->train_until(envs, learner->env_steps() + s.eval_every, on_vector_step);
@@ -224,7 +233,9 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     *beta = schedule.strength();
     send("curriculum/strength", steps, *beta);
     extra["schedule"] = schedule.state();
-    report.progress(steps / static_cast<double>(s.total_steps));
+    clock.add_round(std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start).count());
+    extra["clock"] = clock.state();
+    progress();
     checkpoint.on_update(*learner, envs, extra);
   }
 
@@ -239,6 +250,11 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   out.final_strength = schedule.strength();
   out.levels = schedule.level();
   out.env_steps = learner->env_steps();
+  out.stopped_by = out.env_steps < s.total_steps ? "time" : "steps";
+  char line[160];  // wall times go to the log only, as above
+  std::snprintf(line, sizeof line, "getup: training ended by %s at environment step %lld after %.1f min", out.stopped_by.c_str(),
+                static_cast<long long>(out.env_steps), clock.spent_s() / 60.0);
+  base::log_info(line);
 
   // The exported policy at its strength over the fixed starts: its strategy features, and its
   // motion from the first start for the replay.

@@ -3,7 +3,7 @@
 /// GetupEnv; every `eval_every` environment steps the deterministic policy is tested on fixed
 /// starts at β^i; a test return above ω advances the strong-to-weak curriculum β ← 0.95β; the
 /// curriculum ends when a level needs more than M_i steps, and training goes on at the last
-/// strength passed until `total_steps`.
+/// strength passed until `total_steps` (or `train_minutes` of wall time, if set).
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
@@ -26,6 +26,7 @@ struct Settings {
   base::Json sac = base::Json::object();                ///< SacConfig fields over the preset
   base::Json ppo = base::Json::object();                ///< PpoConfig fields over its defaults
   std::int64_t total_steps = 10'000'000;                ///< environment steps at most (issue 18: 10⁷)
+  double train_minutes = 0.0;                           ///< wall-clock limit on training and tests; 0: none (learn::WallBudget)
   std::int64_t eval_every = 20'000;                     ///< App. D: every 20 000 simulation steps
   int eval_starts = 10;                                 ///< App. D: 10 fixed initial states
   std::uint64_t eval_seed = 1;                          ///< picks those starts (the same for every trial)
@@ -89,6 +90,7 @@ struct TrialOutcome {
   double final_strength = 1.0;       ///< β when the trial ended (after the curriculum's end: the last passed)
   int levels = 0;                    ///< curriculum advances
   std::int64_t env_steps = 0;
+  std::string stopped_by = "steps";  ///< what ended training: "steps" (total_steps) or "time" (train_minutes; the log has the minutes)
   StrategyFeatures features;         ///< of the exported policy over the fixed starts
   base::Json to_json() const;
 };

@@ -9,6 +9,7 @@
 #include "podium/learn/frozen_policy.h"
 #include "podium/learn/learner.h"
 #include "podium/learn/training_checkpoint.h"
+#include "podium/learn/wall_budget.h"
 
 namespace podium::tasks::getup {
 
@@ -33,6 +34,8 @@ SlowerConfig read_slower(base::ConfigReader& r) {
   e.max_rise_steps = r.integer<int>("max_rise_steps", e.max_rise_steps, {1, 100000}, "Slower: τ_fast's cap in control steps");
   e.rise_attempts = r.integer<int>("rise_attempts", e.rise_attempts, {1, 1000}, "Slower: falls tried for a τ_fast before the trial fails");
   c.total_steps = r.integer<std::int64_t>("slow_total_steps", c.total_steps, {1}, "Slower: environment steps; a multiple of slow_eval_every");
+  c.train_minutes = r.number("slow_train_minutes", c.train_minutes, {.min = 0.0},
+                             "Slower: wall-clock minutes of training and tests at most (0: no limit), as Weaker's train_minutes");
   c.eval_every = r.integer<std::int64_t>("slow_eval_every", c.eval_every, {1}, "Slower: environment steps between tests");
   if (c.total_steps % c.eval_every != 0) r.fail("slow_total_steps", "is not a multiple of slow_eval_every " + std::to_string(c.eval_every));
   c.gamma = r.number("slow_gamma", c.gamma, {.min = 0.0, .max = 1.0},
@@ -42,7 +45,7 @@ SlowerConfig read_slower(base::ConfigReader& r) {
 }
 
 Json SlowerOutcome::to_json() const {
-  return {{"success_rate", success_rate}, {"com_error_m", com_error_m}, {"test_return", test_return}, {"env_steps", env_steps}};
+  return {{"success_rate", success_rate}, {"com_error_m", com_error_m}, {"test_return", test_return}, {"env_steps", env_steps}, {"stopped_by", stopped_by}};
 }
 
 Json slower_learner_spec(const Settings& s, const SlowerConfig& c) {
@@ -83,10 +86,12 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
 
   learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
                                        [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
-  Json extra = {{"last", nullptr}};
+  Json extra = {{"last", nullptr}, {"clock", nullptr}};
   if (auto saved = checkpoint.resume(*learner, envs)) extra = *saved;
+  learn::WallBudget clock(c.train_minutes, extra.value("clock", Json()));
   const auto act = [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, 1.0); };
-  while (learner->env_steps() < c.total_steps) {
+  while (learner->env_steps() < c.total_steps && clock.another_round_fits()) {
+    const auto round_start = std::chrono::steady_clock::now();
     learner->train_until(envs, learner->env_steps() + c.eval_every, [&](const learn::TrainStats& t) {
       if (cancel && cancel->load()) throw std::runtime_error("getup slower: cancelled at environment step " + std::to_string(t.env_steps));
     });
@@ -104,7 +109,9 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
     checkpoint.metric("slow/success_rate", steps, result.success_rate);
     extra["last"] = {{"test_return", result.mean_return}, {"com_error_m", com_error_m},
                      {"success_rate", result.success_rate}};
-    report.progress(steps / static_cast<double>(c.total_steps));
+    clock.add_round(std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start).count());
+    extra["clock"] = clock.state();
+    report.progress(std::max(steps / static_cast<double>(c.total_steps), clock.fraction_used()));
     checkpoint.on_update(*learner, envs, extra);
   }
 
@@ -115,6 +122,11 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
   out.com_error_m = last.at("com_error_m").get<double>();
   out.success_rate = last.at("success_rate").get<double>();
   out.env_steps = learner->env_steps();
+  out.stopped_by = out.env_steps < c.total_steps ? "time" : "steps";
+  char ended[160];  // wall times go to the log only
+  std::snprintf(ended, sizeof ended, "getup slower: training ended by %s at environment step %lld after %.1f min", out.stopped_by.c_str(),
+                static_cast<long long>(out.env_steps), clock.spent_s() / 60.0);
+  base::log_info(ended);
   // The exported π_slow's motion from the first fixed start at the test κ, for the replay.
   const learn::FrozenPolicy frozen(out.policy);
   character::EvaluationConfig record = tests;

@@ -13,6 +13,7 @@ namespace podium::tasks::getup {
 struct SlowerConfig {
   SlowerSettings env;
   std::int64_t total_steps = 2'000'000;  ///< environment steps (the seed gives no Slower budget)
+  double train_minutes = 0.0;            ///< wall-clock limit on training and tests; 0: none (learn::WallBudget)
   std::int64_t eval_every = 20'000;      ///< as Weaker's tests (App. D)
   double test_kappa = 0.5;               ///< issue 18: COM tracking is judged at κ = 0.5
   double gamma = 0.95;                   ///< SAC's discount for π_slow (Table 1; π_weak's is 0.97)
@@ -33,6 +34,7 @@ struct SlowerOutcome {
   double com_error_m = 0.0;      ///< last test: mean |h_com − h'_com| over the rise
   double test_return = 0.0;
   std::int64_t env_steps = 0;
+  std::string stopped_by = "steps";  ///< what ended training: "steps" or "time" (slow_train_minutes)
   base::Json to_json() const;
 };
 

@@ -81,6 +81,26 @@ TEST(GetupTask, SmokeTrialWithoutAPassExportsTheBestTestedPolicy) {
   EXPECT_EQ(info["test_return"].get<double>(), best);
 }
 
+// A wall-clock limit (learn::WallBudget) ends training after the round that reaches it, and the
+// trial says so; without one, training runs its steps. A limit of 1e-9 min ends it after its first
+// round (100 of the smoke preset's 400 steps; Slower: 100 of 200).
+TEST(GetupTask, TrainMinutesEndTrainingEarlyAndTheTrialSaysSo) {
+  const SmokeTrial weaker = run_smoke_trial({{"train_minutes", 1e-9}});
+  EXPECT_EQ(weaker.result["info"]["stopped_by"], "time");
+  EXPECT_EQ(weaker.result["info"]["env_steps"], 100);
+  EXPECT_EQ(weaker.metrics.at("test_return").size(), 1u);
+  const SmokeTrial unlimited = run_smoke_trial({{"train_minutes", 0}});
+  EXPECT_EQ(unlimited.result["info"]["stopped_by"], "steps");
+  EXPECT_EQ(unlimited.result["info"]["env_steps"], 400);
+
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
+  const SmokeTrial slower = run_smoke_trial(
+      {{"stage", "slower"}, {"slow_train_minutes", 1e-9}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}});
+  EXPECT_EQ(slower.result["info"]["stopped_by"], "time");
+  EXPECT_EQ(slower.result["info"]["env_steps"], 100);
+  EXPECT_EQ(slower.metrics.at("slow/test_return").size(), 1u);
+}
+
 // Without an input trial, Slower imitates a π_weak file from `shipped` (here the committed one).
 TEST(GetupTask, SmokeSlowerTrialImitatesAShippedWeakPolicy) {
   const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";

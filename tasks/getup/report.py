@@ -46,7 +46,7 @@ def main(db_path, campaign):
                 heads = [v for _, v in series.get("head_height_m", [])]
                 tenth = max(1, len(heads) // 10)
                 first, last = sum(heads[:tenth]) / tenth, sum(heads[-tenth:]) / tenth
-                print(f"  - environment steps {info['env_steps']}, curriculum advances {info['levels']}, "
+                print(f"  - environment steps {info['env_steps']} (ended by {info.get('stopped_by', 'steps')}), curriculum advances {info['levels']}, "
                       f"final strength {info['final_strength']:.4f}; exported policy passed at β = {info['policy_strength']:.4f}"
                       f" (passed any test: {info['passed']}): success {info['success_rate']:.2f} over the fixed starts, "
                       f"test return {info['test_return']:.1f}")
@@ -59,7 +59,7 @@ def main(db_path, campaign):
             if stage == "weaker":
                 curve_table(series)
             elif stage == "slower":
-                print(f"  - environment steps {info['env_steps']}, last test at κ = 0.5: success {info['success_rate']:.2f}, "
+                print(f"  - environment steps {info['env_steps']} (ended by {info.get('stopped_by', 'steps')}), last test at κ = 0.5: success {info['success_rate']:.2f}, "
                       f"COM error {info['com_error_m']:.3f} m, return {info['test_return']:.1f}; π_weak's β {info['weak_strength']:.4f}")
             else:
                 for s in info["speeds"]:

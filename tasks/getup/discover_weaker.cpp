@@ -189,7 +189,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     rollout_s += t.rollout_seconds, update_s += t.update_seconds;
   };
   while (learner->env_steps() < s.total_steps && clock.another_round_fits()) {
-    const auto round_start = std::chrono::steady_clock::now();
+    clock.start_round();
     train_sum = rollout_s = update_s = 0.0, train_episodes = 0;
     const std::int64_t updates_before = sac ? sac->updates() : 0;
     learner->train_until(envs, learner->env_steps() + s.eval_every, on_vector_step);
@@ -233,7 +233,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     *beta = schedule.strength();
     send("curriculum/strength", steps, *beta);
     extra["schedule"] = schedule.state();
-    clock.add_round(std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start).count());
+    clock.end_round();
     extra["clock"] = clock.state();
     progress();
     checkpoint.on_update(*learner, envs, extra);
@@ -250,11 +250,8 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   out.final_strength = schedule.strength();
   out.levels = schedule.level();
   out.env_steps = learner->env_steps();
-  out.stopped_by = out.env_steps < s.total_steps ? "time" : "steps";
-  char line[160];  // wall times go to the log only, as above
-  std::snprintf(line, sizeof line, "getup: training ended by %s at environment step %lld after %.1f min", out.stopped_by.c_str(),
-                static_cast<long long>(out.env_steps), clock.spent_s() / 60.0);
-  base::log_info(line);
+  out.stopped_by = learn::WallBudget::stopped_by(out.env_steps, s.total_steps);
+  base::log_info(clock.end_message("getup", out.env_steps, s.total_steps));
 
   // The exported policy at its strength over the fixed starts: its strategy features, and its
   // motion from the first start for the replay.

@@ -91,7 +91,7 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
   learn::WallBudget clock(c.train_minutes, extra.value("clock", Json()));
   const auto act = [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, 1.0); };
   while (learner->env_steps() < c.total_steps && clock.another_round_fits()) {
-    const auto round_start = std::chrono::steady_clock::now();
+    clock.start_round();
     learner->train_until(envs, learner->env_steps() + c.eval_every, [&](const learn::TrainStats& t) {
       if (cancel && cancel->load()) throw std::runtime_error("getup slower: cancelled at environment step " + std::to_string(t.env_steps));
     });
@@ -109,7 +109,7 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
     checkpoint.metric("slow/success_rate", steps, result.success_rate);
     extra["last"] = {{"test_return", result.mean_return}, {"com_error_m", com_error_m},
                      {"success_rate", result.success_rate}};
-    clock.add_round(std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start).count());
+    clock.end_round();
     extra["clock"] = clock.state();
     report.progress(std::max(steps / static_cast<double>(c.total_steps), clock.fraction_used()));
     checkpoint.on_update(*learner, envs, extra);
@@ -122,11 +122,8 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
   out.com_error_m = last.at("com_error_m").get<double>();
   out.success_rate = last.at("success_rate").get<double>();
   out.env_steps = learner->env_steps();
-  out.stopped_by = out.env_steps < c.total_steps ? "time" : "steps";
-  char ended[160];  // wall times go to the log only
-  std::snprintf(ended, sizeof ended, "getup slower: training ended by %s at environment step %lld after %.1f min", out.stopped_by.c_str(),
-                static_cast<long long>(out.env_steps), clock.spent_s() / 60.0);
-  base::log_info(ended);
+  out.stopped_by = learn::WallBudget::stopped_by(out.env_steps, c.total_steps);
+  base::log_info(clock.end_message("getup slower", out.env_steps, c.total_steps));
   // The exported π_slow's motion from the first fixed start at the test κ, for the replay.
   const learn::FrozenPolicy frozen(out.policy);
   character::EvaluationConfig record = tests;

@@ -1,6 +1,8 @@
 // The wall-clock limit of a training loop: which rounds it lets run, and its state across a resume.
 #include <gtest/gtest.h>
 
+#include <chrono>
+
 #include "podium/base/error.h"
 #include "podium/learn/wall_budget.h"
 
@@ -42,6 +44,26 @@ TEST(WallBudget, AResumedClockGoesOnFromItsState) {
   const WallBudget fresh(1.0, nullptr);
   EXPECT_EQ(fresh.spent_s(), 0.0);
   EXPECT_THROW(WallBudget(1.0, base::Json{{"spent_s", 1.0}}), base::UserError);
+}
+
+TEST(WallBudget, ATimedRoundCountsTheTimeBetweenItsStartAndEnd) {
+  WallBudget clock(1.0);
+  clock.start_round();
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(5);
+  while (std::chrono::steady_clock::now() < until) {
+  }
+  clock.end_round();
+  EXPECT_GE(clock.spent_s(), 0.005);
+  EXPECT_LT(clock.spent_s(), 60.0);  // a round is counted once, in seconds
+  EXPECT_EQ(clock.state().at("last_round_s").get<double>(), clock.spent_s());
+}
+
+TEST(WallBudget, SaysWhatEndedTheLoop) {
+  EXPECT_EQ(WallBudget::stopped_by(400, 400), "steps");
+  EXPECT_EQ(WallBudget::stopped_by(100, 400), "time");
+  WallBudget clock(2.0);
+  clock.add_round(90.0);
+  EXPECT_EQ(clock.end_message("getup", 100, 400), "getup: training ended by time at environment step 100 after 1.5 min");
 }
 
 }  // namespace

@@ -9,11 +9,18 @@
 ///
 ///     WallBudget clock(minutes, saved_state);
 ///     while (steps < total_steps && clock.another_round_fits()) {
-///       const auto started = std::chrono::steady_clock::now();
+///       clock.start_round();
 ///       ... train, test ...
-///       clock.add_round(seconds since started);
+///       clock.end_round();
 ///       extra["clock"] = clock.state();  // then checkpoint
 ///     }
+///     info["stopped_by"] = clock.stopped_by(steps, total_steps);
+///     base::log_info(clock.end_message("my task", steps, total_steps));
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
 #include "podium/base/json.h"
 
 namespace podium::learn {
@@ -25,8 +32,19 @@ class WallBudget {
 
   /// No limit, or the time spent plus the last round's length is within the limit.
   bool another_round_fits() const;
-  /// Counts a round that took `seconds`.
+  /// Times a round: start_round() before it, end_round() after it counts it.
+  void start_round();
+  void end_round();
+  /// Counts a round that took `seconds` (what end_round() does with the measured time).
   void add_round(double seconds);
+
+  /// What ended a loop that stopped at `steps` of `total_steps`: "steps", or "time" if the limit
+  /// stopped it short.
+  static std::string stopped_by(std::int64_t steps, std::int64_t total_steps);
+  /// The log line that says so, with the minutes spent (wall times go to logs, never to metrics,
+  /// which must be the same on every run of a seed): "<who>: training ended by time at
+  /// environment step 1160000 after 99.7 min".
+  std::string end_message(std::string_view who, std::int64_t steps, std::int64_t total_steps) const;
 
   bool limited() const { return limit_s_ > 0.0; }
   double spent_s() const { return spent_s_; }
@@ -37,6 +55,7 @@ class WallBudget {
 
  private:
   double limit_s_ = 0.0, spent_s_ = 0.0, last_round_s_ = 0.0;
+  std::chrono::steady_clock::time_point round_start_;
 };
 
 }  // namespace podium::learn

@@ -19,6 +19,7 @@
 #include "podium/store/store.h"
 #include "podium/store/writer_lock.h"
 #include "podium/web_dashboard/server.h"
+#include "spec_edit.h"
 #include "task_listing.h"
 #include "trial_runner.h"
 #include "worker.h"
@@ -35,7 +36,8 @@ std::string error_line(const std::string& what);
 constexpr const char* kUsage = R"(usage: podium <command> [options]
 
 commands:
-  submit SPEC.json           validate a campaign spec and queue it (prints the campaign id)
+  submit SPEC.json [--set PATH=VALUE]...
+                             validate a campaign spec (edited by --set) and queue it (prints the campaign id)
   run [--workers N] [--follow] [--log-json]
                              run queued and resumable campaigns until none is left
   status [CAMPAIGN] [--json] campaigns and their progress
@@ -135,11 +137,16 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
 
 int cmd_submit(int argc, char** argv) {
   Command cmd;
-  cmd.options.add_options()("spec", po::value<std::string>()->required(), "campaign spec (JSON)");
+  cmd.options.add_options()("spec", po::value<std::string>()->required(), "campaign spec (JSON)")(
+      "set", po::value<std::vector<std::string>>()->composing(),
+      "PATH=VALUE: edit the spec before it is checked and stored, e.g. --set seed=29 --set "
+      "'stages[0].config.total_steps=4000000' (VALUE is JSON, or a string if it does not parse)");
   cmd.positional.add("spec", 1);
-  if (!parse(cmd, "submit", "SPEC.json [--db PATH]", argc, argv)) return 0;
+  if (!parse(cmd, "submit", "SPEC.json [--set PATH=VALUE]... [--db PATH]", argc, argv)) return 0;
   const std::string file = cmd.vm["spec"].as<std::string>();
-  const Json spec = podium::base::read_json_file(file);
+  Json spec = podium::base::read_json_file(file);
+  if (cmd.vm.count("set"))
+    for (const auto& edit : cmd.vm["set"].as<std::vector<std::string>>()) podium::orchestrator::apply_spec_edit(spec, edit);
   const auto id = podium::orchestrator::submit_campaign(cmd.vm["db"].as<std::string>(), spec, file, worker_binary());
   std::cout << id << "\n";
   // A name already used is not refused, but the older campaign stops answering to it.

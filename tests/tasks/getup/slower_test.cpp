@@ -7,12 +7,12 @@
 #include <cmath>
 #include <filesystem>
 #include <numbers>
-#include <unistd.h>
 
 #include "evaluate.h"
 #include "podium/base/error.h"
 #include "podium/learn/learner.h"
 #include "podium/learn/vec_env.h"
+#include "process.h"
 #include "strategy_features.h"
 
 namespace podium::tasks::getup {
@@ -26,9 +26,11 @@ EnvSettings short_falls() {
   return s;
 }
 
-// An untrained SAC policy for the get-up env, exported as TorchScript (π_weak's file format).
+// An untrained SAC policy for the get-up env, exported as TorchScript (π_weak's file format),
+// once per test process into a folder removed at its exit.
 fs::path untrained_weak_policy() {
-  const fs::path path = fs::temp_directory_path() / ("podium_getup_weak_" + std::to_string(::getpid()) + ".pt");
+  static const podium::testing::TempDir dir;
+  const fs::path path = dir / "weak.pt";
   if (fs::exists(path)) return path;
   GetupEnv env(short_falls(), std::make_shared<double>(1.0), false);
   const base::Json spec = {{"algorithm", "sac"}, {"preset", "quick"}, {"config", {{"hidden", {8, 8}}}}};

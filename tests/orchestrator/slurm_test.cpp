@@ -11,6 +11,7 @@
 #include <memory>
 #include <set>
 #include <thread>
+#include <vector>
 
 #include "podium/base/json.h"
 #include "podium/store/store.h"
@@ -197,6 +198,38 @@ TEST_F(Slurm, ScancelAndTimeLimitAreRecordedAndRetried) {
   EXPECT_EQ(cancelled[0].state, "failed");
   EXPECT_NE(cancelled[0].error.find("CANCELLED"), std::string::npos) << cancelled[0].error;
   for (const auto& t : trials) EXPECT_EQ(t.state, "done") << t.index;
+}
+
+// The get-up campaign as a cluster run would take it (issue 18's next step: more seeds, more
+// steps): the shipped campaigns/getup.json put on Slurm by `submit --set`, at the smoke preset,
+// with a third Weaker seed, and Weaker's wall-clock limit (learn::WallBudget) set so it ends
+// training after the first round: the limit lives in the trial, so it holds inside a job too.
+TEST_F(Slurm, TheShippedGetupCampaignRunsOnSlurmAsEditedBySubmitSet) {
+  TempDir dir;
+  std::vector<std::string> submit_args = {"submit", std::string(PODIUM_SOURCE_DIR) + "/campaigns/getup.json",
+                                          "--set", R"(executor={"kind": "slurm", "partition": "debug", "max_jobs_in_queue": 4})",
+                                          "--set", "trial_timeout_s=300", "--set", "stages[0].budget.trials=3",
+                                          "--set", "stages[0].config.train_minutes=1e-9"};
+  for (int stage = 0; stage < 3; ++stage) submit_args.insert(submit_args.end(), {"--set", "stages[" + std::to_string(stage) + "].preset=smoke"});
+  const auto submitted = run_podium(submit_args, dir.path());
+  ASSERT_EQ(submitted.exit_code, 0) << submitted.err;
+  const auto run = run_podium({"run"}, dir.path());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+
+  auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  std::map<std::string, int> done;
+  for (const auto& stage : store->stages(1))
+    for (const auto& t : store->trials(stage.id)) {
+      EXPECT_EQ(t.state, "done") << stage.name << "/" << t.index;
+      done[stage.name] += t.state == "done";
+      const auto attempts = store->attempts(t.id);
+      ASSERT_FALSE(attempts.empty());
+      EXPECT_FALSE(attempts.back().job_id.empty()) << stage.name << "/" << t.index << " did not run in a Slurm job";
+      if (stage.name != "weaker") continue;
+      EXPECT_EQ(t.result_info["stopped_by"], "time") << t.result_info.dump();
+      EXPECT_EQ(t.result_info["env_steps"], 100);  // one round of the smoke preset's 400 steps
+    }
+  EXPECT_EQ(done, (std::map<std::string, int>{{"weaker", 3}, {"slower", 3}, {"evaluate", 3}}));
 }
 
 TEST_F(Slurm, BadSpecIsOneLineBeforeAnythingIsQueued) {

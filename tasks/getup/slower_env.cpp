@@ -26,12 +26,6 @@ V lerp(const std::vector<V>& frames, double index) {
   return (1.0 - w) * frames[i] + w * frames[i + 1];
 }
 
-int velocity_index(const sim::CharacterModel& model, const std::string& joint) {
-  const int link = model.find_link(joint);
-  if (link < 0) throw base::UserError("getup slower: model " + model.name() + " has no joint " + joint + " (r_hip, eq. 11)");
-  return model.links()[static_cast<std::size_t>(link)].v_index;
-}
-
 class SlowerStart final : public character::Start {
  public:
   void begin(character::CharacterEnv& env, base::Rng& rng) const override { static_cast<SlowerEnv&>(env).begin_episode(rng); }
@@ -72,6 +66,12 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
 }
 
 }  // namespace
+
+int velocity_index(const sim::CharacterModel& model, const std::string& joint) {
+  const int link = model.find_link(joint);
+  if (link < 0) throw base::UserError("getup: model " + model.name() + " has no joint " + joint);
+  return model.links()[static_cast<std::size_t>(link)].v_index;
+}
 
 Json FastRollout::to_json() const {
   Json j = {{"q", Json::array()}, {"qd", Json::array()}, {"com_height_m", com_height_m}, {"torso_up", Json::array()}};

@@ -12,6 +12,11 @@ namespace {
 
 using base::Json;
 
+constexpr const char* kForm = "PATH=VALUE, e.g. seed=29 or stages[0].config.total_steps=4000000";
+
+// Every refusal names the edit it refuses.
+base::UserError bad_edit(const std::string& edit, const std::string& why) { return base::UserError("--set " + edit + ": " + why); }
+
 // One step of a path: an object member, or an array item when `index` ≥ 0.
 struct Step {
   std::string member;
@@ -19,7 +24,7 @@ struct Step {
 };
 
 std::vector<Step> parse_path(const std::string& path, const std::string& edit) {
-  const auto bad = [&](const std::string& why) { return base::UserError("--set " + edit + ": " + why); };
+  const auto bad = [&](const std::string& why) { return bad_edit(edit, why); };
   std::vector<Step> steps;
   std::size_t i = 0;
   while (i < path.size()) {
@@ -45,7 +50,7 @@ std::vector<Step> parse_path(const std::string& path, const std::string& edit) {
       ++i;
     }
   }
-  if (steps.empty()) throw bad("no path before '=' (PATH=VALUE, e.g. seed=29 or stages[0].config.total_steps=4000000)");
+  if (steps.empty()) throw bad(std::string("no path before '=' (") + kForm + ")");
   return steps;
 }
 
@@ -53,8 +58,7 @@ std::vector<Step> parse_path(const std::string& path, const std::string& edit) {
 
 void apply_spec_edit(Json& spec, const std::string& edit) {
   const auto equals = edit.find('=');
-  if (equals == std::string::npos)
-    throw base::UserError("--set " + edit + ": no '=' (PATH=VALUE, e.g. seed=29 or stages[0].config.total_steps=4000000)");
+  if (equals == std::string::npos) throw bad_edit(edit, std::string("no '=' (") + kForm + ")");
   const std::string path = edit.substr(0, equals), text = edit.substr(equals + 1);
   const auto steps = parse_path(path, edit);
   Json value = Json::parse(text, nullptr, /*allow_exceptions=*/false);
@@ -62,20 +66,18 @@ void apply_spec_edit(Json& spec, const std::string& edit) {
 
   Json* at = &spec;
   std::string walked;  // the path so far, for errors
+  const auto here = [&] { return walked.empty() ? std::string("the spec") : walked; };
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const Step& s = steps[k];
     const bool last = k + 1 == steps.size();
     if (s.index >= 0) {
-      if (!at->is_array())
-        throw base::UserError("--set " + edit + ": " + (walked.empty() ? "the spec" : walked) + " is not an array");
+      if (!at->is_array()) throw bad_edit(edit, here() + " is not an array");
       if (static_cast<std::size_t>(s.index) >= at->size())
-        throw base::UserError("--set " + edit + ": " + walked + " has " + std::to_string(at->size()) + " items, no [" +
-                              std::to_string(s.index) + "]");
+        throw bad_edit(edit, here() + " has " + std::to_string(at->size()) + " items, no [" + std::to_string(s.index) + "]");
       walked += "[" + std::to_string(s.index) + "]";
       at = &(*at)[static_cast<std::size_t>(s.index)];
     } else {
-      if (!at->is_object())
-        throw base::UserError("--set " + edit + ": " + (walked.empty() ? "the spec" : walked) + " is not an object");
+      if (!at->is_object()) throw bad_edit(edit, here() + " is not an object");
       walked += (walked.empty() ? "" : ".") + s.member;
       if (!at->contains(s.member) && !last) (*at)[s.member] = Json::object();
       at = &(*at)[s.member];

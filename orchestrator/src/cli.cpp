@@ -145,9 +145,13 @@ int cmd_submit(int argc, char** argv) {
   if (!parse(cmd, "submit", "SPEC.json [--set PATH=VALUE]... [--db PATH]", argc, argv)) return 0;
   const std::string file = cmd.vm["spec"].as<std::string>();
   Json spec = podium::base::read_json_file(file);
-  if (cmd.vm.count("set"))
+  // Errors found after the edits name the edited spec, since the value at fault may be an edit's.
+  std::string source = file;
+  if (cmd.vm.count("set")) {
     for (const auto& edit : cmd.vm["set"].as<std::vector<std::string>>()) podium::orchestrator::apply_spec_edit(spec, edit);
-  const auto id = podium::orchestrator::submit_campaign(cmd.vm["db"].as<std::string>(), spec, file, worker_binary());
+    source += " as edited by --set";
+  }
+  const auto id = podium::orchestrator::submit_campaign(cmd.vm["db"].as<std::string>(), spec, source, worker_binary());
   std::cout << id << "\n";
   // A name already used is not refused, but the older campaign stops answering to it.
   auto store = Store::open(cmd.vm["db"].as<std::string>(), Store::Access::read_only);

@@ -179,8 +179,9 @@ TEST(CliUser, SubmitSetEditsTheSpecBeforeItIsCheckedAndStored) {
   expect_refused("seed.x=1", "^podium: --set seed\\.x=1: seed is not an object");
   expect_refused("seed", "^podium: --set seed: no '='");
   expect_refused("stages[x]=1", "is not an array index like \\[0\\]");
-  expect_refused("stages[0].config.bogus=1", "stages\\[0\\]\\.config\\.bogus");  // the task names the key it does not know
-  expect_refused("seed=\"many\"", "seed");
+  // The task names the key it does not know, in the spec as edited.
+  expect_refused("stages[0].config.bogus=1", "^podium: spec\\.json as edited by --set: stages\\[0\\]\\.config\\.bogus");
+  expect_refused("seed=\"many\"", "^podium: spec\\.json as edited by --set: seed");
   // Nothing refused was queued.
   const auto all = Json::parse(run_podium({"status", "--json"}, dir.path()).out);
   EXPECT_EQ(all.size(), 1u) << all.dump();

@@ -62,7 +62,7 @@ std::pair<std::string, double> support(sim::World& world, const Eigen::VectorXd&
 double peak_leg_speed(const sim::CharacterModel& model, const FastRollout& fast, int from) {
   double peak = 0.0;
   for (const char* joint : {"knee_right", "knee_left", "hip_y_right", "hip_y_left"}) {
-    const int v = tasks::getup::velocity_index(model, joint);
+    const int v = model.link(joint).v_index;
     for (std::size_t i = static_cast<std::size_t>(from); i < fast.qd.size(); ++i) peak = std::max(peak, std::abs(fast.qd[i](v)));
   }
   return peak;

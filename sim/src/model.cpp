@@ -429,6 +429,12 @@ int CharacterModel::find_link(const std::string& name) const {
   return -1;
 }
 
+const Link& CharacterModel::link(const std::string& name) const {
+  const int i = find_link(name);
+  if (i < 0) throw UserError("model " + name_ + " has no joint \"" + name + "\"");
+  return links_[static_cast<std::size_t>(i)];
+}
+
 Eigen::VectorXd CharacterModel::neutral() const {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(nq_);
   for (const Link& l : links_) {

@@ -67,12 +67,6 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
 
 }  // namespace
 
-int velocity_index(const sim::CharacterModel& model, const std::string& joint) {
-  const int link = model.find_link(joint);
-  if (link < 0) throw base::UserError("getup: model " + model.name() + " has no joint " + joint);
-  return model.links()[static_cast<std::size_t>(link)].v_index;
-}
-
 Json FastRollout::to_json() const {
   Json j = {{"q", Json::array()}, {"qd", Json::array()}, {"com_height_m", com_height_m}, {"torso_up", Json::array()}};
   for (std::size_t i = 0; i < q.size(); ++i) {
@@ -112,8 +106,8 @@ SlowReference::SlowReference(FastRollout fast, double kappa, double control_dt_s
   slow.times_s.push_back(rise_s_ + dt_);
   slow.poses.push_back(standing);
   clip_ = std::make_shared<const character::Clip>(std::move(slow));
-  hip_right_ = velocity_index(*model, "hip_y_right");
-  hip_left_ = velocity_index(*model, "hip_y_left");
+  hip_right_ = model->link("hip_y_right").v_index;
+  hip_left_ = model->link("hip_y_left").v_index;
 }
 
 double SlowReference::fast_index(double t_s) const { return t_s * kappa_ / dt_; }
@@ -169,8 +163,8 @@ SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, sim::
   standing_com_m_ = world().observe().com.z();
   for (const sim::Link& l : model->links())
     if (l.joint == sim::JointType::revolute && !l.locked) free_joints_.push_back(l.q_index);
-  hip_right_ = velocity_index(*model, "hip_y_right");
-  hip_left_ = velocity_index(*model, "hip_y_left");
+  hip_right_ = model->link("hip_y_right").v_index;
+  hip_left_ = model->link("hip_y_left").v_index;
 }
 
 FastRollout SlowerEnv::rise(base::Rng& rng) {

@@ -73,10 +73,6 @@ class SlowReference {
   int hip_right_ = -1, hip_left_ = -1;  // velocity indices of the hips' y joints
 };
 
-/// The index in q̇ of `joint`'s first velocity (r_hip of eq. 11 reads the hips'); a UserError
-/// naming the model if it has no such joint.
-int velocity_index(const sim::CharacterModel& model, const std::string& joint);
-
 /// ε-RSI (§6): the control step of τ_slow (`rise_steps` long) an episode starts at — its
 /// beginning, the fall's end, with probability ε, else uniform in [0, rise_steps).
 std::int64_t rsi_start_step(base::Rng& rng, std::int64_t rise_steps, double epsilon);

@@ -24,7 +24,7 @@ namespace {
 std::shared_ptr<const Clip> sway_clip(const sim::ModelPtr& model) {
   auto clip = std::make_shared<Clip>();
   clip->model = model;
-  const int knee = model->links()[model->find_link(model->find_link("knee_right") >= 0 ? "knee_right" : "right_knee")].q_index;
+  const int knee = model->link(model->find_link("knee_right") >= 0 ? "knee_right" : "right_knee").q_index;
   for (int f = 0; f <= 40; ++f) {
     Eigen::VectorXd q = model->standing_pose();
     q(knee) = -0.3 * std::sin(0.2 * f);

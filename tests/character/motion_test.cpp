@@ -57,8 +57,8 @@ TEST(Motion, RetimingByKappaLastsTOverKappaAndPassesThroughTheOriginalFrames) {
 TEST(Motion, SamplingInterpolatesHingesLinearlyAndBallsBySlerp) {
   const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
   Clip clip{model, {0.0, 0.1}, {model->neutral(), model->neutral()}, false};
-  const sim::Link& knee = model->links()[model->find_link("right_knee")];
-  const sim::Link& hip = model->links()[model->find_link("right_hip")];
+  const sim::Link& knee = model->link("right_knee");
+  const sim::Link& hip = model->link("right_hip");
   clip.poses[1](knee.q_index) = -1.0;
   set_quat(clip.poses[1], hip.q_index, Eigen::Quaterniond(Eigen::AngleAxisd(1.2, Eigen::Vector3d(0, 1, 1).normalized())));
   const Eigen::VectorXd mid = clip.sample(0.05);
@@ -73,8 +73,8 @@ TEST(Motion, SamplingInterpolatesHingesLinearlyAndBallsBySlerp) {
 // A motion with constant rates: the finite-difference velocities are those rates exactly.
 TEST(Motion, VelocitiesOfAConstantRateMotion) {
   const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
-  const sim::Link& knee = model->links()[model->find_link("left_knee")];
-  const sim::Link& chest = model->links()[model->find_link("chest")];
+  const sim::Link& knee = model->link("left_knee");
+  const sim::Link& chest = model->link("chest");
   const Eigen::Vector3d omega(0.3, -0.2, 0.5), root_omega(0.0, 0.4, 0.1), root_v(1.0, -0.5, 0.2);
   const Eigen::Quaterniond q0(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()));
   Clip clip{model, {}, {}, false};

@@ -33,7 +33,7 @@ TEST(PoseBridge, RoundTripsEveryFrameOfTheDeepMimicGetUp) {
   const base::Json raw = base::read_json_file(dir / "motions/humanoid3d_getup_faceup.txt");
   const PoseBridge bridge(model, PoseBridge::Frame::y_up);
   ASSERT_EQ(bridge.size(), 28u);  // thesis §3.6.2: 28 internal DoFs (8 balls × 3 + 4 hinges)
-  const sim::Link& chest = model->links()[model->find_link("chest")];
+  const sim::Link& chest = model->link("chest");
   double worst_q = 0, worst_pose = 0, worst_file = 0;
   for (std::size_t f = 0; f < clip.size(); ++f) {
     const std::vector<double> pose = bridge.pose(clip.poses[f]);
@@ -80,7 +80,7 @@ TEST(PoseBridge, YUpMapsTurnAboutTheMatchingZUpAxis) {
   const PoseBridge bridge(model, PoseBridge::Frame::y_up);
   std::vector<double> pose(bridge.size(), 0.0);
   pose[1] = 0.4;  // chest_y
-  const Eigen::AngleAxisd r(quat_at(bridge.target(pose), model->links()[model->find_link("chest")].q_index));
+  const Eigen::AngleAxisd r(quat_at(bridge.target(pose), model->link("chest").q_index));
   EXPECT_NEAR(r.angle(), 0.4, 1e-12);
   EXPECT_LE((r.axis() - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
 }

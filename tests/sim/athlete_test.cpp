@@ -54,7 +54,7 @@ Standing standing_figures(const CharacterModel& m) {
 }
 
 Eigen::VectorXd joint_limits(const CharacterModel& m, const std::string& joint) {
-  const Link& l = m.links()[m.find_link(joint)];
+  const Link& l = m.link(joint);
   return m.torque_limits().segment(l.v_index, l.nv);
 }
 

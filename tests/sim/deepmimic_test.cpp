@@ -58,7 +58,7 @@ TEST(DeepMimic, LoadsHumanoidWith34Dofs) {
   EXPECT_EQ(model->nv(), 34);
   EXPECT_EQ(model->nq(), 7 + 4 * 8 + 4);  // 8 spherical + 4 revolute
   EXPECT_NEAR(model->total_mass(), 45.0, 1e-9);
-  EXPECT_EQ(model->kp()(model->links()[model->find_link("chest")].v_index), 1000.0);
+  EXPECT_EQ(model->kp()(model->link("chest").v_index), 1000.0);
 }
 
 // The thesis's jumper gives its hips, ankles and shoulders a limit per axis (TorqueLimX/Y/Z in
@@ -73,7 +73,7 @@ TEST(DeepMimic, JumperLoadsThePerAxisTorqueLimitsOfItsFile) {
   for (const Json& j : src["Skeleton"]["Joints"]) {
     const std::string name = j["Name"].get<std::string>(), type = j["Type"].get<std::string>();
     if (type != "spherical" && type != "revolute") continue;
-    const Link& l = model->links()[model->find_link(name)];
+    const Link& l = model->link(name);
     const Eigen::VectorXd got = model->torque_limits().segment(l.v_index, l.nv);
     Eigen::VectorXd want;
     if (j.contains("TorqueLimX")) {
@@ -87,7 +87,7 @@ TEST(DeepMimic, JumperLoadsThePerAxisTorqueLimitsOfItsFile) {
   }
   EXPECT_EQ(per_axis, 6);  // hips, ankles, shoulders
   EXPECT_EQ(checked, 12);
-  const Link& hip = model->links()[model->find_link("right_hip")];
+  const Link& hip = model->link("right_hip");
   EXPECT_EQ(model->torque_limits()(hip.v_index + 1), 500.0);  // flexion, about the lateral axis
   EXPECT_EQ(model->torque_limits()(hip.v_index + 2), 50.0);   // twist, about the thigh
 }

@@ -20,12 +20,19 @@ TEST(Model, Humanoid21HasTable2JointsAndMuJoCoLayout) {
   const ModelPtr m = load_shipped_model("humanoid21");
   EXPECT_EQ(m->links().size(), 22u);  // root + 21 hinges
   EXPECT_EQ(m->bodies().size(), 16u);  // humanoid.xml bodies
-  const Link& knee = m->links()[m->find_link("knee_right")];
+  const Link& knee = m->link("knee_right");
   EXPECT_EQ(knee.torque_limit_nm(0), 80.0);
   EXPECT_NEAR(knee.axis.y(), -1.0, 1e-12);
   EXPECT_EQ(knee.lower, -2.79);
-  const Link& ankle = m->links()[m->find_link("ankle_x_right")];
+  const Link& ankle = m->link("ankle_x_right");
   EXPECT_NEAR(ankle.axis.dot(Eigen::Vector3d(1, 0, 0.5).normalized()), 1.0, 1e-12);
+  EXPECT_EQ(&knee, &m->links()[m->find_link("knee_right")]);
+  try {
+    m->link("knee_middle");
+    ADD_FAILURE() << "a joint the model lacks was found";
+  } catch (const base::UserError& e) {
+    EXPECT_STREQ(e.what(), "model humanoid21 has no joint \"knee_middle\"");
+  }
   // Excluded pair (humanoid.xml <contact><exclude>) and parent/child pairs do not collide.
   const int waist = m->bodies()[m->find_body("waist_lower")].link, thigh = m->bodies()[m->find_body("thigh_right")].link;
   EXPECT_FALSE(m->links_collide(waist, thigh));

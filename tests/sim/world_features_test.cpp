@@ -62,7 +62,7 @@ std::pair<double, double> swing_twist(const Link& l, const Eigen::VectorXd& q) {
 TEST(WorldContacts, HandOnABoxReportsTheBoxNotTheGround) {
   const ModelPtr model = load_shipped_model("humanoid34");
   Eigen::VectorXd q = model->standing_pose();
-  const Link& shoulder = model->links()[model->find_link("right_shoulder")];
+  const Link& shoulder = model->link("right_shoulder");
   const Eigen::Quaterniond forward(Eigen::AngleAxisd(-std::numbers::pi / 2, Eigen::Vector3d::UnitY()));  // arm straight ahead
   q.segment<4>(shoulder.q_index) << forward.w(), forward.x(), forward.y(), forward.z();
   CharacterData pose(*model);
@@ -293,7 +293,7 @@ TEST(WorldJoints, SphericalJointStopsAtItsConeAndTwistRange) {
     Eigen::VectorXd q = world.model().standing_pose();
     q(2) = 3.0;
     world.reset(q, Eigen::VectorXd::Zero(world.model().nv()));
-    const Link& l = world.model().links()[world.model().find_link("right_shoulder")];
+    const Link& l = world.model().link("right_shoulder");
     Eigen::VectorXd tau = Eigen::VectorXd::Zero(world.model().nv());
     tau.segment<3>(l.v_index) << 40.0, 0.0, 15.0;  // swing about x, twist about the arm
     double swing = 0, twist = 0;
@@ -325,7 +325,7 @@ TEST(WorldJoints, LockedElbowKeepsItsAngleUnderGravityAndImpacts) {
     if (locked) config.edits.joints = {{"right_elbow", base::Json{{"lock", 1.2}}}};
     World world(model, config);
     const CharacterModel& m = world.model();
-    const Link& elbow = m.links()[m.find_link("right_elbow")];
+    const Link& elbow = m.link("right_elbow");
     base::Rng rng(11);
     Eigen::VectorXd q = random_pose(m, rng, 1.5, 0.5);
     q(elbow.q_index) = 1.2;
@@ -357,14 +357,14 @@ TEST(WorldJoints, LockedShoulderKeepsItsRotation) {
   config.edits.joints = {{"right_shoulder", base::Json{{"lock", {lock.w(), lock.x(), lock.y(), lock.z()}}}}};
   World world(model, config);
   const CharacterModel& m = world.model();
-  const Link& shoulder = m.links()[m.find_link("right_shoulder")];
+  const Link& shoulder = m.link("right_shoulder");
   Eigen::VectorXd q = m.standing_pose();
   q(2) = 3.0;
   q.segment<4>(shoulder.q_index) << lock.w(), lock.x(), lock.y(), lock.z();
   world.reset(q, Eigen::VectorXd::Zero(m.nv()));
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(m.nv());
   tau.segment<3>(shoulder.v_index) << 60, -40, 30;
-  tau(m.links()[m.find_link("right_elbow")].v_index) = 30;
+  tau(m.link("right_elbow").v_index) = 30;
   double worst = 0;
   for (int k = 0; k < 800; ++k) {
     ASSERT_TRUE(world.sim_step(Control::torque, tau).ok);

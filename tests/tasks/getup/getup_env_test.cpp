@@ -151,7 +151,7 @@ TEST(GetupVariants, CastsKeepTheirJointAngles) {
   for (int i = 0; i < 40; ++i) {
     env.step(push, step);
     for (const char* joint : {"elbow_left", "knee_right"}) {
-      const sim::Link& link = model.links()[static_cast<std::size_t>(model.find_link(joint))];
+      const sim::Link& link = model.link(joint);
       EXPECT_NEAR(env.world().data().q[link.q_index], 0.0, 0.02) << joint << " at step " << i;
     }
   }

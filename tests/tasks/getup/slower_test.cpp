@@ -43,8 +43,8 @@ std::shared_ptr<const learn::FrozenPolicy> weak_policy() { return std::make_shar
 // A hand-made τ_fast of humanoid21: the knees bend a little more each frame.
 FastRollout knee_bend(int steps) {
   const auto model = sim::load_shipped_model("humanoid21");
-  const int knee = model->links()[static_cast<std::size_t>(model->find_link("knee_right"))].q_index;
-  const int hip = velocity_index(*model, "hip_y_right");
+  const int knee = model->link("knee_right").q_index;
+  const int hip = model->link("hip_y_right").v_index;
   FastRollout f;
   for (int i = 0; i <= steps; ++i) {
     Eigen::VectorXd q = model->standing_pose();
@@ -65,7 +65,7 @@ TEST(SlowReference, RetimedByKappaItLastsTOverKappaAndPassesThroughEveryFrame) {
   const FastRollout fast = knee_bend(6);
   const SlowReference slow(fast, kappa, dt, model, model->standing_pose(), 1.0);
   EXPECT_NEAR(slow.rise_s(), 6 * dt / kappa, 1e-12);  // T/κ
-  const int hip = velocity_index(*model, "hip_y_right");
+  const int hip = model->link("hip_y_right").v_index;
   for (int i = 0; i <= 6; ++i) {
     const double t = i * dt / kappa;
     EXPECT_LT((slow.clip()->sample(t).tail(model->nq() - 7) - fast.q[i].tail(model->nq() - 7)).norm(), 1e-12) << "frame " << i;

@@ -81,6 +81,8 @@ class CharacterModel {
   int find_body(const std::string& name) const;
   /// Link index by joint name, or -1.
   int find_link(const std::string& name) const;
+  /// The link of joint `name`; throws base::UserError naming the model if it has no such joint.
+  const Link& link(const std::string& name) const;
   /// Whether links a and b may collide with each other (self-collision filter).
   bool links_collide(int a, int b) const { return collide_[a * links_.size() + b] != 0; }
   int head_body() const { return head_; }

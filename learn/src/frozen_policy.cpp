@@ -35,9 +35,10 @@ void FrozenPolicy::act(std::span<const double> observation, std::span<double> ac
     throw base::UserError("learn: FrozenPolicy.act: observation " + std::to_string(observation.size()) + " / action " +
                           std::to_string(action.size()) + " values, the policy has " + std::to_string(impl_->n_obs) +
                           " / " + std::to_string(action_size()));
-  if (!(action_scale > 0.0 && f.head.bound * action_scale <= 1.0) || (!f.head.tanh_squash && action_scale != 1.0))
+  // The range the learners' act() allows (PPO's β is 1): a scale only shrinks the action box.
+  if (!(action_scale > 0.0 && f.head.bound * action_scale <= 1.0))
     throw base::UserError("learn: FrozenPolicy.act: action_scale " + std::to_string(action_scale) +
-                          " is not allowed for this " + algorithm() + " policy (β·s in (0, 1], PPO: s = 1)");
+                          " is not allowed for this " + algorithm() + " policy (β·s in (0, 1])");
   detail::deterministic_action(f.net, f.normalizer ? &*f.normalizer : nullptr, f.head, observation, action, action_scale);
 }
 

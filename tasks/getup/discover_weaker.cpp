@@ -201,11 +201,12 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     // R_test is the minimum return over the fixed starts (§5: "the accumulated minimum test reward";
     // the seed repository's default): β falls only once every start gets up.
     const double min_return = *std::min_element(result.returns.begin(), result.returns.end());
+    // Only SAC counts its updates; PPO's are its epochs over each rollout.
+    const std::string update_count = sac ? " (" + std::to_string(sac->updates() - updates_before) + ")" : "";
     char line[256];  // wall times go to the log only: metrics must be the same on every run
-    std::snprintf(line, sizeof line, "getup: step %.0f: test return %.2f (min %.2f) at β %.4f; %.0f env steps/s in rollouts (%.1f s), %lld updates in %.1f s, test %.1f s",
+    std::snprintf(line, sizeof line, "getup: step %.0f: test return %.2f (min %.2f) at β %.4f; %.0f env steps/s in rollouts (%.1f s), updates %.1f s%s, test %.1f s",
                   steps, result.mean_return, min_return, tested_at, static_cast<double>(s.eval_every) / rollout_s, rollout_s,
-                  static_cast<long long>((sac ? sac->updates() : 0) - updates_before), update_s,
-                  std::chrono::duration<double>(std::chrono::steady_clock::now() - test_start).count());
+                  update_s, update_count.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - test_start).count());
     base::log_info(line);
     send("test_return", steps, result.mean_return);
     send("test_return_min", steps, min_return);

@@ -47,8 +47,7 @@ SmokeTrial run_smoke_trial(const Json& overrides) {
   return trial;
 }
 
-TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) {
-  const SmokeTrial trial = run_smoke_trial(Json::object());
+void expect_strength_shrunk_at_every_test(const SmokeTrial& trial) {
   // 400 steps, a test every 100: four tests, each passed, so β = 0.95⁴ at the end and the
   // exported policy is the one that passed at 0.95³.
   const Json& info = trial.result["info"];
@@ -64,6 +63,15 @@ TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) {
   const std::vector<double>& heads = trial.metrics.at("head_height_m");
   ASSERT_EQ(heads.size(), 4u);
   for (double h : heads) EXPECT_TRUE(h > 0.0 && h < 2.0) << h;  // head-top heights in metres
+}
+
+TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) { expect_strength_shrunk_at_every_test(run_smoke_trial(Json::object())); }
+
+// PPO, the preset choice the issue allows, through the same curriculum: its tests and the
+// exported policy act at β < 1.
+TEST(GetupTask, SmokePpoTrialShrinksTheStrengthAtEveryPassedTest) {
+  expect_strength_shrunk_at_every_test(
+      run_smoke_trial({{"algorithm", "ppo"}, {"ppo", {{"hidden", {16, 16}}, {"rollout_steps", 50}}}}));
 }
 
 // No test passes ω: β stays 1 and the exported policy is the one of the best mean test return

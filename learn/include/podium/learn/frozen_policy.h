@@ -23,8 +23,9 @@ class FrozenPolicy {
   std::size_t observation_size() const;
   std::size_t action_size() const;
 
-  /// The deterministic action (policy mean, or β·s·tanh(mean) for SAC with s = `action_scale`,
-  /// an Env::action_scale()) in the environment's action space. Const and thread-safe.
+  /// The deterministic action (s·clip(mean, −1, 1) for PPO, β·s·tanh(mean) for SAC, with
+  /// s = `action_scale`, an Env::action_scale() in (0, 1/β]) in the environment's action space.
+  /// Const and thread-safe.
   void act(std::span<const double> observation, std::span<double> action, double action_scale = 1.0) const;
 
  private:

@@ -29,6 +29,15 @@ std::string invalid_result(const Json& r, const StageRun& s) {
 
 }  // namespace
 
+// The attempts of a trial that count against `retries`: those that ended badly on their own.
+// An attempt interrupted by a stopped scheduler was no fault of the trial, so stopping and
+// resuming `podium run` never uses up a trial's retries.
+int Scheduler::failed_attempts(std::int64_t trial_id) const {
+  int n = 0;
+  for (const auto& a : store_.attempts(trial_id)) n += a.state != "done" && a.state != "interrupted";
+  return n;
+}
+
 // Re-attaches to batch jobs an earlier scheduler left running (they are not resubmitted).
 void Scheduler::adopt_running_jobs(CampaignRun& c) {
   StageRun& s = *c.stage;
@@ -190,7 +199,7 @@ void Scheduler::handle(const ExecutorEvent& e) {
     if (c.control == "cancelled" || state == "cancelled") {
       store_.set_trial_state(f.trial.id, "cancelled", reason);
       s.held[f.trial.index] = obs;  // told in trial order (advance_search)
-    } else if (f.number <= c.spec.retries && e.retry) {
+    } else if (failed_attempts(f.trial.id) <= c.spec.retries && e.retry) {
       store_.set_trial_state(f.trial.id, "pending", reason);
       f.trial.attempts = f.number;
       s.ready.push_front(f.trial);

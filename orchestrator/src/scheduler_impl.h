@@ -121,6 +121,7 @@ class Scheduler {
   // dispatch.cpp
   void adopt_running_jobs(CampaignRun& c);
   AttemptOrder make_order(const CampaignRun& c, const StageRun& s, const PendingTrial& t);
+  int failed_attempts(std::int64_t trial_id) const;
   void fill();
   void advance_search(CampaignRun& c, StageRun& s);
   void ask(CampaignRun& c, StageRun& s, std::size_t room);

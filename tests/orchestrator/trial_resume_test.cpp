@@ -4,7 +4,12 @@
 // its work folder.
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <chrono>
 #include <filesystem>
+#include <thread>
 
 #include "podium/base/json.h"
 #include "podium/store/store.h"
@@ -93,6 +98,39 @@ TEST(TrialResume, AFirstAttemptStartsInAnEmptyFolder) {
   const auto t = s->trials(s->stages(id).at(0).id).at(0);
   EXPECT_EQ(t.result_info["resumed_from_step"], 0);
   EXPECT_EQ(s->metrics(t.id).size(), 2u);
+}
+
+// The number of the campaign's attempt now running, or 0.
+int running_attempt(const TempDir& dir, std::int64_t id) {
+  auto s = Store::open(dir / "podium.db", Store::Access::read_only);
+  const auto running = s->running_attempts(s->stages(id).at(0).id);
+  return running.empty() ? 0 : running.front().number;
+}
+
+// `retries` counts attempts that failed, not those a stopped scheduler interrupted: a trial whose
+// scheduler was killed twice under it still has its one retry when its third attempt fails.
+TEST(TrialResume, AnAttemptInterruptedByAStoppedSchedulerDoesNotUseUpARetry) {
+  TempDir dir;
+  const auto id = std::stoll(podium::testing::submit_spec(
+      dir.path(), probe_campaign({{"steps", 1}, {"sleep_s", 1.0}, {"fail_step", 0}, {"fail_attempts", 3}}, 1, 1)));
+  for (int attempt = 1; attempt <= 2; ++attempt) {
+    const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
+    // Killed within the attempt's first second, before the probe fails it.
+    for (int i = 0; i < 500 && running_attempt(dir, id) != attempt; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ASSERT_EQ(running_attempt(dir, id), attempt);
+    ::kill(pid, SIGKILL);
+    int status = 0;
+    ::waitpid(pid, &status, 0);
+  }
+  ASSERT_EQ(run_podium({"run"}, dir.path()).exit_code, 0);
+  auto s = Store::open(dir / "podium.db", Store::Access::read_only);
+  const auto t = s->trials(s->stages(id).at(0).id).at(0);
+  EXPECT_EQ(t.state, "done") << t.error;
+  std::vector<std::string> states;
+  for (const auto& a : s->attempts(t.id)) states.push_back(a.state);
+  EXPECT_EQ(states, (std::vector<std::string>{"interrupted", "interrupted", "failed", "done"}));
+  EXPECT_EQ(t.result_info["previous_attempt"]["number"], 3);
 }
 
 }  // namespace

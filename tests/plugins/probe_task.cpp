@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "podium/base/error.h"
+#include "podium/base/json.h"
 #include "podium/plugins/export.h"
 
 namespace podium::tests {
@@ -100,7 +101,8 @@ class ProbeTask final : public plugins::Task {
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
       }
       sink.metric("loss", step, loss(x0, step));
-      if ((step + 1) % every == 0) std::ofstream(checkpoint) << Json{{"step", step + 1}}.dump();
+      // Renamed into place whole, as task.h asks: a kill mid-write leaves the previous checkpoint.
+      if ((step + 1) % every == 0) base::write_json_file_atomic(checkpoint, {{"step", step + 1}});
       if (step == c["fail_step"].get<int>() && request.attempt <= c["fail_attempts"].get<int>())
         throw std::runtime_error("probe: injected failure at step " + std::to_string(step));
     }

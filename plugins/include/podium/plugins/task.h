@@ -26,7 +26,9 @@
 /// killed, the worker crashed, a timeout, a Slurm requeue) is retried with the same trial index,
 /// params, inputs and seed, and the same `work_dir`, which no executor empties between attempts.
 /// A long-running task checkpoints there and, on a later attempt, continues from the last
-/// checkpoint it finds; `attempt` and `previous_attempt` say why it runs again. Decide from
+/// checkpoint it finds; `attempt` and `previous_attempt` say why it runs again. Write each
+/// checkpoint whole (a temporary file renamed into place, as learn::TrainingCheckpoint and
+/// base::write_json_file_atomic do): a kill can land mid-write. Decide from
 /// what the folder holds, not from `attempt` alone: a Slurm requeue runs the same attempt again.
 /// Metric points are keyed by (name, step): a point whose step the trial already has (from an
 /// earlier attempt) is dropped. A point sent just before a kill may never have been stored while

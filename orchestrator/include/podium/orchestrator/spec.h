@@ -65,7 +65,7 @@ struct CampaignSpec {
   std::string run_dir;               ///< "" = <database>.runs/<campaign id>
   ExecutorSpec executor;
   int workers = 2;                   ///< at most this many trials of the campaign at once
-  int retries = 2;                   ///< attempts after the first before a trial fails
+  int retries = 2;                   ///< failed attempts run again before a trial fails (interrupted ones do not count)
   double trial_timeout_s = 3600.0;
   std::vector<StageSpec> stages;
 };

@@ -112,11 +112,11 @@ int running_attempt(const TempDir& dir, std::int64_t id) {
 TEST(TrialResume, AnAttemptInterruptedByAStoppedSchedulerDoesNotUseUpARetry) {
   TempDir dir;
   const auto id = std::stoll(podium::testing::submit_spec(
-      dir.path(), probe_campaign({{"steps", 1}, {"sleep_s", 1.0}, {"fail_step", 0}, {"fail_attempts", 3}}, 1, 1)));
+      dir.path(), probe_campaign({{"steps", 1}, {"sleep_s", 3.0}, {"fail_step", 0}, {"fail_attempts", 3}}, 1, 1)));
   for (int attempt = 1; attempt <= 2; ++attempt) {
     const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
-    // Killed within the attempt's first second, before the probe fails it.
-    for (int i = 0; i < 500 && running_attempt(dir, id) != attempt; ++i)
+    // Killed as soon as the store says the attempt runs: well inside the 3 s before the probe fails it.
+    for (int i = 0; i < 4000 && running_attempt(dir, id) != attempt; ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     ASSERT_EQ(running_attempt(dir, id), attempt);
     ::kill(pid, SIGKILL);

@@ -5,9 +5,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
-#include <chrono>
 #include <csignal>
-#include <thread>
 
 #include "campaign_spec.h"
 #include "podium/base/json.h"
@@ -76,11 +74,9 @@ TEST(Determinism, TheTwoStagePipelineGivesTheSameResultsWithOneOrTwoWorkerProces
 
 // Waits (polling the store) until the campaign has `done` finished trials, or `pid` has exited.
 void wait_for_done(const TempDir& dir, std::int64_t id, std::int64_t done, pid_t pid) {
-  for (;;) {
-    auto s = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
-    if (s->trial_counts(id).done >= done || ::waitpid(pid, nullptr, WNOHANG) == pid) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  podium::testing::wait_until(pid, [&] {
+    return store::Store::open(dir / "podium.db", store::Store::Access::read_only)->trial_counts(id).done >= done;
+  });
 }
 
 TEST(Determinism, KillNineAndResumeWithTwoWorkersGivesTheUninterruptedResults) {

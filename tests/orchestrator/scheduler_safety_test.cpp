@@ -7,11 +7,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
-#include <thread>
 
 #include "campaign_spec.h"
 #include "podium/base/json.h"
@@ -46,11 +44,9 @@ const Json kFirstAttemptsHang = {{"failures", Json::array({{{"mode", "hang"}, {"
 
 // Polls the store until `running` attempts run, or `pid` has exited (then false).
 bool wait_for_running(const fs::path& db, std::int64_t id, std::int64_t running, pid_t pid) {
-  for (;;) {
-    if (fs::exists(db) && Store::open(db, Store::Access::read_only)->trial_counts(id).running >= running) return true;
-    if (::waitpid(pid, nullptr, WNOHANG) == pid) return false;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  return podium::testing::wait_until(pid, [&] {
+    return fs::exists(db) && Store::open(db, Store::Access::read_only)->trial_counts(id).running >= running;
+  });
 }
 
 TEST(SingleWriter, ASecondSchedulerThroughASymlinkOrAHardLinkIsRefused) {

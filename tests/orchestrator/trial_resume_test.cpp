@@ -5,11 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
-#include <sys/wait.h>
 
-#include <chrono>
 #include <filesystem>
-#include <thread>
 
 #include "podium/base/json.h"
 #include "podium/store/store.h"
@@ -116,12 +113,9 @@ TEST(TrialResume, AnAttemptInterruptedByAStoppedSchedulerDoesNotUseUpARetry) {
   for (int attempt = 1; attempt <= 2; ++attempt) {
     const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
     // Killed as soon as the store says the attempt runs: well inside the 3 s before the probe fails it.
-    for (int i = 0; i < 4000 && running_attempt(dir, id) != attempt; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    ASSERT_EQ(running_attempt(dir, id), attempt);
+    ASSERT_TRUE(podium::testing::wait_until(pid, [&] { return running_attempt(dir, id) == attempt; }, 20.0));
     ::kill(pid, SIGKILL);
-    int status = 0;
-    ::waitpid(pid, &status, 0);
+    podium::testing::wait_process(pid);
   }
   ASSERT_EQ(run_podium({"run"}, dir.path()).exit_code, 0);
   auto s = Store::open(dir / "podium.db", Store::Access::read_only);

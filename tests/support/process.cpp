@@ -4,10 +4,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <thread>
 #include <stdexcept>
 
 namespace podium::testing {
@@ -55,6 +57,16 @@ int wait_process(pid_t pid) {
   ::waitpid(pid, &status, 0);
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return -WTERMSIG(status);
+}
+
+bool wait_until(pid_t pid, const std::function<bool()>& holds, double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  for (;;) {
+    if (holds()) return true;
+    if (::waitpid(pid, nullptr, WNOHANG) == pid) return false;
+    if (timeout_s > 0 && std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
 }
 
 CommandResult run_podium(const std::vector<std::string>& args, const fs::path& cwd) {

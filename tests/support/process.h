@@ -4,6 +4,7 @@
 #include <sys/types.h>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ pid_t spawn_podium(const std::vector<std::string>& args, const std::filesystem::
 
 /// Waits for a spawned process; returns its exit code, or -signal.
 int wait_process(pid_t pid);
+
+/// Polls `holds` every 20 ms until it is true (returns true), or the spawned process `pid` has
+/// exited (then reaped) or `timeout_s` has passed, if above 0 (returns false).
+bool wait_until(pid_t pid, const std::function<bool()>& holds, double timeout_s = 0);
 
 /// A fresh folder under the system temp folder, removed by the destructor.
 class TempDir {

@@ -5,10 +5,23 @@
 
 #include <cmath>
 #include <cstring>
+#include <ctime>
 
 #include "podium/base/error.h"
+#include "podium/base/log.h"
 
 namespace podium::orchestrator {
+
+namespace {
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  ::gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%d %H:%M:%S UTC", &utc);
+  return text;
+}
+}  // namespace
 
 LocalExecutor::LocalExecutor(std::filesystem::path worker_binary, std::size_t workers)
     : binary_(std::move(worker_binary)), slots_(workers) {
@@ -31,6 +44,10 @@ std::string LocalExecutor::submit(const AttemptOrder& order) {
     slot.key = order.key;
     slot.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(order.timeout_s));
     slot.cancel_deadline = Clock::time_point::max();
+    // The attempt's stderr (its log lines) goes to the trial's folder, appended across attempts.
+    const auto log = order.work_dir / "trial.log";
+    if (!slot.process->log_to(log, "podium: attempt " + std::to_string(order.attempt) + " started " + utc_now() + "\n"))
+      base::log_warning("local executor: cannot write " + log.string() + "; the attempt runs without its log");
     Json message = to_json(order);
     message["type"] = "run";
     slot.process->send(message);
@@ -71,6 +88,7 @@ void LocalExecutor::handle_message(Slot& slot, const Json& m, std::vector<Execut
       e.retry = m.value("retry", true);
     }
     slot.key = -1;
+    slot.process->log_to({});
   } else {
     return;
   }
@@ -83,7 +101,7 @@ void LocalExecutor::end_with_death(Slot& slot, std::vector<ExecutorEvent>& event
   ExecutorEvent e;
   e.key = slot.key;
   slot.process->wait_exit(e.exit_code, e.signal);
-  slot.process->drain_stderr();
+  slot.process->log_to({});
   e.state = state;
   e.error = why;
   if (state == "failed") {

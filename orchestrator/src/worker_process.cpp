@@ -18,6 +18,16 @@ namespace podium::orchestrator {
 using base::Json;
 
 namespace {
+// A log write that fails (disk full) loses log lines, never the trial: errors are ignored.
+void write_all(int fd, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return;
+    data += n, size -= static_cast<std::size_t>(n);
+  }
+}
+
 void make_pipe(int fds[2]) {
   if (::pipe2(fds, O_CLOEXEC) != 0) throw base::RuntimeError(std::string("worker: pipe failed: ") + std::strerror(errno));
 }
@@ -60,6 +70,7 @@ WorkerProcess::~WorkerProcess() {
   }
   ::close(out_fd_);
   ::close(err_fd_);
+  if (log_fd_ >= 0) ::close(log_fd_);
 }
 
 bool WorkerProcess::send(const Json& message) {
@@ -100,9 +111,23 @@ void WorkerProcess::drain_stderr() {
   char chunk[4096];
   ssize_t n;
   while ((n = ::read(err_fd_, chunk, sizeof chunk)) > 0) {
+    if (log_fd_ >= 0) write_all(log_fd_, chunk, static_cast<std::size_t>(n));
     stderr_tail_.append(chunk, static_cast<std::size_t>(n));
     if (stderr_tail_.size() > 2000) stderr_tail_.erase(0, stderr_tail_.size() - 2000);
   }
+}
+
+bool WorkerProcess::log_to(const std::filesystem::path& path, const std::string& header) {
+  drain_stderr();  // what came before belongs to the previous log
+  if (log_fd_ >= 0) ::close(log_fd_);
+  log_fd_ = -1;
+  if (path.empty()) return true;
+  std::error_code ignored;
+  std::filesystem::create_directories(path.parent_path(), ignored);
+  log_fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (log_fd_ < 0) return false;
+  write_all(log_fd_, header.data(), header.size());
+  return true;
 }
 
 void WorkerProcess::kill_now() {

@@ -28,8 +28,12 @@ class WorkerProcess {
   /// Reads what is available on the protocol pipe; complete messages are appended to `out`.
   /// Returns false on end of file (the worker exited or died).
   bool read_messages(std::vector<base::Json>& out);
-  /// Reads what is available on stderr into a bounded tail kept for error messages.
+  /// Reads what is available on stderr into a bounded tail kept for error messages, and into
+  /// the log file while one is set.
   void drain_stderr();
+  /// Appends the worker's stderr to `path` (created with its folders) from now on, after a
+  /// `header`; an empty path ends the log. False (and no log) if the file cannot be opened.
+  bool log_to(const std::filesystem::path& path, const std::string& header = "");
   std::string stderr_tail() const { return stderr_tail_; }
   void kill_now();
   /// Reaps the child (blocking); returns exit code or signal.
@@ -37,7 +41,7 @@ class WorkerProcess {
 
  private:
   pid_t pid_ = -1;
-  int in_fd_ = -1, out_fd_ = -1, err_fd_ = -1;
+  int in_fd_ = -1, out_fd_ = -1, err_fd_ = -1, log_fd_ = -1;
   std::string buffer_, stderr_tail_;
   bool reaped_ = false;
 };

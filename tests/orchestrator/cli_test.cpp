@@ -18,6 +18,7 @@ namespace podium::orchestrator {
 namespace {
 
 using base::Json;
+using podium::testing::file_bytes;
 using podium::testing::run_podium;
 using podium::testing::TempDir;
 using podium::testing::write_file;
@@ -33,11 +34,6 @@ Json export_json(const TempDir& dir, const std::string& campaign) {
   const auto r = run_podium({"export", campaign, "--format", "json"}, dir.path());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return Json::parse(r.out);
-}
-
-std::string file_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
 }
 
 TEST(Cli, Runs200TrialCampaignEndToEnd) {

@@ -20,6 +20,7 @@ namespace podium::orchestrator {
 namespace {
 
 using base::Json;
+using podium::testing::file_bytes;
 using podium::testing::run_podium;
 using podium::testing::TempDir;
 using store::Store;
@@ -190,11 +191,6 @@ TEST(HandOver, EachUnderNovelPolicyGivesATrialTheInputItWorksOn) {
     EXPECT_EQ(t.params, handed[input]["params"]) << t.index;
   }
   EXPECT_TRUE(not_mod_n) << "every trial's input happened to be index mod n: the test shows nothing";
-}
-
-std::string file_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
 }
 
 TEST(HandOver, SpecErrorsNameTheJsonPathAndLeaveTheDatabaseUnchanged) {

@@ -62,6 +62,14 @@ TEST(TrialResume, ARetryResumesInTheSameFolderAndStoresEachMetricStepOnce) {
       EXPECT_EQ(points[k].attempt, k <= 4 ? 1 : 2) << "step " << k;  // step 4 came again from attempt 2
     }
     EXPECT_TRUE(std::filesystem::exists(s->artifacts(t.id).at(0).path));
+    // Both attempts' log lines, in order, in the trial's folder (where the artifact is).
+    const std::string log = podium::testing::file_bytes(std::filesystem::path(s->artifacts(t.id).at(0).path).parent_path() / "trial.log");
+    std::size_t at = 0;
+    for (const char* line : {"podium: attempt 1 started ", "probe: attempt 1 starts at step 0", "podium: attempt 2 started ",
+                             "probe: attempt 2 starts at step 4"}) {
+      at = log.find(line, at);
+      ASSERT_NE(at, std::string::npos) << "no '" << line << "' after the lines before it in:\n" << log;
+    }
   }
 }
 

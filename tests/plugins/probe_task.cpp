@@ -17,6 +17,7 @@
 
 #include "podium/base/error.h"
 #include "podium/base/json.h"
+#include "podium/base/log.h"
 #include "podium/plugins/export.h"
 
 namespace podium::tests {
@@ -90,6 +91,7 @@ class ProbeTask final : public plugins::Task {
     int step = 0;
     if (fs::exists(checkpoint)) step = Json::parse(std::ifstream(checkpoint)).at("step").get<int>();
     info["resumed_from_step"] = step;
+    base::log_info("probe: attempt " + std::to_string(request.attempt) + " starts at step " + std::to_string(step));
     // The checkpoint covers the points before it (here they follow from the step): re-sent, since
     // a killed scheduler may not have stored them (task.h).
     for (int k = 0; k < step; ++k) sink.metric("loss", k, loss(x0, k));

@@ -13,12 +13,8 @@
 namespace podium::store {
 namespace {
 
+using podium::testing::file_bytes;
 using podium::testing::TempDir;
-
-std::string file_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 NewStage one_stage() {
   NewStage s;

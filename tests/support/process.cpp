@@ -100,4 +100,9 @@ TempDir::~TempDir() {
 
 void write_file(const fs::path& path, const std::string& text) { std::ofstream(path) << text; }
 
+std::string file_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
 }  // namespace podium::testing

@@ -47,4 +47,7 @@ class TempDir {
 /// Writes text to a file.
 void write_file(const std::filesystem::path& path, const std::string& text);
 
+/// A file's bytes ("" when it cannot be read).
+std::string file_bytes(const std::filesystem::path& path);
+
 }  // namespace podium::testing

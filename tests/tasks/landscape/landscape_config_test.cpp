@@ -17,14 +17,10 @@ namespace podium::tasks::landscape {
 namespace {
 
 using base::Json;
+using podium::testing::file_bytes;
 using podium::testing::run_podium;
 using podium::testing::TempDir;
 using podium::testing::write_file;
-
-std::string file_bytes(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 Json spec_with(const Json& config) { return podium::testing::stage_spec({.config = config, .trials = 3}); }
 

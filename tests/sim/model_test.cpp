@@ -34,11 +34,10 @@ TEST(Model, Humanoid21HasTable2JointsAndMuJoCoLayout) {
     EXPECT_STREQ(e.what(), "model humanoid21 has no joint \"knee_middle\"");
   }
   // Excluded pair (humanoid.xml <contact><exclude>) and parent/child pairs do not collide.
-  const int waist = m->bodies()[m->find_body("waist_lower")].link, thigh = m->bodies()[m->find_body("thigh_right")].link;
-  EXPECT_FALSE(m->links_collide(waist, thigh));
-  const int shin = m->bodies()[m->find_body("shin_right")].link;
-  EXPECT_FALSE(m->links_collide(thigh, shin));
-  EXPECT_TRUE(m->links_collide(m->bodies()[m->find_body("hand_left")].link, m->bodies()[m->find_body("foot_right")].link));
+  const auto link_of = [&](const char* body) { return m->bodies()[m->find_body(body)].link; };
+  EXPECT_FALSE(m->links_collide(link_of("waist_lower"), link_of("thigh_right")));
+  EXPECT_FALSE(m->links_collide(link_of("thigh_right"), link_of("shin_right")));
+  EXPECT_TRUE(m->links_collide(link_of("hand_left"), link_of("foot_right")));
 }
 
 TEST(Model, ChainsHaveTheThesisDofCounts) {

@@ -287,12 +287,11 @@ TEST(HandOver, ResumeAfterSigkillHandsOverTheStoredInputs) {
   int kills = 0;
   for (int round = 0; round < 6; ++round) {
     const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
-    for (int i = 0; i < 200 && !stage_running(dir, id, 1); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    podium::testing::wait_until(pid, [&] { return stage_running(dir, id, 1); }, 2.0);
     std::this_thread::sleep_for(std::chrono::milliseconds(150));
-    int status = 0;
-    if (::waitpid(pid, &status, WNOHANG) == pid) break;
+    if (::waitpid(pid, nullptr, WNOHANG) != 0) break;  // it exited (-1: wait_until reaped it)
     ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
+    ::waitpid(pid, nullptr, 0);
     ++kills;
   }
   ASSERT_GE(kills, 2) << "the stage finished before two kills; make it longer";

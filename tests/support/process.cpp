@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <random>
-#include <sstream>
 #include <thread>
 #include <stdexcept>
 
@@ -44,12 +43,6 @@ pid_t start(const std::vector<std::string>& args, const fs::path& cwd, const fs:
   return pid;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 }  // namespace
 
 int wait_process(pid_t pid) {
@@ -76,8 +69,8 @@ CommandResult run_podium(const std::vector<std::string>& args, const fs::path& c
   CommandResult r;
   r.exit_code = status >= 0 ? status : -1;
   r.signal = status < 0 ? -status : 0;
-  r.out = slurp(out);
-  r.err = slurp(err);
+  r.out = file_bytes(out);
+  r.err = file_bytes(err);
   fs::remove(out);
   fs::remove(err);
   return r;

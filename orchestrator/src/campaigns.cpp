@@ -159,13 +159,6 @@ Extension extend_campaign(store::Store& store, const std::string& id_or_name, co
   return out;
 }
 
-std::filesystem::path campaign_run_dir(const std::filesystem::path& database, const store::CampaignRecord& campaign) {
-  // Submit stores run_dir absolute; one stored relative by an older podium is relative to the database.
-  if (!campaign.run_dir.empty())
-    return (std::filesystem::absolute(database).parent_path() / campaign.run_dir).lexically_normal();
-  return std::filesystem::absolute(database).string() + ".runs/" + std::to_string(campaign.id);
-}
-
 namespace {
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;

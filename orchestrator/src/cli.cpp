@@ -16,6 +16,7 @@
 #include "podium/orchestrator/campaigns.h"
 #include "podium/orchestrator/scheduler.h"
 #include "podium/orchestrator/spec.h"
+#include "podium/store/run_folders.h"
 #include "podium/store/store.h"
 #include "podium/store/writer_lock.h"
 #include "podium/web_dashboard/server.h"
@@ -130,7 +131,7 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
           {"created_at", c.created_at},
           {"started_at", c.started_at},
           {"finished_at", c.finished_at},
-          {"run_dir", podium::orchestrator::campaign_run_dir(db, c).string()},
+          {"run_dir", podium::store::campaign_run_dir(db, c).string()},
           {"error", c.error},
           {"stages", stages}};
 }
@@ -211,7 +212,7 @@ int cmd_run(int argc, char** argv) {
       if (c.state == "failed") std::cerr << "campaign " << c.id << " (" << c.name << ") failed: " << c.error << "\n";
       if (c.state != "done") continue;
       std::cerr << "campaign " << c.id << " (" << c.name << ") done; results in " << store->path().string()
-                << ", trial folders in " << podium::orchestrator::campaign_run_dir(options.database, c).string() << "\n";
+                << ", trial folders in " << podium::store::campaign_run_dir(options.database, c).string() << "\n";
     }
   }
   return code;

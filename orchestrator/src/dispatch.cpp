@@ -5,7 +5,7 @@
 
 #include "hand_over.h"
 #include "podium/base/rng.h"
-#include "run_folders.h"
+#include "podium/store/run_folders.h"
 #include "scheduler_impl.h"
 
 namespace podium::orchestrator {
@@ -70,8 +70,7 @@ AttemptOrder Scheduler::make_order(const CampaignRun& c, const StageRun& s, cons
   if (t.attempts > 0)
     for (const auto& a : store_.attempts(t.id))
       if (a.number == t.attempts) order.previous_attempt = {{"number", a.number}, {"state", a.state}, {"error", a.error}};
-  order.work_dir = std::filesystem::absolute(c.run_dir / stage_folder_name(s.rec.index, s.rec.name) /
-                                             ("trial-" + std::to_string(t.index)));
+  order.work_dir = std::filesystem::absolute(store::trial_folder(c.run_dir, s.rec, t.index));
   order.timeout_s = c.spec.trial_timeout_s;
   return order;
 }

@@ -5,23 +5,13 @@
 
 #include <cmath>
 #include <cstring>
-#include <ctime>
 
 #include "podium/base/error.h"
 #include "podium/base/log.h"
+#include "podium/store/run_folders.h"
+#include "trial_runner.h"
 
 namespace podium::orchestrator {
-
-namespace {
-std::string utc_now() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  ::gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%d %H:%M:%S UTC", &utc);
-  return text;
-}
-}  // namespace
 
 LocalExecutor::LocalExecutor(std::filesystem::path worker_binary, std::size_t workers)
     : binary_(std::move(worker_binary)), slots_(workers) {
@@ -45,8 +35,8 @@ std::string LocalExecutor::submit(const AttemptOrder& order) {
     slot.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(order.timeout_s));
     slot.cancel_deadline = Clock::time_point::max();
     // The attempt's stderr (its log lines) goes to the trial's folder, appended across attempts.
-    const auto log = order.work_dir / "trial.log";
-    if (!slot.process->log_to(log, "podium: attempt " + std::to_string(order.attempt) + " started " + utc_now() + "\n"))
+    const auto log = order.work_dir / store::kTrialLog;
+    if (!slot.process->log_to(log, attempt_log_header(order.attempt)))
       base::log_warning("local executor: cannot write " + log.string() + "; the attempt runs without its log");
     Json message = to_json(order);
     message["type"] = "run";

@@ -9,6 +9,7 @@
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/orchestrator/campaigns.h"
+#include "podium/store/run_folders.h"
 #include "scheduler_impl.h"
 #include "slurm_executor.h"
 
@@ -118,7 +119,7 @@ void Scheduler::activate(const store::CampaignRecord& rec) {
   c->rec = rec;
   c->spec = parse_spec(rec.spec, "campaign " + std::to_string(rec.id));
   c->stages = store_.stages(rec.id);
-  c->run_dir = campaign_run_dir(options_.database, rec);
+  c->run_dir = store::campaign_run_dir(options_.database, rec);
   if (c->spec.executor.kind == "slurm") {
     c->own_executor = std::make_unique<SlurmExecutor>(c->spec.executor, c->run_dir, options_.worker_binary,
                                                       "podium-" + std::to_string(rec.id));

@@ -1,13 +1,19 @@
 #include "trial_runner.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 
 #include "podium/base/config.h"
 #include "podium/base/error.h"
+#include "podium/base/log.h"
 #include "podium/plugins/loader.h"
+#include "podium/store/run_folders.h"
 #include "sha256.h"
 #include "slurm_files.h"
 
@@ -22,6 +28,22 @@ plugins::Task& TaskCache::get(const std::string& name) {
 }
 
 namespace {
+
+// From here on this process's stdout and stderr go to the end of `log` (as a local worker's go
+// there through its executor); if it cannot be opened they stay where they were (the job's log).
+void append_output_to(const std::filesystem::path& log, const std::string& header) {
+  std::error_code ignored;
+  std::filesystem::create_directories(log.parent_path(), ignored);
+  const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    base::log_warning("cannot write " + log.string() + "; this attempt logs to the job's output");
+    return;
+  }
+  std::fflush(stdout), std::fflush(stderr);
+  if (::write(fd, header.data(), header.size()) < 0) {}  // a log line lost never fails the trial
+  ::dup2(fd, STDOUT_FILENO), ::dup2(fd, STDERR_FILENO);
+  ::close(fd);
+}
 
 // One hand-over entry in the form SearchSetup::inputs documents (search.h).
 plugins::InputTrial input_trial(const Json& j) {
@@ -100,7 +122,17 @@ class FileSink final : public plugins::Sink {
 
 }  // namespace
 
+std::string attempt_log_header(int attempt) {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  ::gmtime_r(&now, &utc);
+  char time[32];
+  std::strftime(time, sizeof time, "%Y-%m-%d %H:%M:%S UTC", &utc);
+  return "podium: attempt " + std::to_string(attempt) + " started " + time + "\n";
+}
+
 base::Json attempt_error(std::int64_t key, const std::exception& e) {
+  base::log_error(std::string("attempt failed: ") + e.what());  // the log's last line says why
   Json error = {{"type", "error"}, {"key", key}, {"message", e.what()}};
   if (const auto* config = dynamic_cast<const base::ConfigError*>(&e))
     error.update({{"config_path", config->path()}, {"problem", config->problem()}});
@@ -117,6 +149,8 @@ int run_batch_trial(const std::string& batch_file) {
     if (!std::getline(batch, order_path)) throw base::RuntimeError(batch_file + ": no line " + std::to_string(index));
   const Json order = base::read_json_file(order_path);
   const SlurmAttemptFiles files(std::filesystem::path(order_path).parent_path());
+  append_output_to(std::filesystem::path(order.at("work_dir").get<std::string>()) / store::kTrialLog,
+                   attempt_log_header(order.at("attempt").get<int>()));
   Json result;
   try {
     TaskCache tasks;

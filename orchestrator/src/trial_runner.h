@@ -36,6 +36,10 @@ base::Json run_attempt(TaskCache& tasks, const base::Json& order, const std::ato
 /// attempt with the same input would only repeat.
 base::Json attempt_error(std::int64_t key, const std::exception& e);
 
+/// The line a trial's log (store::kTrialLog in its folder) gets before each attempt's output:
+/// "podium: attempt N started YYYY-MM-DD HH:MM:SS UTC".
+std::string attempt_log_header(int attempt);
+
 /// `podium trial --batch FILE`: runs the order named on line $SLURM_ARRAY_TASK_ID of FILE,
 /// appending metrics to <attempt folder>/metrics.jsonl and writing result.json atomically.
 int run_batch_trial(const std::string& batch_file);

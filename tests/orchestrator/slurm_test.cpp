@@ -4,16 +4,19 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
 #include <map>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <thread>
 #include <vector>
 
 #include "podium/base/json.h"
+#include "podium/store/run_folders.h"
 #include "podium/store/store.h"
 #include "campaign_spec.h"
 #include "process.h"
@@ -115,15 +118,23 @@ TEST_F(Slurm, HandOverAndResumeReachJobsAsTheyReachLocalWorkers) {
   };
   auto seen = [](const TempDir& dir, const std::string& id) {
     auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+    const auto run_dir = store::campaign_run_dir(dir / "podium.db", *store->campaign(std::stoll(id)));
+    const auto stages = store->stages(std::stoll(id));
     std::set<std::string> out;
     for (const auto& t : store->campaign_trials(std::stoll(id))) {
+      // The trial's log, each attempt's header without its time: a job writes it as a worker does.
+      const auto stage = std::find_if(stages.begin(), stages.end(), [&](const auto& st) { return st.id == t.stage_id; });
+      std::istringstream log(podium::testing::file_bytes(store::trial_folder(run_dir, *stage, t.index) / store::kTrialLog));
+      Json log_lines = Json::array();
+      for (std::string line; std::getline(log, line);) log_lines.push_back(line.substr(0, line.find(" started ")));
+      EXPECT_GE(log_lines.size(), 2u) << "trial " << t.index << ": no header and probe line in its log";
       Json inputs = Json::array();
       for (const auto& in : t.result_info["inputs"]) inputs.push_back({in["stage"], in["trial_index"], in["artifacts"]["policy"]["exists"]});
       Json steps = Json::array();
       for (const auto& m : store->metrics(t.id)) steps.push_back({m.step, m.attempt});
       const Json& previous = t.result_info["previous_attempt"];
       out.insert(Json{t.index, t.state, t.objectives, inputs, previous.is_null() ? Json() : previous["state"],
-                      t.result_info["resumed_from_step"], steps}
+                      t.result_info["resumed_from_step"], steps, log_lines}
                      .dump());
     }
     return out;

@@ -293,6 +293,33 @@ TEST_F(Api, TrialDetailNamesTheTrialsItWasHanded) {
             Json::array());
 }
 
+// Every trial the scheduler ran has its log in its folder, served as text: a done one its
+// attempt's header line, a failed one also the line that says why; the page asks for its end.
+TEST_F(Api, ATrialsLogIsServedAndAFailedOneSaysWhy) {
+  const auto stages = store()->stages(handover_);
+  auto client = server_->client();
+  const auto log_of = [&](std::int64_t trial_id) {
+    const std::string url = server_->get_json("/api/trials/" + std::to_string(trial_id))["log_url"];
+    EXPECT_EQ(url, "/api/trials/" + std::to_string(trial_id) + "/log");
+    const auto r = client.Get(url.c_str());
+    EXPECT_TRUE(r && r->status == 200) << url;
+    EXPECT_EQ(r ? r->get_header_value("Content-Type") : "", "text/plain; charset=utf-8");
+    return r ? r->body : "";
+  };
+  const auto done = store()->trials(stages[0].id).at(0);
+  EXPECT_EQ(log_of(done.id).rfind("podium: attempt 1 started ", 0), 0u) << log_of(done.id);
+  const auto failed = store()->trials(stages[2].id).at(0);
+  ASSERT_EQ(failed.state, "failed");
+  const std::string text = log_of(failed.id);
+  EXPECT_EQ(text.rfind("podium: attempt 1 started ", 0), 0u) << text;
+  EXPECT_NE(text.find("podium error: attempt failed: injected failure (throw)"), std::string::npos) << text;
+  // The page's request: the last bytes only.
+  const auto tail = client.Get(("/api/trials/" + std::to_string(failed.id) + "/log").c_str(), {{"Range", "bytes=-20"}});
+  ASSERT_TRUE(tail);
+  EXPECT_EQ(tail->status, 206);
+  EXPECT_EQ(tail->body, text.substr(text.size() - 20));
+}
+
 // A running campaign with no scheduler alive (killed with -9: nothing was written) is "stopped",
 // as `podium status` shows it; a held writer lock is a live scheduler.
 TEST(ApiStates, RunningWithoutASchedulerIsStopped) {

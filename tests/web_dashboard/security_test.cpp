@@ -89,6 +89,29 @@ TEST(Security, ArtifactsOutsideTheRunFolderAreRefused) {
   }
 }
 
+// A trial's log is looked up by the store's folder rule, then checked as an artifact is: a
+// symlink or hard link standing in for it is refused, and a trial without one is a 404.
+TEST(Security, TrialLogsOutsideTheRunFolderAreRefused) {
+  ArtifactFixture f;
+  RunningServer server(f.db);
+  auto client = server.client();
+  const std::string url = "/api/trials/" + std::to_string(f.trial) + "/log";
+  const fs::path log = f.dir / "runs" / "stage-0-s" / "trial-0" / "trial.log";
+  EXPECT_EQ(client.Get(url.c_str())->status, 404);
+  fs::create_directories(log.parent_path());
+  fs::create_symlink(f.dir / "secret.txt", log);
+  EXPECT_EQ(client.Get(url.c_str())->status, 403);
+  fs::remove(log);
+  fs::create_hard_link(f.dir / "secret.txt", log);
+  EXPECT_EQ(client.Get(url.c_str())->status, 403);
+  fs::remove(log);
+  podium::testing::write_file(log, "podium: attempt 1 started\n");
+  const auto ok = client.Get(url.c_str());
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 200);
+  EXPECT_EQ(ok->body, "podium: attempt 1 started\n");
+}
+
 // A Range past the end of a streamed artifact is 416, as for the in-memory static files
 // (it was 206 with Content-Length 18446743973709551733).
 TEST(Security, UnsatisfiableRangesAre416OnArtifactsAndStaticFiles) {

@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <string_view>
 
+#include "podium/store/run_folders.h"
 #include "podium/store/writer_lock.h"
 
 namespace podium::web_dashboard {
@@ -161,16 +162,23 @@ std::map<std::int64_t, store::StageRecord> stages_by_id(const Queries& q, std::i
   return out;
 }
 
-// The campaign's run folder: the spec's run_dir, else <database>.runs/<id> (the orchestrator's
-// rule, campaign_run_dir(); repeated here because this layer depends on the store only).
-fs::path run_dir(const store::CampaignRecord& c, const fs::path& database) {
-  if (!c.run_dir.empty()) return c.run_dir;
-  return fs::absolute(database).string() + ".runs/" + std::to_string(c.id);
-}
-
 bool inside(const fs::path& child, const fs::path& parent) {
   const auto [p, c] = std::mismatch(parent.begin(), parent.end(), child.begin(), child.end());
   return p == parent.end() && c != child.end();
+}
+
+// A path read from the store or built from its names is data, not trust: it is served only if it
+// resolves (symlinks and ".." included) into the campaign's run folder, and is a file with no
+// other name (a hard link cannot be told from the file it shares).
+fs::path file_in_run_folder(const Queries& q, const fs::path& database, std::int64_t campaign_id, const fs::path& path,
+                            const std::string& what) {
+  std::error_code ec;
+  const fs::path root = fs::weakly_canonical(store::campaign_run_dir(database, *q.store().campaign(campaign_id)), ec);
+  const fs::path file = fs::weakly_canonical(path, ec);
+  if (ec || !inside(file, root)) throw HttpError(403, what + " outside the campaign's run folder");
+  if (!fs::is_regular_file(file)) throw HttpError(404, what + " file " + file.string() + " is missing");
+  if (fs::hard_link_count(file, ec) != 1) throw HttpError(403, what + " has other hard links (maybe outside the run folder)");
+  return file;
 }
 
 Json strategy_json(const std::vector<store::StrategySummary>& list, const std::vector<store::StageRecord>& stages) {
@@ -348,6 +356,7 @@ Json trial_detail(const Queries& q, std::int64_t trial_id) {
                          {"size_bytes", list[i].size_bytes},
                          {"url", "/api/trials/" + std::to_string(trial_id) + "/artifacts/" + std::to_string(i)}});
   out["artifacts"] = artifacts;
+  out["log_url"] = "/api/trials/" + std::to_string(trial_id) + "/log";
   return out;
 }
 
@@ -377,15 +386,19 @@ fs::path artifact_file(const Queries& q, const fs::path& database, std::int64_t 
   const auto list = q.store().artifacts(trial_id);
   if (index >= list.size())
     throw HttpError(404, "trial " + std::to_string(trial_id) + " has no artifact " + std::to_string(index));
-  std::error_code ec;
-  const fs::path root = fs::weakly_canonical(run_dir(*q.store().campaign(*campaign_id), database), ec);
-  const fs::path file = fs::weakly_canonical(list[index].path, ec);
-  // A stored path is data, not trust: it must resolve (symlinks and ".." included) into the run folder.
-  if (ec || !inside(file, root)) throw HttpError(403, "artifact outside the campaign's run folder");
-  if (!fs::is_regular_file(file)) throw HttpError(404, "artifact file " + file.string() + " is missing");
-  // A hard link cannot be told from the file it shares: only a file with no other name is served.
-  if (fs::hard_link_count(file, ec) != 1) throw HttpError(403, "artifact has other hard links (maybe outside the run folder)");
-  return file;
+  return file_in_run_folder(q, database, *campaign_id, list[index].path, "artifact");
+}
+
+fs::path trial_log_file(const Queries& q, const fs::path& database, std::int64_t trial_id) {
+  const auto t = q.trial(trial_id);
+  const auto campaign_id = q.trial_campaign(trial_id);
+  if (!t || !campaign_id) throw HttpError(404, "no trial " + std::to_string(trial_id));
+  const auto stages = q.store().stages(*campaign_id);
+  const auto stage = std::find_if(stages.begin(), stages.end(), [&](const auto& s) { return s.id == t->stage_id; });
+  const fs::path folder = store::trial_folder(store::campaign_run_dir(database, *q.store().campaign(*campaign_id)), *stage, t->index);
+  if (!fs::exists(folder / store::kTrialLog))
+    throw HttpError(404, "trial " + std::to_string(trial_id) + " has no log (it has not started, or ran before podium kept logs)");
+  return file_in_run_folder(q, database, *campaign_id, folder / store::kTrialLog, "log");
 }
 
 }  // namespace podium::web_dashboard

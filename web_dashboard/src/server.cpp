@@ -250,6 +250,10 @@ struct Server::Impl {
       const auto index = static_cast<std::size_t>(parse_int(req.matches[2], "artifact", 0, 1'000'000));
       send_file(req, res, artifact_file(*pool.acquire(), options.database, id, index), "application/octet-stream", true);
     }));
+    http.Get(R"(/api/trials/([^/]+)/log)", api([this](const auto& req, auto& res) {
+      const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+      send_file(req, res, trial_log_file(*pool.acquire(), options.database, id), "text/plain; charset=utf-8", false);
+    }));
     http.Get(R"(/api/trials/([^/]+)/trajectory)", api([this](const auto& req, auto& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
       // ?artifact=NAME picks another recorded motion of the trial (trajectory_fast, ...).

@@ -1,5 +1,5 @@
 // Trial page: its name (stage/index), the earlier trials it was handed, parameters, context, result, learning and curriculum curves (metrics named
-// "curriculum/..." are curriculum curves), artifacts with download links, error and attempts.
+// "curriculum/..." are curriculum curves), artifacts with download links, error, attempts and the end of its log.
 'use strict';
 
 const trialId = podium.param('id');
@@ -72,6 +72,20 @@ async function refreshTrial() {
     t.attempt_list.map(a => [a.number, a.state, a.worker, a.host, a.job_id, a.exit_code ?? '–', a.signal ?? '–',
       podium.time(a.started_at), podium.time(a.finished_at), podium.el('span', { class: 'error' }, a.error)]));
   renderCurves(series);
+  await renderLog(t.log_url);
+}
+
+// The last 20 kB of the trial's log (every attempt's output, appended), refreshed with the page.
+const kLogTail = 20000;
+async function renderLog(url) {
+  const note = document.getElementById('log-note'), pre = document.getElementById('log');
+  const res = await fetch(url, { headers: { Range: `bytes=-${kLogTail}` } });
+  if (res.status === 404) { note.textContent = 'No log yet.'; pre.textContent = ''; return; }
+  if (!res.ok) throw new Error(`${url}: HTTP ${res.status}`);
+  const total = Number((res.headers.get('Content-Range') || '').split('/')[1]) || null;
+  note.replaceChildren(podium.link(url, 'trial.log'),
+    total && total > kLogTail ? ` (its last ${kLogTail / 1000} kB of ${total} bytes)` : '');
+  pre.textContent = await res.text();
 }
 
 podium.live(refreshTrial, e => { document.getElementById('title').textContent = e.message; });

@@ -50,6 +50,8 @@ run('browser', async h => {
   const download = await page.request.get(new URL(await link.getAttribute('href'), url).href);
   assert.equal(download.status(), 200);
   assert.match(await download.text(), /"feature"/);
+  await waitFor('the log', async () => /podium: attempt 1 started/.test(await page.locator('#log').innerText()));
+  assert.equal(await page.locator('#log-note a').getAttribute('href'), `/api/trials/${landscapeTrial.id}/log`);
 
   const physicsTrials = (await api(`/api/campaigns/${physics}/trials?limit=2`)).trials;
   await page.goto(`${url}trial.html?id=${physicsTrials[0].id}`);

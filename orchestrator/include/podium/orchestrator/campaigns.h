@@ -41,9 +41,6 @@ struct Extension {
 Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage,
                           std::int64_t add_trials);
 
-/// The folder where a campaign's trials write (spec run_dir, or <database>.runs/<id>).
-std::filesystem::path campaign_run_dir(const std::filesystem::path& database, const store::CampaignRecord& campaign);
-
 /// A trial's one name, in every command and page: `<stage name>/<index>` ("explore/12"; the index
 /// counts from 0 in the order the stage's search proposed). The database id is for URLs only.
 std::string trial_name(const std::string& stage, std::int64_t index);

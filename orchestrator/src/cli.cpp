@@ -1,11 +1,13 @@
-// The `podium` command line: submit, run, status, trials, pause, resume, cancel, extend, export,
+// The `podium` command line: submit, run, status, trials, log, pause, resume, cancel, extend, export,
 // serve, tasks (and the internal `worker`). Exit codes: 0 ok, 1 runtime failure, 2 usage or spec error.
 #include <unistd.h>
 
 #include <algorithm>
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/program_options.hpp>
+#include <cctype>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <vector>
@@ -43,6 +45,8 @@ commands:
                              run queued and resumable campaigns until none is left
   status [CAMPAIGN] [--json] campaigns and their progress
   trials CAMPAIGN [--json]   the trials of a campaign
+  log CAMPAIGN TRIAL [--tail N] [--path]
+                             a trial's log (what its attempts wrote), e.g. podium log getup weaker/0
   pause|resume|cancel CAMPAIGN
   extend CAMPAIGN [--stage NAME] --add-trials N
                              raise a done campaign's last stage's trial budget and queue it again
@@ -312,6 +316,52 @@ int cmd_trials(int argc, char** argv) {
   return 0;
 }
 
+// The trial `name` ("<stage>/<index>", as `podium trials` shows it) of campaign `c`: its stage and index.
+std::pair<podium::store::StageRecord, std::int64_t> find_trial(const Store& store, const podium::store::CampaignRecord& c,
+                                                               const std::string& name) {
+  const auto slash = name.rfind('/');
+  const std::string index = slash == std::string::npos ? "" : name.substr(slash + 1);
+  const bool digits = !index.empty() && index.size() < 10 && std::all_of(index.begin(), index.end(), [](unsigned char ch) { return std::isdigit(ch) != 0; });
+  if (digits)
+    for (const auto& st : store.stages(c.id))
+      if (st.name == name.substr(0, slash))
+        for (const auto& t : store.trials(st.id))
+          if (t.index == std::stoll(index)) return {st, t.index};
+  throw podium::base::UserError("campaign " + std::to_string(c.id) + " (" + c.name + ") has no trial \"" + name +
+                                "\" (trial names are <stage>/<index>, as podium trials " + std::to_string(c.id) +
+                                " shows them)");
+}
+
+// What a trial's attempts wrote to stderr (its trial.log), whole or its last N lines; --path
+// prints the file's path instead (e.g. for tail -f).
+int cmd_log(int argc, char** argv) {
+  Command cmd;
+  cmd.options.add_options()("campaign", po::value<std::string>()->required(), "campaign id or name")(
+      "trial", po::value<std::string>()->required(), "trial name <stage>/<index>, e.g. weaker/0")(
+      "tail", po::value<int>(), "only the last N lines")("path", "print the log file's path");
+  cmd.positional.add("campaign", 1).add("trial", 1);
+  if (!parse(cmd, "log", "CAMPAIGN TRIAL [--tail N] [--path] [--db PATH]", argc, argv)) return 0;
+  const fs::path db = cmd.vm["db"].as<std::string>();
+  auto store = open_read(cmd);
+  const auto c = store->campaign(campaign_id(*store, cmd.vm["campaign"].as<std::string>()));
+  const auto [stage, index] = find_trial(*store, *c, cmd.vm["trial"].as<std::string>());
+  const fs::path log =
+      podium::store::trial_folder(podium::store::campaign_run_dir(db, *c), stage, index) / podium::store::kTrialLog;
+  if (cmd.vm.count("path")) {
+    std::cout << log.string() << "\n";
+    return 0;
+  }
+  if (cmd.vm.count("tail") && cmd.vm["tail"].as<int>() < 0)
+    throw podium::base::UserError("--tail: " + std::to_string(cmd.vm["tail"].as<int>()) + " is negative");
+  std::ifstream in(log, std::ios::binary);
+  if (!in) throw std::runtime_error(log.string() + ": no log (the trial has not started, or its folder was removed)");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(std::move(line));
+  const std::size_t from = cmd.vm.count("tail") ? lines.size() - std::min<std::size_t>(lines.size(), cmd.vm["tail"].as<int>()) : 0;
+  for (std::size_t i = from; i < lines.size(); ++i) std::cout << lines[i] << "\n";
+  return 0;
+}
+
 int cmd_control(const std::string& action, int argc, char** argv) {
   Command cmd;
   cmd.options.add_options()("campaign", po::value<std::string>()->required(), "campaign id or name");
@@ -397,6 +447,7 @@ int dispatch(const std::string& command, int argc, char** argv) {
   if (command == "run") return cmd_run(argc, argv);
   if (command == "status") return cmd_status(argc, argv);
   if (command == "trials") return cmd_trials(argc, argv);
+  if (command == "log") return cmd_log(argc, argv);
   if (command == "pause" || command == "resume" || command == "cancel") return cmd_control(command, argc, argv);
   if (command == "extend") return cmd_extend(argc, argv);
   if (command == "export") return cmd_export(argc, argv);

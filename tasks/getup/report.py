@@ -1,16 +1,18 @@
 #!/usr/bin/env python3
 """Issue 18's figures for a get-up campaign, read from its Podium database (read-only):
 per Weaker trial the curriculum, the exported policy's test, the head-height curve's first and
-last tenth and the wall time; per Slower and Evaluate trial their results. Markdown on stdout.
+last tenth, the wall time, and from its trial.log the minutes to the first get-up and the
+environment steps per second; per Slower and Evaluate trial their results. Markdown on stdout.
 
 Usage: tasks/getup/report.py DATABASE CAMPAIGN_NAME
 """
 import json
+import re
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from campaign_db import minutes, open_campaign  # noqa: E402
+from campaign_db import minutes, open_campaign, trial_log  # noqa: E402
 
 
 def curve_table(series, every=100_000):
@@ -22,6 +24,20 @@ def curve_table(series, every=100_000):
     for step in steps:
         print(f"  | {step:.0f} | " + " | ".join(f"{by_step[n].get(step, float('nan')):.4g}" for n in names) + " |")
     print()
+
+
+def training_minutes(log_path):
+    """{environment step: minutes of training so far} from Weaker's per-test log lines (rollouts + updates + test
+    seconds, summed over every attempt's lines); empty without a log."""
+    line = re.compile(r"getup: step (\d+): .*\(([\d.]+) s\), updates ([\d.]+) s .*test ([\d.]+) s")
+    spent, at = 0.0, {}
+    try:
+        for m in filter(None, map(line.search, open(log_path, encoding="utf-8", errors="replace"))):
+            spent += sum(float(m[i]) for i in (2, 3, 4))
+            at.setdefault(int(m[1]), spent / 60)
+    except FileNotFoundError:
+        pass
+    return at
 
 
 def main(db_path, campaign):
@@ -53,8 +69,14 @@ def main(db_path, campaign):
                 print(f"  - head height (m), mean of the first and last tenth of {len(heads)} tests: {first:.3f} → {last:.3f} "
                       f"(+{last - first:.3f}); best test: {max(heads):.3f}")
                 best = max(series.get("test_return", [(0, 0)]), key=lambda p: p[1])
+                first_up = next((s for s, v in series.get("success_rate", []) if v > 0), None)
+                at = training_minutes(trial_log(db_path, db, stage_id, idx))
+                when = f" ({at[first_up]:.1f} min of training)" if first_up in at else ""
                 print(f"  - best test return {best[1]:.1f} at step {best[0]:.0f}; first success > 0 at step "
-                      f"{next((s for s, v in series.get('success_rate', []) if v > 0), 'never')}")
+                      + (f"{first_up:.0f}{when}" if first_up is not None else "never"))
+                if at:
+                    last = max(at)
+                    print(f"  - {last / (at[last] * 60):.0f} environment steps/s over {at[last]:.1f} min of training (trial.log)")
                 print(f"  - strategy features {[round(x, 3) for x in info.get('features', [])]}")
             if stage == "weaker":
                 curve_table(series)

@@ -363,7 +363,7 @@ TEST(Cli, CommandsSayWhatTheyDid) {
 
 TEST(Cli, EveryCommandHasHelp) {
   TempDir dir;
-  for (const auto& command : {"submit", "run", "status", "trials", "pause", "resume", "cancel", "export", "tasks"}) {
+  for (const auto& command : {"submit", "run", "status", "trials", "log", "pause", "resume", "cancel", "export", "tasks"}) {
     const auto r = run_podium({command, "--help"}, dir.path());
     EXPECT_EQ(r.exit_code, 0) << command;
     EXPECT_NE(r.out.find("--db"), std::string::npos) << command;

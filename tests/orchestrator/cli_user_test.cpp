@@ -110,6 +110,43 @@ TEST(CliUser, TrialsTableNamesTrialsByStageAndIndexWithReadableNumbers) {
   }
 }
 
+// `podium log` prints what a trial's attempts wrote (the local executor's trial.log): a header per
+// attempt, and for a failed one the reason as its last line; --tail and --path; a wrong name is a
+// one-line error.
+TEST(CliUser, LogPrintsWhatATrialsAttemptsWrote) {
+  TempDir dir;
+  const Json config = {{"failures", Json::array({{{"mode", "throw"}, {"trials", {1}}}})}};
+  const auto id = submit(dir, one_stage("logs", "random", 2, config));
+  run_all(dir);
+
+  const auto done = run_podium({"log", "logs", "explore/0"}, dir.path());
+  ASSERT_EQ(done.exit_code, 0) << done.err;
+  EXPECT_EQ(done.out.rfind("podium: attempt 1 started ", 0), 0u) << done.out;
+  EXPECT_EQ(done.out.find("attempt failed"), std::string::npos) << done.out;
+
+  const auto failed = run_podium({"log", id, "explore/1"}, dir.path());
+  ASSERT_EQ(failed.exit_code, 0) << failed.err;
+  const auto failed_lines = lines(failed.out);
+  ASSERT_GE(failed_lines.size(), 2u) << failed.out;
+  EXPECT_EQ(failed_lines[0].rfind("podium: attempt 1 started ", 0), 0u) << failed.out;
+  EXPECT_NE(failed_lines.back().find("attempt failed"), std::string::npos) << failed.out;
+
+  const auto tail = run_podium({"log", id, "explore/1", "--tail", "1"}, dir.path());
+  ASSERT_EQ(tail.exit_code, 0) << tail.err;
+  EXPECT_EQ(lines(tail.out), std::vector<std::string>{failed_lines.back()});
+
+  const auto path = run_podium({"log", id, "explore/1", "--path"}, dir.path());
+  ASSERT_EQ(path.exit_code, 0) << path.err;
+  EXPECT_EQ(podium::testing::file_bytes(lines(path.out).at(0)), failed.out);
+
+  for (const std::string wrong : {"explore/2", "explore", "nosuch/0", "explore/-1"}) {
+    const auto r = run_podium({"log", id, wrong}, dir.path());
+    EXPECT_EQ(r.exit_code, 2) << wrong;
+    EXPECT_EQ(lines(r.err).size(), 1u) << r.err;
+    EXPECT_NE(r.err.find("no trial \"" + wrong + "\""), std::string::npos) << r.err;
+  }
+}
+
 TEST(CliUser, StatusNamesARunningAttemptsTrialTheSameWay) {
   TempDir dir;
   const Json hang = {{"failures", Json::array({{{"mode", "hang"}, {"trials", {0}}, {"attempts", 1}}})}};

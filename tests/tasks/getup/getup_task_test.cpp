@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <set>
 
@@ -168,6 +169,21 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
       if (m.name == "eval/success_rate") steps.insert(m.step);
     EXPECT_EQ(steps, (std::set<double>{0.5, 1.0}));  // the smoke preset's κ = 0.5, and fast
   }
+
+  // tasks/getup/report.py finds each Weaker trial's trial.log (the store's folder rule) and reads
+  // its wall times from the per-test lines.
+  const std::string command = "/usr/bin/python3 " PODIUM_SOURCE_DIR "/tasks/getup/report.py " +
+                              (dir.path() / "podium.db").string() + " getup 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string report;
+  for (char buffer[4096]; const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe);) report.append(buffer, n);
+  ASSERT_EQ(pclose(pipe), 0) << report;
+  std::size_t rates = 0;
+  for (std::size_t at = report.find("environment steps/s over"); at != std::string::npos;
+       at = report.find("environment steps/s over", at + 1))
+    ++rates;
+  EXPECT_EQ(rates, 2u) << report;  // one per Weaker trial
 }
 
 }  // namespace

@@ -159,7 +159,13 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   GetupEnv test_env(s.env, beta, false);  // tests at β^i exactly (App. D)
   const auto learner = learn::make_learner(learner_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
   const auto* sac = dynamic_cast<const learn::Sac*>(learner.get());
-  const character::EvaluationConfig tests = test_config(s);
+  character::EvaluationConfig tests = test_config(s);
+  // Which fixed starts' head top passed success_height_m after some action of a test: a start
+  // that rose and fell again fails bar (a) differently from one that never rose.
+  std::vector<char> risen(tests.start_seeds.size(), 0);
+  tests.each_step = [&risen, h = s.success_height_m](std::size_t start, const character::CharacterEnv& env) {
+    if (env.step_index() > 0 && as_getup(env).weak().head_height_m > h) risen[start] = 1;
+  };
   const fs::path policy = work_dir / "policy.pt";
 
   // The checkpoint's extra: the schedule and the exported policy's test. Metric points go through
@@ -196,6 +202,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     const auto steps = static_cast<double>(learner->env_steps());
     const double tested_at = schedule.strength();
     const auto test_start = std::chrono::steady_clock::now();
+    std::fill(risen.begin(), risen.end(), 0);
     const auto result = character::evaluate(
         test_env, [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, test_env.action_scale()); }, tests);
     // R_test is the minimum return over the fixed starts (§5: "the accumulated minimum test reward";
@@ -212,6 +219,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     send("test_return_min", steps, min_return);
     send("head_height_m", steps, result.mean("head_height_m"));
     send("success_rate", steps, result.success_rate);
+    send("risen_rate", steps, static_cast<double>(std::count(risen.begin(), risen.end(), 1)) / static_cast<double>(risen.size()));
     if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));
     if (sac) {
       send("sac/alpha", steps, sac->alpha());

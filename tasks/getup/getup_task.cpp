@@ -108,6 +108,7 @@ Json stage_description(const std::string& stage) {
                   plugins::metric_entry("test_return_min", "", "the lowest of those returns: R_test, which advances β above ω (§5)"),
                   plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes"),
                   plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
+                  plugins::metric_entry("risen_rate", "", "fraction of the fixed starts whose head top passed success_height_m at some step (risen − success: rose and fell again)"),
                   plugins::metric_entry("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),
                   plugins::metric_entry("train_return", "", "mean return of the training episodes since the last test"),
                   plugins::metric_entry("sac/alpha", "", "SAC's temperature α"),

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <map>
+#include <numeric>
 #include <set>
 
 #include "finished_campaign.h"
@@ -73,6 +74,19 @@ TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) { expect_strength
 TEST(GetupTask, SmokePpoTrialShrinksTheStrengthAtEveryPassedTest) {
   expect_strength_shrunk_at_every_test(
       run_smoke_trial({{"algorithm", "ppo"}, {"ppo", {{"hidden", {16, 16}}, {"rollout_steps", 50}}}}));
+}
+
+// risen_rate counts a start whose head top passed success_height_m after any action, success_rate
+// only one that ends above it. The smoke preset's untrained policy flails near the ground: at
+// 0.3 m one of its two starts' head passes the height in every test and ends below it.
+TEST(GetupTask, RisenRateCountsAHeadThatPassedTheHeightBeforeTheEnd) {
+  const SmokeTrial trial = run_smoke_trial({{"success_height_m", 0.3}});
+  const std::vector<double>& risen = trial.metrics.at("risen_rate");
+  const std::vector<double>& success = trial.metrics.at("success_rate");
+  ASSERT_EQ(risen.size(), 4u);
+  ASSERT_EQ(success.size(), 4u);
+  for (std::size_t i = 0; i < risen.size(); ++i) EXPECT_GE(risen[i], success[i]) << "test " << i;
+  EXPECT_GT(std::accumulate(risen.begin(), risen.end(), 0.0), std::accumulate(success.begin(), success.end(), 0.0));
 }
 
 // No test passes ω: β stays 1 and the exported policy is the one of the best mean test return

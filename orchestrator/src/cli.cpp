@@ -322,11 +322,14 @@ std::pair<podium::store::StageRecord, std::int64_t> find_trial(const Store& stor
   const auto slash = name.rfind('/');
   const std::string index = slash == std::string::npos ? "" : name.substr(slash + 1);
   const bool digits = !index.empty() && index.size() < 10 && std::all_of(index.begin(), index.end(), [](unsigned char ch) { return std::isdigit(ch) != 0; });
-  if (digits)
+  if (digits) {
+    const std::string stage = name.substr(0, slash);
+    const std::int64_t wanted = std::stoll(index);
     for (const auto& st : store.stages(c.id))
-      if (st.name == name.substr(0, slash))
+      if (st.name == stage)
         for (const auto& t : store.trials(st.id))
-          if (t.index == std::stoll(index)) return {st, t.index};
+          if (t.index == wanted) return {st, t.index};
+  }
   throw podium::base::UserError("campaign " + std::to_string(c.id) + " (" + c.name + ") has no trial \"" + name +
                                 "\" (trial names are <stage>/<index>, as podium trials " + std::to_string(c.id) +
                                 " shows them)");

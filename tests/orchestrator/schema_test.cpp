@@ -3,10 +3,6 @@
 // every shipped spec submits through the real CLI.
 #include <gtest/gtest.h>
 
-#include <array>
-#include <cstdio>
-#include <memory>
-
 #include "podium/base/error.h"
 #include "podium/orchestrator/spec.h"
 #include "process.h"
@@ -23,11 +19,7 @@ std::string run_schema_check(const std::vector<fs::path>& files) {
   std::string command = "/usr/bin/python3 " + (kSource / "tests/orchestrator/schema_check.py").string() + " " +
                         (kSource / "campaigns/campaign.schema.json").string();
   for (const auto& f : files) command += " " + f.string();
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(command.c_str(), "r"), ::pclose);
-  std::string out;
-  std::array<char, 4096> buffer;
-  while (std::fgets(buffer.data(), buffer.size(), pipe.get())) out += buffer.data();
-  return out;
+  return podium::testing::shell(command).out;
 }
 
 TEST(CampaignSchema, ShippedSpecsPassSchemaAndValidator) {

@@ -5,7 +5,6 @@
 #include <sys/wait.h>
 
 #include <algorithm>
-#include <array>
 #include <chrono>
 #include <cstdio>
 #include <map>
@@ -32,13 +31,7 @@ using podium::testing::write_file;
 const std::string kClusterScript = std::string(PODIUM_SOURCE_DIR) + "/tests/orchestrator/slurm_cluster.sh";
 const std::string kClusterState = "/tmp/podium-slurm-test";
 
-std::string shell(const std::string& command) {
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(command.c_str(), "r"), ::pclose);
-  std::string out;
-  std::array<char, 4096> buffer;
-  while (pipe && std::fgets(buffer.data(), buffer.size(), pipe.get())) out += buffer.data();
-  return out;
-}
+std::string shell(const std::string& command) { return podium::testing::shell(command).out; }
 
 class Slurm : public ::testing::Test {
  protected:

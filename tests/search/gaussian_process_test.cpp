@@ -1,13 +1,14 @@
 // The GP against scikit-learn (issue 5 acceptance) and its analytic gradients against finite
 // differences. scikit-learn runs as a subprocess on data drawn here, so nothing is hard-coded.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
 #include "gaussian_process.h"
 #include "podium/base/json.h"
+#include "process.h"
 
 namespace podium::search {
 namespace {
@@ -64,11 +65,7 @@ base::Json sklearn_reference(const Problem& p, const GpBounds& b, int restarts, 
                   {"restarts", restarts}};
   std::ofstream(input) << j.dump();
   const std::string command = std::string(PODIUM_PYTHON) + " " + PODIUM_GP_REFERENCE + " " + input.string();
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string out;
-  char buffer[4096];
-  while (pipe && fgets(buffer, sizeof buffer, pipe)) out += buffer;
-  const int status = pipe ? pclose(pipe) : -1;
+  const auto [status, out] = podium::testing::shell(command);
   std::filesystem::remove(input);
   // 3: the script found no scikit-learn; 127: no python3 at all.
   if (WIFEXITED(status) && (WEXITSTATUS(status) == 3 || WEXITSTATUS(status) == 127)) return nullptr;

@@ -50,4 +50,13 @@ void write_file(const std::filesystem::path& path, const std::string& text);
 /// A file's bytes ("" when it cannot be read).
 std::string file_bytes(const std::filesystem::path& path);
 
+struct ShellResult {
+  int status = -1;  ///< pclose's wait status (WIFEXITED/WEXITSTATUS); -1 when the shell could not start
+  std::string out;  ///< its stdout
+};
+
+/// Runs `command` through /bin/sh to completion and captures its stdout (for the Python and
+/// shell scripts tests compare against; the podium binary goes through run_podium).
+ShellResult shell(const std::string& command);
+
 }  // namespace podium::testing

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <numeric>
 #include <set>
@@ -14,6 +13,7 @@
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
 #include "batch_trial.h"
+#include "process.h"
 #include "task_conformance.h"
 
 namespace podium::tasks::getup {
@@ -188,11 +188,8 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
   // its wall times from the per-test lines.
   const std::string command = "/usr/bin/python3 " PODIUM_SOURCE_DIR "/tasks/getup/report.py " +
                               (dir.path() / "podium.db").string() + " getup 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string report;
-  for (char buffer[4096]; const std::size_t n = std::fread(buffer, 1, sizeof buffer, pipe);) report.append(buffer, n);
-  ASSERT_EQ(pclose(pipe), 0) << report;
+  const auto [status, report] = podium::testing::shell(command);
+  ASSERT_EQ(status, 0) << report;
   std::size_t rates = 0;
   for (std::size_t at = report.find("environment steps/s over"); at != std::string::npos;
        at = report.find("environment steps/s over", at + 1))

@@ -298,6 +298,11 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
         link.kp = number(j, "kp", link.torque_limit_nm.maxCoeff(), jw);
         link.kd = number(j, "kd", 0.1 * link.kp, jw);
         if (link.kp < 0 || link.kd < 0) throw UserError(jw + ": kp and kd must be ≥ 0");
+        link.damping = number(j, "damping", 0.0, jw);
+        link.stiffness = number(j, "stiffness", 0.0, jw);
+        if (link.damping < 0 || link.stiffness < 0) throw UserError(jw + ": damping and stiffness must be ≥ 0");
+        if (link.joint != JointType::revolute && (link.damping > 0 || link.stiffness > 0))
+          throw UserError(jw + ": damping and stiffness are for revolute joints (this one is " + type + ")");
         link.parent = parent_link;
         link.body = body_id;
         link.joint_pos = prev_anchor_in_parent + (anchor - prev_joint_pos);
@@ -362,11 +367,15 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
   m.torque_limits_ = Eigen::VectorXd::Zero(nv);
   m.kp_ = Eigen::VectorXd::Zero(nv);
   m.kd_ = Eigen::VectorXd::Zero(nv);
+  m.damping_ = Eigen::VectorXd::Zero(nv);
+  m.stiffness_ = Eigen::VectorXd::Zero(nv);
   for (const Link& l : m.links_) {
     if (l.joint == JointType::free) continue;
     m.torque_limits_.segment(l.v_index, l.nv) = l.torque_limit_nm.head(l.nv);
     m.kp_.segment(l.v_index, l.nv).setConstant(l.kp);
     m.kd_.segment(l.v_index, l.nv).setConstant(l.kd);
+    m.damping_.segment(l.v_index, l.nv).setConstant(l.damping);
+    m.stiffness_.segment(l.v_index, l.nv).setConstant(l.stiffness);
   }
 
   // Self-collision filter: every pair except a link with itself, its parent, links of the same

@@ -69,6 +69,11 @@ World::World(ModelPtr model, const WorldConfig& config)
   data_.gravity = config_.gravity;
   forces_.assign(model_->bodies().size(), Eigen::Vector3d::Zero());
   tau_external_ = Eigen::VectorXd::Zero(model_->nv());
+  if (config_.passive_joints)
+    for (std::size_t i = 0; i < model_->links().size(); ++i) {
+      const Link& l = model_->links()[i];
+      if (l.joint == JointType::revolute && !l.locked && (l.damping > 0 || l.stiffness > 0)) passive_links_.push_back(static_cast<int>(i));
+    }
   // Body centroids: volume-weighted geom centres in the carrying link's frame (else the body origin).
   centroids_.resize(model_->bodies().size());
   std::vector<double> volume(model_->bodies().size(), 0.0);
@@ -254,14 +259,19 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
     const int nj = model_->nv() - 6;  // the root servo (if any) is not a motor: no limit
     data_.tau.tail(nj) = data_.tau.tail(nj).cwiseMax(-limits_.tail(nj)).cwiseMin(limits_.tail(nj));
   }
-  if (has_forces_) {
+  const bool extra = has_forces_ || !passive_links_.empty();
+  if (extra) {
     tau_external_.setZero();
+    for (int i : passive_links_) {
+      const Link& l = model_->links()[i];
+      tau_external_(l.v_index) = -l.damping * data_.qd(l.v_index) - l.stiffness * data_.q(l.q_index);
+    }
     for (std::size_t k = 0; k < forces_.size(); ++k)
       if (!forces_[k].isZero(0.0)) internal::add_point_force(*model_, data_, model_->bodies()[k].link, body_centroid(static_cast<int>(k)), forces_[k], tau_external_);
   }
   Bullet& b = *bullet_;
   b.detect_contacts();  // at the pose the step starts from
-  b.solver->step(data_, dt_s(), b.world->getDispatcher(), has_forces_ ? &tau_external_ : nullptr);
+  b.solver->step(data_, dt_s(), b.world->getDispatcher(), extra ? &tau_external_ : nullptr);
   // Positions in our coordinates: Bullet keeps base velocities in world frame at the COM, and a
   // round trip through them loses the ω × v and ω × (ω × c) terms of a step (measured: ragdolls
   // gained hundreds of joules). Bullet gets the new pose for collision detection only.

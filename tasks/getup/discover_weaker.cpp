@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "head_watch.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/base/rng.h"
@@ -39,6 +40,8 @@ Settings read_settings(base::ConfigReader& r) {
                                  "σ of the fall's random actions, in torque limits (§7: 0.1)");
   e.strength_sigma = r.number("strength_sigma", e.strength_sigma, {.min = 0.0, .max = 1.0},
                               "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
+  e.passive_joints = r.boolean("passive_joints", e.passive_joints,
+                               "the model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo humanoid's)");
   e.min_strength = r.number("min_strength", e.min_strength, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "lower clip of β̂");
 
   s.algorithm = r.choice("algorithm", s.algorithm, {"sac", "ppo"},
@@ -160,11 +163,12 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   const auto learner = learn::make_learner(learner_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
   const auto* sac = dynamic_cast<const learn::Sac*>(learner.get());
   character::EvaluationConfig tests = test_config(s);
-  // Which fixed starts' head top passed success_height_m after some action of a test: a start
-  // that rose and fell again fails bar (a) differently from one that never rose.
-  std::vector<char> risen(tests.start_seeds.size(), 0);
-  tests.each_step = [&risen, h = s.success_height_m](std::size_t start, const character::CharacterEnv& env) {
-    if (env.step_index() > 0 && as_getup(env).weak().head_height_m > h) risen[start] = 1;
+  // How each fixed start's head top crossed success_height_m after the test's first action: a
+  // start that rose and fell again fails bar (a) differently from one that never rose, and drops
+  // tell a get-up that stands from a leap loop.
+  std::vector<HeadWatch> heads(tests.start_seeds.size(), HeadWatch{.height_m = s.success_height_m});
+  tests.each_step = [&heads](std::size_t start, const character::CharacterEnv& env) {
+    if (env.step_index() > 0) heads[start].observe(env.step_index(), as_getup(env).weak().head_height_m);
   };
   const fs::path policy = work_dir / "policy.pt";
 
@@ -202,7 +206,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     const auto steps = static_cast<double>(learner->env_steps());
     const double tested_at = schedule.strength();
     const auto test_start = std::chrono::steady_clock::now();
-    std::fill(risen.begin(), risen.end(), 0);
+    std::fill(heads.begin(), heads.end(), HeadWatch{.height_m = s.success_height_m});
     const auto result = character::evaluate(
         test_env, [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, test_env.action_scale()); }, tests);
     // R_test is the minimum return over the fixed starts (§5: "the accumulated minimum test reward";
@@ -219,7 +223,12 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     send("test_return_min", steps, min_return);
     send("head_height_m", steps, result.mean("head_height_m"));
     send("success_rate", steps, result.success_rate);
-    send("risen_rate", steps, static_cast<double>(std::count(risen.begin(), risen.end(), 1)) / static_cast<double>(risen.size()));
+    const auto starts = static_cast<double>(heads.size());
+    send("risen_rate", steps, static_cast<double>(std::count_if(heads.begin(), heads.end(), [](const HeadWatch& h) { return h.risen(); })) / starts);
+    double drops = 0.0, peaks = 0.0;
+    for (const HeadWatch& h : heads) drops += h.drops, peaks += h.peak_m;
+    send("head_drops", steps, drops / starts);
+    send("head_peak_m", steps, peaks / starts);
     if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));
     if (sac) {
       send("sac/alpha", steps, sac->alpha());

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "head_watch.h"
 #include "podium/base/rng.h"
 #include "podium/character/evaluator.h"
 
@@ -27,7 +28,8 @@ EvaluateConfig read_evaluate(base::ConfigReader& r) {
 Json SpeedResult::to_json() const {
   return {{"name", name},   {"kappa", kappa},         {"strength", strength},
           {"success_rate", success_rate}, {"rise_time_s", rise_time_s},
-          {"risen", risen}, {"com_error_m", com_error_m}, {"fast_rise_time_s", fast_rise_time_s}};
+          {"risen", risen}, {"drops", drops}, {"peak_head_m", peak_head_m},
+          {"com_error_m", com_error_m}, {"fast_rise_time_s", fast_rise_time_s}};
 }
 
 Json EvaluateOutcome::to_json() const {
@@ -55,21 +57,22 @@ FastRollout paused(FastRollout fast, double fraction, int steps) {
 
 namespace {
 
-// When each fall's head top first passed the height (control steps from the fall's end), -1: never.
-struct RiseClock {
-  std::vector<int> first;
-  double height_m;
-  void observe(std::size_t fall, const character::CharacterEnv& env, double head_m) {
-    if (first[fall] < 0 && head_m > height_m) first[fall] = env.step_index();
-  }
-};
+// Each fall's head top against rise_height_m (head_watch.h), observed from the fall's end.
+std::vector<HeadWatch> head_watches(std::size_t falls, double height_m) { return std::vector<HeadWatch>(falls, HeadWatch{.height_m = height_m}); }
 
-void summarise(SpeedResult& r, const character::EvaluationReport& report, const RiseClock& clock, double dt_s) {
+void summarise(SpeedResult& r, const character::EvaluationReport& report, const std::vector<HeadWatch>& heads, double dt_s) {
   r.success_rate = report.success_rate;
-  double sum = 0.0;
-  for (int f : clock.first)
-    if (f >= 0) sum += f * dt_s, ++r.risen;
-  r.rise_time_s = r.risen > 0 ? sum / r.risen : 0.0;
+  double rise_sum = 0.0, drops = 0.0, peaks = 0.0;
+  for (const HeadWatch& h : heads) {
+    peaks += h.peak_m;
+    if (!h.risen()) continue;
+    ++r.risen;
+    rise_sum += h.first_step * dt_s;
+    drops += h.drops;
+  }
+  r.rise_time_s = r.risen > 0 ? rise_sum / r.risen : 0.0;
+  r.drops = r.risen > 0 ? drops / r.risen : 0.0;
+  r.peak_head_m = heads.empty() ? 0.0 : peaks / static_cast<double>(heads.size());
   if (!report.trajectories.empty()) r.trajectory = report.trajectories.front();
 }
 
@@ -96,10 +99,10 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     for (std::uint64_t f : falls) e.start_seeds.push_back(base::Rng(f).next());
     const double rise_m = slower.env.rise_height_m;
     e.success = [rise_m](const character::CharacterEnv& env) { return static_cast<const GetupEnv&>(env).weak().head_height_m > rise_m; };
-    RiseClock clock{std::vector<int>(falls.size(), -1), rise_m};
+    auto heads = head_watches(falls.size(), rise_m);
     std::vector<StrategyRecorder> strategies(falls.size(), StrategyRecorder(env.model(), env.readings().head_top_m, rise_m));
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
-      clock.observe(fall, ce, static_cast<const GetupEnv&>(ce).weak().head_height_m);
+      heads[fall].observe(ce.step_index(), static_cast<const GetupEnv&>(ce).weak().head_height_m);
       if (ce.step_index() > 0) strategies[fall].observe(ce);
     };
     SpeedResult r;
@@ -111,7 +114,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     e.record_dir = work_dir / "rollouts" / r.name;
     check_cancel();
     const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
-    summarise(r, report, clock, env.control_dt_s());
+    summarise(r, report, heads, env.control_dt_s());
     out.speeds.push_back(r);
     if (b > 0) continue;
     std::vector<StrategyFeatures> per_fall;
@@ -142,9 +145,9 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     e.measures.push_back({"fast_rise_time_s", [](const character::CharacterEnv& ce) {
                             return static_cast<const SlowerEnv&>(ce).reference_motion().fast().steps() * ce.control_dt_s();
                           }});
-    RiseClock clock{std::vector<int>(falls.size(), -1), slower.env.rise_height_m};
+    auto heads = head_watches(falls.size(), slower.env.rise_height_m);
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
-      clock.observe(fall, ce, static_cast<const SlowerEnv&>(ce).weak().head_height_m);
+      heads[fall].observe(ce.step_index(), static_cast<const SlowerEnv&>(ce).weak().head_height_m);
     };
     e.record = {0};
     e.record_dir = work_dir / "rollouts" / run.name;
@@ -152,7 +155,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     SpeedResult r;
     r.name = run.name;
     r.kappa = run.kappa;
-    summarise(r, report, clock, env.control_dt_s());
+    summarise(r, report, heads, env.control_dt_s());
     r.com_error_m = report.mean("com_error_m");
     r.fast_rise_time_s = report.mean("fast_rise_time_s");
     out.speeds.push_back(r);

@@ -18,6 +18,7 @@ character::CharacterEnvParts parts_for(const EnvSettings& s, const sim::ModelPtr
   p.model = model;
   p.world.sim_hz = s.sim_hz;
   p.world.control_hz = s.control_hz;
+  p.world.passive_joints = s.passive_joints;
   p.episode_steps = s.episode_steps;
   p.action = std::make_unique<TorqueActions>();
   add_weak_observation(p.observation, model);

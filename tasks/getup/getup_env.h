@@ -28,6 +28,9 @@ struct EnvSettings {
   sim::RagdollStart fall;          ///< §7: 1.5 m, 80 control steps of a ~ N(0, 0.1)
   double strength_sigma = 0.04;    ///< ε of §5
   double min_strength = 0.05;      ///< lower clip of β̂ (SAC needs a bound in (0, 1])
+  /// The model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo
+  /// humanoid's) act on every joint; off: undamped joints (runs 1–16's policies trained so).
+  bool passive_joints = false;
 };
 
 /// Appends s_weak's body parts (§7 (1)–(5), App. C; every part facing-invariant): joint angles and

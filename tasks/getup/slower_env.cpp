@@ -38,6 +38,7 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
   p.model = model;
   p.world.sim_hz = e.sim_hz;
   p.world.control_hz = e.control_hz;
+  p.world.passive_joints = e.passive_joints;
   // The longest episode: τ_fast's cap at the slowest κ, then the standing phase (the reward
   // truncates each episode at its own T/κ + balance_steps).
   p.episode_steps = static_cast<int>(std::ceil(s.max_rise_steps / s.kappa_low)) + s.balance_steps + 1;

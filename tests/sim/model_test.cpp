@@ -70,6 +70,29 @@ TEST(Model, ErrorsNameThePathValueAndRule) {
     EXPECT_NE(std::string(e.what()).find("bodies[1].joints[0].range: [1,-1] is not [lower, upper]"), std::string::npos) << e.what();
   }
   EXPECT_THROW(load_shipped_model("humanoid99"), base::UserError);
+  try {
+    CharacterModel::from_json(two_bodies({{"name", "j"}, {"type", "spherical"}, {"torque_limit", 10}, {"damping", 1}}), "m");
+    FAIL() << "no error for damping on a spherical joint";
+  } catch (const base::UserError& e) {
+    EXPECT_STREQ(e.what(), "m: bodies[1].joints[0]: damping and stiffness are for revolute joints (this one is spherical)");
+  }
+  EXPECT_THROW(CharacterModel::from_json(two_bodies({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"stiffness", -1}}), "m"),
+               base::UserError);
+}
+
+// The seed repository's MuJoCo humanoid (data/humanoid_high_freq.xml): damping 0.2 and stiffness
+// 1 by default, hips and abdomen 2 and 4, hip_y and abdomen_z stiffness 8, ankles 6 and 3.
+TEST(Model, Humanoid21CarriesTheSeedHumanoidsPassiveJoints) {
+  const ModelPtr m = load_shipped_model("humanoid21");
+  EXPECT_EQ(m->link("knee_left").damping, 0.2);
+  EXPECT_EQ(m->link("knee_left").stiffness, 1.0);
+  EXPECT_EQ(m->link("hip_y_right").damping, 2.0);
+  EXPECT_EQ(m->link("hip_y_right").stiffness, 8.0);
+  EXPECT_EQ(m->link("abdomen_y").stiffness, 4.0);
+  EXPECT_EQ(m->link("ankle_y_left").stiffness, 6.0);
+  EXPECT_EQ(m->link("elbow_right").stiffness, 0.0);
+  EXPECT_EQ(m->damping()(m->link("hip_x_left").v_index), 2.0);
+  EXPECT_TRUE(m->damping().head<6>().isZero(0.0));  // the root
 }
 
 // Per-axis limits (the thesis's jumper, §3.6.2): one bound per DoF about the link's x, y, z.

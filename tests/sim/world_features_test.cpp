@@ -2,6 +2,7 @@
 // spherical limits, locked joints, removed limbs and snapshots, on real Bullet worlds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -407,6 +408,68 @@ TEST(WorldJoints, LimbRemovedWithItsSubtree) {
   bad.joints = {{"wing", base::Json{{"lock", 0.0}}}};
   EXPECT_THROW(edit_model(model, bad), base::UserError);
 }
+
+// A free-floating body and an arm on one hinge with passive damping d and stiffness k (MuJoCo's
+// joint damping and stiffness), no gravity, released at rest at 0.5 rad.
+ModelPtr sprung_arm(double damping, double stiffness) {
+  base::Json model = base::Json::parse(R"({
+    "name": "arm", "standing_root_height": 1.0,
+    "bodies": [
+      {"name": "base", "mass": 10, "geoms": [{"type": "box", "half_extents": [0.2, 0.2, 0.05]}]},
+      {"name": "arm", "parent": "base", "pos": [0, 0, -0.1], "mass": 1,
+       "geoms": [{"type": "capsule", "fromto": [0, 0, 0, 0, 0, -0.5], "radius": 0.03}],
+       "joints": [{"name": "hinge", "type": "revolute", "axis": [0, 1, 0], "torque_limit": 10}]}]})");
+  model["bodies"][1]["joints"][0]["damping"] = damping;
+  model["bodies"][1]["joints"][0]["stiffness"] = stiffness;
+  return CharacterModel::from_json(model, "sprung arm");
+}
+
+struct Swing {
+  double q_end = 0.0;
+  std::vector<double> energy;  // kinetic + ½ k q², per control step
+  int zero_crossings = 0;
+};
+
+Swing swing(const ModelPtr& model, bool passive, double seconds) {
+  WorldConfig config;
+  config.gravity.setZero();
+  config.passive_joints = passive;
+  World world(model, config);
+  Eigen::VectorXd q = model->standing_pose();
+  q(2) = 1.0;
+  q(7) = 0.5;
+  world.reset(q, Eigen::VectorXd::Zero(model->nv()));
+  const double k = model->stiffness()(6);
+  Swing out;
+  for (int step = 0; step < static_cast<int>(seconds * config.control_hz); ++step) {
+    const double before = world.data().q(7);
+    EXPECT_TRUE(world.control_step(Control::torque, Eigen::VectorXd::Zero(model->nv())).ok);
+    const double after = world.data().q(7);
+    if ((before > 0) != (after > 0)) ++out.zero_crossings;
+    out.energy.push_back(world.kinetic_energy() + 0.5 * k * after * after);
+  }
+  out.q_end = world.data().q(7);
+  return out;
+}
+
+TEST(WorldJoints, PassiveStiffnessSwingsTheJointAndDampingStopsIt) {
+  // Off (the default), nothing acts on the resting arm.
+  EXPECT_EQ(swing(sprung_arm(0.5, 4.0), false, 1.0).q_end, 0.5);
+  // A spring alone: the arm swings through q = 0 (about 2 times per period), and the energy stays
+  // within 2 % of the ½ k q0² it was released with.
+  const Swing spring = swing(sprung_arm(0.0, 4.0), true, 3.0);
+  EXPECT_GE(spring.zero_crossings, 4);
+  for (double e : spring.energy) EXPECT_NEAR(e, 0.5 * 4.0 * 0.25, 0.02 * 0.5);
+  // With damping the energy only falls, and after 3 s less than 1 % of it is left.
+  const Swing damped = swing(sprung_arm(0.5, 4.0), true, 3.0);
+  for (std::size_t i = 1; i < damped.energy.size(); ++i) EXPECT_LE(damped.energy[i], damped.energy[i - 1] + 1e-12) << "control step " << i;
+  EXPECT_LT(damped.energy.back(), 0.01 * 0.5);
+  EXPECT_LT(std::abs(damped.q_end), 0.05);
+  std::printf("spring: %d zero crossings in 3 s, energy %.4f..%.4f J (released with 0.5 J); damped: %.2e J left, q %.4f rad\n",
+              spring.zero_crossings, *std::min_element(spring.energy.begin(), spring.energy.end()),
+              *std::max_element(spring.energy.begin(), spring.energy.end()), damped.energy.back(), damped.q_end);
+}
+
 
 // A snapshot taken mid-rollout on humanoid34 with ground and box contacts, restored after other
 // episodes (other props, friction, forces) and into a fresh World, replays 2 s bitwise.

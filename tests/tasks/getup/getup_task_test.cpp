@@ -77,7 +77,7 @@ TEST(GetupTask, SmokePpoTrialShrinksTheStrengthAtEveryPassedTest) {
 }
 
 // risen_rate counts a start whose head top passed success_height_m after any action, success_rate
-// only one that ends above it. The smoke preset's untrained policy flails near the ground: at
+// only one that ends above it, head_drops its falls back below the height. The smoke preset's untrained policy flails near the ground: at
 // 0.3 m one of its two starts' head passes the height in every test and ends below it.
 TEST(GetupTask, RisenRateCountsAHeadThatPassedTheHeightBeforeTheEnd) {
   const SmokeTrial trial = run_smoke_trial({{"success_height_m", 0.3}});
@@ -87,6 +87,17 @@ TEST(GetupTask, RisenRateCountsAHeadThatPassedTheHeightBeforeTheEnd) {
   ASSERT_EQ(success.size(), 4u);
   for (std::size_t i = 0; i < risen.size(); ++i) EXPECT_GE(risen[i], success[i]) << "test " << i;
   EXPECT_GT(std::accumulate(risen.begin(), risen.end(), 0.0), std::accumulate(success.begin(), success.end(), 0.0));
+  // A start that rose and ended below fell back at least once; no start's end is above its peak.
+  const std::vector<double>& drops = trial.metrics.at("head_drops");
+  const std::vector<double>& peaks = trial.metrics.at("head_peak_m");
+  const std::vector<double>& ends = trial.metrics.at("head_height_m");
+  ASSERT_EQ(drops.size(), 4u);
+  ASSERT_EQ(peaks.size(), 4u);
+  for (std::size_t i = 0; i < drops.size(); ++i) {
+    EXPECT_GE(drops[i], risen[i] - success[i] - 1e-12) << "test " << i;
+    EXPECT_GE(peaks[i], ends[i]) << "test " << i;
+  }
+  EXPECT_GT(std::accumulate(drops.begin(), drops.end(), 0.0), 0.0);
 }
 
 // No test passes ω: β stays 1 and the exported policy is the one of the best mean test return
@@ -182,6 +193,13 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
     for (const auto& m : campaign.store->metrics(t.id))
       if (m.name == "eval/success_rate") steps.insert(m.step);
     EXPECT_EQ(steps, (std::set<double>{0.5, 1.0}));  // the smoke preset's κ = 0.5, and fast
+    for (const auto& speed : t.result_info["speeds"]) {  // head_watch.h's measures, per speed
+      EXPECT_GT(speed["peak_head_m"].get<double>(), 0.0) << speed;
+      EXPECT_GE(speed["drops"].get<double>(), 0.0) << speed;
+      if (speed["risen"] == 0) {
+        EXPECT_EQ(speed["drops"].get<double>(), 0.0) << speed;
+      }
+    }
   }
 
   // tasks/getup/report.py finds each Weaker trial's trial.log (the store's folder rule) and reads
@@ -195,6 +213,7 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
        at = report.find("environment steps/s over", at + 1))
     ++rates;
   EXPECT_EQ(rates, 2u) << report;  // one per Weaker trial
+  EXPECT_NE(report.find("head drops"), std::string::npos) << report;  // Evaluate's per-speed lines
 }
 
 }  // namespace

@@ -56,6 +56,10 @@ struct Link {
   // (0); spherical: about the link's x, y, z axes, which may differ, as the thesis's jumper's do).
   Eigen::Vector3d torque_limit_nm = Eigen::Vector3d::Zero();
   double kp = 0.0, kd = 0.0;        // PD gains, N·m/rad and N·m·s/rad
+  // Passive joint torque −damping·q̇ − stiffness·q (MuJoCo's joint damping and stiffness, spring
+  // at q = 0), N·m·s/rad and N·m/rad; revolute joints only; a World applies it when
+  // WorldConfig::passive_joints is set.
+  double damping = 0.0, stiffness = 0.0;
 };
 
 /// A named rigid body (what observations, recording and contacts talk about).
@@ -95,6 +99,9 @@ class CharacterModel {
   /// Per-DoF gains (nv, 0 on the root).
   const Eigen::VectorXd& kp() const { return kp_; }
   const Eigen::VectorXd& kd() const { return kd_; }
+  /// Per-DoF passive damping and stiffness (nv, 0 on the root and spherical joints).
+  const Eigen::VectorXd& damping() const { return damping_; }
+  const Eigen::VectorXd& stiffness() const { return stiffness_; }
   /// Neutral configuration: root at the origin, identity rotations, zero angles.
   Eigen::VectorXd neutral() const;
   /// The model-file JSON this model was built from.
@@ -110,7 +117,7 @@ class CharacterModel {
   int head_ = 0, torso_ = 0;
   std::vector<int> end_effectors_;
   double total_mass_ = 0.0;
-  Eigen::VectorXd standing_, torque_limits_, kp_, kd_;
+  Eigen::VectorXd standing_, torque_limits_, kp_, kd_, damping_, stiffness_;
   base::Json source_;
 };
 

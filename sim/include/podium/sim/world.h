@@ -30,6 +30,9 @@ struct WorldConfig {
   bool joint_limits = true;    ///< enforce revolute angle limits
   bool torque_limits = true;   ///< clamp torques to strength × model limits
   double strength = 1.0;       ///< global torque-limit multiplier (the Weaker curriculum's β^i)
+  /// Apply the model's passive joint damping and stiffness (Link::damping, stiffness) every
+  /// simulation step, in every control mode (SPD's implicit step does not see them).
+  bool passive_joints = false;
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};
   TerrainConfig terrain;       ///< set_terrain changes it between episodes
   ModelEdits edits;            ///< applied to the model when the World is built (World::model() is the edited one)
@@ -157,8 +160,9 @@ class World {
   StepReport failure_;
   std::vector<Eigen::Vector3d> forces_;     // per body, world, N
   std::vector<Eigen::Vector3d> centroids_;  // per body, in its link's frame
-  Eigen::VectorXd tau_external_;            // Jᵀ F over all bodies (nv)
+  Eigen::VectorXd tau_external_;            // passive joint torques + Jᵀ F over all bodies (nv)
   bool has_forces_ = false;
+  std::vector<int> passive_links_;          // revolute links with damping or stiffness, when applied
 };
 
 struct WarmStarts;  // the contact solver's (src/contact_solver.h)

@@ -1,0 +1,31 @@
+#pragma once
+/// How the head top moved over one episode, against a height (e.g. 1.2 m): when it first passed
+/// it, how often it fell back below it, and its highest point. A get-up that stands passes once
+/// and stays (0 drops, a peak near the standing head top, humanoid21: 1.56 m); a leap loop — rise,
+/// fly, fall, rise again — passes and drops again and again with peaks far above standing
+/// (tasks/getup/RESULTS.md, session 22: every quick-run π_weak did that, 2–4 drops per 250 steps).
+#include <algorithm>
+
+namespace podium::tasks::getup {
+
+struct HeadWatch {
+  double height_m = 1.2;
+  int first_step = -1;  ///< control step of the first pass above height_m; −1: never
+  int drops = 0;        ///< passes back below height_m after being above it
+  double peak_m = 0.0;  ///< highest head top seen
+  bool above = false;
+
+  void observe(int step, double head_m) {
+    peak_m = std::max(peak_m, head_m);
+    if (head_m > height_m) {
+      if (first_step < 0) first_step = step;
+      above = true;
+    } else if (above) {
+      above = false;
+      ++drops;
+    }
+  }
+  bool risen() const { return first_step >= 0; }
+};
+
+}  // namespace podium::tasks::getup

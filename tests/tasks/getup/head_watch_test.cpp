@@ -1,0 +1,40 @@
+// HeadWatch on hand-made head-top heights: a get-up that stands against a leap loop.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "head_watch.h"
+
+namespace podium::tasks::getup {
+namespace {
+
+HeadWatch watch(const std::vector<double>& heads) {
+  HeadWatch w{.height_m = 1.2};
+  for (std::size_t i = 0; i < heads.size(); ++i) w.observe(static_cast<int>(i), heads[i]);
+  return w;
+}
+
+TEST(HeadWatch, StandingPassesOnceAndLeapingDropsEachTime) {
+  const HeadWatch lying = watch({0.2, 0.3, 0.25});
+  EXPECT_FALSE(lying.risen());
+  EXPECT_EQ(lying.drops, 0);
+  EXPECT_EQ(lying.peak_m, 0.3);
+
+  const HeadWatch stands = watch({0.2, 0.8, 1.3, 1.56, 1.55, 1.56});
+  EXPECT_EQ(stands.first_step, 2);
+  EXPECT_EQ(stands.drops, 0);
+  EXPECT_EQ(stands.peak_m, 1.56);
+
+  // Up, airborne, down to the ground, up again, ending in the air: two drops, not one success.
+  const HeadWatch leaps = watch({0.2, 1.5, 1.9, 1.0, 0.2, 1.4, 1.85, 0.3, 1.3});
+  EXPECT_EQ(leaps.first_step, 1);
+  EXPECT_EQ(leaps.drops, 2);
+  EXPECT_EQ(leaps.peak_m, 1.9);
+  EXPECT_TRUE(leaps.above);
+
+  // Exactly at the height is not above it (success is head > height).
+  EXPECT_FALSE(watch({1.2, 1.2}).risen());
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup

@@ -64,15 +64,15 @@ void summarise(SpeedResult& r, const character::EvaluationReport& report, const 
   r.success_rate = report.success_rate;
   double rise_sum = 0.0, drops = 0.0, peaks = 0.0;
   for (const HeadWatch& h : heads) {
-    peaks += h.peak_m;
     if (!h.risen()) continue;
     ++r.risen;
     rise_sum += h.first_step * dt_s;
     drops += h.drops;
+    peaks += h.peak_m;
   }
   r.rise_time_s = r.risen > 0 ? rise_sum / r.risen : 0.0;
   r.drops = r.risen > 0 ? drops / r.risen : 0.0;
-  r.peak_head_m = heads.empty() ? 0.0 : peaks / static_cast<double>(heads.size());
+  r.peak_head_m = r.risen > 0 ? peaks / r.risen : 0.0;
   if (!report.trajectories.empty()) r.trajectory = report.trajectories.front();
 }
 

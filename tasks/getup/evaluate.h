@@ -31,7 +31,7 @@ struct SpeedResult {
   double rise_time_s = 0.0;         ///< mean over the falls whose head rose (NaN-free: 0 when none)
   int risen = 0;                    ///< falls whose head rose at all
   double drops = 0.0;               ///< mean, over those, of the head's falls back below rise_height_m (standing: 0)
-  double peak_head_m = 0.0;         ///< mean over the falls of the highest head top (standing humanoid21: 1.56 m)
+  double peak_head_m = 0.0;         ///< mean, over those, of the highest head top (standing humanoid21: 1.56 m)
   double com_error_m = 0.0;         ///< mean over the falls (0 for fast)
   double fast_rise_time_s = 0.0;    ///< τ_fast's duration over the same falls (slow speeds)
   std::filesystem::path trajectory;

@@ -87,15 +87,16 @@ TEST(GetupTask, RisenRateCountsAHeadThatPassedTheHeightBeforeTheEnd) {
   ASSERT_EQ(success.size(), 4u);
   for (std::size_t i = 0; i < risen.size(); ++i) EXPECT_GE(risen[i], success[i]) << "test " << i;
   EXPECT_GT(std::accumulate(risen.begin(), risen.end(), 0.0), std::accumulate(success.begin(), success.end(), 0.0));
-  // A start that rose and ended below fell back at least once; no start's end is above its peak.
+  // Over the starts that rose: one that ended below fell back at least once, and its peak passed
+  // the height.
   const std::vector<double>& drops = trial.metrics.at("head_drops");
   const std::vector<double>& peaks = trial.metrics.at("head_peak_m");
-  const std::vector<double>& ends = trial.metrics.at("head_height_m");
   ASSERT_EQ(drops.size(), 4u);
   ASSERT_EQ(peaks.size(), 4u);
   for (std::size_t i = 0; i < drops.size(); ++i) {
-    EXPECT_GE(drops[i], risen[i] - success[i] - 1e-12) << "test " << i;
-    EXPECT_GE(peaks[i], ends[i]) << "test " << i;
+    if (risen[i] == 0) continue;
+    EXPECT_GE(drops[i] * risen[i], risen[i] - success[i] - 1e-12) << "test " << i;
+    EXPECT_GT(peaks[i], 0.3) << "test " << i;
   }
   EXPECT_GT(std::accumulate(drops.begin(), drops.end(), 0.0), 0.0);
 }
@@ -194,10 +195,12 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
       if (m.name == "eval/success_rate") steps.insert(m.step);
     EXPECT_EQ(steps, (std::set<double>{0.5, 1.0}));  // the smoke preset's κ = 0.5, and fast
     for (const auto& speed : t.result_info["speeds"]) {  // head_watch.h's measures, per speed
-      EXPECT_GT(speed["peak_head_m"].get<double>(), 0.0) << speed;
       EXPECT_GE(speed["drops"].get<double>(), 0.0) << speed;
       if (speed["risen"] == 0) {
         EXPECT_EQ(speed["drops"].get<double>(), 0.0) << speed;
+        EXPECT_EQ(speed["peak_head_m"].get<double>(), 0.0) << speed;
+      } else {
+        EXPECT_GT(speed["peak_head_m"].get<double>(), 0.1) << speed;  // the smoke preset's rise height
       }
     }
   }

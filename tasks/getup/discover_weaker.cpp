@@ -223,13 +223,10 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     send("test_return_min", steps, min_return);
     send("head_height_m", steps, result.mean("head_height_m"));
     send("success_rate", steps, result.success_rate);
-    const auto starts = static_cast<double>(heads.size());
-    double drops = 0.0, peaks = 0.0, rose = 0.0;
-    for (const HeadWatch& h : heads)
-      if (h.risen()) drops += h.drops, peaks += h.peak_m, ++rose;
-    send("risen_rate", steps, rose / starts);
-    send("head_drops", steps, rose > 0 ? drops / rose : 0.0);
-    send("head_peak_m", steps, rose > 0 ? peaks / rose : 0.0);
+    const HeadSummary rose = summarise_heads(heads);
+    send("risen_rate", steps, static_cast<double>(rose.risen) / static_cast<double>(heads.size()));
+    send("head_drops", steps, rose.drops);
+    send("head_peak_m", steps, rose.peak_m);
     if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));
     if (sac) {
       send("sac/alpha", steps, sac->alpha());

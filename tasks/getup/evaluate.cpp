@@ -62,17 +62,11 @@ std::vector<HeadWatch> head_watches(std::size_t falls, double height_m) { return
 
 void summarise(SpeedResult& r, const character::EvaluationReport& report, const std::vector<HeadWatch>& heads, double dt_s) {
   r.success_rate = report.success_rate;
-  double rise_sum = 0.0, drops = 0.0, peaks = 0.0;
-  for (const HeadWatch& h : heads) {
-    if (!h.risen()) continue;
-    ++r.risen;
-    rise_sum += h.first_step * dt_s;
-    drops += h.drops;
-    peaks += h.peak_m;
-  }
-  r.rise_time_s = r.risen > 0 ? rise_sum / r.risen : 0.0;
-  r.drops = r.risen > 0 ? drops / r.risen : 0.0;
-  r.peak_head_m = r.risen > 0 ? peaks / r.risen : 0.0;
+  const HeadSummary h = summarise_heads(heads);
+  r.risen = h.risen;
+  r.rise_time_s = h.first_step * dt_s;
+  r.drops = h.drops;
+  r.peak_head_m = h.peak_m;
   if (!report.trajectories.empty()) r.trajectory = report.trajectories.front();
 }
 

@@ -5,6 +5,7 @@
 /// fly, fall, rise again — passes and drops again and again with peaks far above standing
 /// (tasks/getup/RESULTS.md, session 22: every quick-run π_weak did that, 2–4 drops per 250 steps).
 #include <algorithm>
+#include <vector>
 
 namespace podium::tasks::getup {
 
@@ -27,5 +28,23 @@ struct HeadWatch {
   }
   bool risen() const { return first_step >= 0; }
 };
+
+/// Over the episodes whose head rose: how many, and their mean first-pass step, drops and peak
+/// (all 0 when none rose).
+struct HeadSummary {
+  int risen = 0;
+  double first_step = 0.0, drops = 0.0, peak_m = 0.0;
+};
+
+inline HeadSummary summarise_heads(const std::vector<HeadWatch>& heads) {
+  HeadSummary s;
+  for (const HeadWatch& h : heads) {
+    if (!h.risen()) continue;
+    ++s.risen;
+    s.first_step += h.first_step, s.drops += h.drops, s.peak_m += h.peak_m;
+  }
+  if (s.risen > 0) s.first_step /= s.risen, s.drops /= s.risen, s.peak_m /= s.risen;
+  return s;
+}
 
 }  // namespace podium::tasks::getup

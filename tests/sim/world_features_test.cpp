@@ -470,7 +470,6 @@ TEST(WorldJoints, PassiveStiffnessSwingsTheJointAndDampingStopsIt) {
               *std::max_element(spring.energy.begin(), spring.energy.end()), damped.energy.back(), damped.q_end);
 }
 
-
 // A snapshot taken mid-rollout on humanoid34 with ground and box contacts, restored after other
 // episodes (other props, friction, forces) and into a fresh World, replays 2 s bitwise.
 TEST(WorldSnapshot, RestoredRolloutIsBitwiseTheOriginal) {

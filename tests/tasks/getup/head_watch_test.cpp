@@ -34,6 +34,14 @@ TEST(HeadWatch, StandingPassesOnceAndLeapingDropsEachTime) {
 
   // Exactly at the height is not above it (success is head > height).
   EXPECT_FALSE(watch({1.2, 1.2}).risen());
+
+  // The summary averages over the episodes that rose only.
+  const HeadSummary s = summarise_heads({lying, stands, leaps});
+  EXPECT_EQ(s.risen, 2);
+  EXPECT_DOUBLE_EQ(s.first_step, 1.5);
+  EXPECT_DOUBLE_EQ(s.drops, 1.0);
+  EXPECT_DOUBLE_EQ(s.peak_m, (1.56 + 1.9) / 2);
+  EXPECT_EQ(summarise_heads({lying}).peak_m, 0.0);
 }
 
 }  // namespace

@@ -31,6 +31,7 @@ struct Settings {
   int eval_starts = 10;                                 ///< App. D: 10 fixed initial states
   std::uint64_t eval_seed = 1;                          ///< picks those starts (the same for every trial)
   double success_height_m = 1.2;                        ///< head top above this at the end: got up (§7)
+  int stand_steps = 80;                                 ///< ... and above it for the last 80 control steps (2 s): stood (head_watch.h)
   character::ThresholdCurriculum::Config curriculum;    ///< App. D: β = 0.95, ω = 60
   character::StepBudget::Config budget;                 ///< §5 and App. D: M_i rule, 3·10⁵, 8·10⁵
   int copies = 1;                                       ///< environment copies stepped together

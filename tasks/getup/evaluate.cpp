@@ -28,7 +28,7 @@ EvaluateConfig read_evaluate(base::ConfigReader& r) {
 Json SpeedResult::to_json() const {
   return {{"name", name},   {"kappa", kappa},         {"strength", strength},
           {"success_rate", success_rate}, {"rise_time_s", rise_time_s},
-          {"risen", risen}, {"drops", drops}, {"peak_head_m", peak_head_m},
+          {"risen", risen}, {"stood", stood}, {"drops", drops}, {"peak_head_m", peak_head_m},
           {"com_error_m", com_error_m}, {"fast_rise_time_s", fast_rise_time_s}};
 }
 
@@ -60,10 +60,11 @@ namespace {
 // Each fall's head top against rise_height_m (head_watch.h), observed from the fall's end.
 std::vector<HeadWatch> head_watches(std::size_t falls, double height_m) { return std::vector<HeadWatch>(falls, HeadWatch{.height_m = height_m}); }
 
-void summarise(SpeedResult& r, const character::EvaluationReport& report, const std::vector<HeadWatch>& heads, double dt_s) {
+void summarise(SpeedResult& r, const character::EvaluationReport& report, const std::vector<HeadWatch>& heads, int stand_steps, double dt_s) {
   r.success_rate = report.success_rate;
-  const HeadSummary h = summarise_heads(heads);
+  const HeadSummary h = summarise_heads(heads, stand_steps);
   r.risen = h.risen;
+  r.stood = h.stood;
   r.rise_time_s = h.first_step * dt_s;
   r.drops = h.drops;
   r.peak_head_m = h.peak_m;
@@ -108,7 +109,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     e.record_dir = work_dir / "rollouts" / r.name;
     check_cancel();
     const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
-    summarise(r, report, heads, env.control_dt_s());
+    summarise(r, report, heads, s.stand_steps, env.control_dt_s());
     out.speeds.push_back(r);
     if (b > 0) continue;
     std::vector<StrategyFeatures> per_fall;
@@ -149,7 +150,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     SpeedResult r;
     r.name = run.name;
     r.kappa = run.kappa;
-    summarise(r, report, heads, env.control_dt_s());
+    summarise(r, report, heads, s.stand_steps, env.control_dt_s());
     r.com_error_m = report.mean("com_error_m");
     r.fast_rise_time_s = report.mean("fast_rise_time_s");
     out.speeds.push_back(r);

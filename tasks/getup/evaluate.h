@@ -30,6 +30,7 @@ struct SpeedResult {
   double success_rate = 0.0;
   double rise_time_s = 0.0;         ///< mean over the falls whose head rose (NaN-free: 0 when none)
   int risen = 0;                    ///< falls whose head rose at all
+  int stood = 0;                    ///< falls whose head top stayed above rise_height_m for the last stand_steps (not a leap's flight)
   double drops = 0.0;               ///< mean, over those, of the head's falls back below rise_height_m (standing: 0)
   double peak_head_m = 0.0;         ///< mean, over those, of the highest head top (standing humanoid21: 1.56 m)
   double com_error_m = 0.0;         ///< mean over the falls (0 for fast)

@@ -77,7 +77,7 @@ Json presets() {
             {"threshold", -1.0}, {"min_steps", 100}, {"max_steps", 200}, {"checkpoint_every", 1}, {"sac_preset", "quick"},
             {"sac", {{"hidden", {16, 16}}, {"batch_size", 32}, {"warmup_steps", 100}, {"buffer_capacity", 10000}}},
             {"rise_height_m", 0.1}, {"reference_end_height_m", 0.1}, {"max_rise_steps", 50}, {"balance_steps", 10}, {"slow_total_steps", 200}, {"slow_eval_every", 100},
-            {"eval_falls", 2}, {"eval_kappas", {0.5}}, {"pause_steps", 2}}},
+            {"eval_falls", 2}, {"eval_kappas", {0.5}}, {"pause_steps", 2}, {"stand_steps", 5}}},
           {"quick",
            {{"total_steps", 2'000'000}, {"train_minutes", 100}, {"sac_preset", "paper"},
             {"sac",
@@ -100,6 +100,7 @@ Json stage_description(const std::string& stage) {
     Json d = features;
     d["metrics"] = {plugins::metric_entry("eval/success_rate", "", "success over the unseen falls; step = κ (1 = fast: π_weak itself)"),
                     plugins::metric_entry("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m; step = κ"),
+                    plugins::metric_entry("eval/stood_rate", "", "fraction of the unseen falls whose head top stayed above rise_height_m for the last stand_steps; step = κ"),
                     plugins::metric_entry("eval/head_drops", "", "mean times the head top fell back below rise_height_m, over the falls that rose (standing: 0; a leap loop: 2–4); step = κ"),
                     plugins::metric_entry("eval/com_error_m", "m", "mean COM-height tracking error of π_slow; step = κ"),
                     plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls; step = strength β")};
@@ -112,6 +113,7 @@ Json stage_description(const std::string& stage) {
                   plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes"),
                   plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
                   plugins::metric_entry("risen_rate", "", "fraction of the fixed starts whose head top passed success_height_m at some step (risen − success: rose and fell again)"),
+                  plugins::metric_entry("stood_rate", "", "fraction of the fixed starts whose head top stayed above success_height_m for the last stand_steps control steps (a get-up that stands; a leap's flight is shorter)"),
                   plugins::metric_entry("head_drops", "", "mean times the head top fell back below success_height_m, over the fixed starts whose head passed it (a get-up that stands: 0; a leap loop: 2–4 per 250 steps)"),
                   plugins::metric_entry("head_peak_m", "m", "mean highest head top over those starts (standing humanoid21: 1.56 m; above it: the character leaps)"),
                   plugins::metric_entry("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),
@@ -222,6 +224,7 @@ class GetupTask final : public plugins::Task {
       sink.metric("eval/success_rate", step, s.success_rate);
       sink.metric("eval/rise_time_s", step, s.rise_time_s);
       sink.metric("eval/head_drops", step, s.drops);
+      sink.metric("eval/stood_rate", step, static_cast<double>(s.stood) / c.evaluate.falls);
       if (s.name != "fast") {
         sink.metric("eval/com_error_m", step, s.com_error_m);
         slow_success += s.success_rate, ++slow_speeds;

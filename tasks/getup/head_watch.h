@@ -1,9 +1,12 @@
 #pragma once
 /// How the head top moved over one episode, against a height (e.g. 1.2 m): when it first passed
-/// it, how often it fell back below it, and its highest point. A get-up that stands passes once
-/// and stays (0 drops, a peak near the standing head top, humanoid21: 1.56 m); a leap loop — rise,
+/// it, how often it fell back below it, its highest point and how long it has stayed above. A
+/// get-up that stands passes once and stays (0 drops, a peak near the standing head top,
+/// humanoid21: 1.56 m, and the head above for the episode's last seconds); a leap loop — rise,
 /// fly, fall, rise again — passes and drops again and again with peaks far above standing
-/// (tasks/getup/RESULTS.md, session 22: every quick-run π_weak did that, 2–4 drops per 250 steps).
+/// (tasks/getup/RESULTS.md, session 22: every quick-run π_weak did that, 2–4 drops per 250 steps),
+/// and its head is above the height for under a second at a time, so `stood` tells the two apart
+/// where the head's height at the episode's end alone samples the leap's phase.
 #include <algorithm>
 #include <vector>
 
@@ -14,6 +17,7 @@ struct HeadWatch {
   int first_step = -1;  ///< control step of the first pass above height_m; −1: never
   int drops = 0;        ///< passes back below height_m after being above it
   double peak_m = 0.0;  ///< highest head top seen
+  int held = 0;         ///< control steps the head top has been above height_m without a break, to the last one seen
   bool above = false;
 
   void observe(int step, double head_m) {
@@ -21,25 +25,30 @@ struct HeadWatch {
     if (head_m > height_m) {
       if (first_step < 0) first_step = step;
       above = true;
-    } else if (above) {
+      ++held;
+    } else {
+      if (above) ++drops;
       above = false;
-      ++drops;
+      held = 0;
     }
   }
   bool risen() const { return first_step >= 0; }
+  /// Up at the last step seen and for at least `steps` control steps before it without a break.
+  bool stood(int steps) const { return held >= steps; }
 };
 
 /// Over the episodes whose head rose: how many, and their mean first-pass step, drops and peak
-/// (all 0 when none rose).
+/// (all 0 when none rose); and how many stood for the last `stand_steps`.
 struct HeadSummary {
-  int risen = 0;
+  int risen = 0, stood = 0;
   double first_step = 0.0, drops = 0.0, peak_m = 0.0;
 };
 
-inline HeadSummary summarise_heads(const std::vector<HeadWatch>& heads) {
+inline HeadSummary summarise_heads(const std::vector<HeadWatch>& heads, int stand_steps) {
   HeadSummary s;
   for (const HeadWatch& h : heads) {
     if (!h.risen()) continue;
+    if (h.stood(stand_steps)) ++s.stood;
     ++s.risen;
     s.first_step += h.first_step, s.drops += h.drops, s.peak_m += h.peak_m;
   }

@@ -17,7 +17,7 @@ from campaign_db import minutes, open_campaign, trial_log  # noqa: E402
 
 def curve_table(series, every=100_000):
     """The learning curves every `every` environment steps, as a Markdown table."""
-    names = ["test_return", "head_height_m", "success_rate", "risen_rate", "head_drops", "curriculum/strength", "sac/alpha"]
+    names = ["test_return", "head_height_m", "success_rate", "risen_rate", "stood_rate", "head_drops", "curriculum/strength", "sac/alpha"]
     by_step = {name: dict(series.get(name, [])) for name in names}
     steps = sorted(s for s in by_step["test_return"] if s % every == 0)
     print("\n  | env steps | " + " | ".join(names) + " |\n  |---|" + "---|" * len(names))
@@ -85,7 +85,7 @@ def main(db_path, campaign):
                       f"COM error {info['com_error_m']:.3f} m, return {info['test_return']:.1f}; π_weak's β {info['weak_strength']:.4f}")
             else:
                 for s in info["speeds"]:
-                    print(f"  - {s['name']:>8}: success {s['success_rate']:.2f}, risen {s['risen']}, rise time {s['rise_time_s']:.2f} s, "
+                    print(f"  - {s['name']:>8}: success {s['success_rate']:.2f}, risen {s['risen']}, stood {s.get('stood', float('nan'))}, rise time {s['rise_time_s']:.2f} s, "
                           f"head drops {s.get('drops', float('nan')):.2f}, peak head top {s.get('peak_head_m', float('nan')):.2f} m, "
                           f"COM error {s['com_error_m']:.3f} m, τ_fast {s['fast_rise_time_s']:.2f} s")
                 print(f"  - strategy features {[round(x, 3) for x in info['features']]}")

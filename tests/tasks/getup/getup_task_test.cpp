@@ -85,7 +85,12 @@ TEST(GetupTask, RisenRateCountsAHeadThatPassedTheHeightBeforeTheEnd) {
   const std::vector<double>& success = trial.metrics.at("success_rate");
   ASSERT_EQ(risen.size(), 4u);
   ASSERT_EQ(success.size(), 4u);
-  for (std::size_t i = 0; i < risen.size(); ++i) EXPECT_GE(risen[i], success[i]) << "test " << i;
+  const std::vector<double>& stood = trial.metrics.at("stood_rate");  // up for the last stand_steps: up at the end
+  ASSERT_EQ(stood.size(), 4u);
+  for (std::size_t i = 0; i < risen.size(); ++i) {
+    EXPECT_GE(risen[i], success[i]) << "test " << i;
+    EXPECT_LE(stood[i], success[i]) << "test " << i;
+  }
   EXPECT_GT(std::accumulate(risen.begin(), risen.end(), 0.0), std::accumulate(success.begin(), success.end(), 0.0));
   // Over the starts that rose: one that ended below fell back at least once, and its peak passed
   // the height.
@@ -201,6 +206,13 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
         EXPECT_EQ(speed["peak_head_m"].get<double>(), 0.0) << speed;
       } else {
         EXPECT_GT(speed["peak_head_m"].get<double>(), 0.1) << speed;  // the smoke preset's rise height
+      }
+      // A lying head top is ≥ 0.18 m (its sphere's diameter), above the smoke rise height 0.1 m
+      // at every step: every fall of π_weak's 50-step episodes stood through the last stand_steps
+      // (5); π_slow's end sooner (its standing phase stops when the COM is below 0.5 m).
+      EXPECT_LE(speed["stood"].get<int>(), speed["risen"].get<int>()) << speed;
+      if (speed["name"] == "fast") {
+        EXPECT_EQ(speed["stood"], 2) << speed;
       }
     }
   }

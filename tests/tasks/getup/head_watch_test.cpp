@@ -31,17 +31,26 @@ TEST(HeadWatch, StandingPassesOnceAndLeapingDropsEachTime) {
   EXPECT_EQ(leaps.drops, 2);
   EXPECT_EQ(leaps.peak_m, 1.9);
   EXPECT_TRUE(leaps.above);
+  // Up at the end, but only for its last step: it did not stand; the standing one held 4 steps.
+  EXPECT_EQ(leaps.held, 1);
+  EXPECT_FALSE(leaps.stood(2));
+  EXPECT_EQ(stands.held, 4);
+  EXPECT_TRUE(stands.stood(4));
+  EXPECT_FALSE(stands.stood(5));
 
   // Exactly at the height is not above it (success is head > height).
   EXPECT_FALSE(watch({1.2, 1.2}).risen());
 
-  // The summary averages over the episodes that rose only.
-  const HeadSummary s = summarise_heads({lying, stands, leaps});
+  // The summary averages over the episodes that rose only, and counts those that stood.
+  const HeadSummary s = summarise_heads({lying, stands, leaps}, 3);
   EXPECT_EQ(s.risen, 2);
+  EXPECT_EQ(s.stood, 1);
+  EXPECT_EQ(summarise_heads({lying, stands, leaps}, 1).stood, 2);
   EXPECT_DOUBLE_EQ(s.first_step, 1.5);
   EXPECT_DOUBLE_EQ(s.drops, 1.0);
   EXPECT_DOUBLE_EQ(s.peak_m, (1.56 + 1.9) / 2);
-  EXPECT_EQ(summarise_heads({lying}).peak_m, 0.0);
+  EXPECT_EQ(summarise_heads({lying}, 0).peak_m, 0.0);
+  EXPECT_EQ(summarise_heads({lying}, 0).stood, 0);
 }
 
 }  // namespace

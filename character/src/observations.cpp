@@ -45,6 +45,11 @@ void JointVelocities::write(const CharacterEnv& env, std::span<double> out) cons
   for (int i = 6; i < qd.size(); ++i) out[i - 6] = qd(i);
 }
 
+void RootVelocity::write(const CharacterEnv& env, std::span<double> out) const {
+  const Eigen::VectorXd& qd = env.world().data().qd;
+  for (int i = 0; i < 6; ++i) out[i] = qd(i);
+}
+
 void HeadHeight::write(const CharacterEnv& env, std::span<double> out) const { out[0] = env.features().head_height_m; }
 
 std::size_t LinkStates::size(const sim::CharacterModel& model) const {

@@ -90,6 +90,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
   for (std::size_t b = 0; b < strengths.size(); ++b) {
     auto beta = std::make_shared<double>(strengths[b]);
     GetupEnv env(s.env, beta, false);
+    check_policy_fits(*teacher, env, "getup evaluate: π_weak");
     character::EvaluationConfig e;
     for (std::uint64_t f : falls) e.start_seeds.push_back(base::Rng(f).next());
     const double rise_m = slower.env.rise_height_m;
@@ -135,6 +136,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
   for (const Run& run : runs) {
     check_cancel();
     SlowerEnv env(s.env, slower.env, teacher, weak.strength, run.kappa);
+    check_policy_fits(pi_slow, env, "getup evaluate: π_slow");
     if (run.pause) env.set_rollout_edit([&c](FastRollout f) { return paused(std::move(f), c.pause_at, c.pause_steps); });
     character::EvaluationConfig e = slower_test(slower.env, falls);
     e.measures.push_back({"fast_rise_time_s", [](const character::CharacterEnv& ce) {

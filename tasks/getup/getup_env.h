@@ -13,6 +13,7 @@
 
 #include "getup_rewards.h"
 #include "podium/character/character_env.h"
+#include "podium/learn/frozen_policy.h"
 #include "podium/sim/starts.h"
 
 namespace podium::tasks::getup {
@@ -31,12 +32,21 @@ struct EnvSettings {
   /// The model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo
   /// humanoid's) act on every joint; off: undamped joints (runs 1–16's policies trained so).
   bool passive_joints = false;
+  /// s_weak includes the root's angular and linear velocity (character::RootVelocity), as the
+  /// seed repository's dm_control state does; off: joint velocities only (the policies shipped
+  /// before session 23 were trained so).
+  bool root_velocity = true;
 };
 
 /// Appends s_weak's body parts (§7 (1)–(5), App. C; every part facing-invariant): joint angles and
-/// velocities, head height, COM height and velocity in the heading frame, end effectors in the
-/// root frame, the z components of the torso axes. GetupEnv adds β̂; SlowerEnv the reference.
-void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart>>& parts, const sim::ModelPtr& model);
+/// velocities (with the root's when `root_velocity`), head height, COM height and velocity in the
+/// heading frame, end effectors in the root frame, the z components of the torso axes. GetupEnv
+/// adds β̂; SlowerEnv the reference.
+void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart>>& parts, const sim::ModelPtr& model, bool root_velocity);
+
+/// Throws UserError ("<who> takes N observations and gives M actions; ...") when `policy` does not
+/// fit `env`: trained for another variant, or with another `root_velocity`.
+void check_policy_fits(const learn::FrozenPolicy& policy, const learn::Env& env, const std::string& who);
 
 /// The model edits of a variant (empty for "none"). Throws base::UserError on an unknown name.
 sim::ModelEdits variant_edits(const std::string& variant);

@@ -43,7 +43,7 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
   // truncates each episode at its own T/κ + balance_steps).
   p.episode_steps = static_cast<int>(std::ceil(s.max_rise_steps / s.kappa_low)) + s.balance_steps + 1;
   p.action = std::make_unique<ResidualActions>(model, sim::Control::pd, s.residual_bound_rad);
-  add_weak_observation(p.observation, model);
+  add_weak_observation(p.observation, model, e.root_velocity);
   const auto bridge = std::make_shared<PoseBridge>(model);
   const std::size_t frame = bridge->size() + 4;
   p.observation.push_back(std::make_unique<TaskScalars>(2 * frame, [bridge, frame](const CharacterEnv& env, std::span<double> out) {
@@ -149,11 +149,7 @@ SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, sim::
   if (!(settings_.kappa_low > 0.0) || settings_.kappa_high < settings_.kappa_low)
     throw base::UserError("getup slower: κ range [" + std::to_string(settings_.kappa_low) + ", " + std::to_string(settings_.kappa_high) + "] is empty or not > 0");
   teacher_ = std::make_unique<GetupEnv>(env, teacher_strength_, false);
-  if (weak_->observation_size() != teacher_->observation_space().size() || weak_->action_size() != teacher_->action_space().size())
-    throw base::UserError("getup slower: π_weak takes " + std::to_string(weak_->observation_size()) + " observations and gives " +
-                          std::to_string(weak_->action_size()) + " actions; the get-up env of this config has " +
-                          std::to_string(teacher_->observation_space().size()) + " and " + std::to_string(teacher_->action_space().size()) +
-                          " (another variant?)");
+  check_policy_fits(*weak_, *teacher_, "getup slower: π_weak");
   // App. D: PD with k_p = the torque limit (per rad), k_d = k_p/10; the full torque limits (the
   // seed repository's slow env runs at strength 1 while its teacher is weak).
   sim::Gains gains{model->torque_limits(), model->torque_limits() / 10.0};

@@ -148,6 +148,7 @@ TEST(CharacterEnv, FacingInvariantPartsIgnoreHeadingAndPlace) {
     parts.action = std::make_unique<TorqueActions>();
     parts.observation.push_back(std::make_unique<JointAngles>(parts.model));
     parts.observation.push_back(std::make_unique<JointVelocities>());
+    parts.observation.push_back(std::make_unique<RootVelocity>());
     parts.observation.push_back(std::make_unique<HeadHeight>());
     parts.observation.push_back(std::make_unique<LinkStates>(LinkStates::Blocks{}));
     parts.observation.push_back(std::make_unique<EndEffectors>());

@@ -23,7 +23,8 @@ TEST(GetupEnv, EpisodesRunTheirFullLengthWithoutEarlyTermination) {
   std::vector<double> observation;
   env.reset(observation);
   EXPECT_EQ(observation.size(), env.observation_space().size());
-  EXPECT_EQ(observation.size(), 21u + 21u + 1u + 4u + 12u + 3u + 1u);  // angles, velocities, head, COM, effectors, torso, β̂
+  // angles, velocities, the root's velocity, head, COM, effectors, torso, β̂
+  EXPECT_EQ(observation.size(), 21u + 21u + 6u + 1u + 4u + 12u + 3u + 1u);
   const std::vector<double> zero(env.action_space().size(), 0.0);
   learn::StepResult step;
   int steps = 0;

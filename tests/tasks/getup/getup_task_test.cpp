@@ -135,7 +135,7 @@ TEST(GetupTask, TrainMinutesEndTrainingEarlyAndTheTrialSaysSo) {
 
   const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
   const SmokeTrial slower = run_smoke_trial(
-      {{"stage", "slower"}, {"slow_train_minutes", 1e-9}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}});
+      {{"stage", "slower"}, {"slow_train_minutes", 1e-9}, {"root_velocity", false}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}});
   EXPECT_EQ(slower.result["info"]["stopped_by"], "time");
   EXPECT_EQ(slower.result["info"]["env_steps"], 100);
   EXPECT_EQ(slower.metrics.at("slow/test_return").size(), 1u);
@@ -146,12 +146,31 @@ TEST(GetupTask, SmokeSlowerTrialImitatesAShippedWeakPolicy) {
   const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
   const double strength = 0.7737809375;
   const SmokeTrial trial =
-      run_smoke_trial({{"stage", "slower"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", strength}}}}});
+      run_smoke_trial({{"stage", "slower"}, {"root_velocity", false}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", strength}}}}});
   EXPECT_EQ(trial.result["info"]["weak_strength"].get<double>(), strength);
   std::set<std::string> names;
   for (const auto& a : trial.result["artifacts"]) names.insert(a["name"].get<std::string>());
   EXPECT_EQ(names, (std::set<std::string>{"policy", "weak_policy", "trajectory"}));
   EXPECT_TRUE(trial.metrics.count("slow/test_return"));
+}
+
+// A policy trained on another s_weak (here the committed run-1 π_weak, from before the root's
+// velocity joined it) fails its Evaluate trial with one line that names the sizes and the key.
+TEST(GetupTask, EvaluateRefusesAPolicyOfAnotherObservation) {
+  const auto task = plugins::load_task("getup");
+  const Json description = task->describe(Json::object());
+  Json config = description["config_defaults"];
+  config.update(description["presets"]["smoke"]);
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
+  config.update({{"stage", "evaluate"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}});
+  podium::testing::TempDir dir;
+  const auto run = podium::testing::run_batch_trial(
+      podium::testing::order_json({.task = "getup", .config = config, .seed = 3, .work_dir = dir / "trial"}), dir.path());
+  ASSERT_EQ(run.result["type"], "error") << run.result;
+  const std::string message = run.result["message"];
+  EXPECT_NE(message.find("π_weak takes 63 observations"), std::string::npos) << message;
+  EXPECT_NE(message.find("has 69"), std::string::npos) << message;
+  EXPECT_NE(message.find("root_velocity: false"), std::string::npos) << message;
 }
 
 // A slower stage trains π_slow, so a shipped slow_policy there is refused at submit, at its key.

@@ -30,6 +30,15 @@ class JointVelocities : public ObservationPart {
   void write(const CharacterEnv& env, std::span<double> out) const override;
 };
 
+/// The root's angular and linear velocity in its own frame (q̇'s first 6 entries): 6 values, what
+/// dm_control's `velocity` adds to the joint velocities (the get-up seed repository's state). How
+/// fast the body tips, which balance needs and no other part gives. Facing-invariant.
+class RootVelocity : public ObservationPart {
+ public:
+  std::size_t size(const sim::CharacterModel&) const override { return 6; }
+  void write(const CharacterEnv& env, std::span<double> out) const override;
+};
+
 /// Head height above the ground below it (get-up seed App. C): 1 value. Facing-invariant.
 class HeadHeight : public ObservationPart {
  public:

@@ -18,21 +18,19 @@ struct HeadWatch {
   int drops = 0;        ///< passes back below height_m after being above it
   double peak_m = 0.0;  ///< highest head top seen
   int held = 0;         ///< control steps the head top has been above height_m without a break, to the last one seen
-  bool above = false;
 
   void observe(int step, double head_m) {
     peak_m = std::max(peak_m, head_m);
     if (head_m > height_m) {
       if (first_step < 0) first_step = step;
-      above = true;
       ++held;
     } else {
-      if (above) ++drops;
-      above = false;
+      if (above()) ++drops;
       held = 0;
     }
   }
   bool risen() const { return first_step >= 0; }
+  bool above() const { return held > 0; }  ///< at the last step seen
   /// Up at the last step seen and for at least `steps` control steps before it without a break.
   bool stood(int steps) const { return held >= steps; }
 };

@@ -30,7 +30,7 @@ TEST(HeadWatch, StandingPassesOnceAndLeapingDropsEachTime) {
   EXPECT_EQ(leaps.first_step, 1);
   EXPECT_EQ(leaps.drops, 2);
   EXPECT_EQ(leaps.peak_m, 1.9);
-  EXPECT_TRUE(leaps.above);
+  EXPECT_TRUE(leaps.above());
   // Up at the end, but only for its last step: it did not stand; the standing one held 4 steps.
   EXPECT_EQ(leaps.held, 1);
   EXPECT_FALSE(leaps.stood(2));

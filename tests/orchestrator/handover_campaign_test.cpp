@@ -7,11 +7,13 @@
 #include <sqlite3.h>
 #include <sys/wait.h>
 
+#include <fstream>
 #include <map>
 #include <memory>
 #include <set>
 
 #include "podium/base/json.h"
+#include "podium/store/run_folders.h"
 #include "podium/store/store.h"
 #include "campaign_spec.h"
 #include "process.h"
@@ -181,26 +183,39 @@ TEST(HandoverCampaign, SchedulerKilledMidTrainingEndsAsTheUninterruptedRun) {
 
   TempDir dir;
   const auto id = podium::testing::submit_spec(dir.path(), handover_spec());
-  // Kill the scheduler (and with it its workers) when explore has stored 20%, 45% and 70% of its
-  // metric points: each time some trials are part-way through training.
+  // Kill the scheduler and its workers when explore has stored 20%, 45% and 70% of its metric
+  // points and some trial is part-way through training. A trial can end between a look at the
+  // disk and a kill, so the processes are frozen first and the disk read while nothing moves.
+  const auto explore_dir = dir / "podium.db.runs" / id / "stage-0-explore";
+  const auto mid_training = [&] {  // trials with a checkpoint to resume from and no policy yet
+    int n = 0;
+    if (std::filesystem::exists(explore_dir))
+      for (const auto& trial : std::filesystem::directory_iterator(explore_dir))
+        n += std::filesystem::exists(trial.path() / "training.ckpt") && !std::filesystem::exists(trial.path() / "policy.pt");
+    return n;
+  };
   int kills = 0;
   for (const double share : {0.2, 0.45, 0.7}) {
-    const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
+    const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path(), /*own_group=*/true);
     const auto target = static_cast<std::int64_t>(share * static_cast<double>(explore_points));
-    const bool reached = podium::testing::wait_until(pid, [&] { return count(dir / "podium.db", kExploreMetrics) >= target; }, 180);
-    const bool exited = !reached && ::waitpid(pid, nullptr, WNOHANG) != 0;  // -1: wait_until reaped it
+    bool frozen_mid_training = false;
+    while (!frozen_mid_training &&
+           podium::testing::wait_until(
+               pid, [&] { return count(dir / "podium.db", kExploreMetrics) >= target && mid_training() >= 1; }, 180)) {
+      podium::testing::freeze_group(pid);
+      frozen_mid_training = mid_training() >= 1;
+      if (!frozen_mid_training) ::killpg(pid, SIGCONT);
+    }
+    const bool exited = !frozen_mid_training && ::waitpid(pid, nullptr, WNOHANG) != 0;  // -1: wait_until reaped it
     if (!exited) {
-      ::kill(pid, SIGKILL);
+      ::killpg(pid, SIGKILL);
       ::waitpid(pid, nullptr, 0);
     }
     ASSERT_FALSE(exited) << "the scheduler ended before " << share * 100 << "% of explore's metric points";
-    ASSERT_TRUE(reached) << "explore stored too few metric points in 3 minutes";
+    ASSERT_TRUE(frozen_mid_training) << "in 3 minutes explore neither stored " << share * 100
+                                     << "% of its metric points nor had a trial part-way through training";
     ++kills;
-    // Mid-training: a trial that has not exported its policy yet has a checkpoint to resume from.
-    int checkpointed = 0;
-    for (const auto& trial : std::filesystem::directory_iterator(dir / "podium.db.runs" / id / "stage-0-explore"))
-      checkpointed += std::filesystem::exists(trial.path() / "training.ckpt") && !std::filesystem::exists(trial.path() / "policy.pt");
-    EXPECT_GE(checkpointed, 1) << "kill " << kills << " hit no explore trial mid-training";
+    EXPECT_GE(mid_training(), 1) << "kill " << kills << " left no checkpoint of an unfinished trial";
   }
   const auto final_run = run_podium({"run"}, dir.path());
   ASSERT_EQ(final_run.exit_code, 0) << final_run.err;
@@ -223,6 +238,13 @@ TEST(HandoverCampaign, SchedulerKilledMidTrainingEndsAsTheUninterruptedRun) {
     for (const auto& a : store->attempts(got.trial.id)) interrupted += key.first == 0 && a.state == "interrupted";
   }
   EXPECT_GE(interrupted, 3) << "the kills did not interrupt explore trials mid-training";
+  // Each kill left an unfinished trial with a checkpoint; its next attempt says it resumed.
+  int resumes = 0;
+  for (const auto& trial : std::filesystem::directory_iterator(explore_dir)) {
+    std::ifstream log(trial.path() / store::kTrialLog);
+    for (std::string line; std::getline(log, line);) resumes += line.find("resumes after update") != std::string::npos;
+  }
+  EXPECT_GE(resumes, 3) << "fewer attempts resumed from a checkpoint than kills hit trials mid-training";
   EXPECT_EQ(count(dir / "podium.db",
                   "SELECT COUNT(*) FROM (SELECT 1 FROM metrics GROUP BY trial_id, name, step HAVING COUNT(*) > 1)"),
             0)

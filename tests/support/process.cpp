@@ -1,6 +1,7 @@
 #include "process.h"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -23,10 +24,12 @@ fs::path podium_binary() {
 }
 
 namespace {
-pid_t start(const std::vector<std::string>& args, const fs::path& cwd, const fs::path& out, const fs::path& err) {
+pid_t start(const std::vector<std::string>& args, const fs::path& cwd, const fs::path& out, const fs::path& err,
+            bool own_group = false) {
   const std::string bin = podium_binary().string();
   const pid_t pid = ::fork();
   if (pid == 0) {
+    if (own_group) ::setpgid(0, 0);
     if (::chdir(cwd.c_str()) != 0) ::_exit(126);
     const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -77,8 +80,34 @@ CommandResult run_podium(const std::vector<std::string>& args, const fs::path& c
   return r;
 }
 
-pid_t spawn_podium(const std::vector<std::string>& args, const fs::path& cwd) {
-  return start(args, cwd, cwd / "spawn.out", cwd / "spawn.err");
+pid_t spawn_podium(const std::vector<std::string>& args, const fs::path& cwd, bool own_group) {
+  const pid_t pid = start(args, cwd, cwd / "spawn.out", cwd / "spawn.err", own_group);
+  if (own_group) ::setpgid(pid, pid);  // also here, so the group exists before this returns
+  return pid;
+}
+
+namespace {
+// True while some process of `group` is neither stopped nor a zombie (from /proc/<pid>/stat:
+// "pid (comm) state ppid pgrp ...", comm may hold spaces or parentheses).
+bool group_has_a_running_process(pid_t group) {
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    std::ifstream in(entry.path() / "stat");
+    std::string stat;
+    if (!std::getline(in, stat)) continue;
+    const auto close = stat.rfind(')');
+    if (close == std::string::npos) continue;
+    char state = 0;
+    long ppid = 0, pgrp = 0;
+    if (std::sscanf(stat.c_str() + close + 1, " %c %ld %ld", &state, &ppid, &pgrp) != 3) continue;
+    if (pgrp == group && state != 'T' && state != 't' && state != 'Z' && state != 'X') return true;
+  }
+  return false;
+}
+}  // namespace
+
+void freeze_group(pid_t group) {
+  ::killpg(group, SIGSTOP);
+  while (group_has_a_running_process(group)) std::this_thread::sleep_for(std::chrono::milliseconds(1));
 }
 
 TempDir::TempDir() {

@@ -23,7 +23,14 @@ std::filesystem::path podium_binary();
 CommandResult run_podium(const std::vector<std::string>& args, const std::filesystem::path& cwd);
 
 /// Starts `podium args...` in the background (stdout/stderr to files in cwd); returns its pid.
-pid_t spawn_podium(const std::vector<std::string>& args, const std::filesystem::path& cwd);
+/// With `own_group` the process leads a process group of its own, which its workers join, so a
+/// test can freeze or kill it with them (freeze_group, ::killpg).
+pid_t spawn_podium(const std::vector<std::string>& args, const std::filesystem::path& cwd, bool own_group = false);
+
+/// Stops every process of the group (SIGSTOP) and returns once each one is stopped or gone, so
+/// what they left on disk can be read without it changing underneath. ::killpg(group, SIGCONT)
+/// lets them go on.
+void freeze_group(pid_t group);
 
 /// Waits for a spawned process; returns its exit code, or -signal.
 int wait_process(pid_t pid);

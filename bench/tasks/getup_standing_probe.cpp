@@ -14,51 +14,62 @@
 // Prints, for each engine, strength β, gain scale and hold, how long the head top stayed above
 // 1.2 m from the standing pose (10 s at most) and the head top's range. No row stands: both bodies
 // need active balance, which a PD to a fixed pose does not give; the rows compare how fast each
-// tips over. Run:
-//   build/bin/standing_probe [seconds]
+// tips over. Figures: tasks/getup/RESULTS.md, session 24. Run:
+//   build/bin/getup_standing_probe [seconds]
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
+#include "getup_rewards.h"
 #include "podium/sim/world.h"
 
 namespace {
 
 using podium::sim::Control;
 
+constexpr double kControlHz = 40.0, kSimHz = 800.0, kUpM = 1.2;  // the get-up task's rates; §7's height
+
+// How long the head top stayed above kUpM from the start, and its range.
 struct Outcome {
   double stood_s = 0.0, lowest_m = 1e9, highest_m = -1e9;
-  bool blew_up = false;
+  bool blew_up = false, standing = true;
+
+  // The head top after control step `k` (from 0).
+  void observe(int k, double head_top_m) {
+    lowest_m = std::min(lowest_m, head_top_m);
+    highest_m = std::max(highest_m, head_top_m);
+    standing = standing && head_top_m > kUpM;
+    if (standing) stood_s = (k + 1) / kControlHz;
+  }
 };
 
 Outcome hold(double strength, double gain_scale, double kd_ratio, int hold_steps, bool passive, double seconds) {
   const podium::sim::ModelPtr model = podium::sim::load_shipped_model("humanoid21");
   podium::sim::WorldConfig config;
+  config.sim_hz = kSimHz;
+  config.control_hz = kControlHz;
   config.strength = strength;
   config.passive_joints = passive;
   podium::sim::World world(model, config);
   const Eigen::VectorXd target = model->standing_pose();
-  const int nv = static_cast<int>(model->torque_limits().size());
   const Eigen::VectorXd kp = gain_scale * model->torque_limits();
   const Eigen::VectorXd kd = kd_ratio * kp;
-  // humanoid21's joints are all revolute: joint DoF v ≥ 6 is coordinate v + 1 of q (the root
-  // has 7 coordinates and 6 velocities).
   const auto pd_torque = [&] {
     const auto& d = world.data();
-    Eigen::VectorXd tau = Eigen::VectorXd::Zero(nv);
-    for (int v = 6; v < nv; ++v) tau(v) = kp(v) * (target(v + 1) - d.q(v + 1)) - kd(v) * d.qd(v);
+    Eigen::VectorXd tau = Eigen::VectorXd::Zero(model->nv());
+    for (const podium::sim::Link& l : model->links())
+      if (l.joint == podium::sim::JointType::revolute)
+        tau(l.v_index) = kp(l.v_index) * (target(l.q_index) - d.q(l.q_index)) - kd(l.v_index) * d.qd(l.v_index);
     return tau;
   };
+  const double head_top_m = podium::tasks::getup::BodyReadings::of(*model).head_top_m;
   Outcome out;
-  const double head_top = 0.1;  // humanoid21's head sphere radius (tasks/getup measures the top)
-  const int control_steps = static_cast<int>(seconds * config.control_hz);
-  bool standing = true;
-  for (int k = 0; k < control_steps; ++k) {
+  for (int k = 0; k < static_cast<int>(seconds * kControlHz); ++k) {
     podium::sim::StepReport report;
     Eigen::VectorXd tau;
     for (int s = 0; s < world.substeps() && report.ok; ++s) {
@@ -69,11 +80,7 @@ Outcome hold(double strength, double gain_scale, double kd_ratio, int hold_steps
       out.blew_up = true;
       break;
     }
-    const double head = world.observe().head_height_m + head_top;
-    out.lowest_m = std::min(out.lowest_m, head);
-    out.highest_m = std::max(out.highest_m, head);
-    if (standing && head > 1.2) out.stood_s = (k + 1) / config.control_hz;
-    standing = standing && head > 1.2;
+    out.observe(k, world.observe().head_height_m + head_top_m);
   }
   return out;
 }
@@ -81,16 +88,14 @@ Outcome hold(double strength, double gain_scale, double kd_ratio, int hold_steps
 // MuJoCo: the motors' PD toward qpos0 (standing), kp = scale × gear, clamped to β of the motor
 // range; the head top is the head body's z plus its sphere's radius.
 Outcome hold_mujoco(mjModel* m, double strength, double gain_scale, double kd_ratio, int hold_steps, double seconds) {
-  m->opt.timestep = 1.0 / 800.0;
+  m->opt.timestep = 1.0 / kSimHz;
   mjData* d = mj_makeData(m);
   mj_forward(m, d);
   const int head = mj_name2id(m, mjOBJ_BODY, "head");
   const double radius = m->geom_size[3 * mj_name2id(m, mjOBJ_GEOM, "head")];
   Outcome out;
-  bool standing = true;
-  const int substeps = 20, control_steps = static_cast<int>(seconds * 40.0);
-  for (int k = 0; k < control_steps && !out.blew_up; ++k) {
-    for (int s = 0; s < substeps; ++s) {
+  for (int k = 0; k < static_cast<int>(seconds * kControlHz) && !out.blew_up; ++k) {
+    for (int s = 0; s < static_cast<int>(kSimHz / kControlHz); ++s) {
       if (s % hold_steps == 0)
         for (int a = 0; a < m->nu; ++a) {
           const int j = m->actuator_trnid[2 * a];
@@ -101,11 +106,7 @@ Outcome hold_mujoco(mjModel* m, double strength, double gain_scale, double kd_ra
       mj_step(m, d);
     }
     out.blew_up = d->warning[mjWARN_BADQACC].number > 0 || !std::isfinite(d->qvel[0]);
-    const double top = d->xpos[3 * head + 2] + radius;
-    out.lowest_m = std::min(out.lowest_m, top);
-    out.highest_m = std::max(out.highest_m, top);
-    if (standing && top > 1.2) out.stood_s = (k + 1) / 40.0;
-    standing = standing && top > 1.2;
+    out.observe(k, d->xpos[3 * head + 2] + radius);
   }
   mj_deleteData(d);
   return out;
@@ -138,7 +139,11 @@ struct PassiveTerms {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const double seconds = argc > 1 ? std::atof(argv[1]) : 10.0;
+  double seconds = 10.0;
+  if (argc > 2 || (argc == 2 && (!podium::bench::real_number(argv[1], seconds) || !(seconds > 0.0)))) {
+    std::fprintf(stderr, "usage: %s [SECONDS>0]\n", argv[0]);
+    return 2;
+  }
   mju_user_warning = [](const char*) {};  // counted per run (mjWARN_BADQACC) instead of printed
   const std::string xml = std::string(PODIUM_SHARED_DIR) + "/peers/mujoco/humanoid.xml";
   char error[1000] = "";

@@ -7,15 +7,16 @@
 //
 // The same PD runs, in the same program, on the peer: MuJoCo 2.2.2 with the seed's body
 // (../shared/peers/mujoco/humanoid.xml: motor gear = Table 2's torque limits, armature 0.01,
-// soft contacts, implicit joint damping), at the same 800 Hz with its passive joints as the file
-// has them, and once more bare: armature, damping and stiffness 0, as humanoid21 without
-// `passive_joints`.
+// soft contacts, implicit joint damping; or the MuJoCo file given, e.g. the seed repository's
+// data/humanoid_high_freq.xml, set down onto the floor), at the same 800 Hz with its passive
+// joints as the file has them, and once more bare: armature, damping and stiffness 0, as
+// humanoid21 without `passive_joints`.
 //
 // Prints, for each engine, strength β, gain scale and hold, how long the head top stayed above
 // 1.2 m from the standing pose (10 s at most) and the head top's range. No row stands: both bodies
 // need active balance, which a PD to a fixed pose does not give; the rows compare how fast each
-// tips over. Figures: tasks/getup/RESULTS.md, session 24. Run:
-//   build/bin/getup_standing_probe [seconds]
+// tips over. Figures: tasks/getup/RESULTS.md, sessions 24 and 25. Run:
+//   build/bin/getup_standing_probe [seconds [mujoco.xml]]
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -90,6 +91,15 @@ Outcome hold(double strength, double gain_scale, double kd_ratio, int hold_steps
 Outcome hold_mujoco(mjModel* m, double strength, double gain_scale, double kd_ratio, int hold_steps, double seconds) {
   m->opt.timestep = 1.0 / kSimHz;
   mjData* d = mj_makeData(m);
+  // Set down onto the floor: the lowest root height without a contact (the seed repository's
+  // file puts the torso at 1.5 m, its feet 0.2 m in the air).
+  double free_m = d->qpos[2] + 1.0, touching_m = 0.0;
+  for (int i = 0; i < 40; ++i) {
+    d->qpos[2] = 0.5 * (free_m + touching_m);
+    mj_forward(m, d);
+    (d->ncon > 0 ? touching_m : free_m) = d->qpos[2];
+  }
+  d->qpos[2] = free_m;
   mj_forward(m, d);
   const int head = mj_name2id(m, mjOBJ_BODY, "head");
   const double radius = m->geom_size[3 * mj_name2id(m, mjOBJ_GEOM, "head")];
@@ -140,12 +150,13 @@ struct PassiveTerms {
 
 int main(int argc, char** argv) {
   double seconds = 10.0;
-  if (argc > 2 || (argc == 2 && (!podium::bench::real_number(argv[1], seconds) || !(seconds > 0.0)))) {
-    std::fprintf(stderr, "usage: %s [SECONDS>0]\n", argv[0]);
+  if (argc > 3 || (argc >= 2 && (!podium::bench::real_number(argv[1], seconds) || !(seconds > 0.0)))) {
+    std::fprintf(stderr, "usage: %s [SECONDS>0 [MUJOCO_XML]]\n", argv[0]);
     return 2;
   }
   mju_user_warning = [](const char*) {};  // counted per run (mjWARN_BADQACC) instead of printed
-  const std::string xml = std::string(PODIUM_SHARED_DIR) + "/peers/mujoco/humanoid.xml";
+  // Another MuJoCo body (e.g. the seed repository's humanoid_high_freq.xml) in place of the peer's.
+  const std::string xml = argc == 3 ? argv[2] : std::string(PODIUM_SHARED_DIR) + "/peers/mujoco/humanoid.xml";
   char error[1000] = "";
   mjModel* m = mj_loadXML(xml.c_str(), nullptr, error, sizeof error);
   if (!m) std::printf("mujoco: skipped, cannot load %s: %s\n", xml.c_str(), error);

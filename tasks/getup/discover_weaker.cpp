@@ -140,6 +140,12 @@ void WeakerSchedule::load_state(const Json& state) {
   }
 }
 
+bool exports_over(const Json& tested, const Json& exported) {
+  const double stood = tested.value("stood_rate", 0.0), stood_before = exported.value("stood_rate", 0.0);
+  if (stood != stood_before) return stood > stood_before;
+  return tested.at("test_return").get<double>() > exported.at("test_return").get<double>();
+}
+
 Json TrialOutcome::to_json() const {
   return {{"policy_strength", policy_strength}, {"passed", passed},         {"success_rate", success_rate},
           {"test_return", test_return},         {"final_strength", final_strength}, {"levels", levels},
@@ -242,16 +248,16 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
       send("sac/skipped_updates", steps, static_cast<double>(sac->skipped_updates()));
     }
     const Json tested = {{"strength", tested_at}, {"test_return", result.mean_return}, {"test_return_min", min_return}, {"success_rate", result.success_rate},
-                         {"env_steps", learner->env_steps()}};
+                         {"stood_rate", static_cast<double>(rose.stood) / static_cast<double>(heads.size())}, {"env_steps", learner->env_steps()}};
     const bool polishing = schedule.ended();  // tested at the last strength passed
     const WeakerSchedule::Decision decision = schedule.on_test(learner->env_steps(), min_return);
     if (decision == WeakerSchedule::Decision::advance ||  // π passed at β^i: it is π_weak until a weaker one passes
-        (polishing && result.mean_return > extra.at("passed").at("test_return").get<double>())) {
+        (polishing && exports_over(tested, extra.at("passed")))) {
       learner->export_torchscript(policy);
       extra["passed"] = tested;
-    } else if (extra.at("passed").is_null() && (extra.at("best").is_null() || result.mean_return > extra.at("best").at("test_return").get<double>())) {
-      // Until a test passes, the policy of the best mean test return is kept (the seed
-      // repository's best_model, what its Slower loads as the teacher).
+    } else if (extra.at("passed").is_null() && (extra.at("best").is_null() || exports_over(tested, extra.at("best")))) {
+      // Until a test passes, the best policy is kept (the seed repository's best_model, what its
+      // Slower loads as the teacher).
       learner->export_torchscript(policy);
       extra["best"] = tested;
     }

@@ -75,6 +75,15 @@ class WeakerSchedule {
   bool ended_ = false;
 };
 
+/// Whether a tested policy should replace the exported one where the curriculum does not decide
+/// (before the first pass, and at the last strength passed once the curriculum has ended): more
+/// fixed starts stood (head_watch.h), then a higher mean test return. The seed repository keeps
+/// the best mean return alone; ours ranks a get-up that stays up above a leap loop, which earns
+/// more return on the way (RESULTS.md, session 24: run 20's best-return policy came before nearly
+/// all of its stands). Each argument holds "stood_rate" (absent in checkpoints before session 25:
+/// 0) and "test_return".
+bool exports_over(const base::Json& tested, const base::Json& exported);
+
 /// Where the trial reports (a plugins::Sink without the plugin types).
 struct Reporter {
   std::function<void(const std::string& name, double step, double value)> metric;
@@ -99,8 +108,8 @@ struct TrialOutcome {
 /// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt when a previous attempt left
 /// one (metric points it covers are sent again; the store drops repeats). The exported policy is
 /// the one that passed the last curriculum test (π_weak at the weakest strength it mastered) or,
-/// after the curriculum ended, a later one tested at that strength with a higher mean return; when
-/// no test passed, the one of the best mean test return (the seed repository's best_model).
+/// after the curriculum ended, a later one tested at that strength that exports_over it; when no
+/// test passed, the best by exports_over (by mean return alone: the seed repository's best_model).
 /// Throws when `cancel` is set (checked every vector step).
 TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const std::filesystem::path& work_dir,
                                  const std::atomic<bool>* cancel, const Reporter& report);

@@ -80,5 +80,23 @@ TEST(WeakerSchedule, AnOlderStateResumesARunningCurriculum) {
   EXPECT_DOUBLE_EQ(t.strength(), 0.95);
 }
 
+// Where the curriculum does not choose the export: a policy that stood at more starts wins over
+// a higher return (a leap loop earns more on the way); at equal stands the return decides; a
+// checkpoint's record without "stood_rate" (before session 25) counts as none stood.
+TEST(WeakerExport, StandsRankAboveReturn) {
+  const base::Json leap = {{"stood_rate", 0.0}, {"test_return", 95.0}};
+  const base::Json stand = {{"stood_rate", 0.1}, {"test_return", 40.0}};
+  EXPECT_TRUE(exports_over(stand, leap));
+  EXPECT_FALSE(exports_over(leap, stand));
+  const base::Json better_stand = {{"stood_rate", 0.1}, {"test_return", 41.0}};
+  EXPECT_TRUE(exports_over(better_stand, stand));
+  EXPECT_FALSE(exports_over(stand, better_stand));
+  EXPECT_FALSE(exports_over(stand, stand));  // a tie keeps what was exported
+  const base::Json older = {{"test_return", 73.7}};
+  EXPECT_TRUE(exports_over(stand, older));
+  EXPECT_TRUE(exports_over(leap, older));
+  EXPECT_FALSE(exports_over(older, leap));
+}
+
 }  // namespace
 }  // namespace podium::tasks::getup

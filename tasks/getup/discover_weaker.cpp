@@ -92,6 +92,11 @@ Settings read_settings(base::ConfigReader& r) {
   s.threads = r.integer<int>("threads", s.threads, {1, 64}, "threads stepping the copies");
   if (s.threads > s.copies) r.fail("threads", "is above copies " + std::to_string(s.copies));
   s.checkpoint_every = r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1000000}, "tests between training checkpoints");
+  s.warm_start = r.string("warm_start", s.warm_start,
+                          "a Weaker trial's training.ckpt to train on from (same config but for the limits; its steps count towards total_steps)");
+  if (!s.warm_start.empty() && !fs::is_regular_file(s.warm_start)) r.fail("warm_start", "is not a file: " + s.warm_start);
+  s.hold_strength = r.number("hold_strength", s.hold_strength, {.min = 0.0, .max = 1.0},
+                             "> 0: no curriculum, train and test at this strength β (e.g. on from a warm_start); 0: Algorithm 1");
   // Tests and checkpoints on episode boundaries: every copy then stands at an episode's start,
   // whose saved state replays bitwise (GetupEnv::save_state), so a resumed trial is exact.
   if (s.eval_every % (std::int64_t{s.copies} * e.episode_steps) != 0)
@@ -190,7 +195,19 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   // the checkpoint, which keeps them and re-sends them on resume (points sent just before a kill
   // may never have been stored).
   WeakerSchedule schedule(s.curriculum, s.budget);
-  learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
+  const fs::path checkpoint_file = work_dir / "training.ckpt";
+  const bool warm = !s.warm_start.empty() && !fs::exists(checkpoint_file);
+  if (warm) {
+    // Copied whole before use, so a kill mid-copy leaves no torn checkpoint to resume from.
+    const fs::path partial = work_dir / "training.ckpt.warm";
+    try {
+      fs::copy_file(s.warm_start, partial, fs::copy_options::overwrite_existing);
+    } catch (const fs::filesystem_error& e) {
+      throw base::UserError("getup: warm_start " + s.warm_start + ": " + e.code().message());
+    }
+    fs::rename(partial, checkpoint_file);
+  }
+  learn::TrainingCheckpoint checkpoint(checkpoint_file, s.checkpoint_every,
                                        [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
   Json extra = {{"passed", nullptr}, {"best", nullptr}, {"clock", nullptr}};
   const auto send = [&](const std::string& name, double step, double value) { checkpoint.metric(name, step, value); };
@@ -198,6 +215,8 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     extra = *saved;
     schedule.load_state(extra.at("schedule"));
   }
+  if (warm) extra["passed"] = extra["best"] = extra["clock"] = nullptr;  // its export was tested elsewhere; this trial's clock
+  if (s.hold_strength > 0.0) schedule.hold(s.hold_strength);
   learn::WallBudget clock(s.train_minutes, extra.value("clock", Json()));  // checkpoints before session 17 have no clock
   const auto progress = [&] {
     report.progress(std::max(static_cast<double>(learner->env_steps()) / static_cast<double>(s.total_steps), clock.fraction_used()));
@@ -249,7 +268,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     }
     const Json tested = {{"strength", tested_at}, {"test_return", result.mean_return}, {"test_return_min", min_return}, {"success_rate", result.success_rate},
                          {"stood_rate", static_cast<double>(rose.stood) / static_cast<double>(heads.size())}, {"env_steps", learner->env_steps()}};
-    const bool polishing = schedule.ended();  // tested at the last strength passed
+    const bool polishing = schedule.ended() && !extra.at("passed").is_null();  // tested at the last strength passed
     const WeakerSchedule::Decision decision = schedule.on_test(learner->env_steps(), min_return);
     if (decision == WeakerSchedule::Decision::advance ||  // π passed at β^i: it is π_weak until a weaker one passes
         (polishing && exports_over(tested, extra.at("passed")))) {

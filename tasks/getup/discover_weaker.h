@@ -37,6 +37,8 @@ struct Settings {
   int copies = 1;                                       ///< environment copies stepped together
   int threads = 1;                                      ///< threads stepping them (≤ copies)
   int checkpoint_every = 5;                             ///< evaluations between training checkpoints
+  std::string warm_start;                               ///< a Weaker trial's training.ckpt to train on from ("": from scratch)
+  double hold_strength = 0.0;                           ///< > 0: no curriculum, train and test at this β (0: Algorithm 1)
 };
 
 /// Reads (and on a describing reader describes) the config; every check of describe() is here.
@@ -64,6 +66,8 @@ class WeakerSchedule {
   /// Curriculum advances (tests passed).
   int level() const { return curriculum_.level(); }
   bool ended() const { return ended_; }
+  /// Ends the curriculum at `strength`: training and tests stay there (Settings::hold_strength).
+  void hold(double strength) { ended_ = true, last_passed_ = strength; }
   base::Json state() const;
   void load_state(const base::Json& state);
 
@@ -106,7 +110,10 @@ struct TrialOutcome {
 };
 
 /// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt when a previous attempt left
-/// one (metric points it covers are sent again; the store drops repeats). The exported policy is
+/// one (metric points it covers are sent again; the store drops repeats). Without one and with a
+/// `warm_start`, that file is copied in and trained on: its networks, replay buffer, environment
+/// steps (total_steps counts on from them), schedule and metric points, but not its exported
+/// policy's record nor its wall clock, which begin anew. The exported policy is
 /// the one that passed the last curriculum test (π_weak at the weakest strength it mastered) or,
 /// after the curriculum ended, a later one tested at that strength that exports_over it; when no
 /// test passed, the best by exports_over (by mean return alone: the seed repository's best_model).

@@ -57,6 +57,8 @@ TEST(GetupConfig, SlowerLearnsWithItsOwnDiscount) {
 
 TEST(GetupConfig, BadValuesAreReportedAtTheirPath) {
   EXPECT_EQ(error_path({{"sac_preset", "papr"}}), "sac_preset");
+  EXPECT_EQ(error_path({{"warm_start", "/nonexistent/training.ckpt"}}), "warm_start");
+  EXPECT_EQ(error_path({{"hold_strength", 1.5}}), "hold_strength");
   EXPECT_EQ(error_path({{"control_hz", 33.0}}), "control_hz");
   EXPECT_EQ(error_path({{"eval_every", 300}}), "eval_every");  // not a multiple of 250
   EXPECT_EQ(error_path({{"total_steps", 30000}}), "total_steps");

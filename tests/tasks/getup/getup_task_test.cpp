@@ -32,15 +32,17 @@ struct SmokeTrial {
   std::map<std::string, std::vector<double>> metrics;
 };
 
-SmokeTrial run_smoke_trial(const Json& overrides) {
+// In `work_dir` when given (kept), else in a temporary folder.
+SmokeTrial run_smoke_trial(const Json& overrides, const fs::path& work_dir = {}) {
   const auto task = plugins::load_task("getup");
   const Json description = task->describe(Json::object());
   Json config = description["config_defaults"];
   config.update(description["presets"]["smoke"]);
   config.update(overrides);
   podium::testing::TempDir dir;
+  const fs::path trial_dir = work_dir.empty() ? dir / "trial" : work_dir;
   const auto run = podium::testing::run_batch_trial(
-      podium::testing::order_json({.task = "getup", .config = config, .seed = 3, .work_dir = dir / "trial"}), dir.path());
+      podium::testing::order_json({.task = "getup", .config = config, .seed = 3, .work_dir = trial_dir}), dir.path());
   EXPECT_EQ(run.run.exit_code, 0) << run.run.err;
   EXPECT_EQ(run.result["type"], "result") << run.result;
   SmokeTrial trial{run.result, {}};
@@ -119,6 +121,31 @@ TEST(GetupTask, SmokeTrialWithoutAPassExportsTheBestTestedPolicy) {
   const double best = *std::max_element(returns.begin(), returns.end());
   ASSERT_NE(best, returns.back()) << "this seed's last test is its best: the test cannot tell best from last";
   EXPECT_EQ(info["test_return"].get<double>(), best);
+}
+
+// A trial warm-started from another's checkpoint and held at β 0.5 trains on from its steps (and
+// carries its curves), at 0.5 in every test, with the curriculum off; the source's export does not
+// carry over (no test passes at a held strength: the best there is exported).
+TEST(GetupTask, AWarmStartTrainsOnFromAnotherTrialAtAHeldStrength) {
+  podium::testing::TempDir dir;
+  const SmokeTrial source = run_smoke_trial(Json::object(), dir / "source");  // 400 steps, four passes: β 0.95⁴
+  ASSERT_TRUE(fs::is_regular_file(dir / "source" / "training.ckpt"));
+  const SmokeTrial warm = run_smoke_trial(
+      {{"warm_start", (dir / "source" / "training.ckpt").string()}, {"hold_strength", 0.5}, {"total_steps", 600}}, dir / "warm");
+  const Json& info = warm.result["info"];
+  EXPECT_EQ(info["env_steps"], 600);
+  EXPECT_EQ(info["levels"], 4);  // the source's advances
+  EXPECT_FALSE(info["passed"].get<bool>());
+  EXPECT_EQ(info["policy_strength"].get<double>(), 0.5);
+  EXPECT_EQ(info["final_strength"].get<double>(), 0.5);
+  const std::vector<double>& strengths = warm.metrics.at("curriculum/strength");
+  ASSERT_EQ(strengths.size(), 6u);  // the source's four tests, then 500 and 600
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(strengths[i], source.metrics.at("curriculum/strength")[i]);
+  EXPECT_EQ(strengths[4], 0.5);
+  EXPECT_EQ(strengths[5], 0.5);
+  const std::vector<double>& returns = warm.metrics.at("test_return");
+  ASSERT_EQ(returns.size(), 6u);
+  EXPECT_EQ(info["test_return"].get<double>(), std::max(returns[4], returns[5]));  // no stand in a smoke test: by return
 }
 
 // A wall-clock limit (learn::WallBudget) ends training after the round that reaches it, and the

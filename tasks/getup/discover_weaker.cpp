@@ -215,7 +215,12 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     extra = *saved;
     schedule.load_state(extra.at("schedule"));
   }
-  if (warm) extra["passed"] = extra["best"] = extra["clock"] = nullptr;  // its export was tested elsewhere; this trial's clock
+  // Until this trial's first save, the checkpoint's export record and clock are the source's
+  // (also when an attempt is killed before that save): they begin anew here.
+  if (!s.warm_start.empty() && extra.value("warm_start", std::string()) != s.warm_start) {
+    extra["passed"] = extra["best"] = extra["clock"] = nullptr;
+    extra["warm_start"] = s.warm_start;
+  }
   if (s.hold_strength > 0.0) schedule.hold(s.hold_strength);
   learn::WallBudget clock(s.train_minutes, extra.value("clock", Json()));  // checkpoints before session 17 have no clock
   const auto progress = [&] {

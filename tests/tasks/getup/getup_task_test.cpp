@@ -123,15 +123,7 @@ TEST(GetupTask, SmokeTrialWithoutAPassExportsTheBestTestedPolicy) {
   EXPECT_EQ(info["test_return"].get<double>(), best);
 }
 
-// A trial warm-started from another's checkpoint and held at β 0.5 trains on from its steps (and
-// carries its curves), at 0.5 in every test, with the curriculum off; the source's export does not
-// carry over (no test passes at a held strength: the best there is exported).
-TEST(GetupTask, AWarmStartTrainsOnFromAnotherTrialAtAHeldStrength) {
-  podium::testing::TempDir dir;
-  const SmokeTrial source = run_smoke_trial(Json::object(), dir / "source");  // 400 steps, four passes: β 0.95⁴
-  ASSERT_TRUE(fs::is_regular_file(dir / "source" / "training.ckpt"));
-  const SmokeTrial warm = run_smoke_trial(
-      {{"warm_start", (dir / "source" / "training.ckpt").string()}, {"hold_strength", 0.5}, {"total_steps", 600}}, dir / "warm");
+void expect_trained_on_at_half_strength(const SmokeTrial& warm, const SmokeTrial& source) {
   const Json& info = warm.result["info"];
   EXPECT_EQ(info["env_steps"], 600);
   EXPECT_EQ(info["levels"], 4);  // the source's advances
@@ -146,6 +138,23 @@ TEST(GetupTask, AWarmStartTrainsOnFromAnotherTrialAtAHeldStrength) {
   const std::vector<double>& returns = warm.metrics.at("test_return");
   ASSERT_EQ(returns.size(), 6u);
   EXPECT_EQ(info["test_return"].get<double>(), std::max(returns[4], returns[5]));  // no stand in a smoke test: by return
+}
+
+// A trial warm-started from another's checkpoint and held at β 0.5 trains on from its steps (and
+// carries its curves), at 0.5 in every test, with the curriculum off; the source's export does not
+// carry over (no test passes at a held strength: the best there is exported).
+TEST(GetupTask, AWarmStartTrainsOnFromAnotherTrialAtAHeldStrength) {
+  podium::testing::TempDir dir;
+  const SmokeTrial source = run_smoke_trial(Json::object(), dir / "source");  // 400 steps, four passes: β 0.95⁴
+  ASSERT_TRUE(fs::is_regular_file(dir / "source" / "training.ckpt"));
+  const Json config = {{"warm_start", (dir / "source" / "training.ckpt").string()}, {"hold_strength", 0.5}, {"total_steps", 600}};
+  // The second: an attempt killed after the copy, before its first save, left the source's file.
+  fs::create_directories(dir / "killed");
+  fs::copy_file(dir / "source" / "training.ckpt", dir / "killed" / "training.ckpt");
+  for (const fs::path& work_dir : {dir / "warm", dir / "killed"}) {
+    SCOPED_TRACE(work_dir.filename().string());
+    expect_trained_on_at_half_strength(run_smoke_trial(config, work_dir), source);
+  }
 }
 
 // A wall-clock limit (learn::WallBudget) ends training after the round that reaches it, and the

@@ -32,7 +32,7 @@ SlowerConfig read_slower(base::ConfigReader& r) {
   e.reference_end_m = r.number("reference_end_height_m", e.reference_end_m, {.min = 0.0, .exclusive_min = true},
                                "Slower: τ_fast ends at its first frame with the head top above it, m (§6: 1.2; the seed repository: 1.49)");
   e.max_rise_steps = r.integer<int>("max_rise_steps", e.max_rise_steps, {1, 100000}, "Slower: τ_fast's cap in control steps");
-  e.rise_attempts = r.integer<int>("rise_attempts", e.rise_attempts, {1, 1000}, "Slower: falls tried for a τ_fast before the trial fails");
+  e.rise_attempts = r.integer<int>("rise_attempts", e.rise_attempts, {1, 1000}, "Slower: falls tried in a row for a τ_fast before the trial fails (every episode needs a rise)");
   c.total_steps = r.integer<std::int64_t>("slow_total_steps", c.total_steps, {1}, "Slower: environment steps; a multiple of slow_eval_every");
   c.train_minutes = r.number("slow_train_minutes", c.train_minutes, {.min = 0.0},
                              "Slower: wall-clock minutes of training and tests at most (0: no limit), as Weaker's train_minutes");

@@ -189,7 +189,7 @@ FastRollout SlowerEnv::rise(base::Rng& rng) {
   }
   throw base::UserError("getup slower: π_weak never lifted the head top above " + std::to_string(settings_.reference_end_m) +
                         " m within " + std::to_string(settings_.max_rise_steps) + " control steps in " +
-                        std::to_string(settings_.rise_attempts) + " falls (at strength " + std::to_string(*teacher_strength_) +
+                        std::to_string(settings_.rise_attempts) + " falls in a row (at strength " + std::to_string(*teacher_strength_) +
                         "): Slower imitates a policy that gets up");
 }
 

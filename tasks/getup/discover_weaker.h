@@ -116,7 +116,7 @@ struct TrialOutcome {
 /// policy's record nor its wall clock, which begin anew. The exported policy is
 /// the one that passed the last curriculum test (π_weak at the weakest strength it mastered) or,
 /// after the curriculum ended, a later one tested at that strength that exports_over it; when no
-/// test passed, the best by exports_over (by mean return alone: the seed repository's best_model).
+/// test passed, the best by exports_over (the seed repository's best_model ranks by return alone).
 /// Throws when `cancel` is set (checked every vector step).
 TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const std::filesystem::path& work_dir,
                                  const std::atomic<bool>* cancel, const Reporter& report);

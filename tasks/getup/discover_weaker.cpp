@@ -263,7 +263,8 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     send("success_rate", steps, result.success_rate);
     const HeadSummary rose = summarise_heads(heads, s.stand_steps);
     send("risen_rate", steps, static_cast<double>(rose.risen) / static_cast<double>(heads.size()));
-    send("stood_rate", steps, static_cast<double>(rose.stood) / static_cast<double>(heads.size()));
+    const double stood_rate = static_cast<double>(rose.stood) / static_cast<double>(heads.size());
+    send("stood_rate", steps, stood_rate);
     send("head_drops", steps, rose.drops);
     send("head_peak_m", steps, rose.peak_m);
     if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));
@@ -272,7 +273,7 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
       send("sac/skipped_updates", steps, static_cast<double>(sac->skipped_updates()));
     }
     const Json tested = {{"strength", tested_at}, {"test_return", result.mean_return}, {"test_return_min", min_return}, {"success_rate", result.success_rate},
-                         {"stood_rate", static_cast<double>(rose.stood) / static_cast<double>(heads.size())}, {"env_steps", learner->env_steps()}};
+                         {"stood_rate", stood_rate}, {"env_steps", learner->env_steps()}};
     const bool polishing = schedule.ended() && !extra.at("passed").is_null();  // tested at the last strength passed
     const WeakerSchedule::Decision decision = schedule.on_test(learner->env_steps(), min_return);
     if (decision == WeakerSchedule::Decision::advance ||  // π passed at β^i: it is π_weak until a weaker one passes

@@ -1,6 +1,7 @@
 #include "evaluate.h"
 
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 #include "head_watch.h"
@@ -33,7 +34,7 @@ Json SpeedResult::to_json() const {
 }
 
 Json EvaluateOutcome::to_json() const {
-  Json j = {{"speeds", Json::array()}, {"features", features.as_vector()}};
+  Json j = {{"speeds", Json::array()}, {"features", features.as_vector()}, {"shown_fall", shown_fall}};
   for (const auto& s : speeds) j["speeds"].push_back(s.to_json());
   return j;
 }
@@ -60,6 +61,16 @@ namespace {
 // Each fall's head top against rise_height_m (head_watch.h), observed from the fall's end.
 std::vector<HeadWatch> head_watches(std::size_t falls, double height_m) { return std::vector<HeadWatch>(falls, HeadWatch{.height_m = height_m}); }
 
+// The recorded falls: every one on π_weak's run at its own strength, which picks the fall the
+// replays show (shown_episode: its best get-up); that fall alone at every other speed, so fast
+// and slowed replay side by side from the same fall.
+void record_falls(character::EvaluationConfig& e, std::optional<std::size_t> shown, const fs::path& dir) {
+  e.record.clear();
+  for (std::size_t i = 0; i < e.start_seeds.size(); ++i)
+    if (!shown || i == *shown) e.record.push_back(i);
+  e.record_dir = dir;
+}
+
 void summarise(SpeedResult& r, const character::EvaluationReport& report, const std::vector<HeadWatch>& heads, int stand_steps, double dt_s) {
   r.success_rate = report.success_rate;
   const HeadSummary h = summarise_heads(heads, stand_steps);
@@ -85,6 +96,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
 
   // Fast: π_weak from the same falls SlowerEnv's teacher gets first (its generator's first draw),
   // at its own strength (its strategy features come from these runs) and the further ones.
+  std::size_t shown = 0;  // the fall every speed's replay shows
   std::vector<double> strengths = {weak.strength};
   strengths.insert(strengths.end(), c.strengths.begin(), c.strengths.end());
   for (std::size_t b = 0; b < strengths.size(); ++b) {
@@ -106,10 +118,15 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     std::snprintf(name, sizeof name, "fast_b%g", strengths[b]);
     r.name = b == 0 ? "fast" : name;
     r.strength = strengths[b];
-    e.record = {0};
-    e.record_dir = work_dir / "rollouts" / r.name;
+    record_falls(e, b == 0 ? std::nullopt : std::optional(shown), work_dir / "rollouts" / r.name);
     check_cancel();
-    const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
+    auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
+    if (b == 0) {
+      shown = shown_episode(heads, s.stand_steps);
+      for (std::size_t i = 0; i < report.trajectories.size(); ++i)
+        if (i != shown) fs::remove(report.trajectories[i]);
+      report.trajectories = {report.trajectories.at(shown)};
+    }
     summarise(r, report, heads, s.stand_steps, env.control_dt_s());
     out.speeds.push_back(r);
     if (b > 0) continue;
@@ -117,6 +134,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     for (const auto& rec : strategies) per_fall.push_back(rec.features());
     out.features = mean_features(per_fall);
   }
+  out.shown_fall = static_cast<int>(shown);
   if (slow_policy.empty()) return out;
 
   // Slow: π_slow at each κ, and the paused motion.
@@ -146,8 +164,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
       heads[fall].observe(ce.step_index(), static_cast<const SlowerEnv&>(ce).weak().head_height_m);
     };
-    e.record = {0};
-    e.record_dir = work_dir / "rollouts" / run.name;
+    record_falls(e, shown, work_dir / "rollouts" / run.name);
     const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { pi_slow.act(o, a); }, e);
     SpeedResult r;
     r.name = run.name;

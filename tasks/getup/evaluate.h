@@ -3,8 +3,9 @@
 /// seeds no training saw, at several speeds κ and fast (π_weak itself), and §8.3's paused motion.
 /// Per speed: the success rate (standing with the head top above rise_height_m at the end), the
 /// time to rise (first head top above it, from the fall's end), the COM tracking error over the
-/// rise, and the motion of the first fall as a trajectory artifact. The strategy features of
-/// π_weak's fast get-ups (strategy_features.h) are the trial's features.
+/// rise, and the motion of one fall as a trajectory artifact: at every speed the same fall, π_weak's
+/// best at its own strength (the first that stood, else the first that rose, else the first). The
+/// strategy features of π_weak's fast get-ups (strategy_features.h) are the trial's features.
 #include "slower.h"
 #include "strategy_features.h"
 
@@ -42,6 +43,7 @@ struct SpeedResult {
 struct EvaluateOutcome {
   std::vector<SpeedResult> speeds;  ///< fast, each κ, pause
   StrategyFeatures features;        ///< of π_weak's fast get-ups
+  int shown_fall = 0;               ///< the fall every speed's trajectory records (head_watch.h's shown_episode)
   base::Json to_json() const;
   const SpeedResult& at(const std::string& name) const;
 };

@@ -54,4 +54,15 @@ inline HeadSummary summarise_heads(const std::vector<HeadWatch>& heads, int stan
   return s;
 }
 
+/// The episode a replay should show: the first that stood for the last `stand_steps`, else the
+/// first whose head rose, else the first (a viewer sees the policy's best behaviour, not fall 0's
+/// whatever it was; the summary's counts say how typical it is).
+inline std::size_t shown_episode(const std::vector<HeadWatch>& heads, int stand_steps) {
+  for (std::size_t i = 0; i < heads.size(); ++i)
+    if (heads[i].risen() && heads[i].stood(stand_steps)) return i;
+  for (std::size_t i = 0; i < heads.size(); ++i)
+    if (heads[i].risen()) return i;
+  return 0;
+}
+
 }  // namespace podium::tasks::getup

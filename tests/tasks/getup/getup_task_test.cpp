@@ -254,6 +254,7 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
     for (const auto& m : campaign.store->metrics(t.id))
       if (m.name == "eval/success_rate") steps.insert(m.step);
     EXPECT_EQ(steps, (std::set<double>{0.5, 1.0}));  // the smoke preset's κ = 0.5, and fast
+    EXPECT_EQ(t.result_info["shown_fall"], 0);  // every fast fall stood (below): the first is shown
     for (const auto& speed : t.result_info["speeds"]) {  // head_watch.h's measures, per speed
       EXPECT_GE(speed["drops"].get<double>(), 0.0) << speed;
       if (speed["risen"] == 0) {

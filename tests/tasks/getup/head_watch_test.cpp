@@ -53,5 +53,16 @@ TEST(HeadWatch, StandingPassesOnceAndLeapingDropsEachTime) {
   EXPECT_EQ(summarise_heads({lying}, 0).stood, 0);
 }
 
+// The replay shows the first episode that stood, else the first that rose, else the first.
+TEST(HeadWatch, ShownEpisodeIsTheFirstThatStoodElseRose) {
+  const HeadWatch lying = watch({0.2, 0.3, 0.25});
+  const HeadWatch stands = watch({0.2, 0.8, 1.3, 1.56, 1.55, 1.56});
+  const HeadWatch leaps = watch({0.2, 1.5, 1.9, 1.0, 0.2, 1.4, 1.85, 0.3, 1.3});
+  EXPECT_EQ(shown_episode({lying, leaps, stands, stands}, 3), 2u);
+  EXPECT_EQ(shown_episode({lying, leaps, stands}, 5), 1u);  // none held 5 steps: the first that rose
+  EXPECT_EQ(shown_episode({lying, lying}, 3), 0u);
+  EXPECT_EQ(shown_episode({}, 3), 0u);
+}
+
 }  // namespace
 }  // namespace podium::tasks::getup

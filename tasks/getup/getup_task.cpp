@@ -92,7 +92,8 @@ Json stage_description(const std::string& stage) {
     return {{"features", Json::array()},
             {"metrics",
              {plugins::metric_entry("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa; step = environment steps"),
-              plugins::metric_entry("slow/com_error_m", "m", "mean |h_com − h'_com| over the rise on those starts"),
+              plugins::metric_entry("slow/com_error_m", "m", "mean |h_com − h'_com| over the tracked part of the rise on those starts"),
+              plugins::metric_entry("slow/tracked_fraction", "", "mean share of the rise tracked before a 0.5 m COM deviation ended the episode"),
               plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end")}},
             {"objectives", {"success_rate", "neg_com_error_m"}}};
   const Json features = {{"features", StrategyFeatures::describe()}, {"strategy_threshold", 0.3}};
@@ -102,7 +103,8 @@ Json stage_description(const std::string& stage) {
                     plugins::metric_entry("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m; step = κ"),
                     plugins::metric_entry("eval/stood_rate", "", "fraction of the unseen falls whose head top stayed above rise_height_m for the last stand_steps; step = κ"),
                     plugins::metric_entry("eval/head_drops", "", "mean times the head top fell back below rise_height_m, over the falls that rose (standing: 0; a leap loop: 2–4); step = κ"),
-                    plugins::metric_entry("eval/com_error_m", "m", "mean COM-height tracking error of π_slow; step = κ"),
+                    plugins::metric_entry("eval/com_error_m", "m", "mean COM-height tracking error of π_slow over the tracked part of the rise; step = κ"),
+                    plugins::metric_entry("eval/tracked_fraction", "", "mean share of the rise π_slow tracked before a 0.5 m COM deviation ended it; step = κ"),
                     plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls; step = strength β")};
     d["objectives"] = {"slow_success_rate", "fast_success_rate"};
     return d;
@@ -227,6 +229,7 @@ class GetupTask final : public plugins::Task {
       sink.metric("eval/stood_rate", step, static_cast<double>(s.stood) / c.evaluate.falls);
       if (s.name != "fast") {
         sink.metric("eval/com_error_m", step, s.com_error_m);
+        sink.metric("eval/tracked_fraction", step, s.tracked_fraction);
         slow_success += s.success_rate, ++slow_speeds;
       }
     }

@@ -59,6 +59,7 @@ character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std
   c.start_seeds = std::move(start_seeds);
   const auto slower = [](const character::CharacterEnv& env) -> const SlowerEnv& { return static_cast<const SlowerEnv&>(env); };
   c.measures = {{"com_error_m", [slower](const character::CharacterEnv& env) { return slower(env).mean_com_error_m(); }},
+                {"tracked_fraction", [slower](const character::CharacterEnv& env) { return slower(env).tracked_fraction(); }},
                 {"final_head_height_m", [slower](const character::CharacterEnv& env) { return slower(env).weak().head_height_m; }}};
   c.success = [slower, h = s.rise_height_m](const character::CharacterEnv& env) {
     return slower(env).standing_phase() && slower(env).weak().head_height_m > h;
@@ -99,13 +100,16 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
     const auto started = std::chrono::steady_clock::now();
     const auto result = character::evaluate(test_env, act, tests);
     const double com_error_m = result.mean("com_error_m");
-    char line[200];
-    std::snprintf(line, sizeof line, "getup slower: step %.0f: test return %.2f, COM error %.3f m, success %.2f at κ %.2f (test %.1f s)",
-                  steps, result.mean_return, com_error_m, result.success_rate, c.test_kappa,
+    const double tracked = result.mean("tracked_fraction");
+    char line[240];
+    std::snprintf(line, sizeof line,
+                  "getup slower: step %.0f: test return %.2f, COM error %.3f m over %.0f%% of the rise, success %.2f at κ %.2f (test %.1f s)",
+                  steps, result.mean_return, com_error_m, 100 * tracked, result.success_rate, c.test_kappa,
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     base::log_info(line);
     checkpoint.metric("slow/test_return", steps, result.mean_return);
     checkpoint.metric("slow/com_error_m", steps, com_error_m);
+    checkpoint.metric("slow/tracked_fraction", steps, tracked);
     checkpoint.metric("slow/success_rate", steps, result.success_rate);
     extra["last"] = {{"test_return", result.mean_return}, {"com_error_m", com_error_m},
                      {"success_rate", result.success_rate}};

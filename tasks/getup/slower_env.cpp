@@ -200,6 +200,11 @@ void SlowerEnv::build_reference(FastRollout fast, double kappa) {
   rise_steps_ = 0;
 }
 
+double SlowerEnv::tracked_fraction() const {
+  const double rise_steps = std::floor(reference_->rise_s() / control_dt_s() + 1e-9);
+  return rise_steps > 0 ? std::min(1.0, rise_steps_ / rise_steps) : 1.0;
+}
+
 void SlowerEnv::begin_episode(base::Rng& rng) {
   FastRollout fast = rise(rng);
   if (edit_) fast = edit_(std::move(fast));

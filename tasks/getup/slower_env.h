@@ -93,6 +93,9 @@ class SlowerEnv final : public character::CharacterEnv {
   bool standing_phase() const { return reference_time_s() > reference_->rise_s() + 1e-9; }
   /// Mean |h_com − h'_com| over this episode's rise steps so far (0 before the first).
   double mean_com_error_m() const { return rise_steps_ > 0 ? com_error_sum_ / rise_steps_ : 0.0; }
+  /// The share of τ_slow's rise this episode has tracked so far: an episode ended early by the
+  /// 0.5 m deviation stops short of 1, so a small mean_com_error_m over a short stretch shows as such.
+  double tracked_fraction() const;
   WeakState weak() const { return weak_state(*this, readings_); }
   const BodyReadings& readings() const { return readings_; }
   /// Sets the speed of later episodes (tests at several κ); nullopt: sampled.

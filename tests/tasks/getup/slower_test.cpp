@@ -143,6 +143,8 @@ TEST(SlowerEnv, AnEpisodeTracksThenStandsAndEndsAtTOverKappaPlusTheBalanceSteps)
   if (step.truncated) EXPECT_EQ(steps, rise_steps + 12);
   else EXPECT_LT(env.features().com.z(), 0.5);  // the only way the standing phase ends early
   EXPECT_GT(env.mean_com_error_m(), 0.0);
+  // Every rise step counted, the terminating one too: the whole rise, or the share before the end.
+  EXPECT_DOUBLE_EQ(env.tracked_fraction(), std::min(steps, rise_steps) / static_cast<double>(rise_steps));
 }
 
 TEST(SlowerEnv, ASavedEpisodeResumesBitwiseInAFreshEnv) {

@@ -32,7 +32,7 @@ for stage in dict.fromkeys(r["stage"] for r in rows):
             # stood: up without a break for the last 2 s (a leap's flight is shorter)
             print(f"demo:   {r['name']} {s['name']:>10} ({what}): up at the end {s['success_rate']:.2f}, "
                   f"rose {s['risen']}, stood {s['stood']}, drops {s['drops']:.1f}, rise {s['rise_time_s']:.2f} s, COM error {s['com_error_m']:.3f} m"
-                  + (f" over {100 * s['tracked_fraction']:.0f}% of the rise" if s["kappa"] > 0 else ""))
+                  + (f" over {100 * s['tracked_fraction']:.0f}% of the rise, {s['end_com_gap_m']:.2f} m below at its end" if s["kappa"] > 0 else ""))
         summary = (r.get("result") or {}).get("summary")
         if summary and "speeds" not in (r.get("result") or {}):
             print(f"demo:   {r['name']}: " + ", ".join(f"{k} {v:.3g}" if isinstance(v, float) else f"{k} {v}" for k, v in summary.items()))

@@ -30,7 +30,7 @@ Json SpeedResult::to_json() const {
   return {{"name", name},   {"kappa", kappa},         {"strength", strength},
           {"success_rate", success_rate}, {"rise_time_s", rise_time_s},
           {"risen", risen}, {"stood", stood}, {"drops", drops}, {"peak_head_m", peak_head_m},
-          {"com_error_m", com_error_m}, {"tracked_fraction", tracked_fraction}, {"fast_rise_time_s", fast_rise_time_s}};
+          {"com_error_m", com_error_m}, {"tracked_fraction", tracked_fraction}, {"end_com_gap_m", end_com_gap_m}, {"fast_rise_time_s", fast_rise_time_s}};
 }
 
 Json EvaluateOutcome::to_json() const {
@@ -172,6 +172,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     summarise(r, report, heads, s.stand_steps, env.control_dt_s());
     r.com_error_m = report.mean("com_error_m");
     r.tracked_fraction = report.mean("tracked_fraction");
+    r.end_com_gap_m = report.mean("end_com_gap_m");
     r.fast_rise_time_s = report.mean("fast_rise_time_s");
     out.speeds.push_back(r);
   }

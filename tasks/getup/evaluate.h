@@ -35,6 +35,7 @@ struct SpeedResult {
   double drops = 0.0;               ///< mean, over those, of the head's falls back below rise_height_m (standing: 0)
   double peak_head_m = 0.0;         ///< mean, over those, of the highest head top (standing humanoid21: 1.56 m)
   double com_error_m = 0.0;         ///< mean over the falls (0 for fast), each over the part of the rise it tracked
+  double end_com_gap_m = 0.0;       ///< mean h'_com − h_com at the last rise step reached (0 for fast)
   double tracked_fraction = 0.0;    ///< mean share of the rise tracked before the 0.5 m deviation ended it (0 for fast)
   double fast_rise_time_s = 0.0;    ///< τ_fast's duration over the same falls (slow speeds)
   std::filesystem::path trajectory;

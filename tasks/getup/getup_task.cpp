@@ -94,6 +94,7 @@ Json stage_description(const std::string& stage) {
              {plugins::metric_entry("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa; step = environment steps"),
               plugins::metric_entry("slow/com_error_m", "m", "mean |h_com − h'_com| over the tracked part of the rise on those starts"),
               plugins::metric_entry("slow/tracked_fraction", "", "mean share of the rise tracked before a 0.5 m COM deviation ended the episode"),
+              plugins::metric_entry("slow/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step reached (positive: below the reference)"),
               plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end")}},
             {"objectives", {"success_rate", "neg_com_error_m"}}};
   const Json features = {{"features", StrategyFeatures::describe()}, {"strategy_threshold", 0.3}};
@@ -105,6 +106,7 @@ Json stage_description(const std::string& stage) {
                     plugins::metric_entry("eval/head_drops", "", "mean times the head top fell back below rise_height_m, over the falls that rose (standing: 0; a leap loop: 2–4); step = κ"),
                     plugins::metric_entry("eval/com_error_m", "m", "mean COM-height tracking error of π_slow over the tracked part of the rise; step = κ"),
                     plugins::metric_entry("eval/tracked_fraction", "", "mean share of the rise π_slow tracked before a 0.5 m COM deviation ended it; step = κ"),
+                    plugins::metric_entry("eval/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step π_slow reached (positive: below the reference); step = κ"),
                     plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls; step = strength β")};
     d["objectives"] = {"slow_success_rate", "fast_success_rate"};
     return d;
@@ -230,6 +232,7 @@ class GetupTask final : public plugins::Task {
       if (s.name != "fast") {
         sink.metric("eval/com_error_m", step, s.com_error_m);
         sink.metric("eval/tracked_fraction", step, s.tracked_fraction);
+        sink.metric("eval/end_com_gap_m", step, s.end_com_gap_m);
         slow_success += s.success_rate, ++slow_speeds;
       }
     }

@@ -60,6 +60,7 @@ character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std
   const auto slower = [](const character::CharacterEnv& env) -> const SlowerEnv& { return static_cast<const SlowerEnv&>(env); };
   c.measures = {{"com_error_m", [slower](const character::CharacterEnv& env) { return slower(env).mean_com_error_m(); }},
                 {"tracked_fraction", [slower](const character::CharacterEnv& env) { return slower(env).tracked_fraction(); }},
+                {"end_com_gap_m", [slower](const character::CharacterEnv& env) { return slower(env).end_com_gap_m(); }},
                 {"final_head_height_m", [slower](const character::CharacterEnv& env) { return slower(env).weak().head_height_m; }}};
   c.success = [slower, h = s.rise_height_m](const character::CharacterEnv& env) {
     return slower(env).standing_phase() && slower(env).weak().head_height_m > h;
@@ -100,16 +101,17 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
     const auto started = std::chrono::steady_clock::now();
     const auto result = character::evaluate(test_env, act, tests);
     const double com_error_m = result.mean("com_error_m");
-    const double tracked = result.mean("tracked_fraction");
-    char line[240];
+    const double tracked = result.mean("tracked_fraction"), end_gap = result.mean("end_com_gap_m");
+    char line[280];
     std::snprintf(line, sizeof line,
-                  "getup slower: step %.0f: test return %.2f, COM error %.3f m over %.0f%% of the rise, success %.2f at κ %.2f (test %.1f s)",
-                  steps, result.mean_return, com_error_m, 100 * tracked, result.success_rate, c.test_kappa,
+                  "getup slower: step %.0f: test return %.2f, COM error %.3f m over %.0f%% of the rise, %.3f m below at its end, success %.2f at κ %.2f (test %.1f s)",
+                  steps, result.mean_return, com_error_m, 100 * tracked, end_gap, result.success_rate, c.test_kappa,
                   std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     base::log_info(line);
     checkpoint.metric("slow/test_return", steps, result.mean_return);
     checkpoint.metric("slow/com_error_m", steps, com_error_m);
     checkpoint.metric("slow/tracked_fraction", steps, tracked);
+    checkpoint.metric("slow/end_com_gap_m", steps, end_gap);
     checkpoint.metric("slow/success_rate", steps, result.success_rate);
     extra["last"] = {{"test_return", result.mean_return}, {"com_error_m", com_error_m},
                      {"success_rate", result.success_rate}};

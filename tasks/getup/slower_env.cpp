@@ -198,6 +198,7 @@ void SlowerEnv::build_reference(FastRollout fast, double kappa) {
   set_reference(reference_->clip());
   com_error_sum_ = 0.0;
   rise_steps_ = 0;
+  end_com_gap_m_ = 0.0;
 }
 
 double SlowerEnv::tracked_fraction() const {
@@ -237,6 +238,7 @@ void SlowerEnv::score(learn::StepResult& out) const {
     out.reward = reward_slow(s);
     com_error_sum_ += std::abs(s.com_height_error_m);
     ++rise_steps_;
+    end_com_gap_m_ = -s.com_height_error_m;
     out.terminated = std::abs(s.com_height_error_m) > settings_.track_limit_m;
     return;
   }
@@ -256,7 +258,7 @@ std::optional<Json> SlowerEnv::save_state() const {
   Json state = *CharacterEnv::save_state();
   if (reference_)
     state["slower"] = {{"fast", reference_->fast().to_json()}, {"kappa", reference_->kappa()}, {"com_error_sum", com_error_sum_},
-                       {"rise_steps", rise_steps_}};
+                       {"rise_steps", rise_steps_}, {"end_com_gap", end_com_gap_m_}};
   return state;
 }
 
@@ -268,6 +270,7 @@ void SlowerEnv::load_state(const Json& state) {
     build_reference(FastRollout::from_json(s.at("fast")), s.at("kappa").get<double>());
     com_error_sum_ = s.at("com_error_sum").get<double>();
     rise_steps_ = s.at("rise_steps").get<int>();
+    end_com_gap_m_ = s.value("end_com_gap", 0.0);  // absent in checkpoints before session 26: a statistic only
   } catch (const Json::exception& e) {
     throw base::UserError(std::string("getup slower env state: ") + e.what());
   }

@@ -96,6 +96,9 @@ class SlowerEnv final : public character::CharacterEnv {
   /// The share of τ_slow's rise this episode has tracked so far: an episode ended early by the
   /// 0.5 m deviation stops short of 1, so a small mean_com_error_m over a short stretch shows as such.
   double tracked_fraction() const;
+  /// h'_com − h_com at the last rise step so far (positive: the character below its reference):
+  /// a π_slow that follows the slowed kneel but lags the climb has a small mean error and a large gap here.
+  double end_com_gap_m() const { return end_com_gap_m_; }
   WeakState weak() const { return weak_state(*this, readings_); }
   const BodyReadings& readings() const { return readings_; }
   /// Sets the speed of later episodes (tests at several κ); nullopt: sampled.
@@ -130,6 +133,7 @@ class SlowerEnv final : public character::CharacterEnv {
   std::unique_ptr<SlowReference> reference_;
   mutable double com_error_sum_ = 0.0;  // the episode's tracking statistics, kept by score()
   mutable int rise_steps_ = 0;
+  mutable double end_com_gap_m_ = 0.0;
 };
 
 }  // namespace podium::tasks::getup

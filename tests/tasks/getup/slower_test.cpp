@@ -135,16 +135,19 @@ TEST(SlowerEnv, AnEpisodeTracksThenStandsAndEndsAtTOverKappaPlusTheBalanceSteps)
   learn::StepResult step;
   int steps = 0;
   const std::vector<double> zero(env.action_space().size(), 0.0);
+  double gap_at_last_rise_step = 0.0;
   do {
     env.step(zero, step);
     ++steps;
     EXPECT_EQ(env.standing_phase(), steps > rise_steps) << "step " << steps;
+    if (!env.standing_phase()) gap_at_last_rise_step = ref.com_height_m(env.reference_time_s()) - env.features().com.z();
   } while (!step.terminated && !step.truncated);
   if (step.truncated) EXPECT_EQ(steps, rise_steps + 12);
   else EXPECT_LT(env.features().com.z(), 0.5);  // the only way the standing phase ends early
   EXPECT_GT(env.mean_com_error_m(), 0.0);
   // Every rise step counted, the terminating one too: the whole rise, or the share before the end.
   EXPECT_DOUBLE_EQ(env.tracked_fraction(), std::min(steps, rise_steps) / static_cast<double>(rise_steps));
+  EXPECT_DOUBLE_EQ(env.end_com_gap_m(), gap_at_last_rise_step);
 }
 
 TEST(SlowerEnv, ASavedEpisodeResumesBitwiseInAFreshEnv) {

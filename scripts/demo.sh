@@ -31,7 +31,7 @@ for stage in dict.fromkeys(r["stage"] for r in rows):
             # drops: how often a risen head fell back below the height (standing: 0; a leap loop: 2-4);
             # stood: up without a break for the last 2 s (a leap's flight is shorter)
             print(f"demo:   {r['name']} {s['name']:>10} ({what}): up at the end {s['success_rate']:.2f}, "
-                  f"rose {s['risen']}, stood {s['stood']}, drops {s['drops']:.1f}, rise {s['rise_time_s']:.2f} s, COM error {s['com_error_m']:.3f} m"
+                  f"rose {s['risen']} ({s['risen_on_back']} of the {s['on_back']} on the back), stood {s['stood']}, drops {s['drops']:.1f}, rise {s['rise_time_s']:.2f} s, COM error {s['com_error_m']:.3f} m"
                   + (f" over {100 * s['tracked_fraction']:.0f}% of the rise, {s['end_com_gap_m']:.2f} m below at its end" if s["kappa"] > 0 else ""))
         summary = (r.get("result") or {}).get("summary")
         if summary and "speeds" not in (r.get("result") or {}):

@@ -32,6 +32,8 @@ struct SpeedResult {
   double rise_time_s = 0.0;         ///< mean over the falls whose head rose (NaN-free: 0 when none)
   int risen = 0;                    ///< falls whose head rose at all
   int stood = 0;                    ///< falls whose head top stayed above rise_height_m for the last stand_steps (not a leap's flight)
+  int on_back = 0;                  ///< falls that ended on the back (the chest's front axis pointing up)
+  int risen_on_back = 0, stood_on_back = 0;  ///< of those: risen, stood (the rest of risen/stood are from the front or side)
   double drops = 0.0;               ///< mean, over those, of the head's falls back below rise_height_m (standing: 0)
   double peak_head_m = 0.0;         ///< mean, over those, of the highest head top (standing humanoid21: 1.56 m)
   double com_error_m = 0.0;         ///< mean over the falls (0 for fast), each over the part of the rise it tracked

@@ -267,6 +267,9 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
       // at every step: every fall of π_weak's 50-step episodes stood through the last stand_steps
       // (5); π_slow's end sooner (its standing phase stops when the COM is below 0.5 m).
       EXPECT_LE(speed["stood"].get<int>(), speed["risen"].get<int>()) << speed;
+      EXPECT_LE(speed["on_back"].get<int>(), 2) << speed;  // of the 2 falls
+      EXPECT_LE(speed["risen_on_back"].get<int>(), std::min(speed["on_back"].get<int>(), speed["risen"].get<int>())) << speed;
+      EXPECT_LE(speed["stood_on_back"].get<int>(), speed["risen_on_back"].get<int>()) << speed;
       if (speed["name"] == "fast") {
         EXPECT_EQ(speed["stood"], 2) << speed;
       }

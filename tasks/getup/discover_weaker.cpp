@@ -186,7 +186,9 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   // start that rose and fell again fails bar (a) differently from one that never rose, and drops
   // tell a get-up that stands from a leap loop.
   std::vector<HeadWatch> heads(tests.start_seeds.size(), HeadWatch{.height_m = s.success_height_m});
-  tests.each_step = [&heads](std::size_t start, const character::CharacterEnv& env) {
+  std::vector<char> on_back(tests.start_seeds.size(), 0);
+  tests.each_step = [&heads, &on_back](std::size_t start, const character::CharacterEnv& env) {
+    if (env.step_index() == 0) on_back[start] = lies_on_back(env);
     if (env.step_index() > 0) heads[start].observe(env.step_index(), as_getup(env).weak().head_height_m);
   };
   const fs::path policy = work_dir / "policy.pt";
@@ -265,6 +267,11 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
     send("risen_rate", steps, static_cast<double>(rose.risen) / static_cast<double>(heads.size()));
     const double stood_rate = static_cast<double>(rose.stood) / static_cast<double>(heads.size());
     send("stood_rate", steps, stood_rate);
+    // The starts on the back, apart (head_watch.h's BackSummary): a policy may rise from one side only.
+    if (const BackSummary back = summarise_back(heads, on_back, s.stand_steps); back.falls > 0) {
+      send("risen_on_back_rate", steps, static_cast<double>(back.risen) / back.falls);
+      send("stood_on_back_rate", steps, static_cast<double>(back.stood) / back.falls);
+    }
     send("head_drops", steps, rose.drops);
     send("head_peak_m", steps, rose.peak_m);
     if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));

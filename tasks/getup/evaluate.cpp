@@ -72,24 +72,11 @@ void record_falls(character::EvaluationConfig& e, std::optional<std::size_t> sho
   e.record_dir = dir;
 }
 
-// Whether each fall ended on the back: the torso's front axis pointing up at the fall's end (a
-// get-up from the back needs a sit-up or a roll, from the front a push-up; a policy may know one).
-struct LyingWatch {
-  std::vector<char> on_back;
-  void observe(std::size_t fall, const character::CharacterEnv& env) {
-    if (env.step_index() == 0) on_back[fall] = env.features().torso_up.x() > 0.0;
-  }
-};
-
-void summarise(SpeedResult& r, const character::EvaluationReport& report, const std::vector<HeadWatch>& heads, const LyingWatch& lying,
+void summarise(SpeedResult& r, const character::EvaluationReport& report, const std::vector<HeadWatch>& heads, const std::vector<char>& on_back,
                int stand_steps, double dt_s) {
   r.success_rate = report.success_rate;
-  for (std::size_t i = 0; i < heads.size(); ++i) {
-    if (!lying.on_back[i]) continue;
-    ++r.on_back;
-    r.risen_on_back += heads[i].risen();
-    r.stood_on_back += heads[i].risen() && heads[i].stood(stand_steps);
-  }
+  const BackSummary back = summarise_back(heads, on_back, stand_steps);
+  r.on_back = back.falls, r.risen_on_back = back.risen, r.stood_on_back = back.stood;
   const HeadSummary h = summarise_heads(heads, stand_steps);
   r.risen = h.risen;
   r.stood = h.stood;
@@ -125,11 +112,11 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     const double rise_m = slower.env.rise_height_m;
     e.success = [rise_m](const character::CharacterEnv& env) { return static_cast<const GetupEnv&>(env).weak().head_height_m > rise_m; };
     auto heads = head_watches(falls.size(), rise_m);
-    LyingWatch lying{std::vector<char>(falls.size(), 0)};
+    std::vector<char> on_back(falls.size(), 0);
     std::vector<StrategyRecorder> strategies(falls.size(), StrategyRecorder(env.model(), env.readings().head_top_m, rise_m));
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
       heads[fall].observe(ce.step_index(), static_cast<const GetupEnv&>(ce).weak().head_height_m);
-      lying.observe(fall, ce);
+      if (ce.step_index() == 0) on_back[fall] = lies_on_back(ce);
       if (ce.step_index() > 0) strategies[fall].observe(ce);
     };
     SpeedResult r;
@@ -146,7 +133,7 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
         if (i != shown) fs::remove(report.trajectories[i]);
       report.trajectories = {report.trajectories.at(shown)};
     }
-    summarise(r, report, heads, lying, s.stand_steps, env.control_dt_s());
+    summarise(r, report, heads, on_back, s.stand_steps, env.control_dt_s());
     out.speeds.push_back(r);
     if (b > 0) continue;
     std::vector<StrategyFeatures> per_fall;
@@ -180,17 +167,17 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
                             return static_cast<const SlowerEnv&>(ce).reference_motion().fast().steps() * ce.control_dt_s();
                           }});
     auto heads = head_watches(falls.size(), slower.env.rise_height_m);
-    LyingWatch lying{std::vector<char>(falls.size(), 0)};
+    std::vector<char> on_back(falls.size(), 0);
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
       heads[fall].observe(ce.step_index(), static_cast<const SlowerEnv&>(ce).weak().head_height_m);
-      lying.observe(fall, ce);
+      if (ce.step_index() == 0) on_back[fall] = lies_on_back(ce);
     };
     record_falls(e, shown, work_dir / "rollouts" / run.name);
     const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { pi_slow.act(o, a); }, e);
     SpeedResult r;
     r.name = run.name;
     r.kappa = run.kappa;
-    summarise(r, report, heads, lying, s.stand_steps, env.control_dt_s());
+    summarise(r, report, heads, on_back, s.stand_steps, env.control_dt_s());
     r.com_error_m = report.mean("com_error_m");
     r.tracked_fraction = report.mean("tracked_fraction");
     r.end_com_gap_m = report.mean("end_com_gap_m");

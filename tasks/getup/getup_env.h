@@ -48,6 +48,10 @@ void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart
 /// fit `env`: trained for another variant, or with another `root_velocity`.
 void check_policy_fits(const learn::FrozenPolicy& policy, const learn::Env& env, const std::string& who);
 
+/// Whether the character lies on its back: the torso's front axis pointing up (read at a fall's
+/// end, it tells a get-up that needs a sit-up or a roll from one that needs a push-up).
+inline bool lies_on_back(const character::CharacterEnv& env) { return env.features().torso_up.x() > 0.0; }
+
 /// The model edits of a variant (empty for "none"). Throws base::UserError on an unknown name.
 sim::ModelEdits variant_edits(const std::string& variant);
 

@@ -117,6 +117,8 @@ Json stage_description(const std::string& stage) {
                   plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes"),
                   plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
                   plugins::metric_entry("risen_rate", "", "fraction of the fixed starts whose head top passed success_height_m at some step (risen − success: rose and fell again)"),
+                  plugins::metric_entry("risen_on_back_rate", "", "risen_rate over the fixed starts that lie on the back (the torso's front axis up); absent when none does"),
+                  plugins::metric_entry("stood_on_back_rate", "", "stood_rate over those starts"),
                   plugins::metric_entry("stood_rate", "", "fraction of the fixed starts whose head top stayed above success_height_m for the last stand_steps control steps (a get-up that stands; a leap's flight is shorter)"),
                   plugins::metric_entry("head_drops", "", "mean times the head top fell back below success_height_m, over the fixed starts whose head passed it (a get-up that stands: 0; a leap loop: 2–4 per 250 steps)"),
                   plugins::metric_entry("head_peak_m", "m", "mean highest head top over those starts (standing humanoid21: 1.56 m; above it: the character leaps)"),

@@ -54,6 +54,25 @@ inline HeadSummary summarise_heads(const std::vector<HeadWatch>& heads, int stan
   return s;
 }
 
+/// Of the episodes that began on the back (`on_back`, one per episode: the torso's front axis
+/// pointing up at the fall's end), how many there were, rose and stood: a get-up from the back
+/// needs a sit-up or a roll, from the front a push-up, and a policy may know only one (tasks/getup/
+/// RESULTS.md, session 26).
+struct BackSummary {
+  int falls = 0, risen = 0, stood = 0;
+};
+
+inline BackSummary summarise_back(const std::vector<HeadWatch>& heads, const std::vector<char>& on_back, int stand_steps) {
+  BackSummary s;
+  for (std::size_t i = 0; i < heads.size() && i < on_back.size(); ++i) {
+    if (!on_back[i]) continue;
+    ++s.falls;
+    s.risen += heads[i].risen();
+    s.stood += heads[i].risen() && heads[i].stood(stand_steps);
+  }
+  return s;
+}
+
 /// The episode a replay should show: the first that stood for the last `stand_steps`, else the
 /// first whose head rose, else the first (a viewer sees the policy's best behaviour, not fall 0's
 /// whatever it was; the summary's counts say how typical it is).

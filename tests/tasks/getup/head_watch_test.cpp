@@ -53,6 +53,20 @@ TEST(HeadWatch, StandingPassesOnceAndLeapingDropsEachTime) {
   EXPECT_EQ(summarise_heads({lying}, 0).stood, 0);
 }
 
+// The episodes that began on the back, apart: counted, and of them the risen and the stood.
+TEST(HeadWatch, BackSummaryCountsOnlyTheEpisodesOnTheBack) {
+  const HeadWatch lying = watch({0.2, 0.3, 0.25});
+  const HeadWatch stands = watch({0.2, 0.8, 1.3, 1.56, 1.55, 1.56});
+  const HeadWatch leaps = watch({0.2, 1.5, 1.9, 1.0, 0.2, 1.4, 1.85, 0.3, 1.3});
+  const BackSummary b = summarise_back({lying, stands, leaps, stands}, {1, 1, 1, 0}, 3);
+  EXPECT_EQ(b.falls, 3);
+  EXPECT_EQ(b.risen, 2);
+  EXPECT_EQ(b.stood, 1);  // the fourth stood, but from the front
+  const BackSummary none = summarise_back({stands}, {0}, 3);
+  EXPECT_EQ(none.falls, 0);
+  EXPECT_EQ(none.risen, 0);
+}
+
 // The replay shows the first episode that stood, else the first that rose, else the first.
 TEST(HeadWatch, ShownEpisodeIsTheFirstThatStoodElseRose) {
   const HeadWatch lying = watch({0.2, 0.3, 0.25});

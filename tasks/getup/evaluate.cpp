@@ -59,8 +59,17 @@ FastRollout paused(FastRollout fast, double fraction, int steps) {
 
 namespace {
 
-// Each fall's head top against rise_height_m (head_watch.h), observed from the fall's end.
-std::vector<HeadWatch> head_watches(std::size_t falls, double height_m) { return std::vector<HeadWatch>(falls, HeadWatch{.height_m = height_m}); }
+// Each fall's head top against rise_height_m (head_watch.h), observed from the fall's end, and
+// whether the fall ended on the back.
+struct FallWatch {
+  std::vector<HeadWatch> heads;
+  std::vector<char> on_back;
+  FallWatch(std::size_t falls, double height_m) : heads(falls, HeadWatch{.height_m = height_m}), on_back(falls, 0) {}
+  void observe(std::size_t fall, const character::CharacterEnv& env, double head_m) {
+    heads[fall].observe(env.step_index(), head_m);
+    if (env.step_index() == 0) on_back[fall] = lies_on_back(env);
+  }
+};
 
 // The recorded falls: every one on π_weak's run at its own strength, which picks the fall the
 // replays show (shown_episode: its best get-up); that fall alone at every other speed, so fast
@@ -72,12 +81,11 @@ void record_falls(character::EvaluationConfig& e, std::optional<std::size_t> sho
   e.record_dir = dir;
 }
 
-void summarise(SpeedResult& r, const character::EvaluationReport& report, const std::vector<HeadWatch>& heads, const std::vector<char>& on_back,
-               int stand_steps, double dt_s) {
+void summarise(SpeedResult& r, const character::EvaluationReport& report, const FallWatch& watch, int stand_steps, double dt_s) {
   r.success_rate = report.success_rate;
-  const BackSummary back = summarise_back(heads, on_back, stand_steps);
+  const BackSummary back = summarise_back(watch.heads, watch.on_back, stand_steps);
   r.on_back = back.falls, r.risen_on_back = back.risen, r.stood_on_back = back.stood;
-  const HeadSummary h = summarise_heads(heads, stand_steps);
+  const HeadSummary h = summarise_heads(watch.heads, stand_steps);
   r.risen = h.risen;
   r.stood = h.stood;
   r.rise_time_s = h.first_step * dt_s;
@@ -111,12 +119,10 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     for (std::uint64_t f : falls) e.start_seeds.push_back(base::Rng(f).next());
     const double rise_m = slower.env.rise_height_m;
     e.success = [rise_m](const character::CharacterEnv& env) { return static_cast<const GetupEnv&>(env).weak().head_height_m > rise_m; };
-    auto heads = head_watches(falls.size(), rise_m);
-    std::vector<char> on_back(falls.size(), 0);
+    FallWatch watch(falls.size(), rise_m);
     std::vector<StrategyRecorder> strategies(falls.size(), StrategyRecorder(env.model(), env.readings().head_top_m, rise_m));
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
-      heads[fall].observe(ce.step_index(), static_cast<const GetupEnv&>(ce).weak().head_height_m);
-      if (ce.step_index() == 0) on_back[fall] = lies_on_back(ce);
+      watch.observe(fall, ce, static_cast<const GetupEnv&>(ce).weak().head_height_m);
       if (ce.step_index() > 0) strategies[fall].observe(ce);
     };
     SpeedResult r;
@@ -128,12 +134,12 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     check_cancel();
     auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
     if (b == 0) {
-      shown = shown_episode(heads, s.stand_steps);
+      shown = shown_episode(watch.heads, s.stand_steps);
       for (std::size_t i = 0; i < report.trajectories.size(); ++i)
         if (i != shown) fs::remove(report.trajectories[i]);
       report.trajectories = {report.trajectories.at(shown)};
     }
-    summarise(r, report, heads, on_back, s.stand_steps, env.control_dt_s());
+    summarise(r, report, watch, s.stand_steps, env.control_dt_s());
     out.speeds.push_back(r);
     if (b > 0) continue;
     std::vector<StrategyFeatures> per_fall;
@@ -166,18 +172,16 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     e.measures.push_back({"fast_rise_time_s", [](const character::CharacterEnv& ce) {
                             return static_cast<const SlowerEnv&>(ce).reference_motion().fast().steps() * ce.control_dt_s();
                           }});
-    auto heads = head_watches(falls.size(), slower.env.rise_height_m);
-    std::vector<char> on_back(falls.size(), 0);
+    FallWatch watch(falls.size(), slower.env.rise_height_m);
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
-      heads[fall].observe(ce.step_index(), static_cast<const SlowerEnv&>(ce).weak().head_height_m);
-      if (ce.step_index() == 0) on_back[fall] = lies_on_back(ce);
+      watch.observe(fall, ce, static_cast<const SlowerEnv&>(ce).weak().head_height_m);
     };
     record_falls(e, shown, work_dir / "rollouts" / run.name);
     const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { pi_slow.act(o, a); }, e);
     SpeedResult r;
     r.name = run.name;
     r.kappa = run.kappa;
-    summarise(r, report, heads, on_back, s.stand_steps, env.control_dt_s());
+    summarise(r, report, watch, s.stand_steps, env.control_dt_s());
     r.com_error_m = report.mean("com_error_m");
     r.tracked_fraction = report.mean("tracked_fraction");
     r.end_com_gap_m = report.mean("end_com_gap_m");

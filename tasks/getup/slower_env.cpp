@@ -202,7 +202,7 @@ void SlowerEnv::build_reference(FastRollout fast, double kappa) {
 }
 
 double SlowerEnv::tracked_fraction() const {
-  const double rise_steps = std::floor(reference_->rise_s() / control_dt_s() + 1e-9);
+  const auto rise_steps = static_cast<double>(reference_->rise_steps());
   return rise_steps > 0 ? std::min(1.0, rise_steps_ / rise_steps) : 1.0;
 }
 
@@ -212,8 +212,7 @@ void SlowerEnv::begin_episode(base::Rng& rng) {
   const double kappa = fixed_kappa_ ? *fixed_kappa_ : rng.uniform(settings_.kappa_low, settings_.kappa_high);
   build_reference(std::move(fast), kappa);
   // ε-RSI (§6); a test always starts at the beginning.
-  const auto rise_steps = static_cast<std::int64_t>(std::floor(reference_->rise_s() / control_dt_s() + 1e-9));
-  const std::int64_t k = fixed_kappa_ ? 0 : rsi_start_step(rng, rise_steps, settings_.rsi_epsilon);
+  const std::int64_t k = fixed_kappa_ ? 0 : rsi_start_step(rng, reference_->rise_steps(), settings_.rsi_epsilon);
   const double t0 = static_cast<double>(k) * control_dt_s();
   if (k == 0) {
     world().reset(reference_->fast().q.front(), reference_->fast().qd.front());  // the fall's end, exactly

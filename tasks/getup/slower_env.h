@@ -12,6 +12,8 @@
 /// plus ŝ' = [q, h_com, o_torso] of τ_slow at t+1 and t+5 (§6; the standing pose's after the
 /// rise). Reward R_slow while t < T/κ, terminated when h_com is more than 0.5 m off the
 /// reference; then R_balance for `balance_steps`, terminated when h_com < 0.5 m (§6).
+#include <cmath>
+#include <cstdint>
 #include <memory>
 #include <optional>
 
@@ -61,6 +63,8 @@ class SlowReference {
                 double standing_com_m);
   double kappa() const { return kappa_; }
   double rise_s() const { return rise_s_; }  ///< T·dt/κ
+  /// Whole control steps in the rise, ⌊T/κ⌋ (ε-RSI draws its start among them; tracked_fraction counts them).
+  std::int64_t rise_steps() const { return static_cast<std::int64_t>(std::floor(rise_s_ / dt_ + 1e-9)); }
   const FastRollout& fast() const { return fast_; }
   const std::shared_ptr<const character::Clip>& clip() const { return clip_; }  ///< τ_slow then q̂
   double com_height_m(double t_s) const;

@@ -31,6 +31,19 @@ TrainingCheckpoint::TrainingCheckpoint(std::filesystem::path file, int every_n_u
     throw base::UserError("learn: TrainingCheckpoint every_n_updates " + std::to_string(every_n_updates) + " is not ≥ 1");
 }
 
+bool TrainingCheckpoint::start_from(const std::filesystem::path& source) {
+  if (std::filesystem::exists(file_)) return false;
+  std::filesystem::path partial = file_;
+  partial += ".warm";
+  try {
+    std::filesystem::copy_file(source, partial, std::filesystem::copy_options::overwrite_existing);
+  } catch (const std::filesystem::filesystem_error& e) {
+    throw base::UserError("learn: warm start from " + source.string() + ": " + e.code().message());
+  }
+  std::filesystem::rename(partial, file_);
+  return true;
+}
+
 std::optional<base::Json> TrainingCheckpoint::resume(Learner& learner, VecEnv& envs) {
   if (!std::filesystem::exists(file_)) return std::nullopt;
   base::Json saved;

@@ -197,20 +197,9 @@ TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs
   // the checkpoint, which keeps them and re-sends them on resume (points sent just before a kill
   // may never have been stored).
   WeakerSchedule schedule(s.curriculum, s.budget);
-  const fs::path checkpoint_file = work_dir / "training.ckpt";
-  const bool warm = !s.warm_start.empty() && !fs::exists(checkpoint_file);
-  if (warm) {
-    // Copied whole before use, so a kill mid-copy leaves no torn checkpoint to resume from.
-    const fs::path partial = work_dir / "training.ckpt.warm";
-    try {
-      fs::copy_file(s.warm_start, partial, fs::copy_options::overwrite_existing);
-    } catch (const fs::filesystem_error& e) {
-      throw base::UserError("getup: warm_start " + s.warm_start + ": " + e.code().message());
-    }
-    fs::rename(partial, checkpoint_file);
-  }
-  learn::TrainingCheckpoint checkpoint(checkpoint_file, s.checkpoint_every,
+  learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
                                        [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
+  if (!s.warm_start.empty()) checkpoint.start_from(s.warm_start);
   Json extra = {{"passed", nullptr}, {"best", nullptr}, {"clock", nullptr}};
   const auto send = [&](const std::string& name, double step, double value) { checkpoint.metric(name, step, value); };
   if (auto saved = checkpoint.resume(*learner, envs)) {

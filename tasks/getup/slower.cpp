@@ -2,7 +2,10 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 
+#include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/base/rng.h"
 #include "podium/character/evaluator.h"
@@ -15,6 +18,16 @@ namespace podium::tasks::getup {
 
 using base::Json;
 namespace fs = std::filesystem;
+
+namespace {
+
+bool same_bytes(const fs::path& a, const fs::path& b) {
+  std::ifstream fa(a, std::ios::binary), fb(b, std::ios::binary);
+  if (!fa || !fb) return false;
+  return std::string(std::istreambuf_iterator<char>(fa), {}) == std::string(std::istreambuf_iterator<char>(fb), {});
+}
+
+}  // namespace
 
 SlowerConfig read_slower(base::ConfigReader& r) {
   SlowerConfig c;
@@ -40,6 +53,9 @@ SlowerConfig read_slower(base::ConfigReader& r) {
   if (c.total_steps % c.eval_every != 0) r.fail("slow_total_steps", "is not a multiple of slow_eval_every " + std::to_string(c.eval_every));
   c.gamma = r.number("slow_gamma", c.gamma, {.min = 0.0, .max = 1.0},
                      "Slower: SAC's discount for π_slow (Table 1: 0.95); `sac.gamma` sets Weaker's");
+  c.warm_start = r.string("slow_warm_start", c.warm_start,
+                          "Slower: a Slower trial's training.ckpt to train on from (its π_weak must be this trial's); \"\": from scratch");
+  if (!c.warm_start.empty() && !fs::is_regular_file(c.warm_start)) r.fail("slow_warm_start", "is not a file: " + c.warm_start);
   c.test_kappa = r.number("slow_test_kappa", c.test_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ of the tests");
   return c;
 }
@@ -88,8 +104,22 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
 
   learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
                                        [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
+  if (!c.warm_start.empty()) {
+    // The replay buffer and the environments' references come from the source's π_weak: training
+    // on from them under another teacher would mix two imitation targets.
+    const fs::path source_teacher = fs::path(c.warm_start).parent_path() / "weak_policy.pt";
+    if (!same_bytes(source_teacher, out.weak_policy))
+      throw base::UserError("getup slower: slow_warm_start " + c.warm_start + " imitated another π_weak (" + source_teacher.string() +
+                            " is missing or differs from " + weak.policy.string() + ")");
+    checkpoint.start_from(c.warm_start);
+  }
   Json extra = {{"last", nullptr}, {"clock", nullptr}};
   if (auto saved = checkpoint.resume(*learner, envs)) extra = *saved;
+  // Until this trial's first save, the clock is the source's: it begins anew here.
+  if (!c.warm_start.empty() && extra.value("warm_start", std::string()) != c.warm_start) {
+    extra["clock"] = nullptr;
+    extra["warm_start"] = c.warm_start;
+  }
   learn::WallBudget clock(c.train_minutes, extra.value("clock", Json()));
   const auto act = [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, 1.0); };
   while (learner->env_steps() < c.total_steps && clock.another_round_fits()) {

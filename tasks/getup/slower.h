@@ -17,6 +17,7 @@ struct SlowerConfig {
   std::int64_t eval_every = 20'000;      ///< as Weaker's tests (App. D)
   double test_kappa = 0.5;               ///< issue 18: COM tracking is judged at κ = 0.5
   double gamma = 0.95;                   ///< SAC's discount for π_slow (Table 1; π_weak's is 0.97)
+  std::string warm_start;                ///< a Slower trial's training.ckpt to train on from, same π_weak ("": from scratch)
 };
 
 /// Reads (and describes) the Slower keys of the task config.
@@ -39,7 +40,10 @@ struct SlowerOutcome {
 };
 
 /// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt like run_discover_weaker.
-/// Throws base::UserError when π_weak never gets up (SlowerEnv's reason).
+/// With a `warm_start`, that file is copied in and trained on (networks, replay buffer,
+/// environments, curves; `slow_total_steps` counts on from its steps) with a clock of its own.
+/// Throws base::UserError when π_weak never gets up (SlowerEnv's reason), or when the warm start's
+/// trial imitated another π_weak (its folder's weak_policy.pt differs from `weak`'s file).
 SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, std::uint64_t seed,
                          const std::filesystem::path& work_dir, const std::atomic<bool>* cancel, const Reporter& report);
 

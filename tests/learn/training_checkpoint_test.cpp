@@ -204,5 +204,38 @@ TEST(TrainingCheckpoint, NoFileMeansAFreshStartAndATornTempFileIsIgnored) {
   fs::remove_all(dir);
 }
 
+// A warm start copies another run's checkpoint in only while there is none of its own: a later
+// attempt resumes from its own saves, not from the source again.
+TEST(TrainingCheckpoint, StartFromCopiesTheSourceOnlyWhenNoCheckpointExists) {
+  const fs::path dir = fs::temp_directory_path() / ("podium_learn_tc_warm_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto learner = make("ppo");
+  auto envs = pendulums();
+  TrainingCheckpoint source(dir / "source.ckpt", 1);
+  learner->train_until(envs, 120, [&](const TrainStats&) { source.on_update(*learner, envs, "source"); });
+
+  TrainingCheckpoint warm(dir / "warm.ckpt", 1);
+  EXPECT_TRUE(warm.start_from(dir / "source.ckpt"));
+  EXPECT_FALSE(fs::exists(dir / "warm.ckpt.warm"));
+  auto trained_on = make("ppo");
+  auto trained_on_envs = pendulums();
+  EXPECT_EQ(warm.resume(*trained_on, trained_on_envs), base::Json("source"));
+  EXPECT_EQ(trained_on->parameters(), learner->parameters());
+  warm.on_update(*trained_on, trained_on_envs, "own");
+  EXPECT_FALSE(TrainingCheckpoint(dir / "warm.ckpt", 1).start_from(dir / "source.ckpt"));
+  auto again = make("ppo");
+  auto again_envs = pendulums();
+  EXPECT_EQ(TrainingCheckpoint(dir / "warm.ckpt", 1).resume(*again, again_envs), base::Json("own"));
+
+  try {
+    TrainingCheckpoint(dir / "other.ckpt", 1).start_from(dir / "missing.ckpt");
+    ADD_FAILURE() << "expected a UserError";
+  } catch (const base::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.ckpt"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(dir / "other.ckpt"));
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace podium::learn

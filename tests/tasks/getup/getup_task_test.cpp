@@ -209,6 +209,46 @@ TEST(GetupTask, EvaluateRefusesAPolicyOfAnotherObservation) {
   EXPECT_NE(message.find("root_velocity: false"), std::string::npos) << message;
 }
 
+// A Slower trial warm-started from another's checkpoint trains on from its steps and carries its
+// curves; from a trial that imitated another π_weak it fails at once, naming both files.
+TEST(GetupTask, ASlowerWarmStartTrainsOnFromAnotherTrialOfTheSamePolicy) {
+  podium::testing::TempDir dir;
+  const fs::path policies = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies";
+  const auto slower = [&](const fs::path& weak) {
+    return Json{{"stage", "slower"}, {"root_velocity", false}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.9}}}}};
+  };
+  const Json config = slower(policies / "weaker_run14_seed0.pt");
+  const SmokeTrial source = run_smoke_trial(config, dir / "source");  // 200 steps, tests at 100 and 200
+  ASSERT_EQ(source.result["info"]["env_steps"], 200);
+  Json warm_config = config;
+  // Its own tests at another κ: the first two points can only be the source's.
+  warm_config.update({{"slow_warm_start", (dir / "source" / "training.ckpt").string()}, {"slow_total_steps", 400}, {"slow_test_kappa", 0.3}});
+  const SmokeTrial warm = run_smoke_trial(warm_config, dir / "warm");
+  EXPECT_EQ(warm.result["info"]["env_steps"], 400);
+  const std::vector<double>& returns = warm.metrics.at("slow/test_return");
+  ASSERT_EQ(returns.size(), 4u);  // the source's two tests, then 300 and 400
+  EXPECT_EQ(returns[0], source.metrics.at("slow/test_return")[0]);
+  EXPECT_EQ(returns[1], source.metrics.at("slow/test_return")[1]);
+  Json scratch_config = warm_config;
+  scratch_config.erase("slow_warm_start");
+  EXPECT_NE(run_smoke_trial(scratch_config).metrics.at("slow/test_return")[0], returns[0]);  // κ 0.3 from scratch
+
+  Json other = slower(policies / "weaker_run11_seed0.pt");
+  other["slow_warm_start"] = warm_config["slow_warm_start"];
+  const auto task = plugins::load_task("getup");
+  const Json description = task->describe(Json::object());
+  Json full = description["config_defaults"];
+  full.update(description["presets"]["smoke"]);
+  full.update(other);
+  const auto run = podium::testing::run_batch_trial(
+      podium::testing::order_json({.task = "getup", .config = full, .seed = 3, .work_dir = dir / "other"}), dir.path());
+  ASSERT_EQ(run.result["type"], "error") << run.result;
+  const std::string message = run.result["message"];
+  EXPECT_NE(message.find("imitated another π_weak"), std::string::npos) << message;
+  EXPECT_NE(message.find("weaker_run11_seed0.pt"), std::string::npos) << message;
+  EXPECT_FALSE(fs::exists(dir / "other" / "training.ckpt"));
+}
+
 // A slower stage trains π_slow, so a shipped slow_policy there is refused at submit, at its key.
 TEST(GetupTask, SlowerRefusesAShippedSlowPolicy) {
   const auto task = plugins::load_task("getup");

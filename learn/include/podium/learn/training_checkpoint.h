@@ -52,6 +52,12 @@ class TrainingCheckpoint {
   /// nothing changes. Call it before metric(): a resume replaces the points kept so far.
   std::optional<base::Json> resume(Learner& learner, VecEnv& envs);
 
+  /// Training on from another run's checkpoint (a warm start): if this checkpoint's file does not
+  /// exist yet, copies `source` to it, whole before it takes the name, so a kill mid-copy leaves
+  /// nothing to resume from. Returns whether it copied; resume() then loads the copy (its
+  /// learner, environments, metric points and extra). Throws base::UserError naming `source`.
+  bool start_from(const std::filesystem::path& source);
+
   /// Sends one metric point through `send` and keeps it for the next checkpoint.
   void metric(const std::string& name, double step, double value);
 

@@ -17,7 +17,8 @@ from campaign_db import minutes, open_campaign, trial_log  # noqa: E402
 
 def curve_table(series, every=100_000):
     """The learning curves every `every` environment steps, as a Markdown table."""
-    names = ["test_return", "head_height_m", "success_rate", "risen_rate", "stood_rate", "head_drops", "curriculum/strength", "sac/alpha"]
+    names = ["test_return", "head_height_m", "success_rate", "risen_rate", "stood_rate", "risen_on_back_rate", "stood_on_back_rate",
+             "head_drops", "curriculum/strength", "sac/alpha"]
     by_step = {name: dict(series.get(name, [])) for name in names}
     steps = sorted(s for s in by_step["test_return"] if s % every == 0)
     print("\n  | env steps | " + " | ".join(names) + " |\n  |---|" + "---|" * len(names))

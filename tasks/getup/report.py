@@ -75,9 +75,12 @@ def main(db_path, campaign):
                 when = f" ({at[first_up]:.1f} min of training)" if first_up in at else ""
                 print(f"  - best test return {best[1]:.1f} at step {best[0]:.0f}; first success > 0 at step "
                       + (f"{first_up:.0f}{when}" if first_up is not None else "never"))
-                if at:
-                    last = max(at)
-                    print(f"  - {last / (at[last] * 60):.0f} environment steps/s over {at[last]:.1f} min of training (trial.log)")
+                if len(at) > 1:
+                    # A warm-started trial's log begins at its source's steps: count from the first round's start.
+                    steps = sorted(at)
+                    trained = steps[-1] - steps[0] + (steps[1] - steps[0])
+                    print(f"  - {trained / (at[steps[-1]] * 60):.0f} environment steps/s over {trained} steps and "
+                          f"{at[steps[-1]]:.1f} min of training (trial.log)")
                 print(f"  - strategy features {[round(x, 3) for x in info.get('features', [])]}")
             if stage == "weaker":
                 curve_table(series)

@@ -104,7 +104,7 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
 
   learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
                                        [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
-  if (!c.warm_start.empty()) {
+  if (!c.warm_start.empty() && !fs::exists(checkpoint.file())) {
     // The replay buffer and the environments' references come from the source's π_weak: training
     // on from them under another teacher would mix two imitation targets.
     const fs::path source_teacher = fs::path(c.warm_start).parent_path() / "weak_policy.pt";

@@ -32,17 +32,21 @@ struct SmokeTrial {
   std::map<std::string, std::vector<double>> metrics;
 };
 
-// In `work_dir` when given (kept), else in a temporary folder.
-SmokeTrial run_smoke_trial(const Json& overrides, const fs::path& work_dir = {}) {
+// One trial at the smoke preset with `overrides`, seed 3, in `work_dir`; the attempt's files in `attempt_dir`.
+podium::testing::BatchTrial run_smoke_batch(const Json& overrides, const fs::path& work_dir, const fs::path& attempt_dir) {
   const auto task = plugins::load_task("getup");
   const Json description = task->describe(Json::object());
   Json config = description["config_defaults"];
   config.update(description["presets"]["smoke"]);
   config.update(overrides);
+  return podium::testing::run_batch_trial(
+      podium::testing::order_json({.task = "getup", .config = config, .seed = 3, .work_dir = work_dir}), attempt_dir);
+}
+
+// In `work_dir` when given (kept), else in a temporary folder.
+SmokeTrial run_smoke_trial(const Json& overrides, const fs::path& work_dir = {}) {
   podium::testing::TempDir dir;
-  const fs::path trial_dir = work_dir.empty() ? dir / "trial" : work_dir;
-  const auto run = podium::testing::run_batch_trial(
-      podium::testing::order_json({.task = "getup", .config = config, .seed = 3, .work_dir = trial_dir}), dir.path());
+  const auto run = run_smoke_batch(overrides, work_dir.empty() ? dir / "trial" : work_dir, dir.path());
   EXPECT_EQ(run.run.exit_code, 0) << run.run.err;
   EXPECT_EQ(run.result["type"], "result") << run.result;
   SmokeTrial trial{run.result, {}};
@@ -193,15 +197,10 @@ TEST(GetupTask, SmokeSlowerTrialImitatesAShippedWeakPolicy) {
 // A policy trained on another s_weak (here the committed run-1 π_weak, from before the root's
 // velocity joined it) fails its Evaluate trial with one line that names the sizes and the key.
 TEST(GetupTask, EvaluateRefusesAPolicyOfAnotherObservation) {
-  const auto task = plugins::load_task("getup");
-  const Json description = task->describe(Json::object());
-  Json config = description["config_defaults"];
-  config.update(description["presets"]["smoke"]);
   const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
-  config.update({{"stage", "evaluate"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}});
   podium::testing::TempDir dir;
-  const auto run = podium::testing::run_batch_trial(
-      podium::testing::order_json({.task = "getup", .config = config, .seed = 3, .work_dir = dir / "trial"}), dir.path());
+  const auto run = run_smoke_batch({{"stage", "evaluate"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}},
+                                   dir / "trial", dir.path());
   ASSERT_EQ(run.result["type"], "error") << run.result;
   const std::string message = run.result["message"];
   EXPECT_NE(message.find("π_weak takes 63 observations"), std::string::npos) << message;
@@ -235,13 +234,7 @@ TEST(GetupTask, ASlowerWarmStartTrainsOnFromAnotherTrialOfTheSamePolicy) {
 
   Json other = slower(policies / "weaker_run11_seed0.pt");
   other["slow_warm_start"] = warm_config["slow_warm_start"];
-  const auto task = plugins::load_task("getup");
-  const Json description = task->describe(Json::object());
-  Json full = description["config_defaults"];
-  full.update(description["presets"]["smoke"]);
-  full.update(other);
-  const auto run = podium::testing::run_batch_trial(
-      podium::testing::order_json({.task = "getup", .config = full, .seed = 3, .work_dir = dir / "other"}), dir.path());
+  const auto run = run_smoke_batch(other, dir / "other", dir.path());
   ASSERT_EQ(run.result["type"], "error") << run.result;
   const std::string message = run.result["message"];
   EXPECT_NE(message.find("imitated another π_weak"), std::string::npos) << message;

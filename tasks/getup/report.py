@@ -2,7 +2,8 @@
 """Issue 18's figures for a get-up campaign, read from its Podium database (read-only):
 per Weaker trial the curriculum, the exported policy's test, the head-height curve's first and
 last tenth, the wall time, and from its trial.log the minutes to the first get-up and the
-environment steps per second; per Slower and Evaluate trial their results. Markdown on stdout.
+environment steps per second; per Slower and Evaluate trial their results; then issue 18's four
+bars, each against the trial that comes closest, and the campaign's wall time. Markdown on stdout.
 
 Usage: tasks/getup/report.py DATABASE CAMPAIGN_NAME
 """
@@ -39,6 +40,51 @@ def training_minutes(log_path):
     except FileNotFoundError:
         pass
     return at
+
+
+def bars(db, stages):
+    """Issue 18's `quick` bars, each read from the trials that reach it best (done trials only)."""
+    weaker, evaluate, spans = [], [], []
+    for stage_id, name, config in stages:
+        stage = json.loads(config).get("stage", "weaker")
+        for idx, info, started, finished in db.execute(
+                "SELECT idx, result_info, started_at, finished_at FROM trials WHERE stage_id = ? ORDER BY idx", (stage_id,)):
+            spans += [t for t in (started, finished) if t]
+            if not info:
+                continue
+            info = json.loads(info)
+            if stage == "weaker":
+                heads = [v for (v,) in db.execute("SELECT value FROM metrics m JOIN trials t ON t.id = m.trial_id WHERE "
+                                                   "t.stage_id = ? AND t.idx = ? AND m.name = 'head_height_m' ORDER BY m.step",
+                                                   (stage_id, idx))]
+                tenth = max(1, len(heads) // 10)
+                gain = sum(heads[-tenth:]) / tenth - sum(heads[:tenth]) / tenth if heads else float("nan")
+                weaker.append((f"{name}/{idx}", info, gain))
+            elif stage == "evaluate":
+                evaluate.append((f"{name}/{idx}", {s["name"]: s for s in info["speeds"]}))
+    print("\n### issue 18's bars\n")
+    print("| bar | closest trial | figure | met |\n|---|---|---|---|")
+    if weaker:
+        name, info, _ = max(weaker, key=lambda w: (w[1]["success_rate"], w[1]["levels"]))
+        print(f"| (a) ≥ 8/10 fixed starts up at the final strength | `{name}` | {info['success_rate'] * 10:.0f}/10 at β "
+              f"{info['policy_strength']:.4f} | {info['success_rate'] >= 0.8} |")
+        name, info, _ = max(weaker, key=lambda w: w[1]["levels"])
+        print(f"| (b) ≥ 3 advances (β ≤ 0.857) | `{name}` | {info['levels']} advances, β {info['final_strength']:.4f} | "
+              f"{info['levels'] >= 3} |")
+        name, _, gain = max(weaker, key=lambda w: w[2])
+        print(f"| (c) head curve, last tenth − first ≥ +0.8 m | `{name}` | {gain:+.3f} m | {gain >= 0.8} |")
+    for name, speeds in evaluate:
+        fast, slow, half = speeds.get("fast"), speeds.get("k0.25"), speeds.get("k0.5")
+        if not (fast and slow and half):
+            print(f"| (d) COM error < 0.15 m at κ 0.5; rise at κ 0.25 ≥ 3× fast | `{name}` | not measured: it evaluated "
+                  f"{', '.join(speeds)} | False |")
+            continue
+        ratio = slow["rise_time_s"] / fast["rise_time_s"] if slow["risen"] and fast["risen"] else float("nan")
+        print(f"| (d) COM error < 0.15 m at κ 0.5; rise at κ 0.25 ≥ 3× fast | `{name}` | {half['com_error_m']:.3f} m; "
+              f"{slow['rise_time_s']:.2f} s / {fast['rise_time_s']:.2f} s = {ratio:.2f}× ({slow['risen']} and {fast['risen']} risers) | "
+              f"{half['com_error_m'] < 0.15 and ratio >= 3} |")
+    if spans:
+        print(f"\ncampaign wall time: {minutes(min(spans), max(spans)):.1f} min (first trial start to last trial end)")
 
 
 def main(db_path, campaign):
@@ -93,6 +139,7 @@ def main(db_path, campaign):
                           f"head drops {s.get('drops', float('nan')):.2f}, peak head top {s.get('peak_head_m', float('nan')):.2f} m, "
                           f"COM error {s['com_error_m']:.3f} m, τ_fast {s['fast_rise_time_s']:.2f} s")
                 print(f"  - strategy features {[round(x, 3) for x in info['features']]}")
+    bars(db, stages)
 
 
 if __name__ == "__main__":

@@ -321,6 +321,10 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
     ++rates;
   EXPECT_EQ(rates, 2u) << report;  // one per Weaker trial
   EXPECT_NE(report.find("head drops"), std::string::npos) << report;  // Evaluate's per-speed lines
+  // The bars table: a row per bar; the smoke preset evaluates κ 0.5 and fast only, so (d) says so.
+  for (const char* row : {"| (a) ≥ 8/10", "| (b) ≥ 3 advances", "| (c) head curve", "not measured: it evaluated fast, k0.5"})
+    EXPECT_NE(report.find(row), std::string::npos) << row << "\n" << report;
+  EXPECT_NE(report.find("campaign wall time: "), std::string::npos) << report;
 }
 
 }  // namespace

@@ -49,7 +49,7 @@ def bars(db, stages):
         stage = json.loads(config).get("stage", "weaker")
         for idx, info, started, finished in db.execute(
                 "SELECT idx, result_info, started_at, finished_at FROM trials WHERE stage_id = ? ORDER BY idx", (stage_id,)):
-            spans += [t for t in (started, finished) if t]
+            spans.append((started, finished))
             if not info:
                 continue
             info = json.loads(info)
@@ -68,7 +68,7 @@ def bars(db, stages):
         name, info, _ = max(weaker, key=lambda w: (w[1]["success_rate"], w[1]["levels"]))
         print(f"| (a) ≥ 8/10 fixed starts up at the final strength | `{name}` | {info['success_rate'] * 10:.0f}/10 at β "
               f"{info['policy_strength']:.4f} | {info['success_rate'] >= 0.8} |")
-        name, info, _ = max(weaker, key=lambda w: w[1]["levels"])
+        name, info, _ = max(weaker, key=lambda w: (w[1]["levels"], w[1]["success_rate"]))
         print(f"| (b) ≥ 3 advances (β ≤ 0.857) | `{name}` | {info['levels']} advances, β {info['final_strength']:.4f} | "
               f"{info['levels'] >= 3} |")
         name, _, gain = max(weaker, key=lambda w: w[2])
@@ -83,8 +83,11 @@ def bars(db, stages):
         print(f"| (d) COM error < 0.15 m at κ 0.5; rise at κ 0.25 ≥ 3× fast | `{name}` | {half['com_error_m']:.3f} m; "
               f"{slow['rise_time_s']:.2f} s / {fast['rise_time_s']:.2f} s = {ratio:.2f}× ({slow['risen']} and {fast['risen']} risers) | "
               f"{half['com_error_m'] < 0.15 and ratio >= 3} |")
-    if spans:
-        print(f"\ncampaign wall time: {minutes(min(spans), max(spans)):.1f} min (first trial start to last trial end)")
+    if spans and all(finished for _, finished in spans):
+        start, end = min(s for s, _ in spans), max(f for _, f in spans)
+        print(f"\ncampaign wall time: {minutes(start, end):.1f} min (first trial start to last trial end)")
+    elif spans:
+        print("\ncampaign wall time: not yet (trials still queued or running)")
 
 
 def main(db_path, campaign):

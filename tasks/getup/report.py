@@ -28,6 +28,12 @@ def curve_table(series, every=100_000):
     print()
 
 
+def head_curve(heads):
+    """(mean of the first tenth, mean of the last tenth) of a head-height curve: bar (c)'s two ends."""
+    tenth = max(1, len(heads) // 10)
+    return sum(heads[:tenth]) / tenth, sum(heads[-tenth:]) / tenth
+
+
 def training_minutes(log_path):
     """{environment step: minutes of training so far} from Weaker's per-test log lines (rollouts + updates + test
     seconds, summed over every attempt's lines); empty without a log."""
@@ -47,19 +53,17 @@ def bars(db, stages):
     weaker, evaluate, spans = [], [], []
     for stage_id, name, config in stages:
         stage = json.loads(config).get("stage", "weaker")
-        for idx, info, started, finished in db.execute(
-                "SELECT idx, result_info, started_at, finished_at FROM trials WHERE stage_id = ? ORDER BY idx", (stage_id,)):
+        for trial_id, idx, info, started, finished in db.execute(
+                "SELECT id, idx, result_info, started_at, finished_at FROM trials WHERE stage_id = ? ORDER BY idx", (stage_id,)):
             spans.append((started, finished))
             if not info:
                 continue
             info = json.loads(info)
             if stage == "weaker":
-                heads = [v for (v,) in db.execute("SELECT value FROM metrics m JOIN trials t ON t.id = m.trial_id WHERE "
-                                                   "t.stage_id = ? AND t.idx = ? AND m.name = 'head_height_m' ORDER BY m.step",
-                                                   (stage_id, idx))]
-                tenth = max(1, len(heads) // 10)
-                gain = sum(heads[-tenth:]) / tenth - sum(heads[:tenth]) / tenth if heads else float("nan")
-                weaker.append((f"{name}/{idx}", info, gain))
+                heads = [v for (v,) in db.execute("SELECT value FROM metrics WHERE trial_id = ? AND name = 'head_height_m' "
+                                                   "ORDER BY step", (trial_id,))]
+                first, last = head_curve(heads) if heads else (0.0, float("nan"))
+                weaker.append((f"{name}/{idx}", info, last - first))
             elif stage == "evaluate":
                 evaluate.append((f"{name}/{idx}", {s["name"]: s for s in info["speeds"]}))
     print("\n### issue 18's bars\n")
@@ -75,14 +79,13 @@ def bars(db, stages):
         print(f"| (c) head curve, last tenth − first ≥ +0.8 m | `{name}` | {gain:+.3f} m | {gain >= 0.8} |")
     for name, speeds in evaluate:
         fast, slow, half = speeds.get("fast"), speeds.get("k0.25"), speeds.get("k0.5")
+        row = f"| (d) COM error < 0.15 m at κ 0.5; rise at κ 0.25 ≥ 3× fast | `{name}` | "
         if not (fast and slow and half):
-            print(f"| (d) COM error < 0.15 m at κ 0.5; rise at κ 0.25 ≥ 3× fast | `{name}` | not measured: it evaluated "
-                  f"{', '.join(speeds)} | False |")
+            print(row + f"not measured: it evaluated {', '.join(speeds)} | False |")
             continue
         ratio = slow["rise_time_s"] / fast["rise_time_s"] if slow["risen"] and fast["risen"] else float("nan")
-        print(f"| (d) COM error < 0.15 m at κ 0.5; rise at κ 0.25 ≥ 3× fast | `{name}` | {half['com_error_m']:.3f} m; "
-              f"{slow['rise_time_s']:.2f} s / {fast['rise_time_s']:.2f} s = {ratio:.2f}× ({slow['risen']} and {fast['risen']} risers) | "
-              f"{half['com_error_m'] < 0.15 and ratio >= 3} |")
+        print(row + f"{half['com_error_m']:.3f} m; {slow['rise_time_s']:.2f} s / {fast['rise_time_s']:.2f} s = {ratio:.2f}× "
+              f"({slow['risen']} and {fast['risen']} risers) | {half['com_error_m'] < 0.15 and ratio >= 3} |")
     if spans and all(finished for _, finished in spans):
         start, end = min(s for s, _ in spans), max(f for _, f in spans)
         print(f"\ncampaign wall time: {minutes(start, end):.1f} min (first trial start to last trial end)")
@@ -110,8 +113,7 @@ def main(db_path, campaign):
             info = json.loads(info)
             if stage == "weaker":
                 heads = [v for _, v in series.get("head_height_m", [])]
-                tenth = max(1, len(heads) // 10)
-                first, last = sum(heads[:tenth]) / tenth, sum(heads[-tenth:]) / tenth
+                first, last = head_curve(heads)
                 print(f"  - environment steps {info['env_steps']} (ended by {info.get('stopped_by', 'steps')}), curriculum advances {info['levels']}, "
                       f"final strength {info['final_strength']:.4f}; exported policy passed at β = {info['policy_strength']:.4f}"
                       f" (passed any test: {info['passed']}): success {info['success_rate']:.2f} over the fixed starts, "

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <string>
 
 #include "podium/plugins/export.h"
 
@@ -91,8 +92,16 @@ class ReplayFixtureTask final : public plugins::Task {
     result.features = {max_tip_z, angle};
     result.info["summary"] = {{"tip peak m", max_tip_z}};  // the strategy gallery shows it
     result.artifacts.push_back({"trajectory", path});
-    std::filesystem::copy_file(path, request.work_dir / "trajectory_fast.jsonl", std::filesystem::copy_options::overwrite_existing);
-    result.artifacts.push_back({"trajectory_fast", request.work_dir / "trajectory_fast.jsonl"});  // a second motion
+    // A second motion: the same frames from t = 2 s, as a get-up's fast run begins after its 2 s
+    // fall while its slowed runs begin at 0 (the replay plays both from their first frames).
+    std::ifstream in(path);
+    std::ofstream fast(request.work_dir / "trajectory_fast.jsonl");
+    for (std::string line; std::getline(in, line);) {
+      Json row = Json::parse(line);
+      if (row.contains("t")) row["t"] = row["t"].get<double>() + 2.0;
+      fast << row.dump() << '\n';
+    }
+    result.artifacts.push_back({"trajectory_fast", request.work_dir / "trajectory_fast.jsonl"});
     return result;
   }
 };

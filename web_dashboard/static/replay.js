@@ -30,12 +30,13 @@ async function main() {
   scrub.max = frames - 1;
   let playing = true, t = 0, last = performance.now();
   window.podiumReplay = {
-    frame: 0, frames, rendered: 0,
+    frame: 0, frames, rendered: 0, shown: [],  // shown: each view's frame
     drawn: { props: main.props.children.length, terrain: main.terrain.children.length },
   };
   const draw = () => {
-    for (const v of views) v.show(v.frameAt(Math.min(t, v.duration)));
-    const f = main.frameAt(Math.min(t, main.duration));
+    window.podiumReplay.shown = views.map(v => v.frameAt(Math.min(t, v.duration)));
+    views.forEach((v, i) => v.show(window.podiumReplay.shown[i]));
+    const f = window.podiumReplay.shown[0];
     scrub.value = f;
     counter.textContent = `frame ${f + 1} / ${frames} · t = ${t.toFixed(2)} s`;
     window.podiumReplay.frame = f;
@@ -46,7 +47,7 @@ async function main() {
     box.onchange = () => { for (const v of views) v[part].visible = box.checked; draw(); };
   }
   playButton.onclick = () => { playing = !playing; playButton.textContent = playing ? 'pause' : 'play'; };
-  scrub.oninput = () => { playing = false; playButton.textContent = 'play'; t = main.traj.frames[+scrub.value].t; draw(); };
+  scrub.oninput = () => { playing = false; playButton.textContent = 'play'; t = main.timeOf(+scrub.value); draw(); };
   const loop = now => {
     if (playing) {
       t += (now - last) / 1000 * +speed.value;

@@ -99,16 +99,20 @@ export function makeView(traj, { label, colour, width, height, parent }) {
   const controls = new OrbitControls(camera, renderer.domElement);
   controls.target.copy(centre);
   controls.update();
+  // Times count from the motion's first frame: a recording that begins after a fall (a get-up's
+  // fast run starts at t = 2 s, its slowed runs at 0) plays beside another from the same moment.
+  const t0 = traj.frames[0].t;
   return {
-    traj, duration: traj.frames[traj.frames.length - 1].t, terrain, props,
+    traj, duration: traj.frames[traj.frames.length - 1].t - t0, terrain, props,
+    timeOf(frame) { return traj.frames[frame].t - t0; },
     show(frame) {
       const poses = traj.frames[frame].links;
       bodies.forEach((b, i) => place(b, poses[i].slice(0, 3), poses[i].slice(3, 7)));
       renderer.render(scene, camera);
     },
-    frameAt(t) {  // the last frame at or before t
+    frameAt(t) {  // the last frame at or before t (from the first frame)
       let lo = 0, hi = traj.frames.length - 1;
-      while (lo < hi) { const mid = (lo + hi + 1) >> 1; if (traj.frames[mid].t <= t) lo = mid; else hi = mid - 1; }
+      while (lo < hi) { const mid = (lo + hi + 1) >> 1; if (traj.frames[mid].t - t0 <= t) lo = mid; else hi = mid - 1; }
       return lo;
     },
   };

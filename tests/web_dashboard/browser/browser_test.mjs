@@ -119,6 +119,15 @@ run('browser', async h => {
   assert.equal(both.length, 2);
   for (const s of both) assert.ok(s.colours > 20 && s.differing > 0.02, `blank canvas: ${JSON.stringify(s)}`);
 
+  step('side by side, two motions that start at different times play from their first frames together');
+  // trajectory_fast is trajectory's frames from t = 2 s (the fixture): every view shows the same frame.
+  await page.goto(`${url}replay.html?trial=${physicsTrials[0].id}&compare=${physicsTrials[0].id}:trajectory_fast`);
+  await waitFor('two viewports', () => page.evaluate(() => window.podiumReplay && window.podiumReplay.rendered > 5));
+  for (const frame of [0, 30, 89]) {
+    await page.evaluate(f => { const s = document.getElementById('scrub'); s.value = f; s.dispatchEvent(new Event('input')); }, frame);
+    assert.deepEqual(await page.evaluate(() => window.podiumReplay.shown), [frame, frame], `scrubbed to frame ${frame}`);
+  }
+
   step('strategy gallery: one moving replay per strategy on the campaign page');
   const strategyCount = (await api(`/api/campaigns/${physics}`)).strategy_table.length;
   assert.ok(strategyCount >= 1, 'the replay campaign has no strategies');

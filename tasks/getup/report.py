@@ -48,24 +48,9 @@ def training_minutes(log_path):
     return at
 
 
-def bars(db, stages):
-    """Issue 18's `quick` bars, each read from the trials that reach it best (done trials only)."""
-    weaker, evaluate, spans = [], [], []
-    for stage_id, name, config in stages:
-        stage = json.loads(config).get("stage", "weaker")
-        for trial_id, idx, info, started, finished in db.execute(
-                "SELECT id, idx, result_info, started_at, finished_at FROM trials WHERE stage_id = ? ORDER BY idx", (stage_id,)):
-            spans.append((started, finished))
-            if not info:
-                continue
-            info = json.loads(info)
-            if stage == "weaker":
-                heads = [v for (v,) in db.execute("SELECT value FROM metrics WHERE trial_id = ? AND name = 'head_height_m' "
-                                                   "ORDER BY step", (trial_id,))]
-                first, last = head_curve(heads) if heads else (0.0, float("nan"))
-                weaker.append((f"{name}/{idx}", info, last - first))
-            elif stage == "evaluate":
-                evaluate.append((f"{name}/{idx}", {s["name"]: s for s in info["speeds"]}))
+def bars(weaker, evaluate, spans):
+    """Issue 18's `quick` bars, each against the done trial that reaches it best: `weaker` holds (trial, result info,
+    head-curve gain in m), `evaluate` (trial, {speed name: its result}), `spans` every trial's (start, finish)."""
     print("\n### issue 18's bars\n")
     print("| bar | closest trial | figure | met |\n|---|---|---|---|")
     if weaker:
@@ -95,12 +80,14 @@ def bars(db, stages):
 
 def main(db_path, campaign):
     db, stages = open_campaign(db_path, campaign)
+    weaker, evaluate, spans = [], [], []  # for the bars
     for stage_id, name, config in stages:
         stage = json.loads(config).get("stage", "weaker")
         print(f"\n### stage `{name}` ({stage})\n")
         trials = db.execute("SELECT id, idx, seed, state, error, result_info, started_at, finished_at FROM trials "
                             "WHERE stage_id = ? ORDER BY idx", (stage_id,)).fetchall()
         for trial_id, idx, seed, state, error, info, started, finished in trials:
+            spans.append((started, finished))
             print(f"- `{name}/{idx}` (trial seed {seed & 0xFFFFFFFFFFFFFFFF}): {state}, {minutes(started, finished):.1f} min" + (f", error: {error}" if error else ""))
             series = {}
             for metric, step, value in db.execute("SELECT name, step, value FROM metrics WHERE trial_id = ? ORDER BY step",
@@ -114,6 +101,7 @@ def main(db_path, campaign):
             if stage == "weaker":
                 heads = [v for _, v in series.get("head_height_m", [])]
                 first, last = head_curve(heads)
+                weaker.append((f"{name}/{idx}", info, last - first))
                 print(f"  - environment steps {info['env_steps']} (ended by {info.get('stopped_by', 'steps')}), curriculum advances {info['levels']}, "
                       f"final strength {info['final_strength']:.4f}; exported policy passed at β = {info['policy_strength']:.4f}"
                       f" (passed any test: {info['passed']}): success {info['success_rate']:.2f} over the fixed starts, "
@@ -139,12 +127,13 @@ def main(db_path, campaign):
                 print(f"  - environment steps {info['env_steps']} (ended by {info.get('stopped_by', 'steps')}), last test at κ = 0.5: success {info['success_rate']:.2f}, "
                       f"COM error {info['com_error_m']:.3f} m, return {info['test_return']:.1f}; π_weak's β {info['weak_strength']:.4f}")
             else:
+                evaluate.append((f"{name}/{idx}", {s["name"]: s for s in info["speeds"]}))
                 for s in info["speeds"]:
                     print(f"  - {s['name']:>8}: success {s['success_rate']:.2f}, risen {s['risen']}, stood {s.get('stood', float('nan'))}, rise time {s['rise_time_s']:.2f} s, "
                           f"head drops {s.get('drops', float('nan')):.2f}, peak head top {s.get('peak_head_m', float('nan')):.2f} m, "
                           f"COM error {s['com_error_m']:.3f} m, τ_fast {s['fast_rise_time_s']:.2f} s")
                 print(f"  - strategy features {[round(x, 3) for x in info['features']]}")
-    bars(db, stages)
+    bars(weaker, evaluate, spans)
 
 
 if __name__ == "__main__":

@@ -42,9 +42,6 @@ Settings read_settings(base::ConfigReader& r) {
                               "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
   e.passive_joints = r.boolean("passive_joints", e.passive_joints,
                                "the model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo humanoid's)");
-  e.root_velocity = r.boolean("root_velocity", e.root_velocity,
-                              "s_weak includes the root's angular and linear velocity (the seed repository's dm_control state); "
-                              "false for policies trained before session 23");
   e.min_strength = r.number("min_strength", e.min_strength, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "lower clip of β̂");
 
   s.algorithm = r.choice("algorithm", s.algorithm, {"sac", "ppo"},

@@ -3,6 +3,7 @@
 
     scripts/fingerprint_campaign.py fingerprint DB CAMPAIGN [--podium BIN] > before.txt
     scripts/fingerprint_campaign.py run-smoke OUT_DIR [--podium BIN]
+    scripts/fingerprint_campaign.py compare BEFORE_DIR AFTER_DIR
 
 `fingerprint` prints, per trial (in stage and trial order): its state, seed, params, objectives,
 features, strategy and result info (from `podium export CAMPAIGN --format json`), the sha256 of
@@ -15,9 +16,9 @@ submodules by memory address, so its bytes and the order of its tensors differ b
 seed; for it the fingerprint is the sorted multiset of its tensors' sha256 (`--by-tensors`).
 
 Metric series under `time/` are wall-clock seconds (character/training_stage.h): they differ
-between runs of a seed by design, so only their names and point counts are printed. Absolute
-paths inside the database's run folders are written relative to them, so campaigns run in two
-folders compare equal.
+between runs of a seed by design, so only their names and point counts are printed, as comment
+lines (`# `) after the rest, outside the final sha256. Absolute paths inside the database's run
+folders are written relative to them, so campaigns run in two folders compare equal.
 
 `run-smoke` submits and runs, in OUT_DIR/<name>/podium.db, the smoke campaigns the end-to-end tests
 run: campaigns/getup.json at the smoke preset (tests/tasks/getup/getup_task_test.cpp),
@@ -26,10 +27,12 @@ the test_pendulum hand-over campaign of tests/orchestrator/handover_campaign_tes
 OUT_DIR/<name>.fingerprint for each; and two campaigns the tests do not run: the high jump with its
 bar rising at every iteration (copies rebuilt at new control rates) and get-up on PPO. Every
 campaign runs with one worker, so search algorithms that read earlier results (BDS,
-novel-policy) see them in the same order on every run.
+novel-policy) see them in the same order on every run. `compare` diffs two such folders'
+fingerprints (comment lines aside) and exits 1 if any differs.
 """
 
 import argparse
+import difflib
 import hashlib
 import json
 import os
@@ -103,7 +106,7 @@ def fingerprint(podium, db, campaign, by_tensors=("pose_vae",)):
     db = pathlib.Path(db).resolve()
     runs = str(db) + ".runs"
     rows = podium_json(podium, ["export", str(campaign), "--format", "json", "--db", str(db)])
-    out = []
+    out, times = [], []
     dashboard = Dashboard(podium, db)
     try:
         for row in sorted(rows, key=lambda r: r["id"]):
@@ -123,13 +126,13 @@ def fingerprint(podium, db, campaign, by_tensors=("pose_vae",)):
                 if len(series["steps"]) != series["total_points"]:
                     raise SystemExit(f"{name}: metric {series['name']} came back thinned")
                 if series["name"].startswith("time/"):
-                    out.append(line(f"{name} metric {series['name']}", {"points": series["total_points"]}))
+                    times.append("# " + line(f"{name} metric {series['name']}", {"points": series["total_points"]}))
                 else:
                     out.append(line(f"{name} metric {series['name']}", [series["steps"], series["values"]]))
     finally:
         dashboard.close()
     digest = hashlib.sha256("\n".join(out).encode()).hexdigest()
-    return "\n".join(out) + f"\nfingerprint {digest}\n"
+    return "\n".join(out + times) + f"\nfingerprint {digest}\n"
 
 
 def smoke_specs():
@@ -193,6 +196,21 @@ def run_smoke(podium, out_dir, by_tensors):
         (out_dir / f"{name}.fingerprint").write_text(fingerprint(podium, folder / "podium.db", campaign, by_tensors))
 
 
+def compare(before_dir, after_dir):
+    """Prints, per fingerprint in before_dir, whether after_dir's equals it (comment lines aside)."""
+    differ = False
+    for before in sorted(pathlib.Path(before_dir).glob("*.fingerprint")):
+        after = pathlib.Path(after_dir) / before.name
+        kept = [[l for l in f.read_text().splitlines() if not l.startswith("# ")] for f in (before, after)]
+        diff = list(difflib.unified_diff(*kept, str(before), str(after), lineterm="", n=0))
+        differ |= bool(diff)
+        print(f"{before.stem}: {'differs' if diff else 'identical'} ({len(kept[0]) - 1} lines, "
+              f"{kept[0][-1].split()[-1][:16]}…)")
+        for d in diff:
+            print("  " + d[:300])
+    return 1 if differ else 0
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--podium", default=str(ROOT / "build" / "bin" / "podium"), help="the podium binary")
@@ -204,9 +222,14 @@ def main():
     f.add_argument("campaign", help="campaign id or name")
     r = commands.add_parser("run-smoke", help="run the smoke campaigns in OUT_DIR and fingerprint each")
     r.add_argument("out_dir")
+    c = commands.add_parser("compare", help="diff two run-smoke folders' fingerprints")
+    c.add_argument("before_dir")
+    c.add_argument("after_dir")
     args = parser.parse_args()
     if args.command == "fingerprint":
         sys.stdout.write(fingerprint(args.podium, args.db, args.campaign, args.by_tensors))
+    elif args.command == "compare":
+        sys.exit(compare(args.before_dir, args.after_dir))
     else:
         run_smoke(args.podium, args.out_dir, args.by_tensors)
 

@@ -187,7 +187,7 @@ class TrainingStage {
 
 /// How the driver runs a stage.
 struct StageSettings {
-  std::string name;                         ///< in log lines and errors: "getup", "jump"
+  std::string name = {};                    ///< in log lines and errors: "getup", "jump"
   std::int64_t total_steps = 0;             ///< environment steps at most (≥ 1)
   /// An iteration trains until env_steps + this: 1 = one PPO iteration; SAC: e.g. the test interval.
   std::int64_t steps_per_iteration = 1;
@@ -200,7 +200,7 @@ struct StageSettings {
     checkpoint,  ///< another trial's training checkpoint: networks, buffers, copies, steps, state(), metric points; not its export record nor its clock
     policy,      ///< a policy file (learn::Learner::warm_start): its networks, everything else fresh
   };
-  std::filesystem::path warm_start;
+  std::filesystem::path warm_start = {};
   WarmStart warm_start_kind = WarmStart::checkpoint;
   bool time_metrics = true;                 ///< send the time/ series
 };
@@ -208,9 +208,9 @@ struct StageSettings {
 /// The trial a stage runs in, as the plugin hands it.
 struct StageRun {
   std::uint64_t seed = 0;
-  std::filesystem::path work_dir;           ///< the trial folder: checkpoints, policy.pt, rollouts/
+  std::filesystem::path work_dir = {};      ///< the trial folder: checkpoints, policy.pt, rollouts/
   const std::atomic<bool>* cancel = nullptr;
-  Reporter report;
+  Reporter report = {};
 };
 
 struct StageOutcome {

@@ -37,6 +37,13 @@
 /// with base::derive_seed(seed, 2) (the task seeds its copies), and a resumed run ends bitwise as an
 /// uninterrupted one, with the same metric points, except the `time/` series.
 ///
+/// What it is built for: PPO or SAC (learner_spec(); steps_per_iteration = 1 makes an iteration one
+/// PPO iteration, a SAC stage trains to its next test in one), a curriculum fed every iteration
+/// (on_iteration()) or at each test (test()), copies rebuilt mid-run at another control rate
+/// (checkpoint_tag(), build_state()), a stage that trains on from a policy or a checkpoint handed
+/// over (StageSettings::warm_start), and one that hands states on as well as its policy: record()
+/// writes them (beside the recorded motions) for the task to return as artifacts.
+///
 /// Wall times are metrics under `time/`, one point per test at its environment step, so reports
 /// never parse log text: time/rollout_s and time/update_s (the learner's rollouts and updates since
 /// the previous test), time/test_s (the test) and time/wall_s (everything since the previous test:
@@ -122,7 +129,7 @@ struct TestRound {
   TrainingTally training;      ///< since the previous test
   /// Wall seconds since the test began (for a log line; the driver sends time/test_s).
   double seconds() const;
-  std::chrono::steady_clock::time_point started;
+  std::chrono::steady_clock::time_point started;  ///< when the test began (set by the driver)
 };
 
 /// What record() is handed after training.

@@ -154,9 +154,8 @@ const ShippedPolicy* shipped_for(const TaskConfig& c, const plugins::RunRequest&
   return &c.shipped[request.trial_index % c.shipped.size()];
 }
 
-Reporter reporter_for(plugins::Sink& sink) {
-  return {[&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
-          [&sink](double fraction) { sink.progress(fraction); }};
+character::StageRun stage_run(const plugins::RunRequest& request, plugins::Sink& sink) {
+  return {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)};
 }
 
 }  // namespace
@@ -167,6 +166,8 @@ class GetupTask final : public plugins::Task {
     const TaskConfig c = config_from(config);
     const Json accepted = accepted_config();
     Json d = stage_description(c.stage);
+    if (c.stage != "evaluate")  // the training stages' wall times (character/training_stage.h)
+      for (const Json& m : character::time_metric_entries()) d["metrics"].push_back(m);
     d["params"] = Json::array();  // the seed finds different get-ups from different seeds (§4)
     d["presets"] = presets();
     d["config"] = accepted;
@@ -179,7 +180,7 @@ class GetupTask final : public plugins::Task {
     if (c.stage == "slower") return run_slower_stage(c, request, sink);
     if (c.stage == "evaluate") return run_evaluate_stage(c, request, sink);
     if (!request.inputs.empty()) throw base::UserError("getup weaker: takes no input trials (it starts from scratch, §4)");
-    const TrialOutcome out = run_discover_weaker(c.settings, request.seed, request.work_dir, request.cancel, reporter_for(sink));
+    const TrialOutcome out = run_discover_weaker(c.settings, stage_run(request, sink));
     plugins::RunResult result;
     result.objectives = {out.success_rate, 1.0 - out.policy_strength};
     result.features = out.features.as_vector();
@@ -197,7 +198,7 @@ class GetupTask final : public plugins::Task {
       const auto& in = one_input(request, "slower", {"policy"}, "policy_strength", "weaker");
       weak = {in.artifacts.at("policy"), in.info["policy_strength"].get<double>()};
     }
-    const SlowerOutcome out = run_slower(c.settings, c.slower, weak, request.seed, request.work_dir, request.cancel, reporter_for(sink));
+    const SlowerOutcome out = run_slower(c.settings, c.slower, weak, stage_run(request, sink));
     plugins::RunResult result;
     result.objectives = {out.success_rate, -out.com_error_m};
     result.artifacts = {{"policy", out.policy}, {"weak_policy", out.weak_policy}, {"trajectory", out.trajectory}};

@@ -91,7 +91,7 @@ Json presets() {
 }
 
 Json metrics() {
-  return {plugins::metric_entry("train/avg_reward", "", "the iteration's curriculum score (curriculum_score); step = samples"),
+  Json metrics = {plugins::metric_entry("train/avg_reward", "", "the iteration's curriculum score (curriculum_score); step = samples"),
           plugins::metric_entry("train/episodes", "", "episodes ended in the iteration"),
           plugins::metric_entry("curriculum/z_m", "m", "bar height (obstacle width) z after the iteration (Table 3.1)"),
           plugins::metric_entry("curriculum/control_hz", "Hz", "the copies' control rate f_control(ρ(z))"),
@@ -101,6 +101,8 @@ Json metrics() {
           plugins::metric_entry("eval/mean_offset_l1", "rad", "mean L1 norm of the P-VAE offsets in the test jumps (0 with plain targets)"),
           plugins::metric_entry("eval/success_rate_start_bar", "", "the final policy's evaluation jumps at the starting bar (the task's bar: at least half)"),
           plugins::metric_entry("eval/success_rate_final", "", "the final policy's evaluation jumps at the z reached")};
+  for (const Json& m : character::time_metric_entries()) metrics.push_back(m);  // the training's wall times
+  return metrics;
 }
 
 Json feature(const char* name, double low, double high) {
@@ -248,9 +250,8 @@ class JumpTask final : public plugins::Task {
       inputs = explore_inputs(request);
     }
     c.train.env.takeoff_features = takeoff_params(c, request.params);
-    const Reporter reporter{[&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
-                            [&sink](double fraction) { sink.progress(fraction); }};
-    const JumpOutcome out = run_jump_trial(c.train, request.seed, inputs, request.work_dir, request.cancel, reporter);
+    const JumpOutcome out =
+        run_jump_trial(c.train, inputs, {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
 
     plugins::RunResult result;
     result.objectives = {out.z_reached_m, out.start_bar.success_rate};

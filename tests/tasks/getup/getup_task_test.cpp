@@ -22,9 +22,27 @@ namespace {
 using base::Json;
 namespace fs = std::filesystem;
 
+// Weaker, warm-started from the smoke trial's checkpoint (400 steps, ≈ 70 metric points) to 1200;
+// Slower on the committed π_weak (trained without the root's velocity; 9 points per test),
+// warm-started from its smoke trial (200 steps) to 600.
+Json slower_stage() {
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
+  return {{"stage", "slower"}, {"root_velocity", false}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}};
+}
+podium::testing::WarmStartCase warm_start(const char* key, const char* total, int steps, int kill_after) {
+  return {[=](const fs::path& source, const Json&) {
+            return podium::testing::WarmStartCase::Order{{{key, (source / "training.ckpt").string()}, {total, steps}}};
+          },
+          kill_after};
+}
 PODIUM_TASK_CONFORMANCE(Getup, {.task = "getup", .long_config = {{"total_steps", 1000000}},
                                 .resume_config = {{"total_steps", 1200}}, .kill_after_metric_points = 30,
-                                .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"}});
+                                .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"},
+                                .warm_start = warm_start("warm_start", "total_steps", 1200, 120)});
+PODIUM_TASK_CONFORMANCE(GetupSlower, {.task = "getup", .base_config = slower_stage(), .long_config = {{"slow_total_steps", 1000000}},
+                                      .resume_config = {{"slow_total_steps", 600}}, .kill_after_metric_points = 20,
+                                      .resumes_from_checkpoint = true, .artifacts = {"policy", "weak_policy", "trajectory"},
+                                      .warm_start = warm_start("slow_warm_start", "slow_total_steps", 600, 36)});
 
 // One smoke Weaker trial through `podium trial --batch`: its result and its metric points by name.
 struct SmokeTrial {

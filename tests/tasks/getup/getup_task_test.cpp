@@ -23,11 +23,11 @@ using base::Json;
 namespace fs = std::filesystem;
 
 // Weaker, warm-started from the smoke trial's checkpoint (400 steps, ≈ 70 metric points) to 1200;
-// Slower on the committed π_weak (trained without the root's velocity; 9 points per test),
-// warm-started from its smoke trial (200 steps) to 600.
+// Slower on the shipped π_weak (trained at strength 0.6), warm-started from its smoke trial
+// (200 steps) to 600.
 Json slower_stage() {
-  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
-  return {{"stage", "slower"}, {"root_velocity", false}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}};
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt";
+  return {{"stage", "slower"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.6}}}}};
 }
 podium::testing::WarmStartCase warm_start(const char* key, const char* total, int steps, int kill_after) {
   return {[=](const fs::path& source, const Json&) {

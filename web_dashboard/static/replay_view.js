@@ -91,7 +91,7 @@ function propObject(p, frames) {
 
 // The camera for a jump (a crossbar or an obstacle in the scene): the whole motion in view, seen
 // from the take-off side at 45° to the bar (looking along the bar would hide it, across it the
-// arc), on the side that shows the jumper's travel across the picture, a little from above.
+// arc), on the side that shows the jumper's travel across the picture, a little from above (the height over the bar reads best low).
 function frameJump(camera, p, frames) {
   const box = new THREE.Box3();
   for (const f of frames) for (const l of f.links) box.expandByPoint(new THREE.Vector3(l[0], l[1], l[2]));
@@ -104,8 +104,8 @@ function frameJump(camera, p, frames) {
   const side = sides.reduce((a, b) => (Math.abs(b.x * travel.y - b.y * travel.x) > Math.abs(a.x * travel.y - a.y * travel.x) ? b : a));
   // Far enough for the motion's ground extent across the picture and its height up it, with a margin.
   const half = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2));
-  const distance = 1.1 * Math.max(0.5 * Math.hypot(size.x, size.y) / (half * camera.aspect), 0.5 * size.z / half, 1.5) + 0.3 * Math.hypot(size.x, size.y);
-  camera.position.copy(target).addScaledVector(side.setZ(0.3).normalize(), distance);
+  const distance = 1.1 * Math.max(0.5 * Math.hypot(size.x, size.y) / (half * camera.aspect), 0.5 * size.z / half, 2.5) + 0.3 * Math.hypot(size.x, size.y);
+  camera.position.copy(target).addScaledVector(side.setZ(0.15).normalize(), distance);
   // Metres away, a near plane of 1 cm leaves a thin mat's top and the floor to fight over depth.
   camera.near = 0.1;
   camera.updateProjectionMatrix();

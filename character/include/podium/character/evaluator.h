@@ -1,6 +1,6 @@
 #pragma once
 /// Evaluation of a policy over fixed starts (get-up seed App. D: "evaluated ... over 10
-/// episodes" from fixed starts; issue 18's 20 unseen falls): success rate, mean return, the
+/// episodes" from fixed starts; the get-up evaluation's 20 unseen falls): success rate, mean return, the
 /// task's per-episode measures, and chosen rollouts recorded as `trajectory` artifacts.
 #include <cstdint>
 #include <filesystem>

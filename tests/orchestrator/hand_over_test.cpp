@@ -318,10 +318,10 @@ TEST(HandOver, ResumeAfterSigkillHandsOverTheStoredInputs) {
   EXPECT_GT(interrupted, 0) << "no attempt of the stage with inputs was running at a kill";
 }
 
-// README.md's spec example, run as it is: "refine runs two trials for each strategy explore
+// The user guide's spec example, run as it is: "refine runs two trials for each strategy explore
 // found, each given that strategy's best trial".
-TEST(HandOver, ReadmeExampleDoesWhatItSays) {
-  std::ifstream readme(std::filesystem::path(PODIUM_SOURCE_DIR) / "README.md");
+TEST(HandOver, UserGuideExampleDoesWhatItSays) {
+  std::ifstream readme(std::filesystem::path(PODIUM_SOURCE_DIR) / "docs/user-guide.md");
   const std::string text{std::istreambuf_iterator<char>(readme), {}};
   const auto section = text.find("## The campaign spec");
   ASSERT_NE(section, std::string::npos);

@@ -5,7 +5,7 @@
 # open first. Usage: scripts/demo.sh [SPEC.json]   (default campaigns/getup_demo.json;
 # campaigns/demo.json is the strategy-search demo on an analytic landscape)
 set -euo pipefail
-cd "$(dirname "$0")/.."   # the shipped policies' paths in the spec are relative to the repository
+cd "$(dirname "$0")/.."
 scripts/setup.sh
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 spec="${1:-campaigns/getup_demo.json}"

@@ -45,13 +45,13 @@ TaskConfig read_task_config(base::ConfigReader& r) {
       "shipped",
       [](base::ConfigReader& p) {
         ShippedPolicy s;
-        s.weak_policy = p.string("weak_policy", base::required, "π_weak's TorchScript file");
+        s.weak_policy = p.file("weak_policy", base::required, "π_weak's TorchScript file");
         s.weak_strength = p.number("weak_strength", base::required, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "the β π_weak passed at");
-        s.slow_policy = p.string("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
+        s.slow_policy = p.file("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
         return s;
       },
       "Slower or Evaluate without an input trial: trial i takes entry i mod n (Slower imitates its weak_policy; paths "
-      "relative to where `podium run` starts)");
+      "relative to the spec file's folder)");
   // Slower trains π_slow: a shipped one would be ignored, so it is refused.
   if (c.stage == "slower")
     for (std::size_t i = 0; i < c.shipped.size(); ++i)

@@ -51,7 +51,7 @@ def training_minutes(log_path):
 def bars(weaker, evaluate, spans):
     """The task's `quick` bars (RESULTS.md), each against the done trial that reaches it best: `weaker` holds (trial, result info,
     head-curve gain in m), `evaluate` (trial, {speed name: its result}), `spans` every trial's (start, finish)."""
-    print("\n### issue 18's bars\n")
+    print("\n### the quick bars (RESULTS.md)\n")
     print("| bar | closest trial | figure | met |\n|---|---|---|---|")
     if weaker:
         name, info, _ = max(weaker, key=lambda w: (w[1]["success_rate"], w[1]["levels"]))

@@ -1,5 +1,5 @@
 #pragma once
-/// `podium serve`: a read-only HTTP dashboard on a Podium database (DESIGN.md "Dashboard").
+/// `podium serve`: a read-only HTTP dashboard on a Podium database (docs/architecture.md "The dashboard").
 ///
 /// Serves the JSON API (`/api/...`, documented in the top-level README "The dashboard") and the
 /// static front end, both GET only. The database is opened read-only; every request borrows a

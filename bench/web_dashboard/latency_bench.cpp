@@ -1,6 +1,6 @@
 // API latency of `podium serve` (p50/p95 over repeated requests, client and server in this
 // process over loopback HTTP; cold and warm as defined in main) for the campaign list, a 100,000-trial campaign page and a
-// 100,000-point metric series, downsampled. Bar (issue 8): p95 under 100 ms.
+// 100,000-point metric series, downsampled. Bar: p95 under 100 ms.
 // The database is written here through the store (10 campaigns, one of 100,000 done trials with
 // 2 features, BDS step info, 12 strategy clusters; one trial with 100,000 metric points).
 // Usage: web_dashboard_latency_bench [--repeat N] [--keep DIR]

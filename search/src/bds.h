@@ -35,7 +35,7 @@ namespace podium::search {
 /// BDS options (spec: search.config). Defaults are the thesis's where it gives one, except the
 /// diversity acquisition ("new_combination", see above) and the schedule: a maximin initial design,
 /// exploration until 10 points, then diversity steps with a fall-back to exploration when they
-/// stall (thesis: fixed rounds of 3 and 3), which measured best on the issue-5 landscapes
+/// stall (thesis: fixed rounds of 3 and 3), which measured best on the plateau landscapes
 /// (experiments/search/LOG.md). Other acquisitions, short-range plateau snapping, plateau believers
 /// and between-candidates measured no better there and were removed (one way to do each thing);
 /// that README says where they live in history.

@@ -2,6 +2,8 @@
 option(PODIUM_SANITIZE "Build with address and undefined-behaviour sanitizers" OFF)
 option(PODIUM_TSAN "Build with the thread sanitizer (scheduler work)" OFF)
 option(PODIUM_WERROR "Treat warnings as errors" ON)
+# The sanitizer builds (CMakePresets.json) run tests only; the benchmarks would double their build time.
+option(PODIUM_BUILD_BENCH "Build the benchmarks in bench/" ON)
 
 if(NOT CMAKE_BUILD_TYPE AND NOT CMAKE_CONFIGURATION_TYPES)
   set(CMAKE_BUILD_TYPE Release CACHE STRING "Build type" FORCE)
@@ -57,6 +59,21 @@ function(podium_test name)
   if(NOT ARG_LABELS)
     set(ARG_LABELS unit)
   endif()
+  # A second label names the layer under test (tests/<layer>/...), e.g. dir:store, so a
+  # sanitizer run can pick layers: ctest -L unit -L '^dir:(store|orchestrator)$'.
+  file(RELATIVE_PATH rel ${CMAKE_SOURCE_DIR}/tests ${CMAKE_CURRENT_SOURCE_DIR})
+  string(REGEX REPLACE "/.*" "" layer "${rel}")
+  if(layer AND NOT layer MATCHES "^\\.\\.")
+    # The unit-test executables of a layer, as one target (unit_tests_<layer>), so a sanitizer
+    # build can build just the layers it runs.
+    if("unit" IN_LIST ARG_LABELS)
+      if(NOT TARGET unit_tests_${layer})
+        add_custom_target(unit_tests_${layer})
+      endif()
+      add_dependencies(unit_tests_${layer} ${name})
+    endif()
+    list(APPEND ARG_LABELS dir:${layer})
+  endif()
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
   endif()
@@ -69,5 +86,11 @@ function(podium_test name)
   if(ARG_SERIAL)
     list(APPEND lock RUN_SERIAL TRUE)
   endif()
-  gtest_discover_tests(${name} PROPERTIES LABELS "${ARG_LABELS}" TIMEOUT ${ARG_TIMEOUT} ${lock} DISCOVERY_TIMEOUT 60)
+  gtest_discover_tests(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT} ${lock} DISCOVERY_TIMEOUT 60)
+  # gtest_discover_tests flattens a list-valued property (LABELS "unit;dir:x" would set LABELS to
+  # "unit" and a property named "dir:x"), so the labels are set by a script CTest reads after the
+  # discovered tests, on the list it defines (<name>_TESTS).
+  set(label_script ${CMAKE_CURRENT_BINARY_DIR}/${name}_labels.cmake)
+  file(WRITE ${label_script} "if(${name}_TESTS)\n  set_tests_properties(\${${name}_TESTS} PROPERTIES LABELS \"${ARG_LABELS}\")\nendif()\n")
+  set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${label_script})
 endfunction()

@@ -5,8 +5,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(
-  # toolchain
+  # toolchain (GCC's address, undefined-behaviour and thread sanitizer runtimes come with it)
   build-essential cmake ninja-build pkg-config ccache git
+  # style tools: scripts/format.sh, scripts/check.sh, .clang-tidy (clang-tidy ships run-clang-tidy)
+  clang-format clang-tidy
   # libraries (DESIGN.md "Layers and folders")
   libboost-program-options-dev libboost-filesystem-dev libboost-dev
   libsqlite3-dev sqlite3 nlohmann-json3-dev libeigen3-dev libnlopt-cxx-dev libssl-dev

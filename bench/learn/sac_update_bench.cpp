@@ -1,4 +1,4 @@
-// Times one SAC update at the get-up's sizes (issue 18 item 9: humanoid21, 21 torque actions,
+// Times one SAC update at the get-up's sizes (humanoid21, 21 torque actions,
 // 256-256 networks, batch 256) and splits it into its parts. The environment is a stand-in that
 // returns random observations and rewards (its cost is negligible), so only the update is timed.
 // One intra-op thread and one BLAS thread, as every learner runs.

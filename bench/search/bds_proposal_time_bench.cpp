@@ -1,4 +1,4 @@
-// Time per BDS proposal with 100 observations in 4-D on one core (issue 5 acceptance; bar ≤ 1 s).
+// Time per BDS proposal with 100 observations in 4-D on one core (bar: ≤ 1 s).
 // Each timed ask(1) follows a tell, so it includes the hyperparameter refit (2 features × 3 L-BFGS
 // runs), the believer conditioning and the acquisition optimisation (L-BFGS or DIRECT-L).
 //

@@ -1,4 +1,4 @@
-// CMA-ES against python-cmaes 0.9 (issue 5 acceptance): median evaluations to reach f <= 1e-8 on
+// CMA-ES against python-cmaes 0.9: median evaluations to reach f <= 1e-8 on
 // 10-D sphere and Rosenbrock over 10 seeds, same start, step size and bounds; bar: ours within
 // 1.5x of the Python library's. Runs cmaes_reference.py as a subprocess for the reference.
 #include <algorithm>

@@ -1,6 +1,6 @@
-// Diversity benchmark (issue 5 acceptance): distinct strategies found after 10, 20 and 50
+// Diversity benchmark: distinct strategies found after 10, 20 and 50
 // evaluations by BDS, random and novelty search on the seeded landscapes of tasks/landscape
-// (family "plateaus" = issue family (a), "voronoi" = family (b); "plateaus_rough", the first and
+// (family "plateaus" = family (a), "voronoi" = family (b) of bench/search/README.md; "plateaus_rough", the first and
 // rougher version of (a), is reported without a bar), over L landscapes × S seeds.
 // Strategies are counted with search/strategies.h (the stored definition) at --threshold.
 // Bars: BDS never below random beyond noise (paired mean difference > −2 standard errors) on either
@@ -9,8 +9,8 @@
 // test` (landscape seeds 1..L, search seeds 0..S−1) is the one the bars were first reported on (and
 // has informed choices since); `--split holdout` (landscape seeds 3001.., search seeds 300..) is
 // for a final config's one run and must never inform a choice (bench/search/README.md); `--split
-// final` (landscape seeds 5001.., search seeds 500..) was added in session 4 and never used for a
-// decision: it is run once, by the lead engineer, on the config session 4 chose.
+// final` (landscape seeds 5001.., search seeds 500..) has never informed a decision: it is run
+// once, on a config already chosen.
 //
 // Usage: search_diversity_bench [--split test|dev|holdout|final] [--landscapes 20] [--seeds 10] [--dim 3] [--regions 6]
 //          [--threshold 0.05] [--max-frequency 0] [--batch 1] [--threads 1] [--bds-config '{"stall": 0}'] [--novelty-config '{}']

@@ -1,5 +1,5 @@
 // How learnable is a plateau landscape from few samples? The criterion that fixes the smoothness of
-// issue 5's family (a) without involving any search algorithm: a GP (search/src/gaussian_process.h,
+// family (a) (bench/search/README.md) without involving any search algorithm: a GP (search/src/gaussian_process.h,
 // Matérn 5/2 ARD, plain maximum likelihood within the default bounds) fitted to N uniform random
 // samples of the squashed trend must explain median R² ≥ 0.5 of it, measured on 2000 fresh uniform
 // points, over landscapes × 2 feature dimensions. Also reports R² of the quantised feature itself and

@@ -261,7 +261,7 @@ int main(int argc, char** argv) {
     return 1;
   }
   // Each engine at the largest Δt at which its standing check holds and its workload is sane
-  // (issue 3); MuJoCo's default Δt is shown too, as the issue quotes it.
+  // (sim/README.md); MuJoCo's default Δt is shown too, as it is the rate MuJoCo users know.
   const double default_dt = m->opt.timestep;
   std::vector<double> dts = {default_dt};
   for (double hz : rates) dts.push_back(1.0 / hz);

@@ -16,7 +16,7 @@
 // thesis by default: eq. 3.7's E[min_i ‖f(x) − f_i‖] rewards predictions between two observed
 // plateau values, which a GP smoothing a staircase makes everywhere on a boundary; "new
 // combination" asks instead how likely x's features, each read as the nearest value that feature
-// has taken so far, form a combination no trial has shown (bench/search/README.md measures both).
+// has taken so far, form a combination no trial has shown (experiments/search/LOG.md measures both).
 // Eq. 3.7 stays selectable (Monte Carlo with common random numbers over the posterior). Both use
 // the per-feature metric of strategies.h (angles wrap).
 // Batches (ask(n) with n > 1, or proposals still running): pending points enter the GPs as
@@ -35,8 +35,8 @@ namespace podium::search {
 /// BDS options (spec: search.config). Defaults are the thesis's where it gives one, except the
 /// diversity acquisition ("new_combination", see above) and the schedule: a maximin initial design,
 /// exploration until 10 points, then diversity steps with a fall-back to exploration when they
-/// stall (thesis: fixed rounds of 3 and 3), which measured best on the issue-5 landscapes
-/// (bench/search/README.md). Other acquisitions, short-range plateau snapping, plateau believers
+/// stall (thesis: fixed rounds of 3 and 3), which measured best on the plateau landscapes
+/// (experiments/search/LOG.md). Other acquisitions, short-range plateau snapping, plateau believers
 /// and between-candidates measured no better there and were removed (one way to do each thing);
 /// that README says where they live in history.
 struct BdsParams {
@@ -76,7 +76,7 @@ struct BdsParams {
   /// freely (§3.6.1); the bounds are ours. They regularise the fit on the few, piecewise-constant
   /// observations BDS starts from (maximum likelihood otherwise picks ℓ → 100 for a dimension after
   /// 10 points). The upper bound 0.5 (half the box) found +0.3 strategies at 20 evaluations over
-  /// 1.0 on the issue-5 plateaus (README, session 4; why was not diagnosed); a smaller cap, a
+  /// 1.0 on the plateau landscapes (experiments/search/LOG.md; why was not diagnosed); a smaller cap, a
   /// lower-bound change, a log-normal prior on ℓ (MAP) or length scales shared by the feature GPs
   /// gave no more.
   double length_scale_min = 0.1;

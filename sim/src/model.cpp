@@ -148,208 +148,259 @@ std::set<std::string> removed_bodies(const Json& json, const std::string& where)
   return removed;
 }
 
-struct PendingBody {
-  std::string name;
-  int parent = -1;
-  Eigen::Vector3d pos = Eigen::Vector3d::Zero();
-  std::vector<Geom> geoms;  // in body frame
-  double mass = -1.0, density = 1000.0;
+// A body's mass, first moment and inertia about its origin, in its own frame, from its geoms:
+// either a density, or a total mass spread over the geoms' volume.
+struct BodyMass {
+  double mass = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d inertia_origin = Eigen::Matrix3d::Zero();  // about the body origin
+};
+
+BodyMass body_mass_properties(const std::vector<Geom>& geoms, double mass, double density, const std::string& where) {
+  BodyMass out;
+  double volume = 0.0;
+  for (const Geom& g : geoms) volume += geom_volume(g);
+  const double scale = mass > 0 ? (volume > 0 ? mass / volume : 0.0) : density;
+  if (mass > 0 && volume <= 0) throw UserError(where + ".mass: a body with mass needs at least one geom");
+  for (const Geom& g : geoms) {
+    const double gm = scale * geom_volume(g);
+    const Eigen::Matrix3d Ic = g.rot.toRotationMatrix() * geom_unit_inertia(g) * g.rot.toRotationMatrix().transpose() * gm;
+    out.mass += gm;
+    out.moment += gm * g.pos;
+    out.inertia_origin += Ic + gm * (g.pos.squaredNorm() * Eigen::Matrix3d::Identity() - g.pos * g.pos.transpose());
+  }
+  return out;
+}
+
+// A joint's type, range, limits, lock and gains, and its anchor "pos" in the body frame (not its
+// place in the tree).
+struct ParsedJoint {
+  Link link;
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
+};
+
+ParsedJoint parse_joint(const Json& j, const std::string& jw, const CharacterModel& m) {
+  ParsedJoint out;
+  Link& link = out.link;
+  link.name = j.value("name", "");
+  if (link.name.empty()) throw UserError(jw + ".name: missing or empty");
+  if (m.find_link(link.name) >= 0) throw UserError(jw + ".name: \"" + link.name + "\" is used by an earlier joint");
+  const std::string type = j.value("type", "");
+  if (j.contains("pos")) out.anchor = vec3(j["pos"], jw + ".pos");
+  if (type == "revolute") {
+    link.joint = JointType::revolute;
+    link.axis = vec3(j.value("axis", Json()), jw + ".axis");
+    if (link.axis.norm() < 1e-9) throw UserError(jw + ".axis: " + show(j["axis"]) + " is not a direction (zero length)");
+    link.axis.normalize();
+    if (j.contains("range")) {
+      const Json& r = j["range"];
+      if (!r.is_array() || r.size() != 2 || !(r[0].get<double>() < r[1].get<double>()))
+        throw UserError(jw + ".range: " + show(r) + " is not [lower, upper] with lower < upper (radians)");
+      link.lower = r[0].get<double>();
+      link.upper = r[1].get<double>();
+    } else {
+      link.lower = 1.0;
+      link.upper = -1.0;
+    }
+  } else if (type == "spherical") {
+    link.joint = JointType::spherical;
+    link.lower = 1.0;
+    link.upper = -1.0;
+    parse_spherical_limits(j, jw, link);
+  } else {
+    throw UserError(jw + ".type: \"" + type + "\" is not one of revolute, spherical");
+  }
+  if (j.contains("lock")) parse_lock(j["lock"], jw + ".lock", link);
+  link.torque_limit_nm = parse_torque_limit(j, link.joint, jw);
+  // Default kp = the torque limit (get-up seed App. D); per-axis limits: the largest (one
+  // stiffness per joint, as DeepMimic's controller files give).
+  link.kp = number(j, "kp", link.torque_limit_nm.maxCoeff(), jw);
+  link.kd = number(j, "kd", 0.1 * link.kp, jw);
+  if (link.kp < 0 || link.kd < 0) throw UserError(jw + ": kp and kd must be ≥ 0");
+  link.damping = number(j, "damping", 0.0, jw);
+  link.stiffness = number(j, "stiffness", 0.0, jw);
+  if (link.damping < 0 || link.stiffness < 0) throw UserError(jw + ": damping and stiffness must be ≥ 0");
+  if (link.joint != JointType::revolute && (link.damping > 0 || link.stiffness > 0))
+    throw UserError(jw + ": damping and stiffness are for revolute joints (this one is " + type + ")");
+  return out;
+}
+
+// Where a body's frame sits: the link that carries it and the body origin in that link's frame.
+struct Carrier {
+  int link = -1;
+  Eigen::Vector3d origin_in_link = Eigen::Vector3d::Zero();
 };
 
 }  // namespace
 
+// Builds a CharacterModel body by body: each body either starts the tree (the root's free
+// joint), rides on its parent's link (no joints), or hangs from a chain of one link per joint.
 class ModelBuilder {
  public:
   static ModelPtr build(const Json& json, const std::string& where);
+
+ private:
+  ModelBuilder(const Json& json, const std::string& where);
+  void add_body(std::size_t bi);
+  Carrier add_joint_chain(const std::vector<Json>& joints, int parent_body, int body_id, const Eigen::Vector3d& pos,
+                          const std::string& bw);
+  void merge_into_link(const Carrier& carrier, const BodyMass& mass, std::vector<Geom> geoms, int body_id);
+  void layout_dofs();
+  void collision_filter();
+  void named_bodies();
+
+  const Json& json_;
+  const std::string& where_;
+  std::shared_ptr<CharacterModel> model_ = std::make_shared<CharacterModel>();
+  CharacterModel& m_ = *model_;
+  double hinge_mass_ = 0.0, hinge_radius_ = 0.0;
+  std::set<std::string> removed_;
+  std::map<std::string, int> body_index_;
+  // body -> link carrying its frame, and that body's origin in that link's frame
+  std::vector<int> body_link_;
+  std::vector<Eigen::Vector3d> body_offset_;
 };
 
 ModelPtr CharacterModel::from_json(const Json& json, const std::string& where) { return ModelBuilder::build(json, where); }
 
 ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
-  auto model = std::make_shared<CharacterModel>();
-  CharacterModel& m = *model;
+  ModelBuilder b(json, where);
+  const Json& bodies = json["bodies"];
+  for (std::size_t bi = 0; bi < bodies.size(); ++bi) b.add_body(bi);
+  b.layout_dofs();
+  b.collision_filter();
+  b.named_bodies();
+  return b.model_;
+}
+
+ModelBuilder::ModelBuilder(const Json& json, const std::string& where) : json_(json), where_(where) {
   if (!json.is_object()) throw UserError(where + ": the model is not a JSON object");
-  m.name_ = json.value("name", "character");
+  m_.name_ = json.value("name", "character");
   if (!json.contains("bodies") || !json["bodies"].is_array() || json["bodies"].empty())
     throw UserError(where + ": bodies: missing or empty (a model needs at least a root body)");
-
-  double hinge_mass = 0.0, hinge_radius = 0.0;
   if (json.contains("hinge_link")) {
-    hinge_mass = number(json["hinge_link"], "mass", 0.0, where + ": hinge_link");
-    hinge_radius = number(json["hinge_link"], "radius", 0.0, where + ": hinge_link");
-    if (hinge_mass < 0 || hinge_radius < 0) throw UserError(where + ": hinge_link: mass and radius must be ≥ 0");
+    hinge_mass_ = number(json["hinge_link"], "mass", 0.0, where + ": hinge_link");
+    hinge_radius_ = number(json["hinge_link"], "radius", 0.0, where + ": hinge_link");
+    if (hinge_mass_ < 0 || hinge_radius_ < 0) throw UserError(where + ": hinge_link: mass and radius must be ≥ 0");
   }
-  std::map<std::string, int> body_index;
-  // body -> link carrying its frame, and that body's origin in that link's frame
-  std::vector<int> body_link;
-  std::vector<Eigen::Vector3d> body_offset;
+  m_.source_ = json;
+  removed_ = removed_bodies(json, where);
+}
 
-  m.source_ = json;
-  const std::set<std::string> removed = removed_bodies(json, where);
-  const Json& bodies = json["bodies"];
-  for (std::size_t bi = 0; bi < bodies.size(); ++bi) {
-    const Json& b = bodies[bi];
-    const std::string bw = where + ": " + base::json_path_index("bodies", bi);
-    const std::string name = b.value("name", "");
-    if (removed.count(name)) continue;
-    if (name.empty()) throw UserError(bw + ".name: missing or empty");
-    if (body_index.count(name)) throw UserError(bw + ".name: \"" + name + "\" is used by an earlier body");
-    int parent_body = -1;
-    if (bi == 0) {
-      if (b.contains("parent") && !b["parent"].is_null()) throw UserError(bw + ".parent: the first body is the root and has no parent");
-    } else {
-      const std::string parent = b.value("parent", "");
-      auto it = body_index.find(parent);
-      if (it == body_index.end()) throw UserError(bw + ".parent: \"" + parent + "\" is not an earlier body (list parents before children)");
-      parent_body = it->second;
-    }
-    Eigen::Vector3d pos = b.contains("pos") ? vec3(b["pos"], bw + ".pos") : Eigen::Vector3d::Zero();
-
-    std::vector<Geom> geoms;
-    if (b.contains("geoms")) {
-      for (std::size_t gi = 0; gi < b["geoms"].size(); ++gi) geoms.push_back(parse_geom(b["geoms"][gi], bw + "." + base::json_path_index("geoms", gi)));
-    }
-    double density = number(b, "density", 1000.0, bw);
-    double mass = number(b, "mass", -1.0, bw);
-    if (b.contains("mass") && !(mass > 0)) throw UserError(bw + ".mass: " + show(b["mass"]) + " is not > 0");
-    if (!(density > 0)) throw UserError(bw + ".density: " + show(b["density"]) + " is not > 0");
-
-    // Body mass properties in the body frame.
-    double body_mass = 0.0;
-    Eigen::Vector3d body_moment = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d body_inertia_origin = Eigen::Matrix3d::Zero();  // about body origin
-    {
-      double volume = 0.0;
-      for (const Geom& g : geoms) volume += geom_volume(g);
-      const double scale = mass > 0 ? (volume > 0 ? mass / volume : 0.0) : density;
-      if (mass > 0 && volume <= 0) throw UserError(bw + ".mass: a body with mass needs at least one geom");
-      for (const Geom& g : geoms) {
-        const double gm = scale * geom_volume(g);
-        const Eigen::Matrix3d Ic = g.rot.toRotationMatrix() * geom_unit_inertia(g) * g.rot.toRotationMatrix().transpose() * gm;
-        body_mass += gm;
-        body_moment += gm * g.pos;
-        body_inertia_origin += Ic + gm * (g.pos.squaredNorm() * Eigen::Matrix3d::Identity() - g.pos * g.pos.transpose());
-      }
-    }
-
-    const int body_id = static_cast<int>(m.bodies_.size());
-    body_index[name] = body_id;
-    Body body;
-    body.name = name;
-
-    // Joints.
-    std::vector<Json> joints;
-    if (b.contains("joints")) for (const Json& j : b["joints"]) joints.push_back(j);
-    if (bi == 0 && !joints.empty()) throw UserError(bw + ".joints: the root body moves by its free joint and takes no other joints");
-
-    // Anchor of the body frame in the link frame that carries it (changes along the hinge chain).
-    int link_id = -1;
-    Eigen::Vector3d origin_in_link = Eigen::Vector3d::Zero();  // body origin in current link frame
-    if (bi == 0) {
-      Link root;
-      root.name = name;
-      root.joint = JointType::free;
-      root.body = body_id;
-      m.links_.push_back(root);
-      link_id = 0;
-    } else if (joints.empty()) {
-      link_id = body_link[parent_body];
-      origin_in_link = body_offset[parent_body] + pos;
-    } else {
-      int parent_link = body_link[parent_body];
-      Eigen::Vector3d prev_anchor_in_parent = body_offset[parent_body] + pos;  // body origin in parent link frame
-      Eigen::Vector3d prev_joint_pos = Eigen::Vector3d::Zero();                // previous anchor in body frame
-      for (std::size_t ji = 0; ji < joints.size(); ++ji) {
-        const Json& j = joints[ji];
-        const std::string jw = bw + "." + base::json_path_index("joints", ji);
-        Link link;
-        link.name = j.value("name", "");
-        if (link.name.empty()) throw UserError(jw + ".name: missing or empty");
-        if (m.find_link(link.name) >= 0) throw UserError(jw + ".name: \"" + link.name + "\" is used by an earlier joint");
-        const std::string type = j.value("type", "");
-        Eigen::Vector3d anchor = j.contains("pos") ? vec3(j["pos"], jw + ".pos") : Eigen::Vector3d::Zero();
-        if (type == "revolute") {
-          link.joint = JointType::revolute;
-          link.axis = vec3(j.value("axis", Json()), jw + ".axis");
-          if (link.axis.norm() < 1e-9) throw UserError(jw + ".axis: " + show(j["axis"]) + " is not a direction (zero length)");
-          link.axis.normalize();
-          if (j.contains("range")) {
-            const Json& r = j["range"];
-            if (!r.is_array() || r.size() != 2 || !(r[0].get<double>() < r[1].get<double>()))
-              throw UserError(jw + ".range: " + show(r) + " is not [lower, upper] with lower < upper (radians)");
-            link.lower = r[0].get<double>();
-            link.upper = r[1].get<double>();
-          } else {
-            link.lower = 1.0;
-            link.upper = -1.0;
-          }
-        } else if (type == "spherical") {
-          link.joint = JointType::spherical;
-          link.lower = 1.0;
-          link.upper = -1.0;
-          parse_spherical_limits(j, jw, link);
-        } else {
-          throw UserError(jw + ".type: \"" + type + "\" is not one of revolute, spherical");
-        }
-        if (j.contains("lock")) parse_lock(j["lock"], jw + ".lock", link);
-        link.torque_limit_nm = parse_torque_limit(j, link.joint, jw);
-        // Default kp = the torque limit (get-up seed App. D); per-axis limits: the largest (one
-        // stiffness per joint, as DeepMimic's controller files give).
-        link.kp = number(j, "kp", link.torque_limit_nm.maxCoeff(), jw);
-        link.kd = number(j, "kd", 0.1 * link.kp, jw);
-        if (link.kp < 0 || link.kd < 0) throw UserError(jw + ": kp and kd must be ≥ 0");
-        link.damping = number(j, "damping", 0.0, jw);
-        link.stiffness = number(j, "stiffness", 0.0, jw);
-        if (link.damping < 0 || link.stiffness < 0) throw UserError(jw + ": damping and stiffness must be ≥ 0");
-        if (link.joint != JointType::revolute && (link.damping > 0 || link.stiffness > 0))
-          throw UserError(jw + ": damping and stiffness are for revolute joints (this one is " + type + ")");
-        link.parent = parent_link;
-        link.body = body_id;
-        link.joint_pos = prev_anchor_in_parent + (anchor - prev_joint_pos);
-        if (ji + 1 < joints.size()) {
-          // Intermediate hinge link: a small sphere at the anchor (massless links destabilise
-          // Bullet's contact solver; MuJoCo regularises the same way with joint armature).
-          link.mass = hinge_mass;
-          link.inertia = Eigen::Matrix3d::Identity() * (0.4 * hinge_mass * hinge_radius * hinge_radius);
-        }
-        m.links_.push_back(link);
-        parent_link = static_cast<int>(m.links_.size()) - 1;
-        prev_anchor_in_parent = Eigen::Vector3d::Zero();
-        prev_joint_pos = anchor;
-      }
-      link_id = parent_link;
-      origin_in_link = -prev_joint_pos;
-    }
-
-    // Add body mass and geoms to the carrying link (inertia about the link COM, link frame).
-    Link& link = m.links_[link_id];
-    const Eigen::Vector3d body_com = body_mass > 0 ? Eigen::Vector3d(body_moment / body_mass) : Eigen::Vector3d::Zero();
-    if (body_mass > 0) {
-      // Move body inertia from body origin to body COM, then combine with the link (parallel axis).
-      const Eigen::Matrix3d Ib = body_inertia_origin - body_mass * (body_com.squaredNorm() * Eigen::Matrix3d::Identity() - body_com * body_com.transpose());
-      const Eigen::Vector3d cb = origin_in_link + body_com;
-      const double total = link.mass + body_mass;
-      const Eigen::Vector3d c = (link.mass * link.com + body_mass * cb) / total;
-      auto shift = [](double mass_kg, const Eigen::Vector3d& d) {
-        return Eigen::Matrix3d(mass_kg * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
-      };
-      link.inertia = link.inertia + shift(link.mass, link.com - c) + Ib + shift(body_mass, cb - c);
-      link.com = c;
-      link.mass = total;
-    }
-    for (Geom g : geoms) {
-      g.pos += origin_in_link;
-      g.body = body_id;
-      link.geoms.push_back(g);
-    }
-    body.link = link_id;
-    body.offset = origin_in_link;
-    m.bodies_.push_back(body);
-    body_link.push_back(link_id);
-    body_offset.push_back(origin_in_link);
+void ModelBuilder::add_body(std::size_t bi) {
+  const Json& b = json_["bodies"][bi];
+  const std::string bw = where_ + ": " + base::json_path_index("bodies", bi);
+  const std::string name = b.value("name", "");
+  if (removed_.count(name)) return;
+  if (name.empty()) throw UserError(bw + ".name: missing or empty");
+  if (body_index_.count(name)) throw UserError(bw + ".name: \"" + name + "\" is used by an earlier body");
+  int parent_body = -1;
+  if (bi == 0) {
+    if (b.contains("parent") && !b["parent"].is_null()) throw UserError(bw + ".parent: the first body is the root and has no parent");
+  } else {
+    const std::string parent = b.value("parent", "");
+    auto it = body_index_.find(parent);
+    if (it == body_index_.end()) throw UserError(bw + ".parent: \"" + parent + "\" is not an earlier body (list parents before children)");
+    parent_body = it->second;
   }
+  const Eigen::Vector3d pos = b.contains("pos") ? vec3(b["pos"], bw + ".pos") : Eigen::Vector3d::Zero();
 
-  // DoF layout.
+  std::vector<Geom> geoms;
+  if (b.contains("geoms")) {
+    for (std::size_t gi = 0; gi < b["geoms"].size(); ++gi) geoms.push_back(parse_geom(b["geoms"][gi], bw + "." + base::json_path_index("geoms", gi)));
+  }
+  const double density = number(b, "density", 1000.0, bw);
+  const double mass = number(b, "mass", -1.0, bw);
+  if (b.contains("mass") && !(mass > 0)) throw UserError(bw + ".mass: " + show(b["mass"]) + " is not > 0");
+  if (!(density > 0)) throw UserError(bw + ".density: " + show(b["density"]) + " is not > 0");
+  const BodyMass body_mass = body_mass_properties(geoms, mass, density, bw);
+
+  const int body_id = static_cast<int>(m_.bodies_.size());
+  body_index_[name] = body_id;
+
+  std::vector<Json> joints;
+  if (b.contains("joints")) for (const Json& j : b["joints"]) joints.push_back(j);
+  if (bi == 0 && !joints.empty()) throw UserError(bw + ".joints: the root body moves by its free joint and takes no other joints");
+
+  Carrier carrier;
+  if (bi == 0) {
+    Link root;
+    root.name = name;
+    root.joint = JointType::free;
+    root.body = body_id;
+    m_.links_.push_back(root);
+    carrier.link = 0;
+  } else if (joints.empty()) {
+    carrier.link = body_link_[parent_body];
+    carrier.origin_in_link = body_offset_[parent_body] + pos;
+  } else {
+    carrier = add_joint_chain(joints, parent_body, body_id, pos, bw);
+  }
+  merge_into_link(carrier, body_mass, std::move(geoms), body_id);
+  Body body;
+  body.name = name;
+  body.link = carrier.link;
+  body.offset = carrier.origin_in_link;
+  m_.bodies_.push_back(body);
+  body_link_.push_back(carrier.link);
+  body_offset_.push_back(carrier.origin_in_link);
+}
+
+// One link per joint, each child of the previous; the anchor of the body frame moves along the chain.
+Carrier ModelBuilder::add_joint_chain(const std::vector<Json>& joints, int parent_body, int body_id, const Eigen::Vector3d& pos,
+                                      const std::string& bw) {
+  int parent_link = body_link_[parent_body];
+  Eigen::Vector3d prev_anchor_in_parent = body_offset_[parent_body] + pos;  // body origin in parent link frame
+  Eigen::Vector3d prev_joint_pos = Eigen::Vector3d::Zero();                 // previous anchor in body frame
+  for (std::size_t ji = 0; ji < joints.size(); ++ji) {
+    const Json& j = joints[ji];
+    const std::string jw = bw + "." + base::json_path_index("joints", ji);
+    auto [link, anchor] = parse_joint(j, jw, m_);
+    link.parent = parent_link;
+    link.body = body_id;
+    link.joint_pos = prev_anchor_in_parent + (anchor - prev_joint_pos);
+    if (ji + 1 < joints.size()) {
+      // Intermediate hinge link: a small sphere at the anchor (massless links destabilise
+      // Bullet's contact solver; MuJoCo regularises the same way with joint armature).
+      link.mass = hinge_mass_;
+      link.inertia = Eigen::Matrix3d::Identity() * (0.4 * hinge_mass_ * hinge_radius_ * hinge_radius_);
+    }
+    m_.links_.push_back(link);
+    parent_link = static_cast<int>(m_.links_.size()) - 1;
+    prev_anchor_in_parent = Eigen::Vector3d::Zero();
+    prev_joint_pos = anchor;
+  }
+  return {parent_link, -prev_joint_pos};
+}
+
+// Adds a body's mass and geoms to the link carrying it (inertia about the link COM, link frame).
+void ModelBuilder::merge_into_link(const Carrier& carrier, const BodyMass& bm, std::vector<Geom> geoms, int body_id) {
+  Link& link = m_.links_[carrier.link];
+  const Eigen::Vector3d body_com = bm.mass > 0 ? Eigen::Vector3d(bm.moment / bm.mass) : Eigen::Vector3d::Zero();
+  if (bm.mass > 0) {
+    // Move body inertia from body origin to body COM, then combine with the link (parallel axis).
+    const Eigen::Matrix3d Ib =
+        bm.inertia_origin - bm.mass * (body_com.squaredNorm() * Eigen::Matrix3d::Identity() - body_com * body_com.transpose());
+    const Eigen::Vector3d cb = carrier.origin_in_link + body_com;
+    const double total = link.mass + bm.mass;
+    const Eigen::Vector3d c = (link.mass * link.com + bm.mass * cb) / total;
+    auto shift = [](double mass_kg, const Eigen::Vector3d& d) {
+      return Eigen::Matrix3d(mass_kg * (d.squaredNorm() * Eigen::Matrix3d::Identity() - d * d.transpose()));
+    };
+    link.inertia = link.inertia + shift(link.mass, link.com - c) + Ib + shift(bm.mass, cb - c);
+    link.com = c;
+    link.mass = total;
+  }
+  for (Geom& g : geoms) {
+    g.pos += carrier.origin_in_link;
+    g.body = body_id;
+    link.geoms.push_back(g);
+  }
+}
+
+// DoF layout and the per-DoF vectors.
+void ModelBuilder::layout_dofs() {
+  CharacterModel& m = m_;
   int nq = 0, nv = 0;
   for (Link& l : m.links_) {
     l.q_index = nq;
@@ -362,8 +413,8 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
   }
   m.nq_ = nq;
   m.nv_ = nv;
-  if (m.links_.size() < 2) throw UserError(where + ": bodies: the model has no joints");
-  if (m.links_[0].mass <= 0) throw UserError(where + ": bodies[0]: the root body has no mass (give it geoms or a mass)");
+  if (m.links_.size() < 2) throw UserError(where_ + ": bodies: the model has no joints");
+  if (m.links_[0].mass <= 0) throw UserError(where_ + ": bodies[0]: the root body has no mass (give it geoms or a mass)");
   m.torque_limits_ = Eigen::VectorXd::Zero(nv);
   m.kp_ = Eigen::VectorXd::Zero(nv);
   m.kd_ = Eigen::VectorXd::Zero(nv);
@@ -377,9 +428,12 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
     m.damping_.segment(l.v_index, l.nv).setConstant(l.damping);
     m.stiffness_.segment(l.v_index, l.nv).setConstant(l.stiffness);
   }
+}
 
-  // Self-collision filter: every pair except a link with itself, its parent, links of the same
-  // body (massless hinge chains) and pairs the file excludes.
+// Self-collision filter: every pair except a link with itself, its parent, links of the same
+// body (massless hinge chains) and pairs the file excludes.
+void ModelBuilder::collision_filter() {
+  CharacterModel& m = m_;
   const std::size_t L = m.links_.size();
   m.collide_.assign(L * L, 1);
   auto forbid = [&](std::size_t a, std::size_t b) { m.collide_[a * L + b] = m.collide_[b * L + a] = 0; };
@@ -393,37 +447,39 @@ ModelPtr ModelBuilder::build(const Json& json, const std::string& where) {
       p = m.links_[p].parent;
     }
   }
-  if (json.contains("contact_exclude")) {
-    for (std::size_t i = 0; i < json["contact_exclude"].size(); ++i) {
-      const Json& pair = json["contact_exclude"][i];
-      const std::string pw = where + ": " + base::json_path_index("contact_exclude", i);
-      if (!pair.is_array() || pair.size() != 2) throw UserError(pw + ": " + show(pair) + " is not a pair of body names");
-      const int a = m.find_body(pair[0].get<std::string>()), b = m.find_body(pair[1].get<std::string>());
-      if ((a < 0 && removed.count(pair[0].get<std::string>())) || (b < 0 && removed.count(pair[1].get<std::string>()))) continue;
-      if (a < 0 || b < 0) throw UserError(pw + ": " + show(pair) + " names an unknown body");
-      forbid(m.bodies_[a].link, m.bodies_[b].link);
-    }
+  if (!json_.contains("contact_exclude")) return;
+  for (std::size_t i = 0; i < json_["contact_exclude"].size(); ++i) {
+    const Json& pair = json_["contact_exclude"][i];
+    const std::string pw = where_ + ": " + base::json_path_index("contact_exclude", i);
+    if (!pair.is_array() || pair.size() != 2) throw UserError(pw + ": " + show(pair) + " is not a pair of body names");
+    const int a = m.find_body(pair[0].get<std::string>()), b = m.find_body(pair[1].get<std::string>());
+    if ((a < 0 && removed_.count(pair[0].get<std::string>())) || (b < 0 && removed_.count(pair[1].get<std::string>()))) continue;
+    if (a < 0 || b < 0) throw UserError(pw + ": " + show(pair) + " names an unknown body");
+    forbid(m.bodies_[a].link, m.bodies_[b].link);
   }
+}
 
+// The head, torso and end effectors the file names, and the standing pose.
+void ModelBuilder::named_bodies() {
+  CharacterModel& m = m_;
   auto body_by_key = [&](const char* key, int fallback) {
-    if (!json.contains(key)) return fallback;
-    const int id = m.find_body(json[key].get<std::string>());
-    if (id < 0) throw UserError(where + ": " + key + ": \"" + json[key].get<std::string>() + "\" is not a body");
+    if (!json_.contains(key)) return fallback;
+    const int id = m.find_body(json_[key].get<std::string>());
+    if (id < 0) throw UserError(where_ + ": " + key + ": \"" + json_[key].get<std::string>() + "\" is not a body");
     return id;
   };
   m.head_ = body_by_key("head", 0);
   m.torso_ = body_by_key("torso", 0);
-  if (json.contains("end_effectors")) {
-    for (const Json& e : json["end_effectors"]) {
-      if (removed.count(e.get<std::string>())) continue;
+  if (json_.contains("end_effectors")) {
+    for (const Json& e : json_["end_effectors"]) {
+      if (removed_.count(e.get<std::string>())) continue;
       const int id = m.find_body(e.get<std::string>());
-      if (id < 0) throw UserError(where + ": end_effectors: \"" + e.get<std::string>() + "\" is not a body");
+      if (id < 0) throw UserError(where_ + ": end_effectors: \"" + e.get<std::string>() + "\" is not a body");
       m.end_effectors_.push_back(id);
     }
   }
   m.standing_ = m.neutral();
-  m.standing_(2) = number(json, "standing_root_height", 0.0, where);
-  return model;
+  m.standing_(2) = number(json_, "standing_root_height", 0.0, where_);
 }
 
 int CharacterModel::find_body(const std::string& name) const {

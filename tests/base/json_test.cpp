@@ -30,7 +30,7 @@ TEST(ReadJsonFile, ANumberBeyondDoubleRangeIsAUserError) {
   EXPECT_EQ(error_reading("{\"workers\": 1e400}"), "spec.json: invalid JSON: number overflow parsing '1e400'");
 }
 
-// Issue 17 defect 5: a 60,000-deep array crashed submit (stack overflow in nlohmann's recursive
+// A 60,000-deep array once crashed submit (stack overflow in nlohmann's recursive
 // copies); depth is bounded at the read, with the position of the first bracket too deep.
 TEST(ReadJsonFile, NestingDeeperThan100LevelsIsOneShortError) {
   const std::string deep = std::string(60000, '[') + std::string(60000, ']');

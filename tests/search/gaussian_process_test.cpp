@@ -1,4 +1,4 @@
-// The GP against scikit-learn (issue 5 acceptance) and its analytic gradients against finite
+// The GP against scikit-learn and its analytic gradients against finite
 // differences. scikit-learn runs as a subprocess on data drawn here, so nothing is hard-coded.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

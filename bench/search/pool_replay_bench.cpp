@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
       for (std::size_t b = 0; b < o.budgets.size(); ++b) {
         const double expected = coarse ? r.random_expected_coarse[b] : r.random_expected[b];
         std::printf("  @%d samples: random's expected count %.2f; ceiling ≥ 2 × expected: %s\n", o.budgets[b], expected,
-                    ceiling >= 2.0 * expected ? "yes (comparable)" : "no (a search cannot show 2× here)");
+                    expected > 0 && ceiling >= 2.0 * expected ? "yes (comparable)" : "no (a search cannot show 2× here)");
         print_counts(r, o.arms, b, coarse == 1);
       }
     }

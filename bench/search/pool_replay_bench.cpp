@@ -4,7 +4,9 @@
 // successful strategies per arm as mean ± sd (search/strategies.h: occupied grid cells at the
 // pool's threshold τ and at 2τ), each arm's paired difference from random with its standard
 // error, failures per arm (trials that did not succeed), the ceiling (the cells the pool's
-// reachable feature range meets) and random's expected count (Monte Carlo over uniform draws).
+// reachable feature range meets) and random's expected count (Monte Carlo over uniform draws),
+// and the mean number of distinct nearest captured techniques among each arm's successes.
+// The thesis's schedule is `--bds-config '{"schedule": "thesis"}'`.
 // The thesis's claim (§3.7.2: BDS found 6 strategies in 10 samples where random found 3) reads as
 // reproduced at 10 samples when BDS ≥ 1.5 × random's mean with the paired difference beyond 2
 // standard errors, and only on a complete pool whose ceiling is at least twice random's
@@ -27,11 +29,13 @@ void print_counts(const podium::tasks::pool::ReplayResult& r, const std::vector<
                   bool coarse) {
   const auto pick = [&](const podium::tasks::pool::ArmRuns& runs) { return coarse ? runs.strategies_coarse : runs.strategies; };
   for (const auto& arm : arms) {
-    std::vector<double> v, fails;
+    std::vector<double> v, fails, techniques;
     for (const auto& rep : pick(r.arms.at(arm))) v.push_back(rep[b]);
     for (const auto& rep : r.arms.at(arm).failures) fails.push_back(rep[b]);
-    const auto m = mean_sd(v), f = mean_sd(fails);
-    std::printf("    %-8s %5.2f ± %.2f   failures %5.2f ± %.2f", arm.c_str(), m.mean, m.sd, f.mean, f.sd);
+    for (const auto& rep : r.arms.at(arm).techniques) techniques.push_back(rep[b]);
+    const auto m = mean_sd(v), f = mean_sd(fails), t = mean_sd(techniques);
+    std::printf("    %-8s %5.2f ± %.2f   failures %5.2f ± %.2f   techniques %4.2f", arm.c_str(), m.mean, m.sd, f.mean, f.sd,
+                t.mean);
     if (arm != "random" && r.arms.count("random")) {
       std::vector<double> d;
       for (std::size_t k = 0; k < v.size(); ++k) d.push_back(v[k] - pick(r.arms.at("random"))[k][b]);

@@ -1,6 +1,7 @@
 #include "pool_replay.h"
 
 #include <cmath>
+#include <set>
 
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
@@ -23,7 +24,8 @@ void run_once(const PoolTable& table, const ReplayOptions& o, const std::string&
   std::vector<std::vector<double>> found;
   std::vector<bool> success;
   int failures = 0;
-  std::vector<int> s, sc, f;
+  std::set<std::string> techniques;
+  std::vector<int> s, sc, f, tq;
   for (int b : o.budgets) {
     while (static_cast<int>(found.size()) < b) {
       const auto proposals = search->ask(1);
@@ -35,7 +37,9 @@ void run_once(const PoolTable& table, const ReplayOptions& o, const std::string&
       found.push_back(row.finished ? row.features : std::vector<double>(table.features.size(), 0.0));
       success.push_back(row.success);
       failures += row.success ? 0 : 1;
+      if (row.success && !row.technique.empty()) techniques.insert(row.technique);
     }
+    tq.push_back(static_cast<int>(techniques.size()));
     s.push_back(search::count_strategies(table.features, found, table.strategy_threshold, &success));
     sc.push_back(search::count_strategies(table.features, found, 2.0 * table.strategy_threshold, &success));
     f.push_back(failures);
@@ -43,6 +47,7 @@ void run_once(const PoolTable& table, const ReplayOptions& o, const std::string&
   out.strategies[static_cast<std::size_t>(rep)] = s;
   out.strategies_coarse[static_cast<std::size_t>(rep)] = sc;
   out.failures[static_cast<std::size_t>(rep)] = f;
+  out.techniques[static_cast<std::size_t>(rep)] = tq;
 }
 }  // namespace
 
@@ -54,6 +59,7 @@ ReplayResult replay(const PoolTable& table, const ReplayOptions& o) {
     runs.strategies.resize(static_cast<std::size_t>(o.reps));
     runs.strategies_coarse.resize(static_cast<std::size_t>(o.reps));
     runs.failures.resize(static_cast<std::size_t>(o.reps));
+    runs.techniques.resize(static_cast<std::size_t>(o.reps));
     for (int rep = 0; rep < o.reps; ++rep) run_once(table, o, arm, rep, runs);
     r.arms[arm] = std::move(runs);
   }

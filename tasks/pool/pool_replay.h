@@ -25,6 +25,7 @@ struct ReplayOptions {
 /// One arm's runs: [rep][budget] values.
 struct ArmRuns {
   std::vector<std::vector<int>> strategies, strategies_coarse, failures;  ///< at τ, at 2τ; failures
+  std::vector<std::vector<int>> techniques;  ///< distinct nearest captured techniques among successes
 };
 
 struct ReplayResult {

@@ -60,6 +60,7 @@ std::vector<std::int64_t> strategy_cells_per_feature(const std::vector<Feature>&
 }
 
 std::int64_t strategy_id(const std::vector<Feature>& features, const std::vector<double>& vector, double threshold) {
+  if (features.empty() && vector.empty()) return 0;  // a stage without features: one strategy (its threshold is 0)
   check_threshold(threshold);
   if (vector.size() != features.size())
     throw base::UserError("strategies: a feature vector has " + std::to_string(vector.size()) + " values but " +
@@ -74,7 +75,7 @@ std::int64_t strategy_id(const std::vector<Feature>& features, const std::vector
 
 std::vector<std::int64_t> strategy_ids(const std::vector<Feature>& features,
                                        const std::vector<std::vector<double>>& vectors, double threshold) {
-  check_threshold(threshold);
+  if (!features.empty()) check_threshold(threshold);
   std::vector<std::int64_t> ids;
   ids.reserve(vectors.size());
   for (std::size_t v = 0; v < vectors.size(); ++v) {

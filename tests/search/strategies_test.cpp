@@ -112,6 +112,8 @@ TEST(StrategyIds, RejectWrongSizeNamingTheVector) {
   }
   EXPECT_THROW(strategy_ids(f, {}, -1.0), base::UserError);
   EXPECT_THROW(count_strategies(f, {}, 0.0), base::UserError);
+  // A stage without features (its threshold is 0): every trial is the one strategy.
+  EXPECT_EQ(strategy_ids({}, {{}, {}}, 0.0), (std::vector<std::int64_t>{0, 0}));
 }
 
 }  // namespace

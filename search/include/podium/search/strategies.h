@@ -39,7 +39,8 @@ double feature_distance(const std::vector<Feature>& features, const std::vector<
 std::vector<std::int64_t> strategy_cells_per_feature(const std::vector<Feature>& features, double threshold);
 
 /// The strategy id of one feature vector: its grid cell, linearised (feature 0 varies slowest).
-/// Throws UserError when the vector's size differs from `features` or the threshold is not > 0.
+/// No features: 0 (one strategy, whatever the threshold). Throws UserError when the vector's size
+/// differs from `features` or the threshold is not > 0.
 std::int64_t strategy_id(const std::vector<Feature>& features, const std::vector<double>& vector, double threshold);
 
 /// strategy_id of every vector, in order.

@@ -10,6 +10,7 @@
 #include "podium/orchestrator/spec.h"
 #include "podium/plugins/suggest.h"
 #include "podium/search/search.h"
+#include "podium/search/strategies.h"
 #include "podium/store/store.h"
 #include "slurm_executor.h"
 #include "worker_process.h"
@@ -127,11 +128,17 @@ std::int64_t submit_campaign(const std::filesystem::path& database, const Json& 
       threshold = 0.05 * std::sqrt(diagonal);
     }
     description["strategy_threshold"] = threshold;
+    try {  // the task's success rule, checked once here rather than at its first trial
+      search::trial_success(description.value("success", Json()), Json::object());
+    } catch (const UserError& e) {
+      throw UserError(path + " (task " + s.task + "): " + e.what());
+    }
     // Build the search once so its config errors are reported now, not when the stage starts.
     search::SearchSetup setup;
     setup.space = search::Space::from_json(description.at("params"), path + " (task params)");
     setup.features = search::Feature::list_from_json(description.at("features"), path + " (task features)");
     setup.config = s.search_config;
+    setup.strategy_threshold = threshold;
     search::check_search(s.algorithm, setup, s.inputs.has_value(), path + ".search");
     if (s.inputs) check_inputs(*s.inputs, stages, path + ".inputs");
     stages.push_back({s.name, s.task, s.algorithm, s.search_config, config, description,

@@ -182,13 +182,15 @@ void Scheduler::handle(const ExecutorEvent& e) {
     obs.ok = true;
     obs.objectives = e.result["objectives"].get<std::vector<double>>();
     obs.features = e.result["features"].get<std::vector<double>>();
+    obs.success = search::trial_success(s.strategies.success, e.result.value("info", Json::object()));
     std::vector<store::ArtifactRecord> artifacts;
     for (const auto& a : e.result["artifacts"])
       artifacts.push_back({a["name"], a["path"], a["sha256"], a["size"].get<std::int64_t>()});
     store_.complete_trial(f.trial.id, obs.objectives, s.feature_names, obs.features, e.result.value("info", Json::object()),
                           artifacts);
     s.held[f.trial.index] = obs;  // told in trial order (advance_search)
-    store_.set_trial_strategy(f.trial.id, s.strategies.assign(obs.features));
+    if (const auto id = s.strategies.assign(obs.features, e.result.value("info", Json::object())))
+      store_.set_trial_strategy(f.trial.id, *id);
     c.counter.record_finished();
     emit(c, "trial_done", {{"stage", s.rec.name}, {"trial", f.trial.index}, {"objectives", obs.objectives}}, false);
   } else {

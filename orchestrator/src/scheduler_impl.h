@@ -35,14 +35,13 @@ struct PendingTrial {
   std::optional<std::size_t> input;  // per_trial "each": the input it receives
 };
 
-// Live strategy ids: a finished trial joins the first strategy whose leader lies within the
-// threshold, else founds one (search::group_strategies' rule, applied in completion order). When
-// the stage ends, every trial is regrouped in trial order, the one definition the store keeps.
+// Strategy ids (search/strategies.h): a successful trial's id is its feature grid cell, final when
+// it finishes (order-free); a trial the task's success rule rejects has none.
 struct StrategyTracker {
   std::vector<search::Feature> features;
   double threshold = 0;
-  std::vector<std::vector<double>> leaders;
-  std::int64_t assign(const std::vector<double>& f);
+  Json success = nullptr;  // the description's "success" rule
+  std::optional<std::int64_t> assign(const std::vector<double>& f, const Json& info) const;
 };
 
 struct StageRun {

@@ -20,11 +20,9 @@ std::string stage_names(const InputsSpec& inputs) {
 }
 }  // namespace
 
-std::int64_t StrategyTracker::assign(const std::vector<double>& f) {
-  for (std::size_t i = 0; i < leaders.size(); ++i)
-    if (search::feature_distance(features, leaders[i], f) <= threshold) return static_cast<std::int64_t>(i);
-  leaders.push_back(f);
-  return static_cast<std::int64_t>(leaders.size()) - 1;
+std::optional<std::int64_t> StrategyTracker::assign(const std::vector<double>& f, const Json& info) const {
+  if (!search::trial_success(success, info)) return std::nullopt;
+  return search::strategy_id(features, f, threshold);
 }
 
 void Scheduler::load_stage(CampaignRun& c, std::size_t index) {
@@ -51,6 +49,7 @@ void Scheduler::load_stage(CampaignRun& c, std::size_t index) {
   setup.config = s.rec.search_config;
   setup.seed = base::derive_seed(c.rec.seed, index, kSearchSeedSalt);
   setup.inputs = s.input_trials;
+  setup.strategy_threshold = s.rec.description.at("strategy_threshold").get<double>();
   for (const auto& p : setup.space.params) s.param_names.push_back(p.name);
   for (const auto& f : setup.features) s.feature_names.push_back(f.name);
   try {
@@ -61,10 +60,10 @@ void Scheduler::load_stage(CampaignRun& c, std::size_t index) {
   if (s.rec.search_state) s.search->load(*s.rec.search_state);
   s.strategies.features = setup.features;
   s.strategies.threshold = s.rec.description.at("strategy_threshold").get<double>();
+  s.strategies.success = s.rec.description.value("success", Json());
   auto trials = store_.trials(s.rec.id);
   for (const auto& t : trials) {
     ++s.asked;
-    if (t.state == "done") s.strategies.assign(t.features);
     if (t.state == "pending" || t.state == "interrupted")
       s.ready.push_back({t.id, t.index, t.params, t.context, t.seed, t.attempts, recorded_input(t.info)});
   }
@@ -82,6 +81,7 @@ void Scheduler::load_stage(CampaignRun& c, std::size_t index) {
     if (obs.ok) {
       obs.objectives = t.objectives.get<std::vector<double>>();
       obs.features = t.features;
+      obs.success = search::trial_success(s.strategies.success, t.result_info);
     }
   }
   adopt_running_jobs(c);
@@ -176,14 +176,11 @@ void Scheduler::advance() {
 }
 
 void Scheduler::regroup_strategies(const StageRun& s) {
-  std::vector<store::TrialRecord> done;
-  for (auto& t : store_.trials(s.rec.id))
-    if (t.state == "done") done.push_back(std::move(t));
-  std::vector<std::vector<double>> features;
-  for (const auto& t : done) features.push_back(t.features);
-  const auto ids = search::group_strategies(s.strategies.features, features, s.strategies.threshold);
-  for (std::size_t i = 0; i < done.size(); ++i)
-    if (done[i].strategy != ids[i]) store_.set_trial_strategy(done[i].id, ids[i]);
+  // Ids stored by an older rule (leader clusters) are brought to the grid's.
+  for (const auto& t : store_.trials(s.rec.id))
+    if (t.state == "done")
+      if (const auto id = s.strategies.assign(t.features, t.result_info); id && t.strategy != id)
+        store_.set_trial_strategy(t.id, *id);
 }
 
 }  // namespace podium::orchestrator

@@ -21,8 +21,14 @@ BdsParams BdsParams::from_json(const Json& config, const std::string& path) {
   base::ConfigReader r(config, path);
   BdsParams p;
   p.initial_samples = r.integer("initial_samples", p.initial_samples, {1, 100000});
+  p.schedule = r.choice("schedule", p.schedule, {"adaptive", "thesis"});
+  if (p.schedule == "thesis") p.initial_design = "random";  // Algorithm 1 line 2
   p.initial_design = r.choice("initial_design", p.initial_design, {"random", "maximin"});
-  p.acquisition = r.choice("acquisition", p.acquisition, {"new_combination", "expected_distance"});
+  p.n_explore = r.integer("n_explore", p.n_explore, {0, 1000000});
+  p.n_diversity = r.integer("n_diversity", p.n_diversity, {0, 1000000});
+  if (p.n_explore + p.n_diversity == 0)
+    throw base::UserError(path + ".n_diversity: n_explore and n_diversity are both 0; a round needs at least one step");
+  p.acquisition = r.choice("acquisition", p.acquisition, {"auto", "new_combination", "expected_distance"});
   p.explore_until = r.integer("explore_until", p.explore_until, {0, 1000000});
   p.stall = r.integer("stall", p.stall, {0, 1000000});
   p.stall_explore = r.integer("stall_explore", p.stall_explore, {1, 1000000});
@@ -50,6 +56,17 @@ BayesianDiversitySearch::BayesianDiversitySearch(const SearchSetup& setup, const
     if (!(f.low < f.high))
       throw base::UserError(json_path + ": feature \"" + f.name + "\" has an empty range [" + std::to_string(f.low) +
                             ", " + std::to_string(f.high) + "]; bds scales features by it");
+  acquisition_ = params_.acquisition;
+  if (acquisition_ == "auto")
+    acquisition_ = std::all_of(features_.begin(), features_.end(), [](const Feature& f) { return f.quantised; })
+                       ? "new_combination"
+                       : "expected_distance";
+  threshold_ = setup.strategy_threshold;
+  if (!(threshold_ > 0.0)) {  // the orchestrator's default (campaigns.cpp): 5% of the feature box's diagonal
+    double diagonal = 0.0;
+    for (const auto& f : features_) diagonal += (f.high - f.low) * (f.high - f.low);
+    threshold_ = 0.05 * std::sqrt(diagonal);
+  }
   bounds_.log_length_low = std::log(params_.length_scale_min);
   bounds_.log_length_high = std::log(params_.length_scale_max);
   bounds_.log_noise_low = std::log(params_.noise_min);
@@ -90,20 +107,30 @@ VectorXd BayesianDiversitySearch::propose(std::string& step) {
   fit_if_needed();
   std::vector<std::vector<double>> believer_features;
   const auto gps = conditioned_gps(believer_features);
-  if (told_.size() + pending_.size() < static_cast<std::size_t>(params_.explore_until)) {
-    step = "explore";
-    return explore(gps);
-  }
-  if (fallback_left_ > 0) {
-    --fallback_left_;
+  const std::uint64_t t = gp_steps_++;
+  if (params_.schedule == "thesis") {
+    // Algorithm 1 line 4: t % (N_exp + N_opt) < N_exp explores.
+    if (t % static_cast<std::uint64_t>(params_.n_explore + params_.n_diversity) < static_cast<std::uint64_t>(params_.n_explore)) {
+      step = "explore";
+      return explore(gps);
+    }
+  } else if (told_.size() + pending_.size() < static_cast<std::size_t>(params_.explore_until) || fallback_left_ > 0) {
+    if (told_.size() + pending_.size() >= static_cast<std::size_t>(params_.explore_until)) --fallback_left_;
     step = "explore";
     return explore(gps);
   }
   step = "diversity";
+  return diversify(gps, diversity_targets(believer_features));
+}
+
+// The features a diversity step must keep away from: every finished trial's (a failed jump's
+// feature is where that take-off leads, not somewhere new) and the pending believers' predictions.
+std::vector<std::vector<double>> BayesianDiversitySearch::diversity_targets(
+    const std::vector<std::vector<double>>& believer_features) const {
   std::vector<std::vector<double>> targets = believer_features;
   for (const auto& t : told_)
     if (t.ok) targets.push_back(t.features);
-  return diversify(gps, targets);
+  return targets;
 }
 
 VectorXd BayesianDiversitySearch::initial_point() {
@@ -261,12 +288,13 @@ struct DiversityContext {
   const std::vector<GaussianProcess>* gps;
   const std::vector<Feature>* features;
   double ucb_beta;
-  // "expected_distance" (eq. 3.7):
+  // eq. 3.7 (both acquisitions: "new_combination" breaks its ties with it):
   const std::vector<std::vector<double>>* targets;
   const MatrixXd* eps;  // mc_samples × features: common random numbers for every x
+  double tie_scale = 0.0;  // "new_combination": eq. 3.7's weight (10⁻³ / the feature box's diagonal)
   // "new_combination":
-  std::vector<Levels> levels;               // per feature
-  std::vector<std::vector<std::size_t>> tuples;  // distinct observed strategies as level indices
+  std::vector<Levels> levels = {};          // per feature
+  std::vector<std::vector<std::size_t>> tuples = {};  // distinct observed strategies as level indices
 };
 
 double wrap_angle(double a) {
@@ -346,57 +374,87 @@ double diversity_acquisition(const DiversityContext& c, const VectorXd& u) {
       for (std::size_t j = 0; j < nf; ++j) p *= mass[j][t[j]];
       repeat += p;
     }
-    return 1.0 - repeat + c.ucb_beta * spread;
+    return 1.0 - repeat + c.tie_scale * expected_nearest_distance(*c.features, mean, sigma, *c.targets, *c.eps) +
+           c.ucb_beta * spread;
   }
-  // Thesis eq. 3.7: E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖], by Monte Carlo.
+  return expected_nearest_distance(*c.features, mean, sigma, *c.targets, *c.eps) + c.ucb_beta * spread;
+}
+}  // namespace
+
+// Thesis eq. 3.7: E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖], by Monte Carlo (§3.5.1: "numerically
+// with Monte-Carlo integration"), in the strategies' own distance (angular features wrap), so
+// "diverse" means what the store counts.
+double expected_nearest_distance(const std::vector<Feature>& features, const std::vector<double>& mean,
+                                 const std::vector<double>& sigma, const std::vector<std::vector<double>>& targets,
+                                 const MatrixXd& eps) {
+  const std::size_t nf = features.size();
+  PODIUM_CHECK(mean.size() == nf && sigma.size() == nf && static_cast<std::size_t>(eps.cols()) == nf && eps.rows() > 0,
+               "expected_nearest_distance: sizes differ");
+  if (targets.empty()) return 0.0;
   double total = 0.0;
   std::vector<double> sample(nf);
-  for (Eigen::Index s = 0; s < c.eps->rows(); ++s) {
-    for (std::size_t j = 0; j < nf; ++j)
-      sample[j] = mean[j] + sigma[j] * (*c.eps)(s, static_cast<Eigen::Index>(j));
-    // The strategies' own distance (angular features wrap), so "diverse" means what the store counts.
+  for (Eigen::Index s = 0; s < eps.rows(); ++s) {
+    for (std::size_t j = 0; j < nf; ++j) sample[j] = mean[j] + sigma[j] * eps(s, static_cast<Eigen::Index>(j));
     double nearest = std::numeric_limits<double>::infinity();
-    for (const auto& target : *c.targets) nearest = std::min(nearest, feature_distance(*c.features, sample, target));
+    for (const auto& target : targets) nearest = std::min(nearest, feature_distance(features, sample, target));
     total += nearest;
   }
-  return total / static_cast<double>(c.eps->rows()) + c.ucb_beta * spread;
+  return total / static_cast<double>(eps.rows());
+}
+
+namespace {
+// Everything a diversity step's acquisition reads, for the current told trials and targets.
+struct DiversityInputs {
+  DiversityContext ctx;
+  MatrixXd eps;
+};
+
+void fill_context(DiversityInputs& in, const std::string& acquisition, const std::vector<Feature>& features,
+                  const std::vector<std::vector<double>>& observed, base::Rng& rng, int mc_samples) {
+  DiversityContext& ctx = in.ctx;
+  in.eps.resize(mc_samples, static_cast<Eigen::Index>(features.size()));
+  for (Eigen::Index s = 0; s < in.eps.rows(); ++s)
+    for (Eigen::Index j = 0; j < in.eps.cols(); ++j) in.eps(s, j) = rng.normal();
+  ctx.eps = &in.eps;
+  if (acquisition != "new_combination") return;
+  double diagonal = 0.0;
+  for (const auto& f : features) diagonal += (f.high - f.low) * (f.high - f.low);
+  ctx.tie_scale = 1e-3 / std::sqrt(diagonal);
+  // Levels come from real observations only; believers' predicted features are read as their
+  // nearest levels, so a pending point claims an observed combination, not a new level.
+  for (std::size_t j = 0; j < features.size(); ++j) {
+    std::vector<double> values;
+    for (const auto& o : observed) values.push_back(o[j]);
+    ctx.levels.push_back(make_levels(features[j], values));
+  }
+  std::set<std::vector<std::size_t>> tuples;
+  for (const auto& target : *ctx.targets) {
+    std::vector<std::size_t> tuple;
+    for (std::size_t j = 0; j < features.size(); ++j) tuple.push_back(level_of(features[j], ctx.levels[j], target[j]));
+    tuples.insert(tuple);
+  }
+  ctx.tuples.assign(tuples.begin(), tuples.end());
 }
 }  // namespace
 
 VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& gps,
                                             const std::vector<std::vector<double>>& targets) {
   const int d = static_cast<int>(space_.dim());
-  MatrixXd eps;
-  DiversityContext ctx{&gps, &features_, params_.ucb_beta, &targets, &eps, {}, {}};
-  if (params_.acquisition == "new_combination") {
-    // Levels come from real observations only; believers' predicted features are read as their
-    // nearest levels, so a pending point claims an observed combination, not a new level.
-    for (std::size_t j = 0; j < features_.size(); ++j) {
-      std::vector<double> values;
-      for (const auto& t : told_)
-        if (t.ok) values.push_back(t.features[j]);
-      ctx.levels.push_back(make_levels(features_[j], values));
-    }
-    std::set<std::vector<std::size_t>> tuples;
-    for (const auto& target : targets) {
-      std::vector<std::size_t> tuple;
-      for (std::size_t j = 0; j < features_.size(); ++j) tuple.push_back(level_of(features_[j], ctx.levels[j], target[j]));
-      tuples.insert(tuple);
-    }
-    ctx.tuples.assign(tuples.begin(), tuples.end());
-  } else {
-    eps.resize(params_.mc_samples, static_cast<Eigen::Index>(features_.size()));
-    for (Eigen::Index s = 0; s < eps.rows(); ++s)
-      for (Eigen::Index j = 0; j < eps.cols(); ++j) eps(s, j) = rng_.normal();
-  }
+  DiversityInputs in{{&gps, &features_, params_.ucb_beta, &targets, nullptr}, {}};
+  std::vector<std::vector<double>> observed;
+  for (const auto& t : told_)
+    if (t.ok) observed.push_back(t.features);
+  fill_context(in, acquisition_, features_, observed, rng_, params_.mc_samples);
   auto objective = [](const std::vector<double>& x, std::vector<double>&, void* data) {
     return diversity_acquisition(*static_cast<DiversityContext*>(data),
                                  Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())));
   };
+  // Algorithm 1 line 7: DIRECT (the locally biased variant), derivative-free since the Monte
+  // Carlo estimate is noisy in x (§3.5.1).
   nlopt::opt opt(nlopt::GN_DIRECT_L, static_cast<unsigned>(d));
   opt.set_lower_bounds(std::vector<double>(d, 0.0));
   opt.set_upper_bounds(std::vector<double>(d, 1.0));
-  opt.set_max_objective(objective, &ctx);
+  opt.set_max_objective(objective, &in.ctx);
   opt.set_maxeval(params_.direct_evals);
   std::vector<double> x(d, 0.5);
   double value = 0.0;
@@ -406,6 +464,30 @@ VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& 
     // DIRECT's best point so far is in x even when it stops early.
   }
   return Eigen::Map<const VectorXd>(x.data(), d).cwiseMax(0.0).cwiseMin(1.0);
+}
+
+std::vector<double> BayesianDiversitySearch::diversity_values(const std::vector<VectorXd>& us) {
+  PODIUM_CHECK(std::any_of(told_.begin(), told_.end(), [](const Told& t) { return t.ok; }),
+               "bds: diversity_values needs a finished trial");
+  fit_if_needed();
+  std::vector<std::vector<double>> believer_features;
+  const auto gps = conditioned_gps(believer_features);
+  const auto targets = diversity_targets(believer_features);
+  DiversityInputs in{{&gps, &features_, params_.ucb_beta, &targets, nullptr}, {}};
+  std::vector<std::vector<double>> observed;
+  for (const auto& t : told_)
+    if (t.ok) observed.push_back(t.features);
+  fill_context(in, acquisition_, features_, observed, rng_, params_.mc_samples);
+  std::vector<double> out;
+  for (const auto& u : us) out.push_back(diversity_acquisition(in.ctx, u));
+  return out;
+}
+
+bool BayesianDiversitySearch::is_new_strategy(const Observation& o) const {
+  if (!o.ok || !o.success) return false;
+  return std::none_of(told_.begin(), told_.end(), [&](const Told& t) {
+    return t.ok && t.success && feature_distance(features_, t.features, o.features) <= threshold_;
+  });
 }
 
 void BayesianDiversitySearch::tell(const std::vector<Observation>& observations) {
@@ -421,9 +503,7 @@ void BayesianDiversitySearch::tell(const std::vector<Observation>& observations)
       for (double v : o.features)
         if (!std::isfinite(v))
           throw base::UserError(name() + ": trial " + std::to_string(o.id) + " reported a non-finite feature value");
-    const bool new_strategy = o.ok && std::none_of(told_.begin(), told_.end(), [&](const Told& t) {
-      return t.ok && feature_distance(features_, t.features, o.features) == 0.0;  // strategies.h's metric
-    });
+    const bool new_strategy = is_new_strategy(o);
     // The self-correcting schedule (bds.h): stalled diversity steps trigger exploration, which
     // stops at its first new strategy.
     if (it->second.step == "diversity" && params_.stall > 0) {
@@ -435,7 +515,7 @@ void BayesianDiversitySearch::tell(const std::vector<Observation>& observations)
     } else if (it->second.step == "explore" && new_strategy) {
       fallback_left_ = 0;
     }
-    told_.push_back({o.id, it->second.u, o.ok, o.ok ? o.features : std::vector<double>{}});
+    told_.push_back({o.id, it->second.u, o.ok, o.ok ? o.features : std::vector<double>{}, o.ok && o.success});
     pending_.erase(it);
   }
 }
@@ -444,10 +524,11 @@ Json BayesianDiversitySearch::save() const {
   Json pending = Json::array(), told = Json::array(), theta = Json::array();
   for (const auto& [id, p] : pending_) pending.push_back({{"id", id}, {"u", vector_json(p.u)}, {"step", p.step}});
   for (const auto& t : told_)
-    told.push_back({{"id", t.id}, {"u", vector_json(t.u)}, {"ok", t.ok}, {"features", t.features}});
+    told.push_back({{"id", t.id}, {"u", vector_json(t.u)}, {"ok", t.ok}, {"features", t.features}, {"success", t.success}});
   for (const auto& t : theta_) theta.push_back(vector_json(t));
   return {{"rng", rng_.save()},   {"next_id", next_id_}, {"stalled", stalled_}, {"fallback_left", fallback_left_},
-          {"fitted_on", fitted_on_}, {"theta", theta},     {"pending", pending}, {"told", told}};
+          {"fitted_on", fitted_on_}, {"theta", theta},     {"pending", pending}, {"told", told},
+          {"gp_steps", gp_steps_}};
 }
 
 void BayesianDiversitySearch::load(const Json& state) {
@@ -456,6 +537,7 @@ void BayesianDiversitySearch::load(const Json& state) {
   stalled_ = state.at("stalled").get<int>();
   fallback_left_ = state.at("fallback_left").get<int>();
   fitted_on_ = state.at("fitted_on").get<std::size_t>();
+  gp_steps_ = state.value("gp_steps", std::uint64_t{0});
   theta_.clear();
   for (const auto& t : state.at("theta")) theta_.push_back(vector_from(t));
   PODIUM_CHECK(theta_.size() == features_.size(), "bds: saved state has a different number of features");
@@ -465,7 +547,7 @@ void BayesianDiversitySearch::load(const Json& state) {
   told_.clear();
   for (const auto& t : state.at("told"))
     told_.push_back({t.at("id").get<std::uint64_t>(), vector_from(t.at("u")), t.at("ok").get<bool>(),
-                     t.at("features").get<std::vector<double>>()});
+                     t.at("features").get<std::vector<double>>(), t.value("success", t.at("ok").get<bool>())});
 }
 
 }  // namespace podium::search

@@ -2,28 +2,39 @@
 // Bayesian Diversity Search (thesis §3.5.1, Algorithm 1), batched.
 //
 // One GP per feature dimension (gaussian_process.h) over the parameter box scaled to [0,1]^d,
-// fitted on the successful trials; features scaled to [0,1] by their declared range, prior mean
-// 0.5 (the middle of the range, §3.6.1). After `initial_samples` random proposals (spread out by
-// default) and exploration steps, x = argmax Σ_j σ_j(x) (eqs. 3.9–3.10, NLopt L-BFGS from the best
-// of random candidates), until `explore_until` points, diversity steps optimised by NLopt DIRECT-L.
-// The thesis alternates fixed rounds of N_exp exploration and N_opt diversity steps (Algorithm 1
-// line 4); here the schedule corrects itself instead: after `stall` diversity steps in a row whose
-// results brought no new strategy, exploration steps follow until one finds a new strategy (at
-// most `stall_explore`), then diversity steps resume. On plateau landscapes unseen level
-// combinations keep paying off, so diversity steps continue; on Voronoi-like landscapes they stop
-// paying off once the few cells are found, and the search falls back to exploration, which is
-// what finds the small cells left. The diversity acquisition departs from the
-// thesis by default: eq. 3.7's E[min_i ‖f(x) − f_i‖] rewards predictions between two observed
-// plateau values, which a GP smoothing a staircase makes everywhere on a boundary; "new
-// combination" asks instead how likely x's features, each read as the nearest value that feature
-// has taken so far, form a combination no trial has shown (experiments/search/LOG.md measures both).
-// Eq. 3.7 stays selectable (Monte Carlo with common random numbers over the posterior). Both use
-// the per-feature metric of strategies.h (angles wrap).
+// fitted on the trials that finished (a jump that did not clear still has a feature: g(x) of
+// §3.5.1); features scaled to [0,1] by their declared range, prior mean 0.5 (the middle of the
+// range, "GP Priors and Kernels" of §3.6.1). Exploration steps take x = argmax Σ_j σ_j(x) (eqs.
+// 3.9–3.10, NLopt L-BFGS from the best of random candidates); diversity steps maximise the
+// diversity acquisition by NLopt DIRECT-L (Algorithm 1 line 7).
+//
+// Diversity acquisition (`acquisition`, default "auto"): the thesis's eq. 3.7,
+// E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖] by Monte Carlo with common random numbers over the
+// posterior, wherever a feature is continuous. Only where the task declares every feature
+// quantised (Feature::quantised: a few exact levels, like a plateau landscape) does "auto" pick
+// "new combination": how likely x's features, each read as the nearest level that feature has
+// taken, form a combination no trial has shown. On levels eq. 3.7 rewards predictions between two
+// observed values, which a GP smoothing a staircase makes on every boundary; on a continuous
+// feature every observed value would be its own level, so "new combination" is constant where
+// there is one feature (every level is a strategy) and exact-equality-new where there are more:
+// that is why it is never the default there. Eq. 3.7, scaled small, breaks its ties, so it is
+// never flat. Both use the per-feature metric of strategies.h (angles wrap).
+//
+// Schedules (`schedule`). "thesis": Algorithm 1 as written — `initial_samples` uniform random
+// proposals, then rounds of N_exp = `n_explore` exploration and N_opt = `n_diversity` diversity
+// steps (3 and 3, §3.6.2), one at a time. "adaptive" (the default): a maximin initial design,
+// exploration until `explore_until` points, then diversity steps; after `stall` diversity steps
+// in a row whose results brought no new strategy, exploration steps follow until one finds a new
+// strategy (at most `stall_explore`), then diversity steps resume. A result is a new strategy when
+// the task counts it a success and its feature lies farther than the stage's strategy threshold
+// from every earlier success (the threshold the store's strategies use, strategies.h), so a
+// noisy repeat of a known strategy is a repeat.
 // Batches (ask(n) with n > 1, or proposals still running): pending points enter the GPs as
 // "believers" with their posterior mean as value (σ collapses there; their predicted feature joins
 // the observed ones as a strategy already claimed), so a batch spreads out instead of repeating one
-// point. Failed trials stay out of the fitted model but are believers too, so the search does not
-// propose them again.
+// point. The thesis is sequential (one trial at a time, Algorithm 1 line 9): with one worker and
+// ask(1) there are no believers. Failed trials (no result) stay out of the fitted model but are
+// believers too, so the search does not propose them again.
 #include <map>
 
 #include "gaussian_process.h"
@@ -32,36 +43,40 @@
 
 namespace podium::search {
 
-/// BDS options (spec: search.config). Defaults are the thesis's where it gives one, except the
-/// diversity acquisition ("new_combination", see above) and the schedule: a maximin initial design,
-/// exploration until 10 points, then diversity steps with a fall-back to exploration when they
-/// stall (thesis: fixed rounds of 3 and 3), which measured best on the plateau landscapes
-/// (experiments/search/LOG.md). Other acquisitions, short-range plateau snapping, plateau believers
-/// and between-candidates measured no better there and were removed (one way to do each thing);
-/// that README says where they live in history.
+/// BDS options (spec: search.config). Defaults are the thesis's where it gives one (eq. 3.7 on
+/// continuous features, eq. 3.9–3.10 exploration, the §3.6.1 prior), except the schedule: a maximin
+/// initial design, exploration until 10 points, then diversity steps with a fall-back to
+/// exploration when they stall, which measured best on the plateau landscapes
+/// (experiments/search/LOG.md); `"schedule": "thesis"` is Algorithm 1's fixed rounds of 3 and 3.
+/// Other acquisitions, short-range plateau snapping, plateau believers and between-candidates
+/// measured no better there and were removed; that README says where they live in history.
 struct BdsParams {
   int initial_samples = 4;       ///< random proposals before the GP is used (Algorithm 1 line 2)
   /// How the initial samples are drawn: "random" (uniform) or "maximin" (the farthest from all
-  /// earlier proposals of `explore_candidates` uniform points: random, but spread out).
+  /// earlier proposals of `explore_candidates` uniform points: random, but spread out). Default
+  /// "maximin", or "random" under the thesis schedule.
   std::string initial_design = "maximin";
-  /// Diversity-step acquisition. "new_combination": 1 − P(x repeats an observed strategy), where
-  /// each feature's posterior N(μ_j(x), σ_j²(x)) is split into the cells of the values that feature
-  /// has taken (every value reads as its nearest observed one; distinct values are levels) and an
-  /// observed strategy is its tuple of levels: P = Σ_strategies Π_j P(f_j(x) in its level's cell),
-  /// in closed form. On plateau features it counts the level combinations not yet seen, not the
-  /// distance to them. "expected_distance": the thesis's eq. 3.7.
-  std::string acquisition = "new_combination";
+  /// "adaptive" or "thesis" (see the header comment).
+  std::string schedule = "adaptive";
+  int n_explore = 3;    ///< thesis schedule: N_exp exploration steps per round (§3.6.2: 3)
+  int n_diversity = 3;  ///< thesis schedule: N_opt diversity steps per round (§3.6.2: 3)
+  /// Diversity-step acquisition: "auto" (eq. 3.7 unless every feature is declared quantised, then
+  /// "new_combination"), "expected_distance" (the thesis's eq. 3.7) or "new_combination":
+  /// 1 − P(x repeats an observed strategy), where each feature's posterior N(μ_j(x), σ_j²(x)) is
+  /// split into the cells of the values that feature has taken (every value reads as its nearest
+  /// observed one; distinct values are levels) and an observed strategy is its tuple of levels:
+  /// P = Σ_strategies Π_j P(f_j(x) in its level's cell), in closed form, plus eq. 3.7 × 10⁻³ (in
+  /// units of the feature box's diagonal) to break ties where no combination is new.
+  std::string acquisition = "auto";
   /// Exploration schedule: while fewer than this many points are told or pending, every GP step
   /// explores (max σ); diversity steps start after. A GP fitted to few plateau
   /// observations predicts features poorly, so early diversity steps aim worse than max σ.
   int explore_until = 10;
   /// Self-correcting schedule (see above): after `stall` consecutive diversity steps whose results
   /// brought no new strategy, up to `stall_explore` exploration steps, ending early when one finds
-  /// a new strategy. "New" is the acquisition's own definition: a feature vector no earlier
-  /// successful trial had, i.e. an unseen level combination (no distance threshold: on features
-  /// that never repeat a value every result is new and the fall-back never fires). Results count
-  /// in tell order, pending ones once told; a failed trial brings no new strategy. `stall` 0 never
-  /// falls back (diversity steps only).
+  /// a new strategy. "New": a success farther than the strategy threshold from every earlier
+  /// success (SearchSetup::strategy_threshold). Results count in tell order, pending ones once
+  /// told; a failed trial brings no new strategy. `stall` 0 never falls back (diversity steps only).
   int stall = 4;
   int stall_explore = 1;
   int mc_samples = 64;           ///< Monte-Carlo draws for eq. 3.7 (acquisition "expected_distance")
@@ -85,6 +100,13 @@ struct BdsParams {
   static BdsParams from_json(const Json& config, const std::string& path);
 };
 
+/// Thesis eq. 3.7 by Monte Carlo: the mean over the rows ε_s of `eps` (standard normal draws, one
+/// column per feature) of min_i feature_distance(μ + σ ⊙ ε_s, targets_i). Features in their own
+/// units. Exposed for the closed-form test.
+double expected_nearest_distance(const std::vector<Feature>& features, const std::vector<double>& mean,
+                                 const std::vector<double>& sigma, const std::vector<std::vector<double>>& targets,
+                                 const Eigen::MatrixXd& eps);
+
 class BayesianDiversitySearch final : public Search {
  public:
   BayesianDiversitySearch(const SearchSetup& setup, const std::string& json_path);
@@ -93,6 +115,11 @@ class BayesianDiversitySearch final : public Search {
   void tell(const std::vector<Observation>& observations) override;
   Json save() const override;
   void load(const Json& state) override;
+  /// The diversity acquisition the next diversity step would maximise, at points u of [0,1]^d
+  /// (for tests and benchmarks; draws its Monte Carlo numbers from the search's RNG).
+  std::vector<double> diversity_values(const std::vector<Eigen::VectorXd>& us);
+  /// The acquisition "auto" resolved for this task's features.
+  const std::string& acquisition() const { return acquisition_; }
 
  private:
   struct Pending {
@@ -104,6 +131,7 @@ class BayesianDiversitySearch final : public Search {
     Eigen::VectorXd u;               // parameters scaled to [0,1]^d
     bool ok;
     std::vector<double> features;   // raw feature values (empty when failed)
+    bool success = true;            // the task's success rule (a strategy only if true)
   };
   Eigen::VectorXd propose(std::string& step);
   Eigen::VectorXd initial_point();
@@ -111,12 +139,16 @@ class BayesianDiversitySearch final : public Search {
   std::vector<GaussianProcess> conditioned_gps(std::vector<std::vector<double>>& believer_features) const;
   Eigen::VectorXd explore(const std::vector<GaussianProcess>& gps);
   Eigen::VectorXd diversify(const std::vector<GaussianProcess>& gps, const std::vector<std::vector<double>>& targets);
+  bool is_new_strategy(const Observation& o) const;
+  std::vector<std::vector<double>> diversity_targets(const std::vector<std::vector<double>>& believer_features) const;
   std::vector<double> to_params(const Eigen::VectorXd& u) const;
   Eigen::VectorXd to_unit(const std::vector<double>& x) const;
 
   Space space_;
   std::vector<Feature> features_;
   BdsParams params_;
+  std::string acquisition_;    // params_.acquisition with "auto" resolved
+  double threshold_ = 0.0;     // the strategy threshold, in feature units
   GpBounds bounds_;
   base::Rng rng_;
   std::uint64_t next_id_ = 0;
@@ -124,6 +156,7 @@ class BayesianDiversitySearch final : public Search {
   std::vector<Eigen::VectorXd> theta_; // per feature GP hyperparameters
   int stalled_ = 0;                    // consecutive told diversity steps without a new strategy
   int fallback_left_ = 0;              // exploration steps left since the diversity steps stalled
+  std::uint64_t gp_steps_ = 0;         // proposals after the initial ones (the thesis schedule's t)
   std::map<std::uint64_t, Pending> pending_;
   std::vector<Told> told_;
 };

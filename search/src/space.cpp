@@ -68,6 +68,9 @@ std::vector<Feature> Feature::list_from_json(const Json& j, const std::string& j
     f.low = number_at(j[i], "low", path);
     f.high = number_at(j[i], "high", path);
     f.unit = j[i].value("unit", "");
+    if (j[i].contains("quantised") && !j[i]["quantised"].is_boolean())
+      throw UserError(path + ".quantised: expected true or false, got " + j[i]["quantised"].dump());
+    f.quantised = j[i].value("quantised", false);
     const std::string metric = j[i].value("metric", "euclidean");
     if (metric == "angular") f.metric = FeatureMetric::angular;
     else if (metric != "euclidean")
@@ -80,11 +83,15 @@ std::vector<Feature> Feature::list_from_json(const Json& j, const std::string& j
 Json Feature::list_to_json(const std::vector<Feature>& features) {
   Json out = Json::array();
   for (const auto& f : features)
-    out.push_back({{"name", f.name},
-                   {"low", f.low},
-                   {"high", f.high},
-                   {"unit", f.unit},
-                   {"metric", f.metric == FeatureMetric::angular ? "angular" : "euclidean"}});
+  {
+    Json entry = {{"name", f.name},
+                  {"low", f.low},
+                  {"high", f.high},
+                  {"unit", f.unit},
+                  {"metric", f.metric == FeatureMetric::angular ? "angular" : "euclidean"}};
+    if (f.quantised) entry["quantised"] = true;
+    out.push_back(entry);
+  }
   return out;
 }
 

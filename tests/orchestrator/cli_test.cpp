@@ -3,7 +3,9 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <set>
 #include <thread>
@@ -54,10 +56,15 @@ TEST(Cli, Runs200TrialCampaignEndToEnd) {
     indices.insert(row["trial"].get<std::int64_t>());
   }
   EXPECT_EQ(indices.size(), 200u);
-  // Strategies are numbered densely in trial order; the basins landscape has several.
+  // A strategy id is the trial's feature grid cell (search/strategies.h at the task's threshold
+  // 0.02: 50 cells per feature over [0, 1]); the basins landscape has several.
   EXPECT_GE(strategies.size(), 2u);
-  EXPECT_EQ(*strategies.rbegin(), static_cast<std::int64_t>(strategies.size()) - 1);
-  EXPECT_EQ(rows[0]["strategy"], 0);
+  for (const auto& row : rows) {
+    const auto f = row["features"];
+    const std::int64_t cell0 = std::min<std::int64_t>(49, static_cast<std::int64_t>(std::floor(f["f0"].get<double>() / 0.02)));
+    const std::int64_t cell1 = std::min<std::int64_t>(49, static_cast<std::int64_t>(std::floor(f["f1"].get<double>() / 0.02)));
+    EXPECT_EQ(row["strategy"], cell0 * 50 + cell1) << row;
+  }
 
   auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
   const auto trials = store->campaign_trials(std::stoll(id));

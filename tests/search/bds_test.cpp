@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <numbers>
 
+#include "bds.h"
 #include "landscape_model.h"
+#include "podium/base/rng.h"
 #include "podium/search/search.h"
 
 namespace podium::search {
@@ -117,17 +119,18 @@ TEST(Bds, ExplorationBonusKeepsDiversityStepsDistinctAndInsideTheBox) {
 }
 
 // Three of four feature combinations seen, in three quadrants: the "new combination" acquisition
-// (bds.h) must aim at the quadrant where the GPs predict the fourth. Run on a Euclidean and on an
-// angular first feature whose two values straddle the 0/2π seam.
+// (bds.h, the default for quantised features) must aim at the quadrant where the GPs predict the
+// fourth. Run on a Euclidean and on an angular first feature whose two values straddle the 0/2π seam.
 TEST(Bds, DiversityStepAimsAtTheUnseenCombinationOfObservedLevels) {
   for (const std::string metric : {"euclidean", "angular"}) {
     SearchSetup setup = unit_box(2, {{"explore_until", 0}, {"stall", 0}});
     const double low0 = metric == "angular" ? 6.1 : 0.2, high0 = metric == "angular" ? 0.4 : 0.8;
     setup.features = Feature::list_from_json(
-        Json::array({{{"name", "f0"}, {"low", 0.0}, {"high", 2.0 * std::numbers::pi}, {"metric", metric}},
-                     {{"name", "f1"}, {"low", 0.0}, {"high", 1.0}}}),
+        Json::array({{{"name", "f0"}, {"low", 0.0}, {"high", 2.0 * std::numbers::pi}, {"metric", metric}, {"quantised", true}},
+                     {{"name", "f1"}, {"low", 0.0}, {"high", 1.0}, {"quantised", true}}}),
         "features");
     auto search = make_search("bds", setup);
+    EXPECT_EQ(dynamic_cast<BayesianDiversitySearch&>(*search).acquisition(), "new_combination");
     Json state = search->save();
     state["told"] = Json::array();
     std::uint64_t id = 0;
@@ -144,6 +147,87 @@ TEST(Bds, DiversityStepAimsAtTheUnseenCombinationOfObservedLevels) {
     EXPECT_GT(p.x[0], 0.5) << metric;
     EXPECT_GT(p.x[1], 0.5) << metric;
   }
+}
+
+// Continuous features, smooth in x, observed at a few points of the box (with or without
+// measurement noise): the default diversity acquisition is eq. 3.7 and varies over the box.
+// Before, "new_combination" on one continuous feature was identically 0 (every observed value a
+// level, every level a strategy), so DIRECT returned the box's centre.
+TEST(Bds, DefaultAcquisitionVariesOverTheBoxForContinuousFeatures) {
+  for (int nf : {1, 2})
+    for (double noise : {0.0, 0.05})
+      for (const std::string acquisition : {"auto", "new_combination"}) {
+        const std::string label = std::to_string(nf) + "-D, noise " + std::to_string(noise) + ", " + acquisition;
+        SearchSetup setup = unit_box(2, {{"initial_samples", 1}, {"acquisition", acquisition}});
+        Json fs = Json::array();
+        for (int j = 0; j < nf; ++j) fs.push_back({{"name", "f" + std::to_string(j)}, {"low", 0.0}, {"high", 1.0}});
+        setup.features = Feature::list_from_json(fs, "features");
+        BayesianDiversitySearch search(setup, "search");
+        if (acquisition == "auto") {
+          EXPECT_EQ(search.acquisition(), "expected_distance") << label;
+        }
+        base::Rng rng(3);
+        for (int t = 0; t < 6; ++t) {
+          const auto p = search.ask(1).at(0);
+          std::vector<double> f = {0.5 * (p.x[0] + p.x[1]), p.x[0] * p.x[1]};
+          f.resize(static_cast<std::size_t>(nf));
+          for (auto& v : f) v += rng.normal(0.0, noise);
+          search.tell({{p.id, true, {0.0}, f}});
+        }
+        std::vector<Eigen::VectorXd> grid;
+        for (double a = 0.0; a <= 1.0; a += 0.125)
+          for (double b = 0.0; b <= 1.0; b += 0.125) grid.push_back(Eigen::Vector2d(a, b));
+        const auto values = search.diversity_values(grid);
+        const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
+        EXPECT_GT(*hi - *lo, 0.1 * std::abs(*hi)) << label << ": from " << *lo << " to " << *hi;
+      }
+}
+
+// Eq. 3.7 by Monte Carlo against its closed form for one feature and one target: for
+// X ~ N(μ, σ²), E|X − t| = σ √(2/π) exp(−δ²/2σ²) + δ (1 − 2 Φ(−δ/σ)), δ = μ − t.
+TEST(Bds, ExpectedDistanceMatchesTheClosedFormForOneTarget) {
+  const auto features = Feature::list_from_json(Json::parse(R"([{"name": "f", "low": 0, "high": 1}])"), "features");
+  base::Rng rng(5);
+  Eigen::MatrixXd eps(200000, 1);
+  for (Eigen::Index s = 0; s < eps.rows(); ++s) eps(s, 0) = rng.normal();
+  for (const auto& [mu, sigma, t] : std::vector<std::tuple<double, double, double>>{{0.3, 0.2, 0.1}, {0.5, 0.05, 0.5}, {0.9, 0.3, 0.2}}) {
+    const double delta = mu - t;
+    const double phi = 0.5 * std::erfc(delta / sigma / std::numbers::sqrt2);  // Φ(−δ/σ)
+    const double exact = sigma * std::sqrt(2.0 / std::numbers::pi) * std::exp(-delta * delta / (2 * sigma * sigma)) +
+                         delta * (1.0 - 2.0 * phi);
+    // 200 000 draws: the standard error is below σ/400.
+    EXPECT_NEAR(expected_nearest_distance(features, {mu}, {sigma}, {{t}}, eps), exact, sigma / 100) << mu << " " << t;
+  }
+}
+
+// A diversity step whose result lies within the strategy threshold of a known strategy (not
+// equal to it, as measurement noise makes it) is no new strategy: two in a row stall the
+// diversity steps and an exploration step follows.
+TEST(Bds, StallFiresOnARepeatWithinTheThreshold) {
+  SearchSetup setup = unit_box(2, {{"initial_samples", 2}, {"explore_until", 0}, {"stall", 2}, {"direct_evals", 100}});
+  setup.strategy_threshold = 0.1;
+  auto search = make_search("bds", setup);
+  std::vector<std::string> steps;
+  for (int t = 0; t < 5; ++t) {
+    const auto p = search->ask(1).at(0);
+    steps.push_back(p.info.at("step"));
+    const std::vector<double> f = t == 1 ? std::vector<double>{0.8, 0.8} : std::vector<double>{0.2 + 0.03 * t, 0.2 - 0.02 * t};
+    search->tell({{p.id, true, {0.0}, f}});
+  }
+  EXPECT_EQ(steps, (std::vector<std::string>{"initial", "initial", "diversity", "diversity", "explore"}));
+}
+
+// Algorithm 1 as written: random initial samples, then t % (N_exp + N_opt) < N_exp explores.
+TEST(Bds, ThesisScheduleAlternatesThreeExplorationAndThreeDiversitySteps) {
+  auto search = make_search("bds", unit_box(3, {{"schedule", "thesis"}, {"initial_samples", 2}, {"direct_evals", 100}}));
+  std::vector<std::string> steps;
+  for (int t = 0; t < 11; ++t) {
+    const auto p = search->ask(1).at(0);
+    steps.push_back(p.info.at("step"));
+    search->tell({run(p)});
+  }
+  EXPECT_EQ(steps, (std::vector<std::string>{"initial", "initial", "explore", "explore", "explore", "diversity", "diversity",
+                                             "diversity", "explore", "explore", "explore"}));
 }
 
 }  // namespace

@@ -38,6 +38,9 @@ struct Observation {
   bool ok = false;                  ///< false: the trial failed; objectives/features are empty
   std::vector<double> objectives;   ///< as returned by the task; objectives[0] is the primary one
   std::vector<double> features;     ///< strategy feature vector, sized as the task declares
+  /// The task's success rule (search/strategies.h trial_success): a finished trial that missed the
+  /// task's goal (a jump that did not clear) is ok with features but no strategy.
+  bool success = true;
 };
 
 class Search {
@@ -56,6 +59,9 @@ struct SearchSetup {
   std::vector<Feature> features;      ///< the task's strategy features (for diversity searches)
   Json config = Json::object();       ///< the algorithm's config from the spec
   std::uint64_t seed = 0;
+  /// Feature distance within which two results are one strategy (the stage's strategy_threshold;
+  /// 0: 5% of the feature box's diagonal).
+  double strategy_threshold = 0.0;
   /// The trials of earlier stages handed to this stage (resolved when it starts), each
   /// {"stage", "stage_index", "trial_index", "params", "objectives", "features", "strategy",
   /// "artifacts": {name: absolute path}, "info": the trial's result info}. Every algorithm accepts them; novel-policy seeking

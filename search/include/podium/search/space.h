@@ -36,6 +36,10 @@ struct Feature {
   double high = 1.0;
   FeatureMetric metric = FeatureMetric::euclidean;
   std::string unit;
+  /// The feature takes a few exact values (levels, e.g. a plateau landscape) rather than a
+  /// continuum; BDS's default diversity acquisition depends on it (bds.h). Description key
+  /// "quantised" (default false).
+  bool quantised = false;
   static std::vector<Feature> list_from_json(const base::Json& j, const std::string& json_path);
   static base::Json list_to_json(const std::vector<Feature>& features);
 };

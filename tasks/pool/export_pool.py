@@ -1,0 +1,99 @@
+#!/usr/bin/env python3
+"""Exports a recorded pool (one campaign stage) to the table the pool task and the replay bench read.
+
+Reads the stage's trials with `podium export CAMPAIGN --format json` and the task's parameter box,
+features and strategy threshold with `podium tasks TASK --json` (the task's default config: the
+stage must have searched the task's default box, as the recorded high-jump pool does). Only
+reads the database. Each finished trial becomes a row: its take-off parameters, success by
+--success (a JSON pointer into the trial's result info; the jump: its deterministic test jump
+cleared the starting bar), its strategy feature, the bar it reached and its nearest captured
+technique; a trial that failed outright is a row with "finished": false; running or pending
+trials are left out (export again as the pool grows).
+
+usage: export_pool.py --podium BIN --db DB --campaign NAME --stage NAME --out TABLE.json
+                      [--task jump] [--success /start_bar/deterministic_success] [--bar /z_reached_m]
+"""
+import argparse
+import json
+import subprocess
+import sys
+
+
+def pointer(obj, path):
+    """The value at JSON pointer `path` in obj, or None."""
+    for key in [p for p in path.split("/")[1:]]:
+        key = key.replace("~1", "/").replace("~0", "~")
+        if isinstance(obj, dict) and key in obj:
+            obj = obj[key]
+        else:
+            return None
+    return obj
+
+
+def run_json(cmd):
+    out = subprocess.run(cmd, check=False, capture_output=True, text=True)
+    if out.returncode != 0:
+        sys.exit(f"export_pool: {' '.join(cmd)} failed (exit {out.returncode}): {out.stderr.strip()}")
+    return json.loads(out.stdout)
+
+
+def main():
+    a = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    a.add_argument("--podium", required=True)
+    a.add_argument("--db", required=True)
+    a.add_argument("--campaign", required=True)
+    a.add_argument("--stage", required=True)
+    a.add_argument("--out", required=True)
+    a.add_argument("--task", default="jump")
+    a.add_argument("--success", default="/start_bar/deterministic_success")
+    a.add_argument("--bar", default="/z_reached_m")
+    args = a.parse_args()
+    if not args.success.startswith("/") or not args.bar.startswith("/"):
+        sys.exit("export_pool: --success and --bar are JSON pointers (they start with '/')")
+
+    task = run_json([args.podium, "tasks", args.task, "--json", "--db", args.db])
+    trials = run_json([args.podium, "export", args.campaign, "--format", "json", "--db", args.db])
+    names = [p["name"] for p in task["params"]]
+    features = [f["name"] for f in task["features"]]
+    rows = []
+    for t in sorted((t for t in trials if t["stage"] == args.stage), key=lambda t: t["trial"]):
+        if t["state"] not in ("done", "failed"):
+            continue
+        missing = [n for n in names if n not in t["params"]]
+        if missing:
+            sys.exit(f"export_pool: trial {t['name']}: params lack {missing} (was the stage run on task {args.task}?)")
+        row = {"trial": t["trial"], "params": [t["params"][n] for n in names]}
+        info = t.get("result") or {}
+        if t["state"] == "failed":
+            row.update(finished=False, success=False, features=None, bar_m=0.0, error=t.get("error", ""))
+        else:
+            success = pointer(info, args.success)
+            if not isinstance(success, (bool, int, float)):
+                sys.exit(f"export_pool: trial {t['name']}: result{args.success} is {success!r}, not true/false")
+            bar = pointer(info, args.bar)
+            row.update(finished=True, success=bool(success) if isinstance(success, bool) else success >= 0.5,
+                       features=[t["features"][f] for f in features],
+                       bar_m=float(bar) if isinstance(bar, (int, float)) else 0.0)
+            technique = pointer(info, "/nearest_technique/name")
+            if technique:
+                row["technique"] = technique
+        rows.append(row)
+    if not rows:
+        sys.exit(f"export_pool: campaign {args.campaign} stage {args.stage} has no finished trials yet")
+    table = {
+        "source": {"campaign": args.campaign, "stage": args.stage, "task": args.task, "success": args.success,
+                   "recorded": len(rows), "trials_in_stage": sum(1 for t in trials if t["stage"] == args.stage)},
+        "params": task["params"],
+        "features": task["features"],
+        "strategy_threshold": task["strategy_threshold"],
+        "rows": rows,
+    }
+    with open(args.out, "w", encoding="utf-8") as f:
+        json.dump(table, f, indent=1)
+        f.write("\n")
+    done = sum(r["finished"] for r in rows)
+    print(f"{args.out}: {len(rows)} rows ({done} finished, {sum(r['success'] for r in rows)} successful)")
+
+
+if __name__ == "__main__":
+    main()

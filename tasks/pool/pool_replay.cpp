@@ -1,0 +1,103 @@
+#include "pool_replay.h"
+
+#include <cmath>
+#include <set>
+
+#include "podium/base/error.h"
+#include "podium/base/rng.h"
+#include "podium/search/search.h"
+
+namespace podium::tasks::pool {
+
+namespace {
+constexpr std::uint64_t kRandomExpectedSalt = 0x9001e;
+
+// One arm, one repetition: counts after each budget.
+void run_once(const PoolTable& table, const ReplayOptions& o, const std::string& arm, int rep, ArmRuns& out) {
+  search::SearchSetup setup;
+  setup.space = table.space;
+  setup.features = table.features;
+  setup.strategy_threshold = table.strategy_threshold;
+  setup.seed = o.first_seed + static_cast<std::uint64_t>(rep);
+  setup.config = o.configs.count(arm) ? o.configs.at(arm) : base::Json::object();
+  auto search = search::make_search(arm, setup, "arms." + arm);
+  std::vector<std::vector<double>> found;
+  std::vector<bool> success;
+  int failures = 0;
+  std::set<std::string> techniques;
+  std::vector<int> s, sc, f, tq;
+  for (int b : o.budgets) {
+    while (static_cast<int>(found.size()) < b) {
+      const auto proposals = search->ask(1);
+      if (proposals.empty()) throw base::UserError("pool replay: " + arm + " proposed nothing");
+      const PoolRow& row = table.rows[table.nearest(proposals[0].x)];
+      search::Observation obs{proposals[0].id, row.finished, {}, row.features, row.success};
+      if (row.finished) obs.objectives = {row.bar_m};
+      search->tell({obs});
+      found.push_back(row.finished ? row.features : std::vector<double>(table.features.size(), 0.0));
+      success.push_back(row.success);
+      failures += row.success ? 0 : 1;
+      if (row.success && !row.technique.empty()) techniques.insert(row.technique);
+    }
+    tq.push_back(static_cast<int>(techniques.size()));
+    s.push_back(search::count_strategies(table.features, found, table.strategy_threshold, &success));
+    sc.push_back(search::count_strategies(table.features, found, 2.0 * table.strategy_threshold, &success));
+    f.push_back(failures);
+  }
+  out.strategies[static_cast<std::size_t>(rep)] = s;
+  out.strategies_coarse[static_cast<std::size_t>(rep)] = sc;
+  out.failures[static_cast<std::size_t>(rep)] = f;
+  out.techniques[static_cast<std::size_t>(rep)] = tq;
+}
+}  // namespace
+
+ReplayResult replay(const PoolTable& table, const ReplayOptions& o) {
+  PODIUM_CHECK(o.reps > 0 && !o.budgets.empty(), "pool replay: reps and budgets must be positive");
+  ReplayResult r;
+  for (const auto& arm : o.arms) {
+    ArmRuns runs;
+    runs.strategies.resize(static_cast<std::size_t>(o.reps));
+    runs.strategies_coarse.resize(static_cast<std::size_t>(o.reps));
+    runs.failures.resize(static_cast<std::size_t>(o.reps));
+    runs.techniques.resize(static_cast<std::size_t>(o.reps));
+    for (int rep = 0; rep < o.reps; ++rep) run_once(table, o, arm, rep, runs);
+    r.arms[arm] = std::move(runs);
+  }
+  const double tau = table.strategy_threshold;
+  std::vector<double> low, high;
+  table.reachable(low, high);
+  std::vector<std::vector<double>> all;
+  std::vector<bool> success;
+  for (const auto& row : table.rows) {
+    all.push_back(row.finished ? row.features : std::vector<double>(table.features.size(), 0.0));
+    success.push_back(row.success);
+  }
+  r.occupied = search::count_strategies(table.features, all, tau, &success);
+  r.occupied_coarse = search::count_strategies(table.features, all, 2.0 * tau, &success);
+  if (r.occupied > 0) {
+    r.ceiling = search::strategy_ceiling(table.features, tau, low, high);
+    r.ceiling_coarse = search::strategy_ceiling(table.features, 2.0 * tau, low, high);
+  }
+  const auto outcome = table.outcome();
+  for (int b : o.budgets) {
+    const std::uint64_t seed = base::derive_seed(o.first_seed, kRandomExpectedSalt, static_cast<std::uint64_t>(b));
+    r.random_expected.push_back(search::expected_random_count(table.features, tau, table.space, outcome, b, o.expected_draws, seed));
+    r.random_expected_coarse.push_back(
+        search::expected_random_count(table.features, 2.0 * tau, table.space, outcome, b, o.expected_draws, seed));
+  }
+  return r;
+}
+
+MeanSd mean_sd(const std::vector<double>& v) {
+  MeanSd m;
+  if (v.empty()) return m;
+  for (double x : v) m.mean += x;
+  m.mean /= static_cast<double>(v.size());
+  if (v.size() < 2) return m;
+  double s = 0.0;
+  for (double x : v) s += (x - m.mean) * (x - m.mean);
+  m.sd = std::sqrt(s / static_cast<double>(v.size() - 1));
+  return m;
+}
+
+}  // namespace podium::tasks::pool

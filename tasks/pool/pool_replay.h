@@ -1,0 +1,47 @@
+#pragma once
+// Replays searches over a recorded pool (pool_table.h): each arm (a search algorithm) runs
+// `reps` times, one trial at a time, repetition r with the same search seed in every arm (paired
+// by seed), and after each budget counts the distinct successful strategies it found
+// (search/strategies.h, at the pool's strategy threshold τ and at 2τ) and its failures (trials
+// that did not succeed). Beside them: the ceiling (the cells the pool's reachable feature range
+// meets) and random search's expected count (Monte Carlo over uniform draws of the box).
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pool_table.h"
+
+namespace podium::tasks::pool {
+
+struct ReplayOptions {
+  std::vector<std::string> arms = {"bds", "random", "novelty"};
+  std::vector<int> budgets = {5, 10};  ///< ascending
+  int reps = 200;
+  std::uint64_t first_seed = 0;        ///< repetition r uses search seed first_seed + r in every arm
+  std::map<std::string, base::Json> configs;  ///< per arm, its search config (default {})
+  int expected_draws = 20000;          ///< Monte Carlo draws for random's expected count
+};
+
+/// One arm's runs: [rep][budget] values.
+struct ArmRuns {
+  std::vector<std::vector<int>> strategies, strategies_coarse, failures;  ///< at τ, at 2τ; failures
+  std::vector<std::vector<int>> techniques;  ///< distinct nearest captured techniques among successes
+};
+
+struct ReplayResult {
+  std::map<std::string, ArmRuns> arms;
+  int ceiling = 0, ceiling_coarse = 0;      ///< at τ and 2τ
+  int occupied = 0, occupied_coarse = 0;    ///< cells the whole pool's successes occupy
+  std::vector<double> random_expected, random_expected_coarse;  ///< per budget
+};
+
+/// Runs the replay; throws UserError for an unknown arm or a bad search config.
+ReplayResult replay(const PoolTable& table, const ReplayOptions& options);
+
+/// Mean and sample standard deviation.
+struct MeanSd {
+  double mean = 0.0, sd = 0.0;
+};
+MeanSd mean_sd(const std::vector<double>& v);
+
+}  // namespace podium::tasks::pool

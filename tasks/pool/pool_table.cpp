@@ -1,0 +1,120 @@
+#include "pool_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "podium/base/error.h"
+
+namespace podium::tasks::pool {
+
+using base::Json;
+using base::UserError;
+
+namespace {
+const Json& field(const Json& j, const std::string& key, const std::string& path) {
+  if (!j.is_object() || !j.contains(key)) throw UserError(path + "." + key + ": missing");
+  return j[key];
+}
+
+std::vector<double> numbers(const Json& j, std::size_t size, const std::string& path) {
+  if (!j.is_array() || j.size() != size) throw UserError(path + ": expected " + std::to_string(size) + " numbers, got " + j.dump());
+  std::vector<double> out;
+  for (const auto& v : j) {
+    if (!v.is_number() || !std::isfinite(v.get<double>())) throw UserError(path + ": " + v.dump() + " is not a finite number");
+    out.push_back(v.get<double>());
+  }
+  return out;
+}
+
+PoolRow parse_row(const Json& r, std::size_t dim, std::size_t nf, const std::string& path) {
+  PoolRow row;
+  const Json& trial = field(r, "trial", path);
+  if (!trial.is_number_integer()) throw UserError(path + ".trial: " + trial.dump() + " is not an integer");
+  row.trial = trial.get<std::int64_t>();
+  row.params = numbers(field(r, "params", path), dim, path + ".params");
+  const Json& finished = r.value("finished", Json(true));
+  const Json& success = field(r, "success", path);
+  if (!finished.is_boolean()) throw UserError(path + ".finished: " + finished.dump() + " is not true or false");
+  if (!success.is_boolean()) throw UserError(path + ".success: " + success.dump() + " is not true or false");
+  row.finished = finished.get<bool>();
+  row.success = row.finished && success.get<bool>();
+  if (row.finished) row.features = numbers(field(r, "features", path), nf, path + ".features");
+  const Json& bar = r.value("bar_m", Json(0.0));
+  if (!bar.is_number()) throw UserError(path + ".bar_m: " + bar.dump() + " is not a number");
+  row.bar_m = bar.get<double>();
+  const Json& technique = r.value("technique", Json(""));
+  row.technique = technique.is_string() ? technique.get<std::string>() : "";
+  return row;
+}
+}  // namespace
+
+PoolTable PoolTable::load(const std::filesystem::path& file) { return parse(base::read_json_file(file), file.string()); }
+
+PoolTable PoolTable::parse(const Json& j, const std::string& origin) {
+  PoolTable t;
+  t.space = search::Space::from_json(field(j, "params", origin), origin + ": params");
+  t.features = search::Feature::list_from_json(field(j, "features", origin), origin + ": features");
+  const Json& threshold = field(j, "strategy_threshold", origin);
+  if (!threshold.is_number() || !(threshold.get<double>() > 0))
+    throw UserError(origin + ": strategy_threshold: " + threshold.dump() + " is not a number > 0");
+  t.strategy_threshold = threshold.get<double>();
+  t.source = j.value("source", Json::object());
+  const Json& rows = field(j, "rows", origin);
+  if (!rows.is_array() || rows.empty()) throw UserError(origin + ": rows: expected a non-empty array");
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    t.rows.push_back(parse_row(rows[i], t.space.dim(), t.features.size(), origin + ": " + base::json_path_index("rows", i)));
+  return t;
+}
+
+Json PoolTable::to_json() const {
+  Json out = Json::array();
+  for (const auto& r : rows) {
+    Json row = {{"trial", r.trial}, {"params", r.params}, {"finished", r.finished}, {"success", r.success}, {"bar_m", r.bar_m}};
+    row["features"] = r.finished ? Json(r.features) : Json(nullptr);
+    if (!r.technique.empty()) row["technique"] = r.technique;
+    out.push_back(row);
+  }
+  return {{"params", space.to_json()}, {"features", search::Feature::list_to_json(features)},
+          {"strategy_threshold", strategy_threshold}, {"source", source}, {"rows", out}};
+}
+
+std::size_t PoolTable::nearest(const std::vector<double>& x) const {
+  PODIUM_CHECK(x.size() == space.dim(), "pool: parameters of the wrong dimension");
+  std::size_t best = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    double d = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      const double range = space.params[k].high - space.params[k].low;
+      const double u = (x[k] - rows[i].params[k]) / range;
+      d += u * u;
+    }
+    if (d < best_d) {
+      best_d = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+search::Outcome PoolTable::outcome() const {
+  return [this](const std::vector<double>& x) -> std::optional<std::vector<double>> {
+    const PoolRow& r = rows[nearest(x)];
+    if (!r.success) return std::nullopt;
+    return r.features;
+  };
+}
+
+void PoolTable::reachable(std::vector<double>& low, std::vector<double>& high) const {
+  low.assign(features.size(), std::numeric_limits<double>::infinity());
+  high.assign(features.size(), -std::numeric_limits<double>::infinity());
+  for (const auto& r : rows)
+    if (r.success)
+      for (std::size_t j = 0; j < features.size(); ++j) {
+        low[j] = std::min(low[j], r.features[j]);
+        high[j] = std::max(high[j], r.features[j]);
+      }
+}
+
+}  // namespace podium::tasks::pool

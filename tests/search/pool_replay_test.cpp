@@ -1,0 +1,86 @@
+// The pool replay (tasks/pool) on a synthetic table: a 1-D take-off x in [0, 1] whose feature is
+// x itself, succeeding below 0.8, recorded on a grid of 101 points.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "podium/base/error.h"
+#include "pool_replay.h"
+
+namespace podium::tasks::pool {
+namespace {
+
+base::Json synthetic_table() {
+  base::Json rows = base::Json::array();
+  for (int i = 0; i <= 100; ++i) {
+    const double x = i / 100.0;
+    rows.push_back({{"trial", i}, {"params", {x}}, {"success", x < 0.795}, {"features", {x}}, {"bar_m", 1.0 - x}});
+  }
+  rows[50]["finished"] = false;  // one recorded trial failed outright
+  rows[50]["features"] = nullptr;
+  return {{"params", {{{"name", "x"}, {"low", 0.0}, {"high", 1.0}}}},
+          {"features", {{{"name", "f"}, {"low", 0.0}, {"high", 1.0}}}},
+          {"strategy_threshold", 0.25},
+          {"rows", rows}};
+}
+
+TEST(PoolTable, LooksUpTheNearestRecordedTakeOff) {
+  const PoolTable t = PoolTable::parse(synthetic_table(), "table.json");
+  EXPECT_EQ(t.nearest({0.333}), 33u);
+  EXPECT_EQ(t.nearest({-5.0}), 0u);
+  EXPECT_FALSE(t.rows[50].finished);
+  EXPECT_FALSE(t.outcome()({0.9}).has_value());  // failed to clear
+  EXPECT_FALSE(t.outcome()({0.5}).has_value());  // failed outright
+  EXPECT_DOUBLE_EQ(t.outcome()({0.2})->at(0), 0.2);
+  const PoolTable again = PoolTable::parse(t.to_json(), "round trip");
+  EXPECT_EQ(again.rows.size(), t.rows.size());
+  EXPECT_EQ(again.rows[50].finished, false);
+}
+
+TEST(PoolTable, BadInputNamesTheFileAndPath) {
+  base::Json j = synthetic_table();
+  j["rows"][3]["params"] = {0.1, 0.2};
+  try {
+    PoolTable::parse(j, "table.json");
+    FAIL();
+  } catch (const base::UserError& e) {
+    EXPECT_NE(std::string(e.what()).find("table.json: rows[3].params: expected 1 numbers"), std::string::npos) << e.what();
+  }
+  j = synthetic_table();
+  j["rows"][4]["success"] = "yes";
+  EXPECT_THROW(PoolTable::parse(j, "table.json"), base::UserError);
+}
+
+TEST(PoolReplay, RandomMatchesItsExpectationAndCountsStayUnderTheCeiling) {
+  const PoolTable t = PoolTable::parse(synthetic_table(), "table.json");
+  ReplayOptions o;
+  o.reps = 200;
+  o.budgets = {5, 10};
+  o.expected_draws = 20000;
+  o.configs["bds"] = {{"direct_evals", 100}, {"explore_candidates", 64}};
+  const ReplayResult r = replay(t, o);
+  // Successes span [0, 0.79]: on 4 cells of 0.25 that is cells 0–3; on 2 cells of 0.5, both.
+  EXPECT_EQ(r.ceiling, 4);
+  EXPECT_EQ(r.ceiling_coarse, 2);
+  EXPECT_EQ(r.occupied, 4);
+  ASSERT_EQ(r.arms.size(), 3u);
+  for (std::size_t b = 0; b < 2; ++b) {
+    std::vector<double> random, failures;
+    for (const auto& rep : r.arms.at("random").strategies) random.push_back(rep[b]);
+    for (const auto& rep : r.arms.at("random").failures) failures.push_back(rep[b]);
+    const MeanSd m = mean_sd(random), f = mean_sd(failures);
+    // Random's replayed mean agrees with the Monte Carlo expectation within 4 standard errors.
+    EXPECT_NEAR(m.mean, r.random_expected[b], 4.0 * m.sd / std::sqrt(200.0) + 0.02) << o.budgets[b];
+    // Each draw fails with probability ≈ 0.215 (x ≥ 0.795, plus the row that failed outright).
+    EXPECT_NEAR(f.mean, 0.215 * o.budgets[b], 4.0 * f.sd / std::sqrt(200.0) + 0.02) << o.budgets[b];
+    for (const auto& [arm, runs] : r.arms)
+      for (const auto& rep : runs.strategies) EXPECT_LE(rep[b], r.ceiling) << arm;
+  }
+  // Paired by seed and deterministic: a second replay gives the same runs.
+  o.arms = {"random"};
+  const ReplayResult again = replay(t, o);
+  EXPECT_EQ(again.arms.at("random").strategies, r.arms.at("random").strategies);
+}
+
+}  // namespace
+}  // namespace podium::tasks::pool

@@ -9,7 +9,7 @@
 namespace podium::search {
 namespace {
 
-std::vector<Feature> features(std::vector<FeatureMetric> metrics) {
+std::vector<Feature> features(const std::vector<FeatureMetric>& metrics) {
   std::vector<Feature> out;
   for (auto m : metrics) out.push_back(Feature{"f" + std::to_string(out.size()), -4.0, 4.0, m, ""});
   return out;

@@ -82,6 +82,10 @@ function(podium_test name)
   if(NOT ARG_TIMEOUT)
     set(ARG_TIMEOUT 300)
   endif()
+  # Sanitized code runs several times slower (ASan about 2-3x, TSan 5-15x); the limits are for hangs.
+  if(PODIUM_SANITIZE OR PODIUM_TSAN)
+    math(EXPR ARG_TIMEOUT "${ARG_TIMEOUT} * 5")
+  endif()
   # RESOURCE_LOCK: tests sharing a resource (e.g. the test Slurm cluster) never run at once.
   set(lock)
   if(ARG_RESOURCE_LOCK)

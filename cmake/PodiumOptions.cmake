@@ -1,4 +1,4 @@
-# Build options shared by every folder (STYLE.md "Tests, headers, names, build").
+# Build options shared by every folder (docs/style.md "Tests, headers, names, build").
 option(PODIUM_SANITIZE "Build with address and undefined-behaviour sanitizers" OFF)
 option(PODIUM_TSAN "Build with the thread sanitizer (scheduler work)" OFF)
 option(PODIUM_WERROR "Treat warnings as errors" ON)

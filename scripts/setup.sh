@@ -9,7 +9,7 @@ packages=(
   build-essential cmake ninja-build pkg-config ccache git
   # style tools: scripts/format.sh, scripts/check.sh, .clang-tidy (clang-tidy ships run-clang-tidy)
   clang-format clang-tidy
-  # libraries (DESIGN.md "Layers and folders")
+  # libraries (docs/architecture.md "Layers and folders")
   libboost-program-options-dev libboost-filesystem-dev libboost-dev
   libsqlite3-dev sqlite3 nlohmann-json3-dev libeigen3-dev libnlopt-cxx-dev libssl-dev
   libbullet-dev libbullet-extras-dev libtorch-dev libopenblas0-pthread libcpp-httplib-dev

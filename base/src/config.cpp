@@ -205,6 +205,21 @@ std::string ConfigReader::string(const std::string& key, Required, const std::st
   return v->get<std::string>();
 }
 
+std::string ConfigReader::file(const std::string& key, const std::string& fallback, const std::string& doc) {
+  const Json* v = take(key, false, {{"type", "string"}, {"format", "file"}, {"default", fallback}}, doc);
+  if (!v) return fallback;
+  if (!v->is_string()) fail_at(path_of(key), shown(*v) + " is not a string (a file path)");
+  return v->get<std::string>();
+}
+
+std::string ConfigReader::file(const std::string& key, Required, const std::string& doc) {
+  const Json* v = take(key, true, {{"type", "string"}, {"format", "file"}}, doc);
+  if (!v) return "";
+  if (!v->is_string()) fail_at(path_of(key), shown(*v) + " is not a string (a file path)");
+  if (v->get<std::string>().empty()) fail_at(path_of(key), "\"\" must not be empty");
+  return v->get<std::string>();
+}
+
 std::string ConfigReader::read_choice(const std::string& key, const std::string& fallback, bool is_required,
                                       const std::vector<std::string>& allowed, const std::string& doc) {
   const Json* v = take(key, is_required, {{"type", "string"}, {"default", fallback}, {"choices", allowed}}, doc);

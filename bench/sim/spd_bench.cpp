@@ -1,6 +1,6 @@
 // Benchmark A: stable-PD cost per simulation step, MABA vs dense factorisation, on humanoid21,
 // humanoid34 and chains of 36, 72 and 195 DoF, beside the thesis's Tables 2.2/2.3. Also counts
-// heap allocations inside SPD and inside a full step (STYLE.md: none expected inside SPD).
+// heap allocations inside SPD and inside a full step (docs/style.md: none expected inside SPD).
 // "dense" and "MABA" are the public calls, each with its forward kinematics, so they compare like
 // with like. "SPD %" is SPD's share of the step as the step runs it: World::sim_step ends with
 // forward kinematics (collision detection and observations need the pose), and the next step's

@@ -1,4 +1,4 @@
-// Where π_slow loses its reference (issue 18, bar (d)): for fresh falls, π_weak's τ_fast (how
+// Where π_slow loses its reference (bar (d) of tasks/getup/RESULTS.md): for fresh falls, π_weak's τ_fast (how
 // long it stays low and how fast it climbs the upper half of its COM rise) and how a π_slow, or
 // the bare PD tracking of the reference (zero residual), follows τ_slow at one κ: the steps
 // tracked, how the episode ended, the COM against the reference where τ_slow ends, the highest

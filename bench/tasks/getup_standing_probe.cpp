@@ -1,5 +1,5 @@
 // Can humanoid21 stand at all under the get-up task's control (torques chosen at 40 Hz and held
-// for the 20 simulation steps at 800 Hz)? Issue 18's Weaker policies rise but never stand; this
+// for the 20 simulation steps at 800 Hz)? The `quick` Weaker policies rise but never stand; this
 // separates "the physics cannot hold a stand at that control rate and strength" from "the policy
 // has not learned to". A joint-space PD towards the standing pose (App. D's kp = torque limit,
 // kd = kp/10, scaled) stands in for the policy: it is computed once per control step and held
@@ -15,7 +15,8 @@
 // Prints, for each engine, strength β, gain scale and hold, how long the head top stayed above
 // 1.2 m from the standing pose (10 s at most) and the head top's range. No row stands: both bodies
 // need active balance, which a PD to a fixed pose does not give; the rows compare how fast each
-// tips over. Figures: tasks/getup/RESULTS.md, sessions 24 and 25. Run:
+// tips over (measured: with `passive_joints`, humanoid21 tips as fast as the seed repository's
+// own body; without, in 0.72 of its time; experiments/getup/LOG.md has the tables). Run:
 //   build/bin/getup_standing_probe [seconds [mujoco.xml]]
 #include <mujoco/mujoco.h>
 

@@ -1,4 +1,4 @@
-// The lowest simulation rate that gives the thesis's 600 Hz jump outcomes (issue 19 item 1): the
+// The lowest simulation rate that gives the thesis's 600 Hz jump outcomes (the jump `quick` rate): the
 // same action sequences from the same take-off states at 600 Hz and lower rates, compared by
 // outcome (success / touched obstacle / touched ground / timed out, and the control step it came
 // at), the crossing feature (up-angle at the bar, over sequences that cross at both rates with the

@@ -1,4 +1,4 @@
-// Scheduler throughput beside a hammering dashboard client (DESIGN.md "Store": the dashboard must
+// Scheduler throughput beside a hammering dashboard client (docs/architecture.md "The store contract": the dashboard must
 // not slow a running campaign). Each round runs a 2,000-trial landscape campaign alone and with
 // `podium serve` answering a client that requests the dashboard's endpoints back to back, in
 // alternating order; the figure is the median paired drop. Bar: under 20%.

@@ -23,6 +23,38 @@ double EvaluationReport::mean(const std::string& measure) const {
   return std::accumulate(values.begin(), values.end(), 0.0) / static_cast<double>(values.size());
 }
 
+namespace {
+
+// Simulation steps between recorded frames (EvaluationConfig::record_min_hz).
+int record_stride(const sim::World& world, double min_hz) {
+  const int period = world.substeps();
+  if (min_hz <= 0.0) return period;
+  for (int k = period; k > 1; --k)
+    if (period % k == 0 && world.config().sim_hz / k >= min_hz) return k;
+  return 1;
+}
+
+// While alive, records the World's states between control steps every `stride` simulation steps
+// (the state at the end of a control step is the caller's to record, as without sub-steps).
+class SubstepRecording {
+ public:
+  SubstepRecording(sim::World& world, sim::Recorder& recorder, int stride) : world_(world) {
+    if (stride >= world.substeps()) return;
+    world.set_substep_observer([&recorder, stride, period = world.substeps(), step = 0](sim::World& w) mutable {
+      step = step % period + 1;  // 1 … period within each control step
+      if (step % stride == 0 && step < period) recorder.record(w);
+    });
+  }
+  ~SubstepRecording() { world_.set_substep_observer({}); }
+  SubstepRecording(const SubstepRecording&) = delete;
+  SubstepRecording& operator=(const SubstepRecording&) = delete;
+
+ private:
+  sim::World& world_;
+};
+
+}  // namespace
+
 EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const EvaluationConfig& config) {
   if (config.start_seeds.empty()) throw base::UserError("evaluator: no start seeds");
   for (std::size_t r : config.record)
@@ -42,6 +74,7 @@ EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const Evalu
     env.reset(observation);
     if (recording) recorder.record(env.world());
     if (config.each_step) config.each_step(i, env);
+    const SubstepRecording substeps(env.world(), recorder, recording ? record_stride(env.world(), config.record_min_hz) : env.world().substeps());
     double ret = 0.0;
     for (;;) {
       policy(observation, action);

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes athlete_poses.json, the project's own pose set for the athlete (sim/models/athlete.json,
 humanoid34's joints): the default training set of the jump task's P-VAE (thesis §3.4.2, which
-trains on ~20,000 captured CMU/SFU poses; issue 19 asks for a set of our own, the captured clips
-under ../shared/data/jump/data/vae being optional).
+trains on ~20,000 captured CMU/SFU poses; the project ships a set of its own so the jump needs no
+third-party data, and the captured clips of the authors' data release stay optional).
 
     python3 learn/data/make_athlete_poses.py     # rewrites learn/data/athlete_poses.json; deterministic
 

@@ -79,7 +79,7 @@ void setup_blas() {
     const std::string blas = active_blas_library();
     if (is_reference_blas(blas))
       base::log_warning("learn: the reference BLAS (" + blas +
-                        ") is active; network updates run 7-9x slower than with OpenBLAS. Fix: "
+                        ") is active; network updates are 7-9x slower than with OpenBLAS. Fix: "
                         "apt-get install libopenblas0-pthread, or update-alternatives --config "
                         "libblas.so.3-x86_64-linux-gnu");
   });

@@ -58,6 +58,10 @@ std::optional<base::Json> TrainingCheckpoint::resume(Learner& learner, VecEnv& e
   }
   if (!saved.is_object() || !saved.contains("updates") || !saved.contains("metrics"))
     throw base::UserError("learn: " + file_.string() + " is a learner checkpoint not written by TrainingCheckpoint");
+  if (const base::Json format = saved.value("format", base::Json()); format != kFormatVersion)
+    throw base::UserError("learn: " + file_.string() + " is a training checkpoint of format " +
+                          (format.is_null() ? std::string("1 (no version)") : format.dump()) + " but this build reads format " +
+                          std::to_string(kFormatVersion) + ": delete it to train the trial from scratch, or finish it with the build that wrote it");
   updates_ = saved.at("updates").get<std::int64_t>();
   metrics_.clear();
   for (const auto& [name, saved_series] : saved.at("metrics").items()) {
@@ -83,16 +87,17 @@ void TrainingCheckpoint::send(const std::string& name, double step, double value
   send_(name, step, value);
 }
 
-void TrainingCheckpoint::on_update(const Learner& learner, const VecEnv& envs, const base::Json& extra) {
-  if (++updates_ % every_ != 0) return;
+bool TrainingCheckpoint::on_update(const Learner& learner, const VecEnv& envs, const base::Json& extra) {
+  if (++updates_ % every_ != 0) return false;
   std::filesystem::path temp = file_;
   temp += ".tmp";
   base::Json metrics = base::Json::object();
   for (const auto& [name, series] : metrics_) metrics[name] = {{"steps", series.steps}, {"values", series.values}};
-  learner.save_checkpoint(temp, envs, {{"updates", updates_}, {"metrics", metrics}, {"extra", extra}});
+  learner.save_checkpoint(temp, envs, {{"format", kFormatVersion}, {"updates", updates_}, {"metrics", metrics}, {"extra", extra}});
   sync_path(temp, false);
   std::filesystem::rename(temp, file_);
   sync_path(file_.parent_path().empty() ? "." : file_.parent_path(), true);
+  return true;
 }
 
 }  // namespace podium::learn

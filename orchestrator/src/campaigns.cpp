@@ -8,6 +8,7 @@
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
 #include "podium/orchestrator/spec.h"
+#include "podium/plugins/suggest.h"
 #include "podium/search/search.h"
 #include "podium/store/store.h"
 #include "slurm_executor.h"
@@ -33,10 +34,50 @@ void check_inputs(const InputsSpec& inputs, const std::vector<store::NewStage>& 
   }
 }
 
+namespace fs = std::filesystem;
+
+// One file path of the spec: relative to the spec's folder, checked, made absolute (the scheduler,
+// its workers and a Slurm job all read the same file, whatever folder they start in).
+std::string resolved_file(const std::string& written, const fs::path& spec_dir, const std::string& json_path) {
+  const fs::path as_written(written);
+  const fs::path resolved = as_written.is_absolute() ? as_written : (spec_dir / as_written).lexically_normal();
+  std::error_code ec;
+  if (!fs::is_regular_file(resolved, ec))
+    throw UserError(json_path + ": \"" + written + "\" is not a file (looked for " + resolved.string() +
+                    (as_written.is_absolute() ? ")" : "; a relative path is relative to the spec's folder)"));
+  return resolved.string();
+}
+
+// The values of `config` (the spec's own stage config) that the task's config description
+// (`keys`, ConfigReader::describe's form) declares as files ("format": "file"), in nested objects
+// and arrays too, resolved by resolved_file. `path` is config's JSON path, for errors.
+void resolve_files(Json& config, const Json& keys, const fs::path& spec_dir, const std::string& path) {
+  if (!config.is_object() || !keys.is_array()) return;
+  for (const auto& key : keys) {
+    const std::string name = key.value("key", std::string());
+    if (!config.contains(name)) continue;
+    Json& value = config[name];
+    const std::string at = base::json_path_join(path, name);
+    const Json items = key.value("items", Json::object());
+    if (key.value("format", std::string()) == "file" && value.is_string() && !value.get<std::string>().empty()) {
+      value = resolved_file(value.get<std::string>(), spec_dir, at);
+    } else if (key.contains("keys") && value.is_object()) {
+      resolve_files(value, key["keys"], spec_dir, at);
+    } else if (value.is_array()) {
+      for (std::size_t i = 0; i < value.size(); ++i) {
+        const std::string element = at + "[" + std::to_string(i) + "]";
+        if (items.contains("keys")) resolve_files(value[i], items["keys"], spec_dir, element);
+        else if (items.value("format", std::string()) == "file" && value[i].is_string() && !value[i].get<std::string>().empty())
+          value[i] = resolved_file(value[i].get<std::string>(), spec_dir, element);
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::int64_t submit_campaign(const std::filesystem::path& database, const Json& spec_json, const std::string& source,
-                             const std::filesystem::path& worker_binary) {
+                             const std::filesystem::path& spec_dir, const std::filesystem::path& worker_binary) {
   const CampaignSpec spec = parse_spec(spec_json, source);
   if (spec.executor.kind == "slurm") SlurmExecutor::check_cluster(spec.executor, source + ": executor");
   std::vector<store::NewStage> stages;
@@ -50,6 +91,9 @@ std::int64_t submit_campaign(const std::filesystem::path& database, const Json& 
     } catch (const UserError& e) {
       throw UserError(path + ".task: " + e.what());
     }
+    // The spec's file paths, relative to its folder, checked and made absolute before the task sees them.
+    Json own_config = s.config;
+    resolve_files(own_config, defaults.value("config", Json::array()), spec_dir, path + ".config");
     Json config = defaults.value("config_defaults", Json::object());
     if (!s.preset.empty()) {
       const Json presets = defaults.value("presets", Json::object());
@@ -60,7 +104,7 @@ std::int64_t submit_campaign(const std::filesystem::path& database, const Json& 
       }
       config.update(presets[s.preset]);
     }
-    config.update(s.config);
+    config.update(own_config);
     // The task validates its resolved config: a value it rejects is named by its JSON path.
     Json description;
     try {
@@ -96,14 +140,23 @@ std::int64_t submit_campaign(const std::filesystem::path& database, const Json& 
   // A relative run_dir is relative to the spec file, resolved once: every command finds it.
   std::string run_dir = spec.run_dir;
   if (!run_dir.empty() && std::filesystem::path(run_dir).is_relative())
-    run_dir = (std::filesystem::absolute(source).parent_path() / run_dir).lexically_normal().string();
+    run_dir = (std::filesystem::absolute(spec_dir) / run_dir).lexically_normal().string();
   auto store = store::Store::open(database, store::Store::Access::read_write);
   return store->add_campaign(spec.name, spec_json, spec.seed, run_dir, stages);
 }
 
+std::int64_t find_campaign_id(const store::Store& store, const std::string& id_or_name) {
+  if (const auto c = store.find_campaign(id_or_name)) return c->id;
+  std::vector<std::string> names;
+  for (const auto& c : store.campaigns())
+    if (std::find(names.begin(), names.end(), c.name) == names.end()) names.push_back(c.name);
+  const std::string near = plugins::did_you_mean(id_or_name, names);
+  throw UserError("no campaign \"" + id_or_name + "\" in " + store.path().string() +
+                  (near.empty() ? " (podium status lists them)" : near));
+}
+
 void control_campaign(store::Store& store, const std::string& id_or_name, const std::string& action) {
-  const auto campaign = store.find_campaign(id_or_name);
-  if (!campaign) throw UserError("no campaign \"" + id_or_name + "\"");
+  const auto campaign = store.campaign(find_campaign_id(store, id_or_name));
   const std::string& state = campaign->state;
   const bool active = state == "queued" || state == "running";
   std::string next;
@@ -122,8 +175,7 @@ Extension extend_campaign(store::Store& store, const std::string& id_or_name, co
                           std::int64_t add_trials) {
   Extension out;
   store.transaction([&] {  // read and written under the write lock: no scheduler moves in between
-    const auto campaign = store.find_campaign(id_or_name);
-    if (!campaign) throw UserError("no campaign \"" + id_or_name + "\" in " + store.path().string());
+    const auto campaign = store.campaign(find_campaign_id(store, id_or_name));
     const std::string which = "campaign " + std::to_string(campaign->id) + " (" + campaign->name + ")";
     if (campaign->state != "done") {
       const bool ended = campaign->state == "failed" || campaign->state == "cancelled";

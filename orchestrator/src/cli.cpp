@@ -1,5 +1,6 @@
 // The `podium` command line: submit, run, status, trials, log, pause, resume, cancel, extend, export,
-// serve, tasks (and the internal `worker`). Exit codes: 0 ok, 1 runtime failure, 2 usage or spec error.
+// serve, tasks (and the internal `worker`). Exit codes: 0 ok, 1 runtime failure (and `run` when a
+// campaign it ran ended failed), 2 usage or spec error.
 #include <unistd.h>
 
 #include <algorithm>
@@ -51,7 +52,9 @@ commands:
   extend CAMPAIGN [--stage NAME] --add-trials N
                              raise a done campaign's last stage's trial budget and queue it again
   export CAMPAIGN --format csv|json
-  tasks [NAME] [--json]      installed task plugins: params, features, metrics, presets, config keys
+  tasks [NAME] [--json] [--all]
+                             installed task plugins: params, features, metrics, presets, config keys
+                             (--all: with the test plugins)
   serve [--port N] [--host H] the read-only web dashboard (default http://127.0.0.1:8080/)
   version | --version
 
@@ -84,9 +87,7 @@ std::unique_ptr<Store> open_read(const Command& cmd) {
 }
 
 std::int64_t campaign_id(const Store& store, const std::string& id_or_name) {
-  const auto c = store.find_campaign(id_or_name);
-  if (!c) throw podium::base::UserError("no campaign \"" + id_or_name + "\" in " + store.path().string());
-  return c->id;
+  return podium::orchestrator::find_campaign_id(store, id_or_name);
 }
 
 std::string fmt_time(double unix_s) {
@@ -98,27 +99,35 @@ std::string fmt_time(double unix_s) {
 }
 
 // `alive`: a scheduler holds the database's writer lock. Without one, a "running" campaign is
-// stopped and its local attempts shown running died with the scheduler that ran them.
+// stopped and its local attempts shown running died with the scheduler that ran them: their
+// trials count as pending (`podium run` runs them again), never as running beside "stopped".
 Json status_json(const Store& store, const podium::store::CampaignRecord& c, const fs::path& db, bool alive) {
   const auto counts = store.trial_counts(c.id);
   Json stages = Json::array();
-  std::int64_t budget = 0;
+  std::int64_t budget = 0, running_total = 0, interrupted_total = 0;
   for (const auto& st : store.stages(c.id)) {
     const auto sc = store.stage_trial_counts(st.id);
     budget += st.budget_trials;
     std::map<std::int64_t, std::int64_t> index_of;
     for (const auto& t : store.trials(st.id)) index_of[t.id] = t.index;
     Json running = Json::array();
-    for (const auto& a : store.running_attempts(st.id))
+    std::int64_t interrupted = 0;
+    for (const auto& a : store.running_attempts(st.id)) {
+      const bool dead = !alive && a.job_id.empty();
+      interrupted += dead;
       running.push_back({{"name", podium::orchestrator::trial_name(st.name, index_of[a.trial_id])},
                          {"trial", index_of[a.trial_id]}, {"attempt", a.number}, {"worker", a.worker},
                          {"host", a.host}, {"job_id", a.job_id}, {"started_at", a.started_at},
-                         {"interrupted", !alive && a.job_id.empty()}});
+                         {"interrupted", dead}});
+    }
+    interrupted = std::min<std::int64_t>(interrupted, sc.running);
+    running_total += sc.running - interrupted;
+    interrupted_total += interrupted;
     stages.push_back({{"index", st.index},     {"name", st.name},     {"task", st.task},
                       {"algorithm", st.algorithm}, {"state", podium::store::shown_stage_state(c.state, st.state)},
                       {"budget_trials", st.budget_trials},
-                      {"done", sc.done},       {"failed", sc.failed}, {"running", sc.running},
-                      {"pending", sc.pending + sc.interrupted}, {"cancelled", sc.cancelled},
+                      {"done", sc.done},       {"failed", sc.failed}, {"running", sc.running - interrupted},
+                      {"pending", sc.pending + sc.interrupted + interrupted}, {"cancelled", sc.cancelled},
                       {"elapsed_s", st.elapsed_s}, {"error", st.error}, {"running_attempts", running}});
   }
   return {{"id", c.id},
@@ -129,8 +138,8 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
           {"budget_trials", budget},
           {"done", counts.done},
           {"failed", counts.failed},
-          {"running", counts.running},
-          {"pending", counts.pending + counts.interrupted},
+          {"running", running_total},
+          {"pending", counts.pending + counts.interrupted + interrupted_total},
           {"cancelled", counts.cancelled},
           {"created_at", c.created_at},
           {"started_at", c.started_at},
@@ -156,7 +165,8 @@ int cmd_submit(int argc, char** argv) {
     for (const auto& edit : cmd.vm["set"].as<std::vector<std::string>>()) podium::orchestrator::apply_spec_edit(spec, edit);
     source += " as edited by --set";
   }
-  const auto id = podium::orchestrator::submit_campaign(cmd.vm["db"].as<std::string>(), spec, source, worker_binary());
+  const auto id = podium::orchestrator::submit_campaign(cmd.vm["db"].as<std::string>(), spec, source,
+                                                       fs::absolute(file).parent_path(), worker_binary());
   std::cout << id << "\n";
   // A name already used is not refused, but the older campaign stops answering to it.
   auto store = Store::open(cmd.vm["db"].as<std::string>(), Store::Access::read_only);
@@ -209,15 +219,17 @@ int cmd_run(int argc, char** argv) {
               << " (podium status lists them; podium resume continues a paused one)\n";
     return 0;
   }
-  const int code = podium::orchestrator::run_scheduler(*store, options);
-  if (!options.log_json) {
-    for (const auto& c : store->campaigns()) {
-      if (c.finished_at < podium::store::now_unix_s() - 5) continue;
-      if (c.state == "failed") std::cerr << "campaign " << c.id << " (" << c.name << ") failed: " << c.error << "\n";
-      if (c.state != "done") continue;
-      std::cerr << "campaign " << c.id << " (" << c.name << ") done; results in " << store->path().string()
-                << ", trial folders in " << podium::store::campaign_run_dir(options.database, c).string() << "\n";
-    }
+  const double started = podium::store::now_unix_s();
+  int code = podium::orchestrator::run_scheduler(*store, options);
+  // Exit 1 when a campaign this run ended failed (README "Exit codes").
+  for (const auto& c : store->campaigns()) {
+    if (c.finished_at < started) continue;
+    if (c.state == "failed" && code == 0) code = 1;
+    if (options.log_json) continue;
+    if (c.state == "failed") std::cerr << "campaign " << c.id << " (" << c.name << ") failed: " << c.error << "\n";
+    if (c.state != "done") continue;
+    std::cerr << "campaign " << c.id << " (" << c.name << ") done; results in " << store->path().string()
+              << ", trial folders in " << podium::store::campaign_run_dir(options.database, c).string() << "\n";
   }
   return code;
 }
@@ -418,11 +430,11 @@ int cmd_export(int argc, char** argv) {
 int cmd_tasks(int argc, char** argv) {
   Command cmd;
   cmd.options.add_options()("task", po::value<std::string>(), "task name (default: every installed task)")(
-      "json", "print JSON");
+      "json", "print JSON")("all", "also the test plugins the build makes for podium's own tests");
   cmd.positional.add("task", 1);
-  if (!parse(cmd, "tasks", "[NAME] [--json]", argc, argv)) return 0;
-  const Json tasks =
-      podium::orchestrator::list_tasks(worker_binary(), cmd.vm.count("task") ? cmd.vm["task"].as<std::string>() : "");
+  if (!parse(cmd, "tasks", "[NAME] [--json] [--all]", argc, argv)) return 0;
+  const Json tasks = podium::orchestrator::list_tasks(
+      worker_binary(), cmd.vm.count("task") ? cmd.vm["task"].as<std::string>() : "", cmd.vm.count("all") > 0);
   if (cmd.vm.count("json")) std::cout << (cmd.vm.count("task") ? tasks[0] : tasks).dump(2) << "\n";
   else std::cout << podium::orchestrator::format_tasks(tasks);
   return 0;

@@ -1,5 +1,5 @@
 #pragma once
-// Stage hand-over (DESIGN.md "Hand-over"): which earlier trials a stage's inputs select, and which
+// Stage hand-over (docs/architecture.md "Stage hand-over"): which earlier trials a stage's inputs select, and which
 // of them each trial receives. The selection is made once, when the stage starts, and stored with
 // the stage (store: start_stage), so a resumed stage hands over exactly what it did before.
 #include <optional>

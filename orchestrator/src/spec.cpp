@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "podium/base/config.h"
+#include "podium/plugins/suggest.h"
 
 namespace podium::orchestrator {
 
@@ -19,6 +20,49 @@ constexpr std::int64_t kMaxRetries = 100;
 constexpr std::int64_t kMaxPerInput = 1'000'000;    // budget.trials.per_input, inputs.k
 constexpr std::int64_t kMaxCpusPerTask = 1024;
 constexpr std::int64_t kMaxJobsInQueue = 100'000;
+
+// Every key each object of the spec accepts (README "The campaign spec"). Checked before anything
+// is read, so a misspelt key is named as unknown with the whole list (the reader's own check runs
+// last and lists only the keys it read: not the optional objects absent, and after a "missing"
+// error for the required key the misspelling hides).
+const std::vector<std::string> kCampaignKeys = {"name", "seed", "description", "run_dir", "executor",
+                                                "workers", "retries", "trial_timeout_s", "stages"};
+const std::vector<std::string> kStageKeys = {"name", "task", "preset", "config", "search", "strategy_threshold",
+                                             "inputs", "budget"};
+const std::vector<std::string> kSearchKeys = {"algorithm", "config"};
+const std::vector<std::string> kBudgetKeys = {"trials", "wall_time_s"};
+const std::vector<std::string> kPerInputKeys = {"per_input"};
+const std::vector<std::string> kInputsKeys = {"stage", "select", "k", "per_trial"};
+const std::vector<std::string> kExecutorKeys = {"kind", "partition", "account", "time", "cpus_per_task", "mem",
+                                                "extra_sbatch", "max_jobs_in_queue"};
+
+void check_keys(const Json& object, const std::vector<std::string>& known, const std::string& path,
+                const std::string& source) {
+  if (!object.is_object()) return;  // a wrong type is the reader's to report
+  for (const auto& [key, value] : object.items())
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      throw base::ConfigError(source, base::json_path_join(path, key),
+                              "unknown key (known: " + plugins::name_list(known) + ")" + plugins::did_you_mean(key, known));
+}
+
+void check_spec_keys(const Json& j, const std::string& source) {
+  check_keys(j, kCampaignKeys, "", source);
+  if (!j.is_object()) return;
+  if (j.contains("executor")) check_keys(j["executor"], kExecutorKeys, "executor", source);
+  if (!j.contains("stages") || !j["stages"].is_array()) return;
+  for (std::size_t i = 0; i < j["stages"].size(); ++i) {
+    const Json& stage = j["stages"][i];
+    const std::string path = "stages[" + std::to_string(i) + "]";
+    check_keys(stage, kStageKeys, path, source);
+    if (!stage.is_object()) continue;
+    if (stage.contains("search")) check_keys(stage["search"], kSearchKeys, path + ".search", source);
+    if (stage.contains("inputs")) check_keys(stage["inputs"], kInputsKeys, path + ".inputs", source);
+    if (!stage.contains("budget")) continue;
+    check_keys(stage["budget"], kBudgetKeys, path + ".budget", source);
+    if (stage["budget"].is_object() && stage["budget"].contains("trials"))
+      check_keys(stage["budget"]["trials"], kPerInputKeys, path + ".budget.trials", source);
+  }
+}
 
 // A campaign or stage name: printed by status, looked up by `podium status NAME`, so no control
 // characters (C0, DEL, C1): they would reach terminals raw, and a NUL cannot be typed.
@@ -111,6 +155,7 @@ Json to_json(const InputsSpec& inputs) {
 }
 
 CampaignSpec parse_spec(const Json& j, const std::string& source) {
+  check_spec_keys(j, source);
   ConfigReader f(j, "", source);
   CampaignSpec spec;
   spec.name = read_name(f);

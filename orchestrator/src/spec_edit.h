@@ -10,7 +10,7 @@ namespace podium::orchestrator {
 
 /// Applies one edit "PATH=VALUE" to `spec`. PATH is written as podium's errors name JSON paths
 /// (`seed`, `stages[0].config.total_steps`); VALUE is JSON (`3`, `[64,64]`, `"x"`), or a string
-/// when it does not parse as JSON (`name=run12`). Object members missing on the way are created
+/// when it does not parse as JSON (`name=getup-b`). Object members missing on the way are created
 /// (validation then names any key a task does not know); an array item must exist. Throws
 /// base::UserError naming the edit and what is wrong with it.
 void apply_spec_edit(base::Json& spec, const std::string& edit);

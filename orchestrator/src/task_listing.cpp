@@ -15,20 +15,6 @@ using base::Json;
 
 namespace {
 
-std::map<std::string, fs::path> installed_plugins() {
-  const std::string prefix = "libpodium_task_", suffix = ".so";
-  std::map<std::string, fs::path> found;
-  for (const auto& folder : plugins::plugin_search_path()) {
-    std::error_code ec;  // a folder of the search path that does not exist holds no plugins
-    for (const auto& entry : fs::directory_iterator(folder, ec)) {
-      const std::string file = entry.path().filename().string();
-      if (file.size() <= prefix.size() + suffix.size() || !file.starts_with(prefix) || !file.ends_with(suffix)) continue;
-      found.emplace(file.substr(prefix.size(), file.size() - prefix.size() - suffix.size()), entry.path());
-    }
-  }
-  return found;
-}
-
 Json described(const fs::path& worker_binary, const std::string& name, const fs::path& file) {
   Json task = {{"name", name}, {"file", file.string()}};
   task.update(describe_task_isolated(worker_binary, name, Json::object()));
@@ -63,7 +49,8 @@ void format_keys(std::ostringstream& out, const Json& keys, const std::string& p
     const std::string name = prefix + key.at("key").get<std::string>();
     const std::string type = key.at("type").get<std::string>();
     const Json items = key.value("items", Json::object());
-    const std::string shown_type = type == "array" ? "array of " + items.value("type", std::string("values")) + "s" : type;
+    const auto kind = [](const Json& k) { return k.value("format", std::string()) == "file" ? "file" : k.value("type", std::string("value")); };
+    const std::string shown_type = type == "array" ? "array of " + kind(items) + "s" : kind(key);
     const std::string fallback = key.value("required", false) ? "required" : key.contains("default") ? key["default"].dump() : "";
     std::string rule = rule_text(type == "array" ? items : key);
     if (key.contains("doc")) rule += (rule.empty() ? "" : "; ") + key["doc"].get<std::string>();
@@ -86,14 +73,15 @@ std::string range_list(const Json& entries) {
 
 }  // namespace
 
-Json list_tasks(const fs::path& worker_binary, const std::string& name) {
-  const auto plugins = installed_plugins();
+Json list_tasks(const fs::path& worker_binary, const std::string& name, bool with_test_plugins) {
+  const auto plugins = plugins::installed_plugins();
   if (!name.empty()) {
     const auto it = plugins.find(name);
     return Json::array({described(worker_binary, name, it == plugins.end() ? fs::path() : it->second)});
   }
   Json tasks = Json::array();
   for (const auto& [task, file] : plugins) {
+    if (!with_test_plugins && plugins::is_test_plugin(file)) continue;
     try {
       tasks.push_back(described(worker_binary, task, file));
     } catch (const base::UserError& e) {

@@ -1,13 +1,16 @@
 #include "podium/plugins/loader.h"
 
+#include <boost/dll/library_info.hpp>
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
+#include <algorithm>
 #include <cstdlib>
 #include <sstream>
 
 #include "podium/base/error.h"
 #include "podium/base/version.h"
 #include "podium/plugins/export.h"
+#include "podium/plugins/suggest.h"
 
 namespace podium::plugins {
 
@@ -31,6 +34,29 @@ std::vector<fs::path> plugin_search_path() {
   return folders;
 }
 
+std::map<std::string, fs::path> installed_plugins() {
+  const std::string prefix = "libpodium_task_", suffix = ".so";
+  std::map<std::string, fs::path> found;
+  for (const auto& folder : plugin_search_path()) {
+    std::error_code ec;  // a folder of the search path that does not exist holds no plugins
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+      const std::string file = entry.path().filename().string();
+      if (file.size() <= prefix.size() + suffix.size() || !file.starts_with(prefix) || !file.ends_with(suffix)) continue;
+      found.emplace(file.substr(prefix.size(), file.size() - prefix.size() - suffix.size()), entry.path());
+    }
+  }
+  return found;
+}
+
+bool is_test_plugin(const fs::path& file) {
+  try {
+    const auto symbols = boost::dll::library_info(file.string()).symbols();
+    return std::find(symbols.begin(), symbols.end(), "podium_test_only_task") != symbols.end();
+  } catch (const std::exception&) {
+    return false;  // not an ELF file we can read: loading it will say what is wrong
+  }
+}
+
 std::shared_ptr<Task> load_task(const std::string& task_name) {
   const auto folders = plugin_search_path();
   for (const auto& folder : folders) {
@@ -39,8 +65,12 @@ std::shared_ptr<Task> load_task(const std::string& task_name) {
   }
   std::string searched;
   for (const auto& f : folders) searched += (searched.empty() ? "" : ":") + f.string();
+  std::vector<std::string> installed;
+  for (const auto& [name, file] : installed_plugins())
+    if (!is_test_plugin(file)) installed.push_back(name);
   throw UserError("plugin \"" + task_name + "\": no file " + file_name_for(task_name) + " in " + searched +
-                  " (set PODIUM_PLUGIN_PATH)");
+                  " (set PODIUM_PLUGIN_PATH); installed tasks: " + name_list(installed) +
+                  did_you_mean(task_name, installed));
 }
 
 std::shared_ptr<Task> load_task_file(const fs::path& file, const std::string& task_name) {

@@ -3,7 +3,7 @@
 
     python3 sim/models/make_athlete.py        # rewrites sim/models/athlete.json; deterministic
 
-Where each figure comes from (thesis = ../shared/seeds/004, "Discovering Diverse Athletic Jumping
+Where each figure comes from (thesis = the seed thesis, whose chapter 3 is "Discovering Diverse Athletic Jumping
 Strategies"):
 - 60 kg, 170 cm tall, hip height 95 cm, knee height 46 cm: Table 3.2, "Simulated Athlete".
   Heights are taken in the standing pose: the top of the head, the hip and knee joint centres.
@@ -16,7 +16,7 @@ Strategies"):
   arpspoof/Jump data/characters/humanoid3d_jumper60kg.txt (TorqueLimX/Y/Z in DeepMimic's y-up
   joint frame; x, y, z there are x, z, -y here): hips X 500, Y 50, Z 500 -> [500, 500, 50] about
   our x, y, z (abduction, flexion, twist); knees 400; ankles X 100, Y 50, Z 300 -> [100, 300, 50].
-  tests/sim/athlete_test.cpp compares them with that file when ../shared/data/jump is present.
+  tests/sim/athlete_test.cpp compares them with that file when the captured jump data is present (PODIUM_SHARED_DIR).
 - Other joints' torque limits: "kept the same as [88]" (§3.6.2; [88] is DeepMimic), i.e.
   humanoid34's: chest 200, neck 50, shoulders 100, elbows 60 N·m. (The jumper file itself gives
   its shoulders 100/50/100 and elbows 50; the thesis's text is followed here.)

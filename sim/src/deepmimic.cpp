@@ -1,5 +1,5 @@
 // Loader for DeepMimic's character and PD-controller formats (fields listed in
-// ../shared/data/README.md). DeepMimic is y-up; we rotate everything +90° about x to get z-up.
+// characters/*.txt and controllers). DeepMimic is y-up; we rotate everything +90° about x to get z-up.
 // Its motion clips are read by character/ (read_deepmimic_clip), the one clip type.
 #include <algorithm>
 #include <map>

@@ -34,8 +34,8 @@ Json quat_json(const Eigen::Quaterniond& q) { return {r5(q.w()), r5(q.x()), r5(q
 Json props_json(const TerrainConfig& config) {
   Json props = Json::array();
   for (const BoxProp& b : config.boxes)
-    props.push_back({{"name", b.name}, {"type", "box"}, {"pos", vec_json(b.center)}, {"quat", quat_json(b.rotation.normalized())},
-                     {"half_extents", vec_json(b.half_extents)}, {"friction", b.friction}});
+    props.push_back({{"name", b.name}, {"type", "box"}, {"kind", b.kind.empty() ? "box" : b.kind}, {"pos", vec_json(b.center)},
+                     {"quat", quat_json(b.rotation.normalized())}, {"half_extents", vec_json(b.half_extents)}, {"friction", b.friction}});
   return props;
 }
 

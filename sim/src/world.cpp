@@ -293,7 +293,10 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
 
 StepReport World::control_step(Control mode, const Eigen::VectorXd& command) {
   StepReport r;
-  for (int k = 0; k < substeps_ && r.ok; ++k) r = sim_step(mode, command);
+  for (int k = 0; k < substeps_ && r.ok; ++k) {
+    r = sim_step(mode, command);
+    if (substep_observer_) substep_observer_(*this);
+  }
   return r;
 }
 

@@ -114,9 +114,11 @@ Json terrain_json(const TerrainConfig& t) {
     regions.push_back({{"kind", kind_name(r.kind)}, {"min", numbers(r.min)}, {"max", numbers(r.max)}, {"height_m", number(r.height_m)},
                        {"tile_size_m", number(r.tile_size_m)}, {"min_tile_height_m", number(r.min_tile_height_m)},
                        {"max_tile_height_m", number(r.max_tile_height_m)}, {"seed", r.seed}, {"slope_rad", number(r.slope_rad)}});
-  for (const BoxProp& b : t.boxes)
+  for (const BoxProp& b : t.boxes) {
     boxes.push_back({{"name", b.name}, {"center", numbers(b.center)}, {"half_extents", numbers(b.half_extents)},
                      {"rotation", quaternion(b.rotation)}, {"friction", number(b.friction)}});
+    if (!b.kind.empty()) boxes.back()["kind"] = b.kind;  // absent from snapshots written before kinds
+  }
   return {{"regions", regions}, {"boxes", boxes}};
 }
 
@@ -152,6 +154,7 @@ TerrainConfig read_terrain(const Json& j, const std::string& where) {
     box.half_extents = read_vector3(b, "half_extents", w);
     box.rotation = read_quaternion(b, "rotation", w);
     box.friction = read_number(field(b, "friction", w), w + ".friction");
+    if (b.contains("kind")) box.kind = read<std::string>(b, "kind", w);
     t.boxes.push_back(box);
   }
   return t;

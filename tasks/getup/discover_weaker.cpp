@@ -1,9 +1,9 @@
 #include "discover_weaker.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <stdexcept>
 
 #include "head_watch.h"
@@ -11,12 +11,9 @@
 #include "podium/base/log.h"
 #include "podium/base/rng.h"
 #include "podium/character/evaluator.h"
-#include "podium/learn/frozen_policy.h"
 #include "podium/learn/learner.h"
 #include "podium/learn/ppo.h"
 #include "podium/learn/sac.h"
-#include "podium/learn/training_checkpoint.h"
-#include "podium/learn/wall_budget.h"
 
 namespace podium::tasks::getup {
 
@@ -42,9 +39,6 @@ Settings read_settings(base::ConfigReader& r) {
                               "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
   e.passive_joints = r.boolean("passive_joints", e.passive_joints,
                                "the model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo humanoid's)");
-  e.root_velocity = r.boolean("root_velocity", e.root_velocity,
-                              "s_weak includes the root's angular and linear velocity (the seed repository's dm_control state); "
-                              "false for policies trained before session 23");
   e.min_strength = r.number("min_strength", e.min_strength, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "lower clip of β̂");
 
   s.algorithm = r.choice("algorithm", s.algorithm, {"sac", "ppo"},
@@ -77,8 +71,8 @@ Settings read_settings(base::ConfigReader& r) {
   s.eval_seed = r.integer<std::uint64_t>("eval_seed", s.eval_seed, {}, "picks the fixed starts (not the trial's seed)");
   s.success_height_m = r.number("success_height_m", s.success_height_m, {}, "head top above this at the end: got up (§7: 1.2)");
   // 2 s: no leap of the shipped π_weak kept the head top above 1.2 m for the last 2 s of an episode
-  // (RESULTS.md, session 23: 1 of 80 for 1.5 s), and π_slow's 100-step standing phase (§6) is
-  // longer, so a slowed get-up that stands counts.
+  // (RESULTS.md: 1 of 80 for 1.5 s), and π_slow's 100-step standing phase (§6) is longer, so a
+  // slowed get-up that stands counts.
   s.stand_steps = r.integer<int>("stand_steps", s.stand_steps, {1, 100000},
                                  "control steps the head top must stay above success_height_m to the episode's end to count as stood (not a leap's flight)");
   s.curriculum.threshold = r.number("threshold", s.curriculum.threshold, {}, "ω: a minimum test return (over the fixed starts) above it advances (App. D: 60)");
@@ -92,7 +86,7 @@ Settings read_settings(base::ConfigReader& r) {
   s.threads = r.integer<int>("threads", s.threads, {1, 64}, "threads stepping the copies");
   if (s.threads > s.copies) r.fail("threads", "is above copies " + std::to_string(s.copies));
   s.checkpoint_every = r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1000000}, "tests between training checkpoints");
-  s.warm_start = r.string("warm_start", s.warm_start,
+  s.warm_start = r.file("warm_start", s.warm_start,
                           "a Weaker trial's training.ckpt to train on from (same config but for the limits; its steps count towards total_steps)");
   if (!s.warm_start.empty() && !fs::is_regular_file(s.warm_start)) r.fail("warm_start", "is not a file: " + s.warm_start);
   s.hold_strength = r.number("hold_strength", s.hold_strength, {.min = 0.0, .max = 1.0},
@@ -135,20 +129,17 @@ void WeakerSchedule::load_state(const Json& state) {
   try {
     curriculum_.load_state(state.at("curriculum"));
     budget_.load_state(state.at("budget"));
-    // Checkpoints of trials begun before session 14 lack both: their curriculum runs, and its
-    // last pass was one factor above β^i (or none at level 0).
-    const double above = curriculum_.level() > 0 ? curriculum_.value() / factor_ : curriculum_.value();
-    last_passed_ = state.value("last_passed", above);
-    ended_ = state.value("ended", false);
+    last_passed_ = state.at("last_passed").get<double>();
+    ended_ = state.at("ended").get<bool>();
   } catch (const Json::exception& e) {
     throw base::UserError(std::string("getup schedule state: ") + e.what());
   }
 }
 
-bool exports_over(const Json& tested, const Json& exported) {
-  const double stood = tested.value("stood_rate", 0.0), stood_before = exported.value("stood_rate", 0.0);
+bool exports_over(const character::Figures& tested, const character::Figures& exported) {
+  const double stood = character::figure(tested, "stood_rate"), stood_before = character::figure(exported, "stood_rate");
   if (stood != stood_before) return stood > stood_before;
-  return tested.at("test_return").get<double>() > exported.at("test_return").get<double>();
+  return character::figure(tested, "test_return") > character::figure(exported, "test_return");
 }
 
 Json TrialOutcome::to_json() const {
@@ -157,172 +148,183 @@ Json TrialOutcome::to_json() const {
           {"env_steps", env_steps},             {"stopped_by", stopped_by},         {"features", features.as_vector()}};
 }
 
+std::vector<std::uint64_t> test_starts(const Settings& s) {
+  std::vector<std::uint64_t> starts;
+  for (int k = 0; k < s.eval_starts; ++k) starts.push_back(base::derive_seed(s.eval_seed, static_cast<std::uint64_t>(k)));
+  return starts;
+}
+
 namespace {
 
 const GetupEnv& as_getup(const character::CharacterEnv& env) { return static_cast<const GetupEnv&>(env); }
 
 character::EvaluationConfig test_config(const Settings& s) {
   character::EvaluationConfig c;
-  for (int k = 0; k < s.eval_starts; ++k) c.start_seeds.push_back(base::derive_seed(s.eval_seed, static_cast<std::uint64_t>(k)));
+  c.start_seeds = test_starts(s);
   c.measures = {{"head_height_m", [](const character::CharacterEnv& env) { return as_getup(env).weak().head_height_m; }}};
   c.success = [h = s.success_height_m](const character::CharacterEnv& env) { return as_getup(env).weak().head_height_m > h; };
   return c;
 }
 
-
-}  // namespace
-
-TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const fs::path& work_dir, const std::atomic<bool>* cancel,
-                                 const Reporter& report) {
-  auto beta = std::make_shared<double>(s.curriculum.initial);
-  std::vector<std::unique_ptr<learn::Env>> copies;
-  for (int i = 0; i < s.copies; ++i) copies.push_back(std::make_unique<GetupEnv>(s.env, beta, true));
-  learn::VecEnv envs(std::move(copies), s.threads, base::derive_seed(seed, 1));
-  GetupEnv test_env(s.env, beta, false);  // tests at β^i exactly (App. D)
-  const auto learner = learn::make_learner(learner_spec(s), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
-  const auto* sac = dynamic_cast<const learn::Sac*>(learner.get());
-  character::EvaluationConfig tests = test_config(s);
-  // How each fixed start's head top crossed success_height_m after the test's first action: a
-  // start that rose and fell again fails bar (a) differently from one that never rose, and drops
-  // tell a get-up that stands from a leap loop.
-  std::vector<HeadWatch> heads(tests.start_seeds.size(), HeadWatch{.height_m = s.success_height_m});
-  std::vector<char> on_back(tests.start_seeds.size(), 0);
-  tests.each_step = [&heads, &on_back](std::size_t start, const character::CharacterEnv& env) {
-    if (env.step_index() == 0) on_back[start] = lies_on_back(env);
-    if (env.step_index() > 0) heads[start].observe(env.step_index(), as_getup(env).weak().head_height_m);
-  };
-  const fs::path policy = work_dir / "policy.pt";
-
-  // The checkpoint's extra: the schedule and the exported policy's test. Metric points go through
-  // the checkpoint, which keeps them and re-sends them on resume (points sent just before a kill
-  // may never have been stored).
-  WeakerSchedule schedule(s.curriculum, s.budget);
-  learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
-                                       [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
-  if (!s.warm_start.empty()) checkpoint.start_from(s.warm_start);
-  Json extra = {{"passed", nullptr}, {"best", nullptr}, {"clock", nullptr}};
-  const auto send = [&](const std::string& name, double step, double value) { checkpoint.metric(name, step, value); };
-  if (auto saved = checkpoint.resume(*learner, envs)) {
-    extra = *saved;
-    schedule.load_state(extra.at("schedule"));
-  }
-  // Until this trial's first save, the checkpoint's export record and clock are the source's
-  // (also when an attempt is killed before that save): they begin anew here.
-  if (!s.warm_start.empty() && extra.value("warm_start", std::string()) != s.warm_start) {
-    extra["passed"] = extra["best"] = extra["clock"] = nullptr;
-    extra["warm_start"] = s.warm_start;
-  }
-  if (s.hold_strength > 0.0) schedule.hold(s.hold_strength);
-  learn::WallBudget clock(s.train_minutes, extra.value("clock", Json()));  // checkpoints before session 17 have no clock
-  const auto progress = [&] {
-    report.progress(std::max(static_cast<double>(learner->env_steps()) / static_cast<double>(s.total_steps), clock.fraction_used()));
-  };
-  progress();
-  *beta = schedule.strength();
-
-  double train_sum = 0.0, rollout_s = 0.0, update_s = 0.0;
-  std::size_t train_episodes = 0;
-  const auto on_vector_step = [&](const learn::TrainStats& t) {
-    if (cancel && cancel->load()) throw std::runtime_error("getup: cancelled at environment step " + std::to_string(t.env_steps));
-    if (t.episodes > 0) train_sum += t.mean_return * static_cast<double>(t.episodes), train_episodes += t.episodes;
-    rollout_s += t.rollout_seconds, update_s += t.update_seconds;
-  };
-  while (learner->env_steps() < s.total_steps && clock.another_round_fits()) {
-    clock.start_round();
-    train_sum = rollout_s = update_s = 0.0, train_episodes = 0;
-    const std::int64_t updates_before = sac ? sac->updates() : 0;
-    learner->train_until(envs, learner->env_steps() + s.eval_every, on_vector_step);
-    const auto steps = static_cast<double>(learner->env_steps());
-    const double tested_at = schedule.strength();
-    const auto test_start = std::chrono::steady_clock::now();
-    std::fill(heads.begin(), heads.end(), HeadWatch{.height_m = s.success_height_m});
-    const auto result = character::evaluate(
-        test_env, [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, test_env.action_scale()); }, tests);
-    // R_test is the minimum return over the fixed starts (§5: "the accumulated minimum test reward";
-    // the seed repository's default): β falls only once every start gets up.
-    const double min_return = *std::min_element(result.returns.begin(), result.returns.end());
-    // Only SAC counts its updates; PPO's are its epochs over each rollout.
-    const std::string update_count = sac ? " (" + std::to_string(sac->updates() - updates_before) + ")" : "";
-    char line[256];  // wall times go to the log only: metrics must be the same on every run
-    std::snprintf(line, sizeof line, "getup: step %.0f: test return %.2f (min %.2f) at β %.4f; %.0f env steps/s in rollouts (%.1f s), updates %.1f s%s, test %.1f s",
-                  steps, result.mean_return, min_return, tested_at, static_cast<double>(s.eval_every) / rollout_s, rollout_s,
-                  update_s, update_count.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - test_start).count());
-    base::log_info(line);
-    send("test_return", steps, result.mean_return);
-    send("test_return_min", steps, min_return);
-    send("head_height_m", steps, result.mean("head_height_m"));
-    send("success_rate", steps, result.success_rate);
-    const HeadSummary rose = summarise_heads(heads, s.stand_steps);
-    send("risen_rate", steps, static_cast<double>(rose.risen) / static_cast<double>(heads.size()));
-    const double stood_rate = static_cast<double>(rose.stood) / static_cast<double>(heads.size());
-    send("stood_rate", steps, stood_rate);
-    // The starts on the back, apart (head_watch.h's BackSummary): a policy may rise from one side only.
-    if (const BackSummary back = summarise_back(heads, on_back, s.stand_steps); back.falls > 0) {
-      send("risen_on_back_rate", steps, static_cast<double>(back.risen) / back.falls);
-      send("stood_on_back_rate", steps, static_cast<double>(back.stood) / back.falls);
-    }
-    send("head_drops", steps, rose.drops);
-    send("head_peak_m", steps, rose.peak_m);
-    if (train_episodes > 0) send("train_return", steps, train_sum / static_cast<double>(train_episodes));
-    if (sac) {
-      send("sac/alpha", steps, sac->alpha());
-      send("sac/skipped_updates", steps, static_cast<double>(sac->skipped_updates()));
-    }
-    const Json tested = {{"strength", tested_at}, {"test_return", result.mean_return}, {"test_return_min", min_return}, {"success_rate", result.success_rate},
-                         {"stood_rate", stood_rate}, {"env_steps", learner->env_steps()}};
-    const bool polishing = schedule.ended() && !extra.at("passed").is_null();  // tested at the last strength passed
-    const WeakerSchedule::Decision decision = schedule.on_test(learner->env_steps(), min_return);
-    if (decision == WeakerSchedule::Decision::advance ||  // π passed at β^i: it is π_weak until a weaker one passes
-        (polishing && exports_over(tested, extra.at("passed")))) {
-      learner->export_torchscript(policy);
-      extra["passed"] = tested;
-    } else if (extra.at("passed").is_null() && (extra.at("best").is_null() || exports_over(tested, extra.at("best")))) {
-      // Until a test passes, the best policy is kept (the seed repository's best_model, what its
-      // Slower loads as the teacher).
-      learner->export_torchscript(policy);
-      extra["best"] = tested;
-    }
-    *beta = schedule.strength();
-    send("curriculum/strength", steps, *beta);
-    extra["schedule"] = schedule.state();
-    clock.end_round();
-    extra["clock"] = clock.state();
-    progress();
-    checkpoint.on_update(*learner, envs, extra);
+// Discover and Weaker on the driver: GetupEnv copies at β^i, tests at β^i exactly (App. D), the
+// curriculum decided at each test, the export by WeakerSchedule and exports_over.
+class WeakerStage final : public character::TrainingStage {
+ public:
+  WeakerStage(const Settings& s, std::uint64_t seed)
+      : s_(s), seed_(seed), beta_(std::make_shared<double>(s.curriculum.initial)), schedule_(s.curriculum, s.budget),
+        tests_(test_config(s)), heads_(tests_.start_seeds.size()), on_back_(tests_.start_seeds.size(), 0) {
+    // How each fixed start's head top crossed success_height_m after the test's first action: a
+    // start that rose and fell again fails bar (a) differently from one that never rose, and drops
+    // tell a get-up that stands from a leap loop.
+    tests_.each_step = [this](std::size_t start, const character::CharacterEnv& env) {
+      if (env.step_index() == 0) on_back_[start] = lies_on_back(env);
+      if (env.step_index() > 0) heads_[start].observe(env.step_index(), as_getup(env).weak().head_height_m);
+    };
   }
 
-  TrialOutcome out;
-  out.passed = !extra.at("passed").is_null();
-  if (extra.at(out.passed ? "passed" : "best").is_null()) throw std::logic_error("getup: training ended before its first test");
-  const Json& exported = out.passed ? extra.at("passed") : extra.at("best");
-  out.policy = policy;
-  out.policy_strength = exported.at("strength").get<double>();
-  out.success_rate = exported.at("success_rate").get<double>();
-  out.test_return = exported.at("test_return").get<double>();
-  out.final_strength = schedule.strength();
-  out.levels = schedule.level();
-  out.env_steps = learner->env_steps();
-  out.stopped_by = learn::WallBudget::stopped_by(out.env_steps, s.total_steps);
-  base::log_info(clock.end_message("getup", out.env_steps, s.total_steps));
+  void build(const Json&) override {
+    std::vector<std::unique_ptr<learn::Env>> copies;
+    for (int i = 0; i < s_.copies; ++i) copies.push_back(std::make_unique<GetupEnv>(s_.env, beta_, true));
+    envs_ = std::make_unique<learn::VecEnv>(std::move(copies), s_.threads, base::derive_seed(seed_, 1));
+    test_env_ = std::make_unique<GetupEnv>(s_.env, beta_, false);
+  }
+  learn::VecEnv& envs() override { return *envs_; }
+  Json learner_spec() const override { return getup::learner_spec(s_); }
+  Json state() const override { return {{"schedule", schedule_.state()}}; }
+  void load_state(const Json& state) override { schedule_.load_state(state.at("schedule")); }
+  void begin(bool, learn::Learner& learner) override {
+    if (s_.hold_strength > 0.0) schedule_.hold(s_.hold_strength);
+    *beta_ = schedule_.strength();
+    updates_ = sac_updates(learner);
+  }
+
+  character::Figures test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) override;
+
+  std::optional<character::ExportReason> export_rule(const character::ExportRecord& tested, const character::ExportRecord* exported) override {
+    using Reason = character::ExportReason;
+    if (decision_ == WeakerSchedule::Decision::advance) return Reason::passed;  // π passed at β^i: π_weak until a weaker one passes
+    if (exported && exported->reason == Reason::passed)  // after the curriculum's end: tested at the last strength passed
+      return ended_before_ && exports_over(tested.figures, exported->figures) ? std::optional(Reason::passed) : std::nullopt;
+    // Until a test passes, the best policy is kept (the seed repository's best_model, what its
+    // Slower loads as the teacher).
+    if (!exported || exports_over(tested.figures, exported->figures)) return Reason::best;
+    return std::nullopt;
+  }
 
   // The exported policy at its strength over the fixed starts: its strategy features, and its
   // motion from the first start for the replay.
-  *beta = out.policy_strength;
-  const learn::FrozenPolicy frozen(policy);
-  character::EvaluationConfig record = tests;
-  record.record = {0};
-  record.record_dir = work_dir / "rollouts";
-  std::vector<StrategyRecorder> strategies(record.start_seeds.size(),
-                                           StrategyRecorder(test_env.model(), test_env.readings().head_top_m, s.success_height_m));
-  record.each_step = [&](std::size_t start, const character::CharacterEnv& env) {
-    if (env.step_index() > 0) strategies[start].observe(env);  // the rise begins after the fall
-  };
-  const auto recorded = character::evaluate(
-      test_env, [&](std::span<const double> o, std::span<double> a) { frozen.act(o, a, test_env.action_scale()); }, record);
-  out.trajectory = recorded.trajectories.at(0);
-  std::vector<StrategyFeatures> per_start;
-  for (const auto& r : strategies) per_start.push_back(r.features());
-  out.features = mean_features(per_start);
+  void record(const character::Recording& r) override {
+    *beta_ = character::figure(r.exported.figures, "strength");
+    character::EvaluationConfig record = tests_;
+    record.record = {0};
+    record.record_dir = r.rollouts;
+    std::vector<StrategyRecorder> strategies(record.start_seeds.size(),
+                                             StrategyRecorder(test_env_->model(), test_env_->readings().head_top_m, s_.success_height_m));
+    record.each_step = [&](std::size_t start, const character::CharacterEnv& env) {
+      if (env.step_index() > 0) strategies[start].observe(env);  // the rise begins after the fall
+    };
+    const auto recorded = character::evaluate(
+        *test_env_, [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a, test_env_->action_scale()); }, record);
+    trajectory_ = recorded.trajectories.at(0);
+    std::vector<StrategyFeatures> per_start;
+    for (const auto& recorder : strategies) per_start.push_back(recorder.features());
+    features_ = mean_features(per_start);
+  }
+
+  const WeakerSchedule& schedule() const { return schedule_; }
+  const std::filesystem::path& trajectory() const { return trajectory_; }
+  const StrategyFeatures& features() const { return features_; }
+
+ private:
+  // Only SAC counts its updates; PPO's are its epochs over each rollout.
+  static std::int64_t sac_updates(const learn::Learner& learner) {
+    const auto* sac = dynamic_cast<const learn::Sac*>(&learner);
+    return sac ? sac->updates() : 0;
+  }
+
+  const Settings& s_;
+  std::uint64_t seed_;
+  std::shared_ptr<double> beta_;  // β^i, shared by the copies and the test env
+  WeakerSchedule schedule_;
+  character::EvaluationConfig tests_;
+  std::vector<HeadWatch> heads_;
+  std::vector<char> on_back_;
+  std::unique_ptr<learn::VecEnv> envs_;
+  std::unique_ptr<GetupEnv> test_env_;
+  WeakerSchedule::Decision decision_ = WeakerSchedule::Decision::carry_on;
+  bool ended_before_ = false;  // the curriculum had ended before the last test
+  std::int64_t updates_ = 0;   // SAC's updates at the last test
+  std::filesystem::path trajectory_;
+  StrategyFeatures features_;
+};
+
+character::Figures WeakerStage::test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) {
+  const auto steps = static_cast<double>(round.env_steps);
+  const double tested_at = schedule_.strength();
+  std::fill(heads_.begin(), heads_.end(), HeadWatch{.height_m = s_.success_height_m});
+  const auto result = character::evaluate(
+      *test_env_, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true, test_env_->action_scale()); }, tests_);
+  // R_test is the minimum return over the fixed starts (§5: "the accumulated minimum test reward";
+  // the seed repository's default): β falls only once every start gets up.
+  const double min_return = *std::min_element(result.returns.begin(), result.returns.end());
+  const auto* sac = dynamic_cast<const learn::Sac*>(&learner);
+  const std::string update_count = sac ? " (" + std::to_string(sac->updates() - updates_) + ")" : "";
+  updates_ = sac_updates(learner);
+  char line[256];  // the wall times are also metrics (time/)
+  std::snprintf(line, sizeof line, "getup: step %.0f: test return %.2f (min %.2f) at β %.4f; %.0f env steps/s in rollouts (%.1f s), updates %.1f s%s, test %.1f s",
+                steps, result.mean_return, min_return, tested_at, static_cast<double>(s_.eval_every) / round.training.rollout_s, round.training.rollout_s,
+                round.training.update_s, update_count.c_str(), round.seconds());
+  base::log_info(line);
+  send("test_return", steps, result.mean_return);
+  send("test_return_min", steps, min_return);
+  send("head_height_m", steps, result.mean("head_height_m"));
+  send("success_rate", steps, result.success_rate);
+  const HeadSummary rose = summarise_heads(heads_, s_.stand_steps);
+  send("risen_rate", steps, static_cast<double>(rose.risen) / static_cast<double>(heads_.size()));
+  const double stood_rate = static_cast<double>(rose.stood) / static_cast<double>(heads_.size());
+  send("stood_rate", steps, stood_rate);
+  // The starts on the back, apart (head_watch.h's BackSummary): a policy may rise from one side only.
+  if (const BackSummary back = summarise_back(heads_, on_back_, s_.stand_steps); back.falls > 0) {
+    send("risen_on_back_rate", steps, static_cast<double>(back.risen) / back.falls);
+    send("stood_on_back_rate", steps, static_cast<double>(back.stood) / back.falls);
+  }
+  send("head_drops", steps, rose.drops);
+  send("head_peak_m", steps, rose.peak_m);
+  if (round.training.episodes > 0) send("train_return", steps, round.training.mean_return());
+  if (sac) {
+    send("sac/alpha", steps, sac->alpha());
+    send("sac/skipped_updates", steps, static_cast<double>(sac->skipped_updates()));
+  }
+  ended_before_ = schedule_.ended();
+  decision_ = schedule_.on_test(round.env_steps, min_return);
+  *beta_ = schedule_.strength();
+  send("curriculum/strength", steps, *beta_);
+  return {{"strength", tested_at}, {"test_return", result.mean_return}, {"test_return_min", min_return},
+          {"success_rate", result.success_rate}, {"stood_rate", stood_rate}};
+}
+
+}  // namespace
+
+TrialOutcome run_discover_weaker(const Settings& s, const character::StageRun& run) {
+  WeakerStage stage(s, run.seed);
+  const character::StageOutcome done = character::run_training_stage(
+      stage,
+      {.name = "getup", .total_steps = s.total_steps, .steps_per_iteration = s.eval_every, .checkpoint_every = s.checkpoint_every,
+       .train_minutes = s.train_minutes, .warm_start = s.warm_start},
+      run);
+  if (done.exported.reason == character::ExportReason::last) throw std::logic_error("getup: training ended before its first test");
+  TrialOutcome out;
+  out.policy = done.policy;
+  out.trajectory = stage.trajectory();
+  out.passed = done.exported.reason == character::ExportReason::passed;
+  out.policy_strength = character::figure(done.exported.figures, "strength");
+  out.success_rate = character::figure(done.exported.figures, "success_rate");
+  out.test_return = character::figure(done.exported.figures, "test_return");
+  out.final_strength = stage.schedule().strength();
+  out.levels = stage.schedule().level();
+  out.env_steps = done.env_steps;
+  out.stopped_by = done.stopped_by;
+  out.features = stage.features();
   return out;
 }
 

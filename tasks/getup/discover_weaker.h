@@ -4,17 +4,17 @@
 /// starts at β^i; a test return above ω advances the strong-to-weak curriculum β ← 0.95β; the
 /// curriculum ends when a level needs more than M_i steps, and training goes on at the last
 /// strength passed until `total_steps` (or `train_minutes` of wall time, if set).
-#include <atomic>
 #include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <string>
+#include <vector>
 
 #include "getup_env.h"
 #include "strategy_features.h"
 #include "podium/base/config.h"
 #include "podium/base/json.h"
 #include "podium/character/curriculum.h"
+#include "podium/character/training_stage.h"
 
 namespace podium::tasks::getup {
 
@@ -25,7 +25,7 @@ struct Settings {
   std::string sac_preset = "paper";                     ///< learn's SacConfig::paper() (Table 1)
   base::Json sac = base::Json::object();                ///< SacConfig fields over the preset
   base::Json ppo = base::Json::object();                ///< PpoConfig fields over its defaults
-  std::int64_t total_steps = 10'000'000;                ///< environment steps at most (issue 18: 10⁷)
+  std::int64_t total_steps = 10'000'000;                ///< environment steps at most (10⁷: the seed repository's)
   double train_minutes = 0.0;                           ///< wall-clock limit on training and tests; 0: none (learn::WallBudget)
   std::int64_t eval_every = 20'000;                     ///< App. D: every 20 000 simulation steps
   int eval_starts = 10;                                 ///< App. D: 10 fixed initial states
@@ -57,7 +57,7 @@ class WeakerSchedule {
  public:
   enum class Decision { advance, carry_on, end_curriculum };
   WeakerSchedule(const character::ThresholdCurriculum::Config& curriculum, const character::StepBudget::Config& budget)
-      : curriculum_(curriculum), budget_(budget), factor_(curriculum.factor), last_passed_(curriculum.initial) {}
+      : curriculum_(curriculum), budget_(budget), last_passed_(curriculum.initial) {}
   /// The test at environment step `steps` scored `test_return` at strength(); once the curriculum
   /// has ended, always carry_on.
   Decision on_test(std::int64_t steps, double test_return);
@@ -74,7 +74,6 @@ class WeakerSchedule {
  private:
   character::ThresholdCurriculum curriculum_;
   character::StepBudget budget_;
-  double factor_;       // β^{i+1} = factor·β^i
   double last_passed_;  // the strength of the last test passed
   bool ended_ = false;
 };
@@ -83,16 +82,9 @@ class WeakerSchedule {
 /// (before the first pass, and at the last strength passed once the curriculum has ended): more
 /// fixed starts stood (head_watch.h), then a higher mean test return. The seed repository keeps
 /// the best mean return alone; ours ranks a get-up that stays up above a leap loop, which earns
-/// more return on the way (RESULTS.md, session 24: run 20's best-return policy came before nearly
-/// all of its stands). Each argument holds "stood_rate" (absent in checkpoints before session 25:
-/// 0) and "test_return".
-bool exports_over(const base::Json& tested, const base::Json& exported);
-
-/// Where the trial reports (a plugins::Sink without the plugin types).
-struct Reporter {
-  std::function<void(const std::string& name, double step, double value)> metric;
-  std::function<void(double fraction)> progress;
-};
+/// more return on the way (RESULTS.md: a best-return policy came before nearly all of its trial's
+/// stands). Each argument holds the figures "stood_rate" and "test_return".
+bool exports_over(const character::Figures& tested, const character::Figures& exported);
 
 struct TrialOutcome {
   std::filesystem::path policy;      ///< TorchScript export of π_weak (see run_discover_weaker)
@@ -104,21 +96,22 @@ struct TrialOutcome {
   double final_strength = 1.0;       ///< β when the trial ended (after the curriculum's end: the last passed)
   int levels = 0;                    ///< curriculum advances
   std::int64_t env_steps = 0;
-  std::string stopped_by = "steps";  ///< what ended training: "steps" (total_steps) or "time" (train_minutes; the log has the minutes)
+  std::string stopped_by = "steps";  ///< what ended training: "steps" (total_steps) or "time" (train_minutes; time/wall_s has the seconds)
   StrategyFeatures features;         ///< of the exported policy over the fixed starts
   base::Json to_json() const;
 };
 
-/// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt when a previous attempt left
-/// one (metric points it covers are sent again; the store drops repeats). Without one and with a
-/// `warm_start`, that file is copied in and trained on: its networks, replay buffer, environment
-/// steps (total_steps counts on from them), schedule and metric points, but not its exported
-/// policy's record nor its wall clock, which begin anew. The exported policy is
-/// the one that passed the last curriculum test (π_weak at the weakest strength it mastered) or,
-/// after the curriculum ended, a later one tested at that strength that exports_over it; when no
-/// test passed, the best by exports_over (the seed repository's best_model ranks by return alone).
-/// Throws when `cancel` is set (checked every vector step).
-TrialOutcome run_discover_weaker(const Settings& s, std::uint64_t seed, const std::filesystem::path& work_dir,
-                                 const std::atomic<bool>* cancel, const Reporter& report);
+/// Runs the trial on character's training-stage driver in `run.work_dir`, resuming from its
+/// training.ckpt when a previous attempt left one. With a `warm_start`, that file is copied in and
+/// trained on: its networks, replay buffer, environment steps (total_steps counts on from them),
+/// schedule and metric points, but not its exported policy's record nor its wall clock, which
+/// begin anew. The exported policy is the one that passed the last curriculum test (π_weak at the
+/// weakest strength it mastered) or, after the curriculum ended, a later one tested at that
+/// strength that exports_over it; when no test passed, the best by exports_over (the seed
+/// repository's best_model ranks by return alone). Throws when `run.cancel` is set.
+TrialOutcome run_discover_weaker(const Settings& s, const character::StageRun& run);
+
+/// The fixed starts of the tests (eval_starts seeds drawn from eval_seed).
+std::vector<std::uint64_t> test_starts(const Settings& s);
 
 }  // namespace podium::tasks::getup

@@ -15,7 +15,7 @@ namespace fs = std::filesystem;
 
 EvaluateConfig read_evaluate(base::ConfigReader& r) {
   EvaluateConfig c;
-  c.falls = r.integer<int>("eval_falls", c.falls, {1, 10000}, "Evaluate: falls per speed (issue 18: 20)");
+  c.falls = r.integer<int>("eval_falls", c.falls, {1, 10000}, "Evaluate: falls per speed");
   c.falls_seed = r.integer<std::uint64_t>("eval_falls_seed", c.falls_seed, {}, "Evaluate: picks the falls (not eval_seed: unseen in training)");
   c.kappas = r.numbers("eval_kappas", c.kappas, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Evaluate: the speeds κ besides fast");
   c.pause_at = r.number("pause_at", c.pause_at, {.min = 0.0, .max = 1.0}, "Evaluate: §8.3's held frame, as a fraction of τ_fast");

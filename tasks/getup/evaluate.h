@@ -1,5 +1,5 @@
 #pragma once
-/// The Evaluate stage as one trial (issue 18 item 5): π_slow and its π_weak, from falls whose
+/// The Evaluate stage as one trial (seed §8): π_slow and its π_weak, from falls whose
 /// seeds no training saw, at several speeds κ and fast (π_weak itself), and §8.3's paused motion.
 /// Per speed: the success rate (standing with the head top above rise_height_m at the end), the
 /// time to rise (first head top above it, from the fall's end), the COM tracking error over the
@@ -12,7 +12,7 @@
 namespace podium::tasks::getup {
 
 struct EvaluateConfig {
-  int falls = 20;                             ///< issue 18: 20 falls
+  int falls = 20;                             ///< per speed (RESULTS.md's bars count 20)
   std::uint64_t falls_seed = 2;               ///< ≠ the tests' eval_seed; training draws its own streams
   std::vector<double> kappas = {0.25, 0.5, 0.75};
   double pause_at = 0.5;                      ///< §8.3: the held frame, as a fraction of τ_fast

@@ -21,7 +21,7 @@ character::CharacterEnvParts parts_for(const EnvSettings& s, const sim::ModelPtr
   p.world.passive_joints = s.passive_joints;
   p.episode_steps = s.episode_steps;
   p.action = std::make_unique<TorqueActions>();
-  add_weak_observation(p.observation, model, s.root_velocity);
+  add_weak_observation(p.observation, model);
   p.observation.push_back(std::make_unique<TaskScalars>(
       1, [](const CharacterEnv& env, std::span<double> out) { out[0] = static_cast<const GetupEnv&>(env).strength(); }));
   p.start = std::make_unique<RagdollDrop>(s.fall, RagdollDrop::Lying::any);
@@ -35,11 +35,11 @@ character::CharacterEnvParts parts_for(const EnvSettings& s, const sim::ModelPtr
 
 }  // namespace
 
-void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart>>& parts, const sim::ModelPtr& model, bool root_velocity) {
+void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart>>& parts, const sim::ModelPtr& model) {
   using namespace character;
   parts.push_back(std::make_unique<JointAngles>(model));
   parts.push_back(std::make_unique<JointVelocities>());
-  if (root_velocity) parts.push_back(std::make_unique<RootVelocity>());
+  parts.push_back(std::make_unique<RootVelocity>());
   parts.push_back(std::make_unique<HeadHeight>());
   parts.push_back(std::make_unique<CenterOfMass>());
   parts.push_back(std::make_unique<EndEffectors>());
@@ -50,7 +50,7 @@ void check_policy_fits(const learn::FrozenPolicy& policy, const learn::Env& env,
   if (policy.observation_size() == env.observation_space().size() && policy.action_size() == env.action_space().size()) return;
   throw base::UserError(who + " takes " + std::to_string(policy.observation_size()) + " observations and gives " + std::to_string(policy.action_size()) +
                         " actions; the env of this config has " + std::to_string(env.observation_space().size()) + " and " +
-                        std::to_string(env.action_space().size()) + " (another variant, or root_velocity: false for policies trained before session 23?)");
+                        std::to_string(env.action_space().size()) + " (a policy trained for another variant or model?)");
 }
 
 sim::ModelEdits variant_edits(const std::string& variant) {

@@ -30,22 +30,18 @@ struct EnvSettings {
   double strength_sigma = 0.04;    ///< ε of §5
   double min_strength = 0.05;      ///< lower clip of β̂ (SAC needs a bound in (0, 1])
   /// The model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo
-  /// humanoid's) act on every joint; off: undamped joints (runs 1–16's policies trained so).
+  /// humanoid's) act on every joint; off: undamped joints (the `quick` preset's choice).
   bool passive_joints = false;
-  /// s_weak includes the root's angular and linear velocity (character::RootVelocity), as the
-  /// seed repository's dm_control state does; off: joint velocities only (the policies shipped
-  /// before session 23 were trained so).
-  bool root_velocity = true;
 };
 
 /// Appends s_weak's body parts (§7 (1)–(5), App. C; every part facing-invariant): joint angles and
-/// velocities (with the root's when `root_velocity`), head height, COM height and velocity in the
-/// heading frame, end effectors in the root frame, the z components of the torso axes. GetupEnv
-/// adds β̂; SlowerEnv the reference.
-void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart>>& parts, const sim::ModelPtr& model, bool root_velocity);
+/// velocities with the root's angular and linear velocity (the seed repository's dm_control state
+/// has them), head height, COM height and velocity in the heading frame, end effectors in the root
+/// frame, the z components of the torso axes. GetupEnv adds β̂; SlowerEnv the reference.
+void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart>>& parts, const sim::ModelPtr& model);
 
 /// Throws UserError ("<who> takes N observations and gives M actions; ...") when `policy` does not
-/// fit `env`: trained for another variant, or with another `root_velocity`.
+/// fit `env` (a policy trained for another variant or model).
 void check_policy_fits(const learn::FrozenPolicy& policy, const learn::Env& env, const std::string& who);
 
 /// Whether the character lies on its back: the torso's front axis pointing up (read at a fall's

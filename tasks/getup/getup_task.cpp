@@ -1,4 +1,4 @@
-// The get-up task plugin (issue 18; get-up seed 001). One plugin, three stages chosen by the
+// The get-up task plugin (get-up seed 001). One plugin, three stages chosen by the
 // config key `stage`: "weaker" (Discover + Weaker, discover_weaker.h), "slower" (slower.h, once
 // per Weaker policy) and "evaluate" (evaluate.h, once per Slower policy). README.md gives the
 // question, the metrics and the presets.
@@ -45,13 +45,13 @@ TaskConfig read_task_config(base::ConfigReader& r) {
       "shipped",
       [](base::ConfigReader& p) {
         ShippedPolicy s;
-        s.weak_policy = p.string("weak_policy", base::required, "π_weak's TorchScript file");
+        s.weak_policy = p.file("weak_policy", base::required, "π_weak's TorchScript file");
         s.weak_strength = p.number("weak_strength", base::required, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "the β π_weak passed at");
-        s.slow_policy = p.string("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
+        s.slow_policy = p.file("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
         return s;
       },
       "Slower or Evaluate without an input trial: trial i takes entry i mod n (Slower imitates its weak_policy; paths "
-      "relative to where `podium run` starts)");
+      "relative to the spec file's folder)");
   // Slower trains π_slow: a shipped one would be ignored, so it is refused.
   if (c.stage == "slower")
     for (std::size_t i = 0; i < c.shipped.size(); ++i)
@@ -66,11 +66,12 @@ Json accepted_config() { return base::ConfigReader::describe([](base::ConfigRead
 
 // smoke: seconds (short episodes, tiny networks, ω below any return so the curriculum advances at
 // every test; Slower's τ_fast end at 0.1 m ends τ_fast at its first step, so the smoke campaign
-// checks the stages' mechanics, not a get-up). quick: this machine (RESULTS.md); its wall-clock
-// limits keep the campaign inside issue 18's 2 h on machines of any speed (Weaker 100 min, Slower
+// checks the stages' mechanics, not a get-up). quick: 2 cores (RESULTS.md); its wall-clock
+// limits keep the campaign inside the task's 2 h bar on machines of any speed (Weaker 100 min, Slower
 // 12, Evaluate under a minute), the step counts bind on machines fast enough (≈ 330+ steps/s per
 // core). paper: Table 1 and App. D, on the seed repository's humanoid with its passive joint
-// damping and stiffness (quick: without; runs 1–16 trained so).
+// damping and stiffness (quick: without; with them two measured quick seeds found no way up in
+// 1.26M steps, where without them both rose within 440k).
 Json presets() {
   return {{"smoke",
            {{"episode_steps", 50}, {"fall_steps", 20}, {"total_steps", 400}, {"eval_every", 100}, {"eval_starts", 2},
@@ -153,9 +154,8 @@ const ShippedPolicy* shipped_for(const TaskConfig& c, const plugins::RunRequest&
   return &c.shipped[request.trial_index % c.shipped.size()];
 }
 
-Reporter reporter_for(plugins::Sink& sink) {
-  return {[&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
-          [&sink](double fraction) { sink.progress(fraction); }};
+character::StageRun stage_run(const plugins::RunRequest& request, plugins::Sink& sink) {
+  return {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)};
 }
 
 }  // namespace
@@ -166,6 +166,8 @@ class GetupTask final : public plugins::Task {
     const TaskConfig c = config_from(config);
     const Json accepted = accepted_config();
     Json d = stage_description(c.stage);
+    if (c.stage != "evaluate")  // the training stages' wall times (character/training_stage.h)
+      for (const Json& m : character::time_metric_entries()) d["metrics"].push_back(m);
     d["params"] = Json::array();  // the seed finds different get-ups from different seeds (§4)
     d["presets"] = presets();
     d["config"] = accepted;
@@ -178,7 +180,7 @@ class GetupTask final : public plugins::Task {
     if (c.stage == "slower") return run_slower_stage(c, request, sink);
     if (c.stage == "evaluate") return run_evaluate_stage(c, request, sink);
     if (!request.inputs.empty()) throw base::UserError("getup weaker: takes no input trials (it starts from scratch, §4)");
-    const TrialOutcome out = run_discover_weaker(c.settings, request.seed, request.work_dir, request.cancel, reporter_for(sink));
+    const TrialOutcome out = run_discover_weaker(c.settings, stage_run(request, sink));
     plugins::RunResult result;
     result.objectives = {out.success_rate, 1.0 - out.policy_strength};
     result.features = out.features.as_vector();
@@ -196,7 +198,7 @@ class GetupTask final : public plugins::Task {
       const auto& in = one_input(request, "slower", {"policy"}, "policy_strength", "weaker");
       weak = {in.artifacts.at("policy"), in.info["policy_strength"].get<double>()};
     }
-    const SlowerOutcome out = run_slower(c.settings, c.slower, weak, request.seed, request.work_dir, request.cancel, reporter_for(sink));
+    const SlowerOutcome out = run_slower(c.settings, c.slower, weak, stage_run(request, sink));
     plugins::RunResult result;
     result.objectives = {out.success_rate, -out.com_error_m};
     result.artifacts = {{"policy", out.policy}, {"weak_policy", out.weak_policy}, {"trajectory", out.trajectory}};

@@ -4,7 +4,7 @@
 /// get-up that stands passes once and stays (0 drops, a peak near the standing head top,
 /// humanoid21: 1.56 m, and the head above for the episode's last seconds); a leap loop — rise,
 /// fly, fall, rise again — passes and drops again and again with peaks far above standing
-/// (tasks/getup/RESULTS.md, session 22: every quick-run π_weak did that, 2–4 drops per 250 steps),
+/// (every `quick` π_weak measured did that, 2–4 drops per 250 steps: tasks/getup/RESULTS.md),
 /// and its head is above the height for under a second at a time, so `stood` tells the two apart
 /// where the head's height at the episode's end alone samples the leap's phase.
 #include <algorithm>
@@ -56,8 +56,8 @@ inline HeadSummary summarise_heads(const std::vector<HeadWatch>& heads, int stan
 
 /// Of the episodes that began on the back (`on_back`, one per episode: the torso's front axis
 /// pointing up at the fall's end), how many there were, rose and stood: a get-up from the back
-/// needs a sit-up or a roll, from the front a push-up, and a policy may know only one (tasks/getup/
-/// RESULTS.md, session 26).
+/// needs a sit-up or a roll, from the front a push-up, and a policy may know only one (the shipped
+/// π_weak rises from none of its unseen falls on the back).
 struct BackSummary {
   int falls = 0, risen = 0, stood = 0;
 };

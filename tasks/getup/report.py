@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Issue 18's figures for a get-up campaign, read from its Podium database (read-only):
+"""The figures of tasks/getup/RESULTS.md for a get-up campaign, read from its Podium database (read-only):
 per Weaker trial the curriculum, the exported policy's test, the head-height curve's first and
 last tenth, the wall time, and from its trial.log the minutes to the first get-up and the
-environment steps per second; per Slower and Evaluate trial their results; then issue 18's four
-bars, each against the trial that comes closest, and the campaign's wall time. Markdown on stdout.
+environment steps per second; per Slower and Evaluate trial their results; then the task's four
+bars (RESULTS.md), each against the trial that comes closest, and the campaign's wall time. Markdown on stdout.
 
 Usage: tasks/getup/report.py DATABASE CAMPAIGN_NAME
 """
@@ -49,9 +49,9 @@ def training_minutes(log_path):
 
 
 def bars(weaker, evaluate, spans):
-    """Issue 18's `quick` bars, each against the done trial that reaches it best: `weaker` holds (trial, result info,
+    """The task's `quick` bars (RESULTS.md), each against the done trial that reaches it best: `weaker` holds (trial, result info,
     head-curve gain in m), `evaluate` (trial, {speed name: its result}), `spans` every trial's (start, finish)."""
-    print("\n### issue 18's bars\n")
+    print("\n### the quick bars (RESULTS.md)\n")
     print("| bar | closest trial | figure | met |\n|---|---|---|---|")
     if weaker:
         name, info, _ = max(weaker, key=lambda w: (w[1]["success_rate"], w[1]["levels"]))

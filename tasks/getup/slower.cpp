@@ -1,9 +1,9 @@
 #include "slower.h"
 
-#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <memory>
 
 #include "podium/base/error.h"
 #include "podium/base/log.h"
@@ -11,8 +11,6 @@
 #include "podium/character/evaluator.h"
 #include "podium/learn/frozen_policy.h"
 #include "podium/learn/learner.h"
-#include "podium/learn/training_checkpoint.h"
-#include "podium/learn/wall_budget.h"
 
 namespace podium::tasks::getup {
 
@@ -53,7 +51,7 @@ SlowerConfig read_slower(base::ConfigReader& r) {
   if (c.total_steps % c.eval_every != 0) r.fail("slow_total_steps", "is not a multiple of slow_eval_every " + std::to_string(c.eval_every));
   c.gamma = r.number("slow_gamma", c.gamma, {.min = 0.0, .max = 1.0},
                      "Slower: SAC's discount for π_slow (Table 1: 0.95); `sac.gamma` sets Weaker's");
-  c.warm_start = r.string("slow_warm_start", c.warm_start,
+  c.warm_start = r.file("slow_warm_start", c.warm_start,
                           "Slower: a Slower trial's training.ckpt to train on from (its π_weak must be this trial's); \"\": from scratch");
   if (!c.warm_start.empty() && !fs::is_regular_file(c.warm_start)) r.fail("slow_warm_start", "is not a file: " + c.warm_start);
   c.test_kappa = r.number("slow_test_kappa", c.test_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ of the tests");
@@ -85,89 +83,96 @@ character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std
 }
 
 
-SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, std::uint64_t seed, const fs::path& work_dir,
-                         const std::atomic<bool>* cancel, const Reporter& report) {
+namespace {
+
+// Slower on the driver: SlowerEnv copies imitating π_weak retimed by κ ~ U(κ_low, κ_high), tested
+// at slow_test_kappa; the export is the last π_slow.
+class SlowerStage final : public character::TrainingStage {
+ public:
+  SlowerStage(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, const fs::path& teacher, std::uint64_t seed)
+      : s_(s), c_(c), strength_(weak.strength), teacher_(std::make_shared<const learn::FrozenPolicy>(teacher)), seed_(seed),
+        tests_(slower_test(c.env, test_starts(s))) {}
+
+  void build(const Json&) override {
+    std::vector<std::unique_ptr<learn::Env>> copies;
+    for (int i = 0; i < s_.copies; ++i) copies.push_back(std::make_unique<SlowerEnv>(s_.env, c_.env, teacher_, strength_, std::nullopt));
+    envs_ = std::make_unique<learn::VecEnv>(std::move(copies), s_.threads, base::derive_seed(seed_, 1));
+    test_env_ = std::make_unique<SlowerEnv>(s_.env, c_.env, teacher_, strength_, c_.test_kappa);
+  }
+  learn::VecEnv& envs() override { return *envs_; }
+  Json learner_spec() const override { return slower_learner_spec(s_, c_); }
+
+  character::Figures test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) override {
+    const auto steps = static_cast<double>(round.env_steps);
+    const auto result =
+        character::evaluate(*test_env_, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true, 1.0); }, tests_);
+    const double com_error_m = result.mean("com_error_m");
+    const double tracked = result.mean("tracked_fraction"), end_gap = result.mean("end_com_gap_m");
+    char line[280];
+    std::snprintf(line, sizeof line,
+                  "getup slower: step %.0f: test return %.2f, COM error %.3f m over %.0f%% of the rise, %.3f m below at its end, success %.2f at κ %.2f (test %.1f s)",
+                  steps, result.mean_return, com_error_m, 100 * tracked, end_gap, result.success_rate, c_.test_kappa, round.seconds());
+    base::log_info(line);
+    send("slow/test_return", steps, result.mean_return);
+    send("slow/com_error_m", steps, com_error_m);
+    send("slow/tracked_fraction", steps, tracked);
+    send("slow/end_com_gap_m", steps, end_gap);
+    send("slow/success_rate", steps, result.success_rate);
+    return {{"test_return", result.mean_return}, {"com_error_m", com_error_m}, {"success_rate", result.success_rate}};
+  }
+
+  // The exported π_slow's motion from the first fixed start at the test κ, for the replay.
+  void record(const character::Recording& r) override {
+    character::EvaluationConfig record = tests_;
+    record.start_seeds.resize(1);
+    record.record = {0};
+    record.record_dir = r.rollouts;
+    trajectory_ = character::evaluate(*test_env_, [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a); }, record)
+                      .trajectories.at(0);
+  }
+
+  const fs::path& trajectory() const { return trajectory_; }
+
+ private:
+  const Settings& s_;
+  const SlowerConfig& c_;
+  double strength_;  // β π_weak passed at
+  std::shared_ptr<const learn::FrozenPolicy> teacher_;
+  std::uint64_t seed_;
+  character::EvaluationConfig tests_;
+  std::unique_ptr<learn::VecEnv> envs_;
+  std::unique_ptr<SlowerEnv> test_env_;
+  fs::path trajectory_;
+};
+
+}  // namespace
+
+SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, const character::StageRun& run) {
   // π_weak is copied into the trial folder: the Evaluate stage regenerates τ_fast from it.
   SlowerOutcome out;
-  out.weak_policy = work_dir / "weak_policy.pt";
+  out.weak_policy = run.work_dir / "weak_policy.pt";
   if (!fs::exists(out.weak_policy)) fs::copy_file(weak.policy, out.weak_policy);
-  const auto teacher = std::make_shared<const learn::FrozenPolicy>(out.weak_policy);
-
-  std::vector<std::unique_ptr<learn::Env>> copies;
-  for (int i = 0; i < s.copies; ++i) copies.push_back(std::make_unique<SlowerEnv>(s.env, c.env, teacher, weak.strength, std::nullopt));
-  learn::VecEnv envs(std::move(copies), s.threads, base::derive_seed(seed, 1));
-  SlowerEnv test_env(s.env, c.env, teacher, weak.strength, c.test_kappa);
-  const auto learner = learn::make_learner(slower_learner_spec(s, c), envs.observation_space(), envs.action_space(), base::derive_seed(seed, 2));
-  std::vector<std::uint64_t> starts;
-  for (int k = 0; k < s.eval_starts; ++k) starts.push_back(base::derive_seed(s.eval_seed, static_cast<std::uint64_t>(k)));
-  const character::EvaluationConfig tests = slower_test(c.env, starts);
-
-  learn::TrainingCheckpoint checkpoint(work_dir / "training.ckpt", s.checkpoint_every,
-                                       [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
-  if (!c.warm_start.empty() && !fs::exists(checkpoint.file())) {
+  if (!c.warm_start.empty() && !fs::exists(run.work_dir / "training.ckpt")) {
     // The replay buffer and the environments' references come from the source's π_weak: training
     // on from them under another teacher would mix two imitation targets.
     const fs::path source_teacher = fs::path(c.warm_start).parent_path() / "weak_policy.pt";
     if (!same_bytes(source_teacher, out.weak_policy))
       throw base::UserError("getup slower: slow_warm_start " + c.warm_start + " imitated another π_weak (" + source_teacher.string() +
                             " is missing or differs from " + weak.policy.string() + ")");
-    checkpoint.start_from(c.warm_start);
   }
-  Json extra = {{"last", nullptr}, {"clock", nullptr}};
-  if (auto saved = checkpoint.resume(*learner, envs)) extra = *saved;
-  // Until this trial's first save, the clock is the source's: it begins anew here.
-  if (!c.warm_start.empty() && extra.value("warm_start", std::string()) != c.warm_start) {
-    extra["clock"] = nullptr;
-    extra["warm_start"] = c.warm_start;
-  }
-  learn::WallBudget clock(c.train_minutes, extra.value("clock", Json()));
-  const auto act = [&](std::span<const double> o, std::span<double> a) { learner->act(o, a, true, 1.0); };
-  while (learner->env_steps() < c.total_steps && clock.another_round_fits()) {
-    clock.start_round();
-    learner->train_until(envs, learner->env_steps() + c.eval_every, [&](const learn::TrainStats& t) {
-      if (cancel && cancel->load()) throw std::runtime_error("getup slower: cancelled at environment step " + std::to_string(t.env_steps));
-    });
-    const auto steps = static_cast<double>(learner->env_steps());
-    const auto started = std::chrono::steady_clock::now();
-    const auto result = character::evaluate(test_env, act, tests);
-    const double com_error_m = result.mean("com_error_m");
-    const double tracked = result.mean("tracked_fraction"), end_gap = result.mean("end_com_gap_m");
-    char line[280];
-    std::snprintf(line, sizeof line,
-                  "getup slower: step %.0f: test return %.2f, COM error %.3f m over %.0f%% of the rise, %.3f m below at its end, success %.2f at κ %.2f (test %.1f s)",
-                  steps, result.mean_return, com_error_m, 100 * tracked, end_gap, result.success_rate, c.test_kappa,
-                  std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-    base::log_info(line);
-    checkpoint.metric("slow/test_return", steps, result.mean_return);
-    checkpoint.metric("slow/com_error_m", steps, com_error_m);
-    checkpoint.metric("slow/tracked_fraction", steps, tracked);
-    checkpoint.metric("slow/end_com_gap_m", steps, end_gap);
-    checkpoint.metric("slow/success_rate", steps, result.success_rate);
-    extra["last"] = {{"test_return", result.mean_return}, {"com_error_m", com_error_m},
-                     {"success_rate", result.success_rate}};
-    clock.end_round();
-    extra["clock"] = clock.state();
-    report.progress(std::max(steps / static_cast<double>(c.total_steps), clock.fraction_used()));
-    checkpoint.on_update(*learner, envs, extra);
-  }
-
-  out.policy = work_dir / "policy.pt";
-  learner->export_torchscript(out.policy);
-  const Json& last = extra.at("last");
-  out.test_return = last.at("test_return").get<double>();
-  out.com_error_m = last.at("com_error_m").get<double>();
-  out.success_rate = last.at("success_rate").get<double>();
-  out.env_steps = learner->env_steps();
-  out.stopped_by = learn::WallBudget::stopped_by(out.env_steps, c.total_steps);
-  base::log_info(clock.end_message("getup slower", out.env_steps, c.total_steps));
-  // The exported π_slow's motion from the first fixed start at the test κ, for the replay.
-  const learn::FrozenPolicy frozen(out.policy);
-  character::EvaluationConfig record = tests;
-  record.start_seeds.resize(1);
-  record.record = {0};
-  record.record_dir = work_dir / "rollouts";
-  out.trajectory = character::evaluate(test_env, [&](std::span<const double> o, std::span<double> a) { frozen.act(o, a); }, record)
-                       .trajectories.at(0);
+  SlowerStage stage(s, c, weak, out.weak_policy, run.seed);
+  const character::StageOutcome done = character::run_training_stage(
+      stage,
+      {.name = "getup slower", .total_steps = c.total_steps, .steps_per_iteration = c.eval_every,
+       .checkpoint_every = s.checkpoint_every, .train_minutes = c.train_minutes, .warm_start = c.warm_start},
+      run);
+  out.policy = done.policy;
+  out.trajectory = stage.trajectory();
+  out.test_return = character::figure(done.exported.figures, "test_return");
+  out.com_error_m = character::figure(done.exported.figures, "com_error_m");
+  out.success_rate = character::figure(done.exported.figures, "success_rate");
+  out.env_steps = done.env_steps;
+  out.stopped_by = done.stopped_by;
   return out;
 }
 

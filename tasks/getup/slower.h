@@ -15,7 +15,7 @@ struct SlowerConfig {
   std::int64_t total_steps = 2'000'000;  ///< environment steps (the seed gives no Slower budget)
   double train_minutes = 0.0;            ///< wall-clock limit on training and tests; 0: none (learn::WallBudget)
   std::int64_t eval_every = 20'000;      ///< as Weaker's tests (App. D)
-  double test_kappa = 0.5;               ///< issue 18: COM tracking is judged at κ = 0.5
+  double test_kappa = 0.5;               ///< COM tracking is judged at κ = 0.5 (the middle of App. D's range)
   double gamma = 0.95;                   ///< SAC's discount for π_slow (Table 1; π_weak's is 0.97)
   std::string warm_start;                ///< a Slower trial's training.ckpt to train on from, same π_weak ("": from scratch)
 };
@@ -39,13 +39,13 @@ struct SlowerOutcome {
   base::Json to_json() const;
 };
 
-/// Runs the trial in `work_dir`, resuming from work_dir/training.ckpt like run_discover_weaker.
-/// With a `warm_start`, that file is copied in and trained on (networks, replay buffer,
-/// environments, curves; `slow_total_steps` counts on from its steps) with a clock of its own.
-/// Throws base::UserError when π_weak never gets up (SlowerEnv's reason), or when the warm start's
-/// trial imitated another π_weak (its folder's weak_policy.pt differs from `weak`'s file).
-SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, std::uint64_t seed,
-                         const std::filesystem::path& work_dir, const std::atomic<bool>* cancel, const Reporter& report);
+/// Runs the trial on character's training-stage driver in `run.work_dir`, resuming from its
+/// training.ckpt when a previous attempt left one; the exported π_slow is the last one. With a
+/// `warm_start`, that file is copied in and trained on (networks, replay buffer, environments,
+/// curves; `slow_total_steps` counts on from its steps) with a clock of its own. Throws
+/// base::UserError when π_weak never gets up (SlowerEnv's reason), or when the warm start's trial
+/// imitated another π_weak (its folder's weak_policy.pt differs from `weak`'s file).
+SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, const character::StageRun& run);
 
 /// Slower's learner: the task's (learner_spec), SAC with π_slow's own discount.
 base::Json slower_learner_spec(const Settings& s, const SlowerConfig& c);

@@ -43,7 +43,7 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
   // truncates each episode at its own T/κ + balance_steps).
   p.episode_steps = static_cast<int>(std::ceil(s.max_rise_steps / s.kappa_low)) + s.balance_steps + 1;
   p.action = std::make_unique<ResidualActions>(model, sim::Control::pd, s.residual_bound_rad);
-  add_weak_observation(p.observation, model, e.root_velocity);
+  add_weak_observation(p.observation, model);
   const auto bridge = std::make_shared<PoseBridge>(model);
   const std::size_t frame = bridge->size() + 4;
   p.observation.push_back(std::make_unique<TaskScalars>(2 * frame, [bridge, frame](const CharacterEnv& env, std::span<double> out) {
@@ -269,7 +269,7 @@ void SlowerEnv::load_state(const Json& state) {
     build_reference(FastRollout::from_json(s.at("fast")), s.at("kappa").get<double>());
     com_error_sum_ = s.at("com_error_sum").get<double>();
     rise_steps_ = s.at("rise_steps").get<int>();
-    end_com_gap_m_ = s.value("end_com_gap", 0.0);  // absent in checkpoints before session 26: a statistic only
+    end_com_gap_m_ = s.at("end_com_gap").get<double>();
   } catch (const Json::exception& e) {
     throw base::UserError(std::string("getup slower env state: ") + e.what());
   }

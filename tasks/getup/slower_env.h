@@ -37,8 +37,8 @@ struct SlowerSettings {
   int max_rise_steps = 250;        ///< τ_fast's cap (a Weaker episode's length)
   /// Falls tried per episode before π_weak is declared unable. Every episode needs a rise, so a
   /// π_weak rising from a share p of falls fails a trial of E episodes with probability about
-  /// E·(1 − p)^attempts: at 10, run 21's (p ≈ 0.4, thousands of episodes) failed every Slower
-  /// trial within its first 20,000 steps (RESULTS.md, session 25); at 100 that is ≈ 10⁻¹⁹, and
+  /// E·(1 − p)^attempts: at 10, the shipped π_weak (p ≈ 0.4, thousands of episodes) failed every
+  /// Slower trial within its first 20,000 steps (measured); at 100 that is ≈ 10⁻¹⁹, and
   /// a π_weak that never rises costs 100 × max_rise_steps control steps before it is refused.
   int rise_attempts = 100;
   double track_limit_m = 0.5;      ///< §6: |h_com − h'_com| above it ends the episode

@@ -1,5 +1,5 @@
 #pragma once
-/// A get-up's strategy as four numbers (issue 18 item 7), read from a policy's rollouts over fixed
+/// A get-up's strategy as four numbers (the seed's App. G compares get-ups by video), read from a policy's rollouts over fixed
 /// starts and averaged over them. The seed compares strategies by video and by t-SNE of
 /// hand-picked state features (App. G); these summarise what a person watching tells apart:
 /// which way the chest faces while rising (a sit-up from the back or a push-up from the front),

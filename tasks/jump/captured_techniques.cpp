@@ -21,7 +21,7 @@ std::vector<CapturedTechnique> captured_techniques(const fs::path& motions_dir, 
     const fs::path path = motions_dir / file;
     if (!fs::is_regular_file(path)) throw base::UserError("captured techniques: " + path.string() + ": no such file");
     const character::Clip clip = character::read_deepmimic_clip(model, path);
-    // The frame where the centre of mass peaks: the captures have no bar to cross (issue 19).
+    // The frame where the centre of mass peaks: the captures have no bar to cross.
     sim::CharacterData data(*model);
     CapturedTechnique t{name, file, 0.0, -1e9};
     Eigen::Vector3d com, com_vel;

@@ -1,7 +1,7 @@
 #pragma once
-/// The captured high-jump techniques as strategy features (issue 19 item 7): the Fosbury flop,
-/// straddle and scissor jumps of the authors' motion capture (../shared/data/jump/data/motions/beyond,
-/// DeepMimic format; never copied into the repository), each reduced to the Stage 1 feature of
+/// The captured high-jump techniques as strategy features: the Fosbury flop, straddle and scissor
+/// jumps of the authors' motion capture (arpspoof/Jump's data/motions/beyond, DeepMimic format;
+/// never copied into the repository), each reduced to the Stage 1 feature of
 /// strategy_feature.h at the frame where its centre of mass peaks (the captures have no bar), so a
 /// discovered strategy is labelled by its nearest technique.
 #include <filesystem>

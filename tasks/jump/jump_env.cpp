@@ -37,7 +37,7 @@ JumpSettings read_jump_settings(base::ConfigReader& r) {
   s.difficulty_m = r.number("difficulty_m", 0.0, {.min = 0.0, .max = 5.0}, "z at the start; 0: Table 3.1's z_min for the kind");
   if (s.difficulty_m == 0.0) s.difficulty_m = difficulty_curriculum(s.kind).initial;
   s.sim_hz = r.number("sim_hz", s.sim_hz, {.min = 30.0}, "physics steps per second (§3.6.2: 600)");
-  s.takeoff_state = r.string("takeoff_state", s.takeoff_state, "reference take-off state file (.json, .npy, .txt); empty: shipped");
+  s.takeoff_state = r.file("takeoff_state", s.takeoff_state, "reference take-off state file (.json, .npy, .txt); empty: shipped");
   s.takeoff_features = r.numbers("takeoff_features", s.takeoff_features, {}, "Stage 1's x (take-off features); empty: none");
   s.layout.approach_angle_rad = r.number("approach_angle_rad", s.layout.approach_angle_rad, {}, "α without features (π/2: bar across the run)");
   s.layout.wall_distance_m = r.number("wall_distance_m", s.layout.wall_distance_m, {.min = 0.0}, "take-off point to the wall");

@@ -32,7 +32,7 @@ namespace podium::tasks::jump {
 
 struct JumpSettings {
   JumpKind kind = JumpKind::high_jump;
-  /// sim/models/<model>.json; "athlete" (issue 19's 60 kg jumper). Its body names must include
+  /// sim/models/<model>.json; "athlete" (the thesis's 60 kg jumper, Table 3.2). Its body names must include
   /// takeoff_foot.
   std::string model = "athlete";
   std::string takeoff_foot = "right_foot";  ///< the body allowed on the ground

@@ -40,7 +40,9 @@ JumpEvaluation evaluate_jumps(JumpEnv& env, const character::PolicyFn& policy, c
   for (int axis = 0; axis < 3; ++axis)
     c.measures.push_back({"rotation_" + std::to_string(axis),
                           [axis](const character::CharacterEnv& e) { return as_jump(e).crossing().bar_frame_rotation()(axis); }});
-  if (!record_dir.empty()) c.record = {0}, c.record_dir = record_dir;
+  // A jump lasts about a second at 10–30 Hz control: the replay takes the simulation's states at
+  // ≥ 60 Hz (the measures above still read the control steps only).
+  if (!record_dir.empty()) c.record = {0}, c.record_dir = record_dir, c.record_min_hz = 60.0;
 
   const character::EvaluationReport report = character::evaluate(env, act, c);
   JumpEvaluation out;

@@ -32,7 +32,8 @@ struct JumpEvaluation {
 };
 
 /// Runs the jumps on `env` at its current z; with `record_dir` set, writes the deterministic
-/// jump's motion there (sim::write_trajectory: the bar, box and block are the World's props).
+/// jump's motion there (sim::write_trajectory: the bar, box and block are the World's props, with
+/// their kinds; frames at ≥ 60 Hz of simulated time, character::EvaluationConfig::record_min_hz).
 JumpEvaluation evaluate_jumps(JumpEnv& env, const character::PolicyFn& policy, const EvaluationJumps& config,
                               const std::filesystem::path& record_dir = {});
 

@@ -51,6 +51,9 @@ JumpSuite make_suite(JumpKind kind, double z_m, const SuiteLayout& l) {
   s.terrain.boxes.push_back(slab(kind == JumpKind::high_jump ? "bar" : "obstacle", n, s.bar_frame, near, depth, length, height, 0.9));
   s.block_top_m = std::clamp(height - 0.7, 0.02, 0.75);
   s.terrain.boxes.push_back(slab("block", n, s.bar_frame, near + depth + l.block_gap_m, l.block_depth_m, l.block_length_m, s.block_top_m, 0.4));
+  // What a replay draws: the wall stands in for a crossbar at its top edge; the block is the mat.
+  s.terrain.boxes[0].kind = kind == JumpKind::high_jump ? "crossbar" : "obstacle";
+  s.terrain.boxes[1].kind = "mat";
   s.plane_point = (near + 0.5 * depth) * n;
   return s;
 }

@@ -1,4 +1,4 @@
-// The jump task plugin (issue 19; thesis ch. 3). One plugin, two stages chosen by the config key
+// The jump task plugin (thesis ch. 3). One plugin, two stages chosen by the config key
 // `stage`: "explore" (Stage 1, §3.5.1: the take-off features are the params BDS searches; the
 // feature is the 1-D up-angle at the bar) and "novel" (Stage 2, §3.5.2: one Stage 1 trial per
 // trial, warm-started from its policy, rewarded for a bar-frame rotation unlike those found).
@@ -59,7 +59,7 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   c.shipped = read_shipped_jumps(r, c.train.env.kind);
   c.captured_motions = r.string("captured_motions", c.captured_motions,
                                 "folder of the captured Fosbury flop, straddle and scissor jumps (DeepMimic format, e.g. "
-                                "../shared/data/jump/data/motions/beyond): an explore trial is labelled by its nearest technique; "
+                                "data/motions/beyond of the authors' arpspoof/Jump): an explore trial is labelled by its nearest technique; "
                                 "\"\": no label");
   return c;
 }
@@ -69,7 +69,7 @@ TaskConfig config_from(const Json& config) { return base::ConfigReader::parse(co
 // smoke: seconds per trial (16-16 networks, 4 iterations of 64 samples, 2 copies, a 2-epoch P-VAE;
 // mechanics only: no jump is learnt). The P-VAE: quick 600 epochs of the shipped 2,400 poses (about
 // the thesis's number of updates, 80 epochs of 20,000 poses; ≈ 50 s), paper 80 epochs of the poses
-// the user points `pose_set` at (the thesis's: ../shared/data/jump/data/vae/txt). quick: this 2-core machine, about 10 min per trial on one core (see
+// the user points `pose_set` at (the thesis's: arpspoof/Jump's data/vae/txt). quick: 2 cores, about 10 min per trial on one core (see
 // README.md "Presets": 256-128 ReLU, 1024 samples per iteration, 150 Hz simulation, measured to
 // give 600 Hz's outcomes). paper: §3.6.2 (4096 samples per iteration = 16 copies × 256, 1024-512
 // ReLU, 5 epochs of 256, γ = 1, λ = 0.95, clip 0.02, LRs 2.5e-5 / 1e-2, 12,000 iterations, 600 Hz).
@@ -91,7 +91,7 @@ Json presets() {
 }
 
 Json metrics() {
-  return {plugins::metric_entry("train/avg_reward", "", "the iteration's curriculum score (curriculum_score); step = samples"),
+  Json metrics = {plugins::metric_entry("train/avg_reward", "", "the iteration's curriculum score (curriculum_score); step = samples"),
           plugins::metric_entry("train/episodes", "", "episodes ended in the iteration"),
           plugins::metric_entry("curriculum/z_m", "m", "bar height (obstacle width) z after the iteration (Table 3.1)"),
           plugins::metric_entry("curriculum/control_hz", "Hz", "the copies' control rate f_control(ρ(z))"),
@@ -99,8 +99,10 @@ Json metrics() {
           plugins::metric_entry("eval/return", "", "mean reward of the test jumps (eq. 3.16 × naturalness × novelty)"),
           plugins::metric_entry("eval/up_angle_rad", "rad", "the deterministic test jump's up-angle at the bar"),
           plugins::metric_entry("eval/mean_offset_l1", "rad", "mean L1 norm of the P-VAE offsets in the test jumps (0 with plain targets)"),
-          plugins::metric_entry("eval/success_rate_start_bar", "", "the final policy's evaluation jumps at the starting bar (issue 19's acceptance)"),
+          plugins::metric_entry("eval/success_rate_start_bar", "", "the final policy's evaluation jumps at the starting bar (the task's bar: at least half)"),
           plugins::metric_entry("eval/success_rate_final", "", "the final policy's evaluation jumps at the z reached")};
+  for (const Json& m : character::time_metric_entries()) metrics.push_back(m);  // the training's wall times
+  return metrics;
 }
 
 Json feature(const char* name, double low, double high) {
@@ -248,9 +250,8 @@ class JumpTask final : public plugins::Task {
       inputs = explore_inputs(request);
     }
     c.train.env.takeoff_features = takeoff_params(c, request.params);
-    const Reporter reporter{[&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
-                            [&sink](double fraction) { sink.progress(fraction); }};
-    const JumpOutcome out = run_jump_trial(c.train, request.seed, inputs, request.work_dir, request.cancel, reporter);
+    const JumpOutcome out =
+        run_jump_trial(c.train, inputs, {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
 
     plugins::RunResult result;
     result.objectives = {out.z_reached_m, out.start_bar.success_rate};

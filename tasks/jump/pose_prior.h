@@ -1,9 +1,9 @@
 #pragma once
-/// The jump task's pose prior (thesis §3.4.2, issue 19 item 4): a β-VAE over the athlete's joint
+/// The jump task's pose prior (thesis §3.4.2): a β-VAE over the athlete's joint
 /// poses whose decoder turns the policy's latent action into a natural PD target pose. It trains
 /// on the project's authored pose set (learn/data/athlete_poses.json, made by
 /// make_athlete_poses.py) unless the user points to DeepMimic-format clips of the same skeleton,
-/// such as the CMU clips under ../shared/data/jump/data/vae/txt, which the thesis's authors used.
+/// such as the CMU clips of arpspoof/Jump's data/vae/txt, which the thesis's authors used.
 ///
 /// Poses are in z-up joint frames (character::PoseBridge's default) whatever their source:
 /// read_deepmimic_clip turns clips z-up on reading, so every set shares one layout and the prior's

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 19's figures for a jump campaign, read from its Podium database (read-only): per trial
+"""The figures of tasks/jump/RESULTS.md for a jump campaign, read from its Podium database (read-only): per trial
 its take-off parameters, the bar (box width) reached, success over the 20 evaluation jumps at the
 starting bar and at the bar reached, its strategy feature and cluster, the nearest captured
 technique when labelled, samples and wall time; then the distinct strategies per stage, counted

@@ -11,14 +11,14 @@ std::vector<ShippedJump> read_shipped_jumps(base::ConfigReader& r, JumpKind kind
       "shipped",
       [kind](base::ConfigReader& p) {
         ShippedJump s;
-        s.policy = p.string("policy", base::required, "a jump trial's TorchScript policy");
-        s.pose_vae = p.string("pose_vae", "", "the P-VAE it was trained through (\"\": plain targets)");
+        s.policy = p.file("policy", base::required, "a jump trial's TorchScript policy");
+        s.pose_vae = p.file("pose_vae", "", "the P-VAE it was trained through (\"\": plain targets)");
         s.takeoff = p.numbers("takeoff", {}, {}, "its take-off features, in the order of the explore stage's params");
         s.z_m = p.number("z_m", 0.0, {.min = 0.0, .max = 3.0}, "the bar height (box width) to jump; 0: the kind's starting z");
         if (s.z_m == 0.0) s.z_m = difficulty_curriculum(kind).initial;
         return s;
       },
-      "evaluate: trial i jumps entry i mod n (paths relative to where `podium run` starts)");
+      "evaluate: trial i jumps entry i mod n (paths relative to the spec file's folder)");
 }
 
 JumpEvaluation evaluate_shipped(const ShippedJump& shipped, JumpSettings settings, const EvaluationJumps& jumps,

@@ -17,7 +17,7 @@ struct ShippedJump {
   double z_m = 0.0;                ///< the bar (box width) to jump
 };
 
-/// The `shipped` config list (paths relative to where `podium run` starts); an entry's `z_m` 0 (or
+/// The `shipped` config list (paths relative to the spec file's folder); an entry's `z_m` 0 (or
 /// absent) becomes `kind`'s starting z.
 std::vector<ShippedJump> read_shipped_jumps(base::ConfigReader& r, JumpKind kind);
 

@@ -2,14 +2,11 @@
 
 #include <cmath>
 #include <cstdio>
-#include <regex>
-#include <stdexcept>
 
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/base/rng.h"
 #include "podium/learn/ppo.h"
-#include "podium/learn/training_checkpoint.h"
 
 namespace podium::tasks::jump {
 
@@ -68,14 +65,12 @@ double iteration_score(const std::string& score, const learn::TrainStats& stats,
   return score == "per_sample" ? sum / static_cast<double>(samples) : sum / static_cast<double>(stats.episodes);
 }
 
-JumpTrainer::JumpTrainer(const TrainSettings& settings, std::uint64_t seed, const TrialInputs& inputs, double z_built)
-    : s_(settings), seed_(seed), prior_(inputs.prior), known_(inputs.known), curriculum_(settings.curriculum) {
-  build_copies(z_built);
-  learner_ = learn::make_learner(learner_spec(s_), envs_->observation_space(), envs_->action_space(), base::derive_seed(seed, 2));
-  if (!inputs.warm_start.empty()) learner_->warm_start(inputs.warm_start);
-}
+JumpStage::JumpStage(const TrainSettings& settings, std::uint64_t seed, const TrialInputs& inputs)
+    : s_(settings), seed_(seed), prior_(inputs.prior), known_(inputs.known), curriculum_(settings.curriculum) {}
 
-void JumpTrainer::build_copies(double z) {
+void JumpStage::build(const Json& built) { build_copies(built.is_null() ? s_.curriculum.initial : built.at("z_built_m").get<double>()); }
+
+void JumpStage::build_copies(double z) {
   JumpSettings settings = s_.env;
   settings.difficulty_m = z;
   std::vector<std::unique_ptr<learn::Env>> copies;
@@ -93,11 +88,22 @@ void JumpTrainer::build_copies(double z) {
   z_built_ = z;
 }
 
-double JumpTrainer::control_hz() const { return control_hz_for(difficulty_ratio(s_.env.kind, z()), s_.env.sim_hz); }
+double JumpStage::control_hz() const { return control_hz_for(difficulty_ratio(s_.env.kind, z()), s_.env.sim_hz); }
 
-bool JumpTrainer::frozen() const { return s_.z_freeze_m > 0 && z() >= s_.z_freeze_m - 1e-9; }
+double JumpStage::hz_of_copies() const { return control_hz_for(difficulty_ratio(s_.env.kind, z_built_), s_.env.sim_hz); }
 
-bool JumpTrainer::feed(double score) {
+// One checkpoint file per control rate: the copies it holds step at that rate, and sim::World
+// restores only into a World of the same rates.
+std::string JumpStage::checkpoint_tag() const { return std::to_string(std::llround(hz_of_copies())) + "hz"; }
+
+bool JumpStage::frozen() const { return s_.z_freeze_m > 0 && z() >= s_.z_freeze_m - 1e-9; }
+
+double JumpStage::progress() const {
+  if (s_.z_freeze_m <= s_.curriculum.initial) return 0.0;
+  return (z() - s_.curriculum.initial) / (s_.z_freeze_m - s_.curriculum.initial);
+}
+
+bool JumpStage::feed(double score) {
   if (!curriculum_.observe(score)) return false;
   bool fits = true;
   for (JumpEnv* env : copies_) fits = env->set_difficulty(z()) && fits;
@@ -105,12 +111,51 @@ bool JumpTrainer::feed(double score) {
   return true;
 }
 
-std::unique_ptr<JumpEnv> JumpTrainer::test_env(double z) const {
+std::unique_ptr<JumpEnv> JumpStage::test_env(double z) const {
   JumpSettings settings = s_.env;
   settings.difficulty_m = z;
   auto env = std::make_unique<JumpEnv>(settings, prior_);
   env->set_known_features(known_);
   return env;
+}
+
+void JumpStage::on_iteration(const character::Iteration& it, learn::Learner&, const character::MetricFn& send) {
+  const auto samples = static_cast<double>(it.env_steps);
+  last_stats_ = it.training.last;
+  score_ = iteration_score(s_.curriculum_score, last_stats_, it.env_steps - it.env_steps_before);
+  send("train/avg_reward", samples, score_);
+  send("train/episodes", samples, static_cast<double>(last_stats_.episodes));
+  feed(score_);
+  send("curriculum/z_m", samples, z());
+  send("curriculum/control_hz", samples, hz_of_copies());
+}
+
+character::Figures JumpStage::test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) {
+  const auto samples = static_cast<double>(round.env_steps);
+  auto env = test_env(z());
+  const JumpEvaluation e = evaluate_jumps(*env, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, s_.eval);
+  send("eval/success_rate", samples, e.success_rate);
+  send("eval/return", samples, e.return_mean);
+  send("eval/up_angle_rad", samples, e.up_angle_rad);
+  send("eval/mean_offset_l1", samples, e.mean_offset_l1);
+  char line[200];  // the wall times are also metrics (time/)
+  std::snprintf(line, sizeof line, "jump: sample %.0f: z %.2f m at %.0f Hz, score %.3f, test success %.2f, %.1f s rollout, %.1f s update", samples,
+                z(), hz_of_copies(), score_, e.success_rate, last_stats_.rollout_seconds, last_stats_.update_seconds);
+  base::log_info(line);
+  return {{"success_rate", e.success_rate}, {"return", e.return_mean}, {"z_m", z()}};
+}
+
+void JumpStage::record(const character::Recording& r) {
+  const auto policy = [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a); };
+  EvaluationJumps final_jumps = s_.eval;
+  final_jumps.jumps = s_.final_jumps;
+  auto start_env = test_env(s_.curriculum.initial);
+  start_bar_ = evaluate_jumps(*start_env, policy, final_jumps, r.rollouts / "start_bar");
+  auto final_env = test_env(z());
+  final_bar_ = evaluate_jumps(*final_env, policy, final_jumps, r.rollouts / "final_bar");
+  const auto samples = static_cast<double>(r.exported.env_steps);
+  r.send("eval/success_rate_start_bar", samples, start_bar_.success_rate);
+  r.send("eval/success_rate_final", samples, final_bar_.success_rate);
 }
 
 Json JumpOutcome::to_json() const {
@@ -130,126 +175,21 @@ Json JumpOutcome::to_json() const {
           {"bar_frame_rotation", {s.bar_rotation(0), s.bar_rotation(1), s.bar_rotation(2)}}};
 }
 
-namespace {
-
-// One checkpoint file per control rate (the copies it holds step at that rate; sim::World
-// restores only into a World of the same rates), with the z its copies were built at beside it.
-// The rate only rises with z, so the newest checkpoint is the one of the highest rate.
-fs::path checkpoint_file(const fs::path& dir, double hz) { return dir / ("training_" + std::to_string(std::llround(hz)) + "hz.ckpt"); }
-
-struct SavedRun {
-  fs::path file;
-  double z_built = 0.0;
-};
-
-std::optional<SavedRun> newest_checkpoint(const fs::path& dir) {
-  static const std::regex name(R"(training_(\d+)hz\.ckpt)");
-  std::optional<SavedRun> best;
-  long best_hz = -1;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    std::smatch m;
-    const std::string file = entry.path().filename().string();
-    if (!std::regex_match(file, m, name)) continue;
-    const long hz = std::stol(m[1]);
-    fs::path built = entry.path();
-    built.replace_extension(".json");
-    if (hz > best_hz && fs::exists(built)) best_hz = hz, best = SavedRun{entry.path(), base::read_json_file(built).at("z_built_m").get<double>()};
-  }
-  return best;
-}
-
-void note_built(const fs::path& file, double z) {
-  fs::path built = file;
-  built.replace_extension(".json");
-  base::write_json_file_atomic(built, {{"z_built_m", z}});
-}
-
-void remove_older(const fs::path& dir, const fs::path& keep) {
-  static const std::regex name(R"(training_\d+hz\.(ckpt|json))");
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    const std::string file = entry.path().filename().string();
-    if (std::regex_match(file, name) && entry.path().stem() != keep.stem()) fs::remove(entry.path());
-  }
-}
-
-}  // namespace
-
-JumpOutcome run_jump_trial(const TrainSettings& s, std::uint64_t seed, const TrialInputs& inputs, const fs::path& work_dir,
-                           const std::atomic<bool>* cancel, const Reporter& report) {
-  const std::optional<SavedRun> saved = newest_checkpoint(work_dir);
-  JumpTrainer trainer(s, seed, inputs, saved ? saved->z_built : s.curriculum.initial);
-  const auto hz_of_copies = [&] { return control_hz_for(difficulty_ratio(s.env.kind, trainer.z_built()), s.env.sim_hz); };
-
-  learn::TrainingCheckpoint checkpoint(checkpoint_file(work_dir, hz_of_copies()), s.checkpoint_every,
-                                       [&](const std::string& name, double step, double value) { report.metric(name, step, value); });
-  const auto send = [&](const std::string& name, double step, double value) { checkpoint.metric(name, step, value); };
-  learn::Learner& learner = trainer.learner();
-  if (saved) {
-    const Json extra = *checkpoint.resume(learner, trainer.envs());
-    trainer.load_curriculum(extra.at("curriculum"));
-  } else {
-    note_built(checkpoint.file(), trainer.z_built());
-  }
-
-  const auto progress = [&] {
-    double f = static_cast<double>(learner.env_steps()) / static_cast<double>(s.total_samples);
-    if (s.z_freeze_m > s.curriculum.initial)
-      f = std::max(f, (trainer.z() - s.curriculum.initial) / (s.z_freeze_m - s.curriculum.initial));
-    report.progress(std::min(1.0, f));
-  };
-  progress();
-  while (!trainer.frozen() && learner.env_steps() < s.total_samples) {
-    learn::TrainStats stats;
-    const std::int64_t before = learner.env_steps();
-    learner.train_until(trainer.envs(), before + 1, [&](const learn::TrainStats& t) { stats = t; });  // one iteration
-    if (cancel && cancel->load()) throw std::runtime_error("jump: cancelled at sample " + std::to_string(learner.env_steps()));
-    const auto samples = static_cast<double>(learner.env_steps());
-    const double score = iteration_score(s.curriculum_score, stats, learner.env_steps() - before);
-    send("train/avg_reward", samples, score);
-    send("train/episodes", samples, static_cast<double>(stats.episodes));
-    const double built_hz = hz_of_copies();
-    if (trainer.feed(score) && std::abs(hz_of_copies() - built_hz) > 1e-9) {
-      checkpoint.retarget(checkpoint_file(work_dir, hz_of_copies()));
-      note_built(checkpoint.file(), trainer.z_built());
-    }
-    send("curriculum/z_m", samples, trainer.z());
-    send("curriculum/control_hz", samples, hz_of_copies());
-
-    const std::int64_t iteration = checkpoint.updates() + 1;
-    if (iteration % s.eval_every == 0) {
-      auto env = trainer.test_env(trainer.z());
-      const JumpEvaluation e =
-          evaluate_jumps(*env, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, s.eval);
-      send("eval/success_rate", samples, e.success_rate);
-      send("eval/return", samples, e.return_mean);
-      send("eval/up_angle_rad", samples, e.up_angle_rad);
-      send("eval/mean_offset_l1", samples, e.mean_offset_l1);
-      char line[200];  // wall times stay out of the metrics (they differ between runs)
-      std::snprintf(line, sizeof line, "jump: sample %.0f: z %.2f m at %.0f Hz, score %.3f, test success %.2f, %.1f s rollout, %.1f s update", samples,
-                    trainer.z(), hz_of_copies(), score, e.success_rate, stats.rollout_seconds, stats.update_seconds);
-      base::log_info(line);
-    }
-    progress();
-    checkpoint.on_update(learner, trainer.envs(), {{"curriculum", trainer.curriculum().state()}});
-    if (checkpoint.updates() % s.checkpoint_every == 0) remove_older(work_dir, checkpoint.file());
-  }
-
+JumpOutcome run_jump_trial(const TrainSettings& s, const TrialInputs& inputs, const character::StageRun& run) {
+  JumpStage stage(s, run.seed, inputs);
+  const character::StageOutcome done = character::run_training_stage(
+      stage,
+      {.name = "jump", .total_steps = s.total_samples, .steps_per_iteration = 1, .test_every = s.eval_every,
+       .checkpoint_every = s.checkpoint_every, .warm_start = inputs.warm_start,
+       .warm_start_kind = character::StageSettings::WarmStart::policy},
+      run);
   JumpOutcome out;
-  out.z_reached_m = trainer.z();
-  out.levels = trainer.level();
-  out.samples = learner.env_steps();
-  out.policy = work_dir / "policy.pt";
-  learner.export_torchscript(out.policy);
-  const auto policy = [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); };
-  EvaluationJumps final_jumps = s.eval;
-  final_jumps.jumps = s.final_jumps;
-  auto start_env = trainer.test_env(s.curriculum.initial);
-  out.start_bar = evaluate_jumps(*start_env, policy, final_jumps, work_dir / "rollouts" / "start_bar");
-  auto final_env = trainer.test_env(out.z_reached_m);
-  out.final_bar = evaluate_jumps(*final_env, policy, final_jumps, work_dir / "rollouts" / "final_bar");
-  send("eval/success_rate_start_bar", static_cast<double>(out.samples), out.start_bar.success_rate);
-  send("eval/success_rate_final", static_cast<double>(out.samples), out.final_bar.success_rate);
-  report.progress(1.0);
+  out.z_reached_m = stage.z();
+  out.levels = stage.level();
+  out.samples = done.env_steps;
+  out.policy = done.policy;
+  out.start_bar = stage.start_bar();
+  out.final_bar = stage.final_bar();
   return out;
 }
 

@@ -5,10 +5,8 @@
 /// longer fits; the trial ends at z_freeze (§3.6.1: 1 m for strategy discovery) or after
 /// total_samples. Tests every eval_every iterations; 20 evaluation jumps at the starting bar and
 /// at the final z at the end. Stage 2 (§3.5.2) adds the novelty reward and a warm start.
-#include <atomic>
 #include <cstdint>
 #include <filesystem>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +16,7 @@
 #include "podium/base/config.h"
 #include "podium/base/json.h"
 #include "podium/character/curriculum.h"
+#include "podium/character/training_stage.h"
 #include "podium/learn/learner.h"
 
 namespace podium::tasks::jump {
@@ -37,7 +36,7 @@ struct TrainSettings {
   std::string curriculum_score = "per_episode";
   int eval_every = 50;                          ///< iterations between tests
   EvaluationJumps eval;                         ///< the tests' jumps
-  int final_jumps = 20;                         ///< issue 19: 20 evaluation jumps at the end
+  int final_jumps = 20;                         ///< evaluation jumps at the end, at the starting bar and at the z reached
   int checkpoint_every = 10;                    ///< iterations between training checkpoints
 };
 
@@ -60,30 +59,47 @@ struct TrialInputs {
   std::vector<std::vector<double>> known;      ///< bar-frame rotations already found (eq. 3.12)
 };
 
-/// The learner and the copies, and the curriculum between iterations. The copies are rebuilt at a
-/// new control rate with the same learner: observation and action do not depend on the rate.
-class JumpTrainer {
+/// The jump's part of a training stage (character/training_stage.h): copies of JumpEnv at the
+/// trial's take-off state and the Table 3.1 curriculum between PPO iterations. The copies are
+/// rebuilt at a new control rate under the same learner (observation and action do not depend on
+/// the rate); each rate has its own checkpoint file (its tag, e.g. "12hz").
+class JumpStage final : public character::TrainingStage {
  public:
-  /// Builds copies at z_built (the curriculum starts at settings.curriculum.initial regardless).
-  JumpTrainer(const TrainSettings& settings, std::uint64_t seed, const TrialInputs& inputs, double z_built);
+  JumpStage(const TrainSettings& settings, std::uint64_t seed, const TrialInputs& inputs);
+  /// Builds the copies at the z `built` names ({"z_built_m"}), or at the curriculum's start.
+  void build(const base::Json& built) override;
+  learn::VecEnv& envs() override { return *envs_; }
+  base::Json learner_spec() const override { return jump::learner_spec(s_); }
+  std::string checkpoint_tag() const override;
+  base::Json build_state() const override { return {{"z_built_m", z_built_}}; }
+  base::Json state() const override { return {{"curriculum", curriculum_.state()}}; }
+  void load_state(const base::Json& state) override { curriculum_.load_state(state.at("curriculum")); }
+  /// The iteration's score into the curriculum (feed()), and its metrics.
+  void on_iteration(const character::Iteration& iteration, learn::Learner& learner, const character::MetricFn& send) override;
+  bool finished() const override { return frozen(); }
+  double progress() const override;
+  /// eval_jumps test jumps at the current z.
+  character::Figures test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) override;
+  /// final_jumps evaluation jumps at the starting bar and at the z reached.
+  void record(const character::Recording& recording) override;
+
   /// One iteration's score into the curriculum; on an advance, every copy moves to the new z and
   /// they are rebuilt when the control rate changed. Returns true when z advanced.
   bool feed(double score);
   double z() const { return curriculum_.value(); }
   int level() const { return curriculum_.level(); }
-  double control_hz() const;
+  double control_hz() const;  ///< f_control(ρ(z)) at the curriculum's z
   double z_built() const { return z_built_; }  ///< the z the current copies were built at
   int rebuilds() const { return rebuilds_; }
   bool frozen() const;
-  learn::VecEnv& envs() { return *envs_; }
-  learn::Learner& learner() { return *learner_; }
-  const character::ThresholdCurriculum& curriculum() const { return curriculum_; }
-  void load_curriculum(const base::Json& state) { curriculum_.load_state(state); }
   /// A fresh env at z for tests (the trial's take-off state and novelty features).
   std::unique_ptr<JumpEnv> test_env(double z) const;
+  const JumpEvaluation& start_bar() const { return start_bar_; }
+  const JumpEvaluation& final_bar() const { return final_bar_; }
 
  private:
   void build_copies(double z);
+  double hz_of_copies() const;
 
   TrainSettings s_;
   std::uint64_t seed_;
@@ -94,13 +110,9 @@ class JumpTrainer {
   int rebuilds_ = 0;
   std::vector<JumpEnv*> copies_;  // owned by envs_
   std::unique_ptr<learn::VecEnv> envs_;
-  std::unique_ptr<learn::Learner> learner_;
-};
-
-/// Where the trial reports (a plugins::Sink without the plugin types).
-struct Reporter {
-  std::function<void(const std::string& name, double step, double value)> metric;
-  std::function<void(double fraction)> progress;
+  double score_ = 0.0;             // the last iteration's, for the log
+  learn::TrainStats last_stats_;   // likewise
+  JumpEvaluation start_bar_, final_bar_;
 };
 
 struct JumpOutcome {
@@ -116,10 +128,9 @@ struct JumpOutcome {
   base::Json to_json() const;
 };
 
-/// Runs the trial in `work_dir`, resuming from its last checkpoint when a previous attempt left
-/// one (metric points it covers are sent again; the store drops repeats). Throws when `cancel` is
-/// set (checked after every PPO iteration).
-JumpOutcome run_jump_trial(const TrainSettings& s, std::uint64_t seed, const TrialInputs& inputs, const std::filesystem::path& work_dir,
-                           const std::atomic<bool>* cancel, const Reporter& report);
+/// Runs the trial on character's training-stage driver in `run.work_dir`, resuming from its last
+/// checkpoint when a previous attempt left one; with inputs.warm_start, from that policy. The
+/// exported policy is the last. Throws when `run.cancel` is set.
+JumpOutcome run_jump_trial(const TrainSettings& s, const TrialInputs& inputs, const character::StageRun& run);
 
 }  // namespace podium::tasks::jump

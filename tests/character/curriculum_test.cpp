@@ -22,7 +22,7 @@ TEST(Curriculum, StrengthAdvancesExactlyWhenTheTestReturnExceedsOmega) {
     EXPECT_DOUBLE_EQ(weaker.value(), beta);
   }
   EXPECT_EQ(weaker.level(), 3);
-  EXPECT_NEAR(weaker.value(), 0.857375, 1e-12);  // issue 18's "advances 3 times (β ≤ 0.857)"
+  EXPECT_NEAR(weaker.value(), 0.857375, 1e-12);  // three advances: β ≤ 0.857
 }
 
 // Thesis Table 3.1: scores accumulate; the bar rises by Δz when the sum passes R_T, up to 2 m.

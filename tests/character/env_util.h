@@ -15,7 +15,7 @@ inline sim::RagdollStart short_fall() {
   return fall;
 }
 
-/// humanoid21 with torque actions, the s_weak-like parts of issue 18 and reward = head height.
+/// humanoid21 with torque actions, the s_weak-like parts of the get-up task and reward = head height.
 inline CharacterEnvParts getup_like_parts(int episode_steps) {
   CharacterEnvParts parts;
   parts.model = sim::load_shipped_model("humanoid21");

@@ -5,6 +5,7 @@
 
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "podium/base/error.h"
 #include "env_util.h"
@@ -88,6 +89,46 @@ TEST(Evaluator, RecordedRolloutIsATrajectoryTheReplayAccepts) {
   }
   EXPECT_EQ(frames, 9u);  // the start state and 8 control steps
   fs::remove_all(dir);
+}
+
+std::vector<std::string> lines_of(const fs::path& path) {
+  std::ifstream in(path);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+// record_min_hz: the World's own states between control steps (800 Hz simulation, 40 Hz control:
+// every 5th simulation step for ≥ 100 Hz, 160 Hz), the control steps' frames among them as they
+// were, and the evaluation's numbers unchanged.
+TEST(Evaluator, DenseRecordingTakesSimulationStatesAndChangesNothingElse) {
+  const fs::path sparse_dir = fs::temp_directory_path() / "podium_character_eval_sparse";
+  const fs::path dense_dir = fs::temp_directory_path() / "podium_character_eval_dense";
+  fs::remove_all(sparse_dir);
+  fs::remove_all(dense_dir);
+  CharacterEnv env(testing::getup_like_parts(8));
+  ASSERT_EQ(env.world().substeps(), 20);
+  const EvaluationReport sparse = evaluate(env, kLimp, config_for(sparse_dir));
+  EvaluationConfig c = config_for(dense_dir);
+  c.record_min_hz = 100.0;
+  const EvaluationReport dense = evaluate(env, kLimp, c);
+  EXPECT_EQ(dense.returns, sparse.returns);
+  EXPECT_EQ(dense.successes, sparse.successes);
+  EXPECT_EQ(dense.measures, sparse.measures);
+
+  const std::vector<std::string> few = lines_of(sparse.trajectories.at(0)), many = lines_of(dense.trajectories.at(0));
+  ASSERT_EQ(few.size(), 1u + 9u);
+  ASSERT_EQ(many.size(), 1u + 8u * 4u + 1u);  // the start, then 4 frames per control step
+  EXPECT_EQ(many[0], few[0]);                  // the same header
+  for (std::size_t f = 0; f < 9; ++f) EXPECT_EQ(many[1 + 4 * f], few[1 + f]) << "control step " << f;
+  const double t0 = base::Json::parse(many[1])["t"].get<double>();
+  for (std::size_t f = 1; f + 1 < many.size(); ++f)
+    EXPECT_NEAR(base::Json::parse(many[1 + f])["t"].get<double>() - t0, static_cast<double>(f) / 160.0, 1e-5);
+  // The states are the simulation's: consecutive frames differ (no repeated or held frames).
+  for (std::size_t f = 2; f < many.size(); ++f) EXPECT_NE(base::Json::parse(many[f])["q"], base::Json::parse(many[f - 1])["q"]);
+  fs::remove_all(sparse_dir);
+  fs::remove_all(dense_dir);
 }
 
 TEST(Evaluator, RejectsARecordIndexOutsideTheStarts) {

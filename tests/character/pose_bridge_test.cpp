@@ -21,7 +21,7 @@ double pose_distance(const std::vector<double>& a, const std::vector<double>& b)
   return worst;
 }
 
-// Issue 16 acceptance: every frame of the DeepMimic face-up get-up round-trips to 1e-9, and
+// Every frame of the DeepMimic face-up get-up round-trips to 1e-9, and
 // the y-up exponential maps are those of the file's own joint quaternions (what VAEs trained on
 // DeepMimic clips see).
 TEST(PoseBridge, RoundTripsEveryFrameOfTheDeepMimicGetUp) {

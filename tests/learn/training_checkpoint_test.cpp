@@ -237,5 +237,32 @@ TEST(TrainingCheckpoint, StartFromCopiesTheSourceOnlyWhenNoCheckpointExists) {
   fs::remove_all(dir);
 }
 
+// A checkpoint of another format version (here one an older build wrote, without a version) is
+// refused with one line that names the file and says what to do, before anything is read from it.
+TEST(TrainingCheckpoint, AFileOfAnotherFormatVersionIsRefusedWithWhatToDo) {
+  const fs::path dir = fs::temp_directory_path() / ("podium_learn_tc_format_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  auto learner = make("ppo");
+  auto envs = pendulums();
+  learner->train_until(envs, 120);
+  learner->save_checkpoint(dir / "old.ckpt", envs, {{"updates", 1}, {"metrics", base::Json::object()}, {"extra", nullptr}});
+  learner->save_checkpoint(dir / "next.ckpt", envs,
+                           {{"format", TrainingCheckpoint::kFormatVersion + 1}, {"updates", 1}, {"metrics", base::Json::object()}, {"extra", nullptr}});
+  for (const char* file : {"old.ckpt", "next.ckpt"}) {
+    auto fresh = make("ppo");
+    auto fresh_envs = pendulums();
+    try {
+      TrainingCheckpoint(dir / file, 1).resume(*fresh, fresh_envs);
+      ADD_FAILURE() << file << ": expected a UserError";
+    } catch (const base::UserError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(file), std::string::npos) << what;
+      EXPECT_NE(what.find("delete it to train the trial from scratch"), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos) << what;
+    }
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace podium::learn

@@ -164,7 +164,7 @@ TEST(Cli, AStageWhoseTrialsAllFailedEndsTheCampaignFailed) {
   TempDir dir;
   const auto id = submit(dir, spec);
   const auto run = run_podium({"run"}, dir.path());
-  ASSERT_EQ(run.exit_code, 0) << run.err;
+  ASSERT_EQ(run.exit_code, 1) << run.err;  // a campaign it ran failed
   const std::string reason = "all 4 trials failed (last: trial ";
   const auto status = Json::parse(run_podium({"status", id, "--json"}, dir.path()).out);
   EXPECT_EQ(status["state"], "failed");
@@ -240,7 +240,7 @@ TEST(Cli, BadInputIsOneLineAndLeavesTheDatabaseUnchanged) {
   EXPECT_EQ(run_podium({"frobnicate"}, dir.path()).exit_code, 2);
 }
 
-// Issue 17 defect 12: a spec rejected at submit leaves no database where there was none.
+// A spec rejected at submit leaves no database where there was none.
 TEST(Cli, ARejectedSpecCreatesNoDatabase) {
   TempDir dir;
   Json spec = landscape_spec(3);
@@ -262,7 +262,7 @@ podium::testing::CommandResult submit_text(const TempDir& dir, const std::string
   return r;
 }
 
-// Issue 17 defect 4: numbers outside their documented range are refused at submit (exit 2,
+// Numbers outside their documented range are refused at submit (exit 2,
 // naming the JSON path or option) instead of overflowing, being cut to 32 bits or exhausting memory.
 TEST(Cli, NumbersOutOfRangeAreRefusedNamingThePathOrOption) {
   TempDir dir;
@@ -289,7 +289,7 @@ TEST(Cli, NumbersOutOfRangeAreRefusedNamingThePathOrOption) {
   }
 }
 
-// Issue 17 defect 5: a 60,000-deep array crashed submit (signal 11, no output); error lines are
+// A 60,000-deep array crashed submit (signal 11, no output); error lines are
 // bounded and control characters in them escaped.
 TEST(Cli, DeepNestingAndHugeKeysGiveOneBoundedLine) {
   TempDir dir;
@@ -310,7 +310,7 @@ TEST(Cli, DeepNestingAndHugeKeysGiveOneBoundedLine) {
   EXPECT_EQ(r.err.rfind("podium: bad.json: bad\\x0Akey\\x1B[2J: unknown key", 0), 0u) << r.err;
 }
 
-// Issue 17 defect 15: a campaign name with a control character (a NUL, a terminal escape) is
+// A campaign name with a control character (a NUL, a terminal escape) is
 // refused at submit with its JSON path, so status never prints one raw.
 TEST(Cli, NamesWithControlCharactersAreRefusedAtSubmit) {
   TempDir dir;
@@ -328,7 +328,7 @@ TEST(Cli, NamesWithControlCharactersAreRefusedAtSubmit) {
   EXPECT_FALSE(std::filesystem::exists(dir / "podium.db"));
 }
 
-// What a new user tripped over (issue 17): `run` with nothing to run, pause/resume/cancel and
+// What a new user tripped over: `run` with nothing to run, pause/resume/cancel and
 // `--version` said nothing or were unknown.
 TEST(Cli, CommandsSayWhatTheyDid) {
   TempDir dir;

@@ -1,4 +1,4 @@
-// What a new user met (issue 17): trial names and the trials table, a reused campaign name, and
+// What a new user met: trial names and the trials table, a reused campaign name, and
 // extending a finished campaign. Real `podium` processes, a real SQLite file, the landscape plugin.
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -188,7 +188,7 @@ TEST(CliUser, ASecondSubmitOfANameSaysWhichCampaignTheNameNowMeans) {
   EXPECT_NE(third.err.find("campaign 3 has the name \"twice\" of campaign 1, 2;"), std::string::npos) << third.err;
 }
 
-// `--set` makes a variant of a spec file in one command (runs 10–12 of the get-up took a `sed`):
+// `--set` makes a variant of a spec file in one command (get-up variants once took a `sed`):
 // the edited spec is the one checked, by the validator and the task, and the one stored.
 TEST(CliUser, SubmitSetEditsTheSpecBeforeItIsCheckedAndStored) {
   TempDir dir;

@@ -1,4 +1,4 @@
-// Same spec, same results (issue 17 defect 2): every algorithm's proposals are a function of the
+// Same spec, same results: every algorithm's proposals are a function of the
 // spec (seed, workers) alone, whatever the trials' durations and completion order. Real `podium
 // run` on the landscape task: one run with a single worker process (trials finish in the order
 // asked) against one with two (they finish in any order), and a run killed with SIGKILL twice.

@@ -1,4 +1,4 @@
-// Stage hand-over end to end (issue 16 item 1): real `podium submit` and `podium run`, a real
+// Stage hand-over end to end: real `podium submit` and `podium run`, a real
 // SQLite file, and the probe task (tests/plugins/probe_task.cpp), which reports in its result
 // info the inputs that reached it.
 #include <gtest/gtest.h>
@@ -40,9 +40,10 @@ Json campaign(const std::string& name, const Json& stages, int retries = 1) {
 
 std::int64_t submit(const TempDir& dir, const Json& spec) { return std::stoll(podium::testing::submit_spec(dir.path(), spec)); }
 
-void run(const TempDir& dir) {
+// `podium run` to the end; it exits 1 when a campaign it ran failed.
+void run(const TempDir& dir, int exit_code = 0) {
   const auto r = run_podium({"run"}, dir.path());
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+  ASSERT_EQ(r.exit_code, exit_code) << r.err;
 }
 
 std::unique_ptr<Store> open_store(const TempDir& dir) { return Store::open(dir / "podium.db", Store::Access::read_only); }
@@ -239,7 +240,7 @@ TEST(HandOver, EachWithZeroInputsFailsTheStageAndTheCampaign) {
   Json each = probe_stage("each", "random", 2);
   each["inputs"] = {{"stage", "explore"}, {"select", "best"}, {"per_trial", "each"}};
   const auto id = submit(dir, campaign("empty", {explore, each}));
-  run(dir);
+  run(dir, 1);
   auto s = open_store(dir);
   const std::string reason =
       "stages[1].inputs: per_trial \"each\" got 0 inputs (selecting \"best\" from stage \"explore\" gave none)";
@@ -318,10 +319,10 @@ TEST(HandOver, ResumeAfterSigkillHandsOverTheStoredInputs) {
   EXPECT_GT(interrupted, 0) << "no attempt of the stage with inputs was running at a kill";
 }
 
-// README.md's spec example, run as it is: "refine runs two trials for each strategy explore
+// The user guide's spec example, run as it is: "refine runs two trials for each strategy explore
 // found, each given that strategy's best trial".
-TEST(HandOver, ReadmeExampleDoesWhatItSays) {
-  std::ifstream readme(std::filesystem::path(PODIUM_SOURCE_DIR) / "README.md");
+TEST(HandOver, UserGuideExampleDoesWhatItSays) {
+  std::ifstream readme(std::filesystem::path(PODIUM_SOURCE_DIR) / "docs/user-guide.md");
   const std::string text{std::istreambuf_iterator<char>(readme), {}};
   const auto section = text.find("## The campaign spec");
   ASSERT_NE(section, std::string::npos);

@@ -1,4 +1,4 @@
-// Issue 16's acceptance campaigns on the test_pendulum task (PPO on learn's Pendulum; real
+// The hand-over acceptance campaigns on the test_pendulum task (PPO on learn's Pendulum; real
 // `podium submit` / `podium run` processes, a real SQLite file): a three-stage hand-over whose
 // later stages warm-start from the earlier stages' policies, and the same campaign with its
 // scheduler SIGKILLed mid-training, which must end exactly as the uninterrupted one.

@@ -1,7 +1,7 @@
-// Issue 17's hardening of `podium run` and its readers, each with real `podium` processes and a
-// real SQLite database: one scheduler per database file whatever path reaches it (defect 1),
-// names that never reach the filesystem as they are (3), a relative run_dir fixed at submit (9),
-// readers on a read-only filesystem (10), SIGTERM/SIGINT with a hung worker (16), and states
+// The hardening of `podium run` and its readers, each with real `podium` processes and a
+// real SQLite database: one scheduler per database file whatever path reaches it,
+// names that never reach the filesystem as they are, a relative run_dir fixed at submit,
+// readers on a read-only filesystem, SIGTERM/SIGINT with a hung worker, and states
 // that tell the truth after pause, cancel and kill -9.
 #include <gtest/gtest.h>
 #include <sys/wait.h>

@@ -64,7 +64,7 @@ TEST(CampaignSchema, ViolationsAreRejectedByBoth) {
   with([](Json& j) { j["stages"][0]["budget"]["trials"] = {{"per_input", 0}}; });
   with([](Json& j) { j["executor"] = {{"kind", "cloud"}}; });
   with([](Json& j) { j["stages"] = Json::array(); });
-  // Issue 17: the documented ranges and names without control characters.
+  // The documented ranges and names without control characters.
   with([](Json& j) { j["workers"] = 1025; });
   with([](Json& j) { j["retries"] = 101; });
   with([](Json& j) { j["trial_timeout_s"] = 1e10; });

@@ -204,7 +204,7 @@ TEST_F(Slurm, ScancelAndTimeLimitAreRecordedAndRetried) {
   for (const auto& t : trials) EXPECT_EQ(t.state, "done") << t.index;
 }
 
-// The get-up campaign as a cluster run would take it (issue 18's next step: more seeds, more
+// The get-up campaign as a cluster run would take it (the next step: more seeds, more
 // steps): the shipped campaigns/getup.json put on Slurm by `submit --set`, at the smoke preset,
 // with a third Weaker seed, and Weaker's wall-clock limit (learn::WallBudget) set so it ends
 // training after the first round: the limit lives in the trial, so it holds inside a job too.

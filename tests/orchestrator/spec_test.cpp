@@ -60,7 +60,7 @@ TEST(CampaignSpec, ErrorsNameTheJsonPath) {
 
   j = valid_spec();
   j["stages"][0]["search"]["algoritm"] = "bds";
-  EXPECT_EQ(error_of(j), "spec.json: stages[0].search.algoritm: unknown key (known: algorithm, config)");
+  EXPECT_EQ(error_of(j), "spec.json: stages[0].search.algoritm: unknown key (known: algorithm, config) (did you mean algorithm?)");
 
   j = valid_spec();
   j["seed"] = "seven";
@@ -130,7 +130,7 @@ TEST(CampaignSpec, ErrorsNameTheJsonPath) {
   EXPECT_EQ(error_of(j), "spec.json: stages[1].name: \"a\" is already the name of an earlier stage");
 }
 
-// Issue 17 defect 4: every number of the spec has a range (README "The campaign spec"), checked
+// Every number of the spec has a range (README "The campaign spec"), checked
 // at submit: nothing is cut to 32 bits or overflows later (a trial_timeout_s of 1e10 s overflowed
 // steady_clock and timed every trial out at once).
 TEST(CampaignSpec, EveryNumberIsCheckedAgainstItsDocumentedRange) {
@@ -175,7 +175,7 @@ TEST(CampaignSpec, EveryNumberIsCheckedAgainstItsDocumentedRange) {
   EXPECT_EQ(spec.stages[0].budget_trials, 10000000);
 }
 
-// Issue 17 defect 15: names are printed by status and looked up by name, so control characters
+// Names are printed by status and looked up by name, so control characters
 // (a terminal escape, a NUL that made a campaign unfindable) are refused with the JSON path.
 TEST(CampaignSpec, NamesWithControlCharactersAreRefused) {
   for (const std::string& bad : {std::string("a\0b", 3), std::string("red\x1b[31m"), std::string("two\nlines"),

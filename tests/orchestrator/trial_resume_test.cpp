@@ -1,4 +1,4 @@
-// Trials resume from their own folder (issue 16 item 2, the orchestrator's side): a later attempt
+// Trials resume from their own folder (the orchestrator's side): a later attempt
 // runs in the folder the earlier one left, is told how that one ended, and the metric steps it
 // sends again are not stored twice. Real `podium run` with the probe task, which checkpoints in
 // its work folder.

@@ -7,7 +7,9 @@
 // Config: steps (metric points, one per step), checkpoint_every (steps), sleep_s (per step,
 // cancellable), fail_step / fail_attempts (throw after sending step fail_step's metric, on
 // attempts <= fail_attempts; -1: never), features (2, or 0 to declare none), reject (throw
-// base::UserError at once, on every attempt: a task's verdict on its input).
+// base::UserError at once, on every attempt: a task's verdict on its input), data_file and
+// shipped[].policy (files, declared "format": "file": the spec's paths, resolved at submit; the
+// result info says what reached the task and whether it exists).
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -29,7 +31,19 @@ namespace {
 
 const Json kDefaults = {{"steps", 6},        {"checkpoint_every", 2}, {"sleep_s", 0.0},
                         {"fail_step", -1},   {"fail_attempts", 1},    {"features", 2},
-                        {"reject", false}};
+                        {"reject", false},   {"data_file", ""},       {"shipped", Json::array()}};
+
+// The config description (ConfigReader::describe's form) for the keys whose declaration matters
+// to the orchestrator: the files.
+const Json kFileKeys = {{{"key", "data_file"}, {"type", "string"}, {"format", "file"}, {"default", ""}},
+                        {{"key", "shipped"},
+                         {"type", "array"},
+                         {"default", Json::array()},
+                         {"items", {{"type", "object"}, {"keys", {{{"key", "policy"}, {"type", "string"}, {"format", "file"}}}}}}}};
+
+Json file_json(const std::string& path) {
+  return {{"path", path}, {"absolute", fs::path(path).is_absolute()}, {"exists", fs::is_regular_file(path)}};
+}
 
 Json merged(const Json& config) {
   for (const auto& [key, value] : config.items())
@@ -66,6 +80,7 @@ class ProbeTask final : public plugins::Task {
             {"objectives", {"objective"}},
             {"strategy_threshold", 0.25},
             {"presets", {{"smoke", Json::object()}}},
+            {"config", kFileKeys},
             {"config_defaults", kDefaults}};
   }
 
@@ -78,6 +93,8 @@ class ProbeTask final : public plugins::Task {
                  {"work_dir_absolute", request.work_dir.is_absolute()},
                  {"previous_attempt", nullptr},
                  {"inputs", Json::array()}};
+    if (!c["data_file"].get<std::string>().empty()) info["data_file"] = file_json(c["data_file"]);
+    for (const auto& entry : c["shipped"]) info["shipped"].push_back(file_json(entry.value("policy", std::string())));
     if (request.previous_attempt)
       info["previous_attempt"] = {{"number", request.previous_attempt->number},
                                   {"state", request.previous_attempt->state},

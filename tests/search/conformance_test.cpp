@@ -1,4 +1,4 @@
-// The conformance suite every search algorithm passes (STYLE.md "search/"): proposals inside the
+// The conformance suite every search algorithm passes (docs/style.md "search/"): proposals inside the
 // bounds, unknown ids and unknown options rejected clearly, save→load→ask identical, and a
 // campaign killed and resumed after every step proposes what an uninterrupted one does.
 // Trials are evaluated on the real analytic landscape of tasks/landscape.

@@ -41,7 +41,7 @@ TEST(Recorder, TrajectoryFileHasHeaderPropsTerrainAndOneLinePerFrame) {
   tiles.min_tile_height_m = -0.05;
   tiles.max_tile_height_m = 0.05;
   terrain.regions.push_back(tiles);
-  terrain.boxes.push_back({"bar", Eigen::Vector3d(0, 1.5, 1.2), Eigen::Vector3d(0.6, 0.02, 0.02), Eigen::Quaterniond::Identity(), 1.0});
+  terrain.boxes.push_back({"bar", Eigen::Vector3d(0, 1.5, 1.2), Eigen::Vector3d(0.6, 0.02, 0.02), Eigen::Quaterniond::Identity(), 1.0, "crossbar"});
   const Recorder rec = record_ragdoll(model, 20, terrain);
   const auto path = temp_file("traj.jsonl");
   write_trajectory(rec, path);
@@ -54,6 +54,7 @@ TEST(Recorder, TrajectoryFileHasHeaderPropsTerrainAndOneLinePerFrame) {
   EXPECT_EQ(header["links"].size(), model->links().size());
   ASSERT_EQ(header["props"].size(), 1u);
   EXPECT_EQ(header["props"][0]["name"], "bar");
+  EXPECT_EQ(header["props"][0]["kind"], "crossbar");  // what the box stands for, as declared
   EXPECT_EQ(header["props"][0]["pos"], base::Json({0.0, 1.5, 1.2}));
   EXPECT_EQ(header["props"][0]["quat"], base::Json({1.0, 0.0, 0.0, 0.0}));
   ASSERT_EQ(header["terrain"]["pieces"].size(), 4u);  // 2 × 2 one-metre tiles

@@ -34,7 +34,7 @@ TEST(Terrain, HeightMapSeesBoxesAndSlope) {
   slope.max = {5.0, 5.0};
   slope.slope_rad = 0.1;
   config.regions.push_back(slope);
-  config.boxes.push_back(BoxProp{"post", Eigen::Vector3d(2, 0, 0.5), Eigen::Vector3d(0.2, 0.2, 0.5), Eigen::Quaterniond::Identity(), 1.0});
+  config.boxes.push_back(BoxProp{"post", Eigen::Vector3d(2, 0, 0.5), Eigen::Vector3d(0.2, 0.2, 0.5), Eigen::Quaterniond::Identity(), 1.0, ""});
   const Terrain t(config);
   EXPECT_NEAR(t.height(1.0, 3.0), std::tan(0.1), 1e-12);
   EXPECT_NEAR(t.height(-1.0, 3.0), 0.0, 1e-12);  // outside the region: the plane
@@ -68,7 +68,7 @@ TEST(Terrain, RegionsTilesOfEitherSignAndInclinedBoxes) {
   config.regions = {rough, flat};
   // A starting block: 30° about y, centred 1 m in front of the rough patch.
   config.boxes.push_back({"block", Eigen::Vector3d(0, -2, 0.1), Eigen::Vector3d(0.2, 0.3, 0.05),
-                          Eigen::Quaterniond(Eigen::AngleAxisd(0.5236, Eigen::Vector3d::UnitY())), 1.0});
+                          Eigen::Quaterniond(Eigen::AngleAxisd(0.5236, Eigen::Vector3d::UnitY())), 1.0, ""});
   const Terrain t(config);
   EXPECT_EQ(t.pieces().size(), 8u * 4u + 1u);
   bool negative = false, positive = false;
@@ -119,7 +119,7 @@ TEST(Terrain, RagdollRestsOnRoughTiles) {
 TEST(Terrain, RagdollLandsOnCrashMat) {
   WorldConfig config;
   config.terrain.boxes.push_back(BoxProp{"mat", Eigen::Vector3d(0, 0, 0.15), Eigen::Vector3d(2.0, 2.0, 0.15),
-                                         Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ())), 1.0});
+                                         Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ())), 1.0, "mat"});
   const ModelPtr model = load_shipped_model("humanoid21");
   World world(model, config);
   base::Rng rng(6);

@@ -29,7 +29,7 @@ ModelPtr box_model() {
 }
 
 BoxProp box(const std::string& name, const Eigen::Vector3d& center, const Eigen::Vector3d& half) {
-  return {name, center, half, Eigen::Quaterniond::Identity(), 1.0};
+  return {name, center, half, Eigen::Quaterniond::Identity(), 1.0, ""};
 }
 
 // A drop from 1.5 m in a random pose under stable PD towards random poses (new ones every

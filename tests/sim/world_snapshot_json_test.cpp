@@ -43,7 +43,7 @@ TEST(WorldSnapshotJson, FreshWorldFromTheTextReplaysBitwise) {
   tiles.seed = 3;
   config.terrain.regions = {tiles};
   config.terrain.boxes = {{"mat", Eigen::Vector3d(0.7, -0.4, 0.1), Eigen::Vector3d(0.4, 0.5, 0.1),
-                           Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX())), 0.8}};
+                           Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX())), 0.8, "mat"}};
   config.edits.joints = {{"left_elbow", base::Json{{"lock", 0.6}}}};
   World world(model, config);
   world.set_friction(0.7);
@@ -89,6 +89,7 @@ TEST(WorldSnapshotJson, FreshWorldFromTheTextReplaysBitwise) {
   EXPECT_TRUE(fresh.snapshot().to_json().dump() == text) << "a snapshot of the restored World differs";
   EXPECT_EQ(fresh.config().friction, 0.7);
   EXPECT_EQ(fresh.terrain().config().boxes.at(0).name, "mat");
+  EXPECT_EQ(fresh.terrain().config().boxes.at(0).kind, "mat");
   run(fresh, q2, qd2, seen2);
   ASSERT_EQ(q2.size(), q.size());
   for (std::size_t k = 0; k < q.size(); ++k) {

@@ -1,4 +1,4 @@
-// The dashboard must not lock a running scheduler (DESIGN.md "Store"): a 2,000-trial landscape
+// The dashboard must not lock a running scheduler (docs/architecture.md "The store contract"): a 2,000-trial landscape
 // campaign runs while a client hammers the API of `podium serve` on the same database; zero
 // "database is locked" (or any other error) on either side. Its effect on throughput is measured
 // by bench/web_dashboard's concurrency bench, not here (the suite holds no timing threshold).

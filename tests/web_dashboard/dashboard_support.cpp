@@ -51,10 +51,12 @@ std::string url_encode(const std::string& text) {
   return out;
 }
 
-std::int64_t run_campaign(const std::filesystem::path& dir, const Json& spec) {
+std::int64_t run_campaign(const std::filesystem::path& dir, const Json& spec, int exit_code) {
   const std::string id = podium::testing::submit_spec(dir, spec);
   const auto run = podium::testing::run_podium({"run", "--workers", "2"}, dir);
-  if (run.exit_code != 0) throw std::runtime_error("podium run: " + run.err);
+  if (run.exit_code != exit_code)
+    throw std::runtime_error("podium run exited " + std::to_string(run.exit_code) + ", not " + std::to_string(exit_code) +
+                             ": " + run.err);
   return std::stoll(id);
 }
 

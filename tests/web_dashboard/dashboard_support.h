@@ -61,7 +61,8 @@ int raw_status(int port, const std::string& request_line, const std::string& hos
 std::string url_encode(const std::string& text);
 
 /// Writes spec to dir/spec.json, submits it and runs the scheduler to the end; returns the id.
-std::int64_t run_campaign(const std::filesystem::path& dir, const Json& spec);
+/// `podium run` must exit `exit_code` (1: the campaign is meant to end failed).
+std::int64_t run_campaign(const std::filesystem::path& dir, const Json& spec, int exit_code = 0);
 
 /// A one-stage landscape smoke campaign with `trials` trials and result.json artifacts.
 Json landscape_spec(const std::string& name, int trials, const Json& extra_config = Json::object());

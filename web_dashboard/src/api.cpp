@@ -194,7 +194,7 @@ Json strategy_json(const std::vector<store::StrategySummary>& list, const std::v
   return out;
 }
 
-// The trials a trial of `stage` was handed (DESIGN.md "Hand-over"; the orchestrator's
+// The trials a trial of `stage` was handed (docs/architecture.md "Stage hand-over"; the orchestrator's
 // inputs_of_trial, repeated because this layer depends on the store only): per_trial "each" gives
 // trial the input its info names, "all" every input the stage selected.
 Json trial_inputs(const Queries& q, const store::StageRecord& stage, const store::TrialRecord& t,

@@ -24,18 +24,9 @@ std::string gzip_of(const std::string& text) {
   return out;
 }
 
-bool accepts_gzip(const httplib::Request& req) {
-  return req.get_header_value("Accept-Encoding").find("gzip") != std::string::npos;
-}
+bool accepts_gzip(const Request& req) { return req.accept_encoding.find("gzip") != std::string::npos; }
 
 }  // namespace
-
-bool satisfiable(const httplib::Ranges& ranges, std::uintmax_t size) {
-  for (const auto& [first, last] : ranges) {
-    if (first < 0 ? last <= 0 : static_cast<std::uintmax_t>(first) >= size || (last >= 0 && last < first)) return false;
-  }
-  return true;
-}
 
 std::shared_ptr<const EncodedBody> EncodedBody::make(std::string text) {
   auto body = std::make_shared<EncodedBody>();
@@ -44,22 +35,13 @@ std::shared_ptr<const EncodedBody> EncodedBody::make(std::string text) {
   return body;
 }
 
-void send_body(const httplib::Request& req, httplib::Response& res, std::shared_ptr<const EncodedBody> body,
-               const std::string& mime) {
-  if (!satisfiable(req.ranges, body->plain.size())) {
-    res.status = 416;
-    res.set_header("Content-Range", "bytes */" + std::to_string(body->plain.size()));
-    return;
-  }
-  const bool gzip = !body->gzip.empty() && req.ranges.empty() && accepts_gzip(req);
+void send_body(const Request& req, Response& res, const std::shared_ptr<const EncodedBody>& body, const std::string& mime) {
+  const bool gzip = !body->gzip.empty() && !req.has_range && accepts_gzip(req);
   if (!body->gzip.empty()) res.set_header("Vary", "Accept-Encoding");
   if (gzip) res.set_header("Content-Encoding", "gzip");
-  const std::string& bytes = gzip ? body->gzip : body->plain;
-  if (bytes.empty()) return res.set_content("", mime);  // a sized provider needs a size
-  res.set_content_provider(bytes.size(), mime, [body, &bytes](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
-    sink.write(bytes.data() + offset, length);
-    return true;
-  });
+  res.ranges = !gzip;
+  res.text = std::shared_ptr<const std::string>(body, gzip ? &body->gzip : &body->plain);  // shares the body, no copy
+  res.content_type = mime;
 }
 
 }  // namespace podium::web_dashboard

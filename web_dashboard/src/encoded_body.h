@@ -1,14 +1,12 @@
 #pragma once
-// Response bodies compressed once, not per request. httplib compresses every in-memory body it
-// sends, and Debian's build picks brotli at quality 11 for browsers: three.core.js (1.4 MB) took
-// 25 s per request on a busy 2-core machine, and pages timed out while their scripts loaded. A
-// body here is gzip-compressed once (zlib) and sent through a sized content provider, which
-// httplib sends as it is.
-#include <cstdint>
+// Response bodies compressed once, not per request: a body is gzip-compressed once (zlib) when it
+// is made (static files at startup, JSON with its cache entry) and sent as it is. (cpp-httplib,
+// the server before this one, compressed every response with brotli at quality 11: 25 s for
+// three.core.js on a busy 2-core machine.)
 #include <memory>
 #include <string>
 
-#include <httplib.h>
+#include "http_server.h"
 
 namespace podium::web_dashboard {
 
@@ -20,13 +18,8 @@ struct EncodedBody {
   static std::shared_ptr<const EncodedBody> make(std::string text);
 };
 
-/// True if every requested byte range starts inside `size` bytes (RFC 9110 §14.1.2; httplib checks
-/// this for in-memory bodies but not for streamed ones).
-bool satisfiable(const httplib::Ranges& ranges, std::uintmax_t size);
-
 /// Sends `body` as `mime`, gzip-encoded when the request accepts gzip, a gzip form exists and no
-/// byte range is asked for (ranges are of the plain body; 416 when unsatisfiable).
-void send_body(const httplib::Request& req, httplib::Response& res, std::shared_ptr<const EncodedBody> body,
-               const std::string& mime);
+/// byte range is asked for (ranges are of the plain body).
+void send_body(const Request& req, Response& res, const std::shared_ptr<const EncodedBody>& body, const std::string& mime);
 
 }  // namespace podium::web_dashboard

@@ -1,6 +1,5 @@
 #include "podium/web_dashboard/server.h"
 
-#include <httplib.h>
 #include <signal.h>
 #include <sys/resource.h>
 
@@ -8,12 +7,14 @@
 #include <charconv>
 #include <fstream>
 #include <mutex>
+#include <regex>
 #include <set>
 #include <thread>
 
 #include "api.h"
 #include "encoded_body.h"
-#include "guarded_http.h"
+#include "host_rule.h"
+#include "http_server.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/store/writer_lock.h"
@@ -26,7 +27,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const httplib::Headers kSecurityHeaders = {
+const std::vector<std::pair<std::string, std::string>> kSecurityHeaders = {
     {"X-Content-Type-Options", "nosniff"},
     {"X-Frame-Options", "DENY"},
     // Everything comes from this server: no CDN, no inline script, nothing framed.
@@ -43,18 +44,15 @@ std::int64_t parse_int(const std::string& text, const char* what, std::int64_t l
   return value;
 }
 
-std::optional<std::string> param(const httplib::Request& req, const char* name) {
-  if (!req.has_param(name)) return std::nullopt;
-  return req.get_param_value(name);
-}
+std::optional<std::string> param(const Request& req, const char* name) { return req.param(name); }
 
-std::int64_t int_param(const httplib::Request& req, const char* name, std::int64_t fallback, std::int64_t low,
+std::int64_t int_param(const Request& req, const char* name, std::int64_t fallback, std::int64_t low,
                        std::int64_t high) {
   const auto text = param(req, name);
   return text ? parse_int(*text, name, low, high) : fallback;
 }
 
-store::TrialFilter trial_filter(const httplib::Request& req) {
+store::TrialFilter trial_filter(const Request& req) {
   store::TrialFilter f;
   if (auto s = param(req, "stage")) f.stage_index = static_cast<int>(parse_int(*s, "stage", 0, 1'000'000));
   if (auto s = param(req, "state")) {
@@ -75,34 +73,20 @@ store::TrialFilter trial_filter(const httplib::Request& req) {
   return f;
 }
 
-void send_json(httplib::Response& res, const Json& body) {
+void send_json(Response& res, const Json& body) {
   res.set_header("Cache-Control", "no-store");
-  res.set_content(body.dump(), "application/json");
+  res.set_text(body.dump(), "application/json");
 }
 
-// A file streamed in chunks (checkpoints can be large).
-void send_file(const httplib::Request& req, httplib::Response& res, const fs::path& file, const std::string& mime,
-               bool attachment) {
-  const auto size = fs::file_size(file);
-  if (!satisfiable(req.ranges, size)) {
-    res.status = 416;
-    res.set_header("Content-Range", "bytes */" + std::to_string(size));
-    return;
-  }
-  auto in = std::make_shared<std::ifstream>(file, std::ios::binary);
+// A file, read as it is sent (checkpoints can be large).
+void send_file(Response& res, const fs::path& file, const std::string& mime, bool attachment) {
   if (attachment) {
     std::string name = file.filename().string();
     for (char& c : name)
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
     res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
   }
-  res.set_content_provider(size, mime, [in](std::size_t offset, std::size_t length, httplib::DataSink& sink) {
-    std::string buffer(std::min<std::size_t>(length, 1 << 16), '\0');
-    in->seekg(static_cast<std::streamoff>(offset));
-    in->read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    sink.write(buffer.data(), static_cast<std::size_t>(in->gcount()));
-    return in->gcount() > 0;
-  });
+  res.set_file(file, mime);
 }
 
 // Response bodies by URL, valid for one database version. Bounded: when full, it starts over.
@@ -136,13 +120,15 @@ std::string body_text(const Json& document) { return document.dump(); }
 std::string body_text(std::string text) { return text; }
 
 // The cache key: path and parameters in a canonical order.
-std::string cache_key(const httplib::Request& req) {
+std::string cache_key(const Request& req) {
   std::string key = req.path;
   for (const auto& [name, value] : req.params) key += "\n" + name + "=" + value;  // a multimap: sorted
   return key;
 }
 
 }  // namespace
+
+using RouteHandler = std::function<void(const Request&, Response&)>;
 
 struct Server::Impl {
   ServeOptions options;
@@ -151,27 +137,62 @@ struct Server::Impl {
   std::unique_ptr<store::Queries> watch;  // one connection, so its data_version is one sequence
   StaticFiles files;
   ResponseCache cache;
-  GuardedHttpServer http;
+  std::vector<std::pair<std::regex, RouteHandler>> routes_;  // GET (and HEAD); the first match answers
+  HttpServer http;
   int port = 0;
 
-  // 16 threads: slow clients hold one each until the header deadline, fresh requests get the rest.
   explicit Impl(const ServeOptions& o)
       : options(o),
         pool(o.database),
         watch(store::Queries::open(o.database)),
         files(o.static_dir),
-        http(o.host, o.header_timeout_s, 16) {}
+        http(http_options(o), [this](Request& req) { return handle(req); }) {}
+
+  static HttpServerOptions http_options(const ServeOptions& o) {
+    HttpServerOptions h;
+    h.header_timeout_s = o.header_timeout_s;
+    h.body_timeout_s = o.header_timeout_s;
+    h.connections_per_client = o.connections_per_client;
+    h.default_headers = kSecurityHeaders;
+    return h;
+  }
+
+  // Every request: the Host rule, GET or HEAD only, then the first route whose pattern matches.
+  Response handle(Request& req) {
+    Response res;
+    if (!allowed_host(req.host, options.host)) {
+      res.status = 403;
+      res.set_text("Host \"" + req.host + "\" is not this dashboard's address\n", "text/plain");
+    } else if (req.method != "GET" && req.method != "HEAD") {
+      res.status = 405;  // read-only
+      res.set_header("Allow", "GET, HEAD");
+      res.set_text("the dashboard is read-only (GET and HEAD only)\n", "text/plain");
+    } else {
+      std::smatch m;
+      for (const auto& [pattern, handler] : routes_) {
+        if (!std::regex_match(req.path, m, pattern)) continue;
+        req.matches.assign(m.begin(), m.end());
+        handler(req, res);
+        break;
+      }
+    }
+    return res;
+  }
+
+  void get(const char* pattern, RouteHandler handler) { routes_.emplace_back(std::regex(pattern), std::move(handler)); }
 
   // Runs a handler; HttpError and any other exception become a JSON error response.
   template <class Fn>
-  httplib::Server::Handler api(Fn fn) {
-    return [this, fn](const httplib::Request& req, httplib::Response& res) {
+  RouteHandler api(Fn fn) {
+    return [fn](const Request& req, Response& res) {
       try {
         fn(req, res);
       } catch (const HttpError& e) {
+        res = Response();
         res.status = e.status;
         send_json(res, {{"error", e.what()}});
       } catch (const std::exception& e) {
+        res = Response();
         res.status = 500;
         send_json(res, {{"error", e.what()}});
       }
@@ -189,8 +210,8 @@ struct Server::Impl {
   // database version is unchanged. The version is read before the query, so a cached body is
   // never older than its version.
   template <class Build>
-  httplib::Server::Handler json(Build build) {
-    return api([this, build](const httplib::Request& req, httplib::Response& res) {
+  RouteHandler json(Build build) {
+    return api([this, build](const Request& req, Response& res) {
       const std::int64_t version = data_version();
       const std::string key = cache_key(req);
       auto body = options.cache ? cache.find(key, version) : nullptr;
@@ -205,73 +226,63 @@ struct Server::Impl {
   }
 
   void routes() {
-    http.set_default_headers(kSecurityHeaders);
-    http.set_tcp_nodelay(true);  // headers and body go out in separate writes: no Nagle delay
-    http.set_keep_alive_timeout(2);  // an idle keep-alive connection holds a pool thread
-    http.set_payload_max_length(64 * 1024);
-    // SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, which lets a second `podium serve`
-    // share the port (and answer half the requests from another database).
-    http.set_socket_options([](socket_t sock) {
-      int yes = 1;
-      ::setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-    });
-    http.Get("/api/version", api([this](const auto&, auto& res) { send_json(res, {{"data_version", data_version()}}); }));
-    http.Get("/api/campaigns", json([](const auto&, const store::Queries& q) {
+    get("/api/version", api([this](const Request&, Response& res) { send_json(res, {{"data_version", data_version()}}); }));
+    get("/api/campaigns", json([](const Request&, const store::Queries& q) {
       return campaign_list(q, store::now_unix_s());
     }));
-    http.Get(R"(/api/campaigns/([^/]+))", json([](const auto& req, const store::Queries& q) {
+    get(R"(/api/campaigns/([^/]+))", json([](const Request& req, const store::Queries& q) {
       return campaign_detail(q, resolve_campaign(q, req.matches[1]), store::now_unix_s());
     }));
-    http.Get(R"(/api/campaigns/([^/]+)/trials)", json([](const auto& req, const store::Queries& q) {
+    get(R"(/api/campaigns/([^/]+)/trials)", json([](const Request& req, const store::Queries& q) {
       const auto filter = trial_filter(req);
       return trial_page(q, resolve_campaign(q, req.matches[1]), filter);
     }));
-    http.Get(R"(/api/campaigns/([^/]+)/points)", json([](const auto& req, const store::Queries& q) {
+    get(R"(/api/campaigns/([^/]+)/points)", json([](const Request& req, const store::Queries& q) {
       const auto max_points = int_param(req, "max_points", 5000, 1, 1'000'000);
       return scatter_points(q, resolve_campaign(q, req.matches[1]), max_points);
     }));
-    http.Get(R"(/api/campaigns/([^/]+)/strategies)", json([](const auto& req, const store::Queries& q) {
+    get(R"(/api/campaigns/([^/]+)/strategies)", json([](const Request& req, const store::Queries& q) {
       return strategy_table(q, resolve_campaign(q, req.matches[1]));
     }));
-    http.Get(R"(/api/campaigns/([^/]+)/events)", json([](const auto& req, const store::Queries& q) {
+    get(R"(/api/campaigns/([^/]+)/events)", json([](const Request& req, const store::Queries& q) {
       const auto last = int_param(req, "last", 200, 1, 10000);
       return campaign_events(q, resolve_campaign(q, req.matches[1]), static_cast<std::size_t>(last));
     }));
-    http.Get(R"(/api/trials/([^/]+))", json([](const auto& req, const store::Queries& q) {
+    get(R"(/api/trials/([^/]+))", json([](const Request& req, const store::Queries& q) {
       return trial_detail(q, parse_int(req.matches[1], "trial", 1, INT64_MAX));
     }));
-    http.Get(R"(/api/trials/([^/]+)/metrics)", json([](const auto& req, const store::Queries& q) {
+    get(R"(/api/trials/([^/]+)/metrics)", json([](const Request& req, const store::Queries& q) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
       const auto max_points = int_param(req, "max_points", 1000, 1, 1'000'000);
       return metric_series(q, id, max_points, param(req, "name"));
     }));
-    http.Get(R"(/api/trials/([^/]+)/artifacts/([^/]+))", api([this](const auto& req, auto& res) {
+    get(R"(/api/trials/([^/]+)/artifacts/([^/]+))", api([this](const Request& req, Response& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
       const auto index = static_cast<std::size_t>(parse_int(req.matches[2], "artifact", 0, 1'000'000));
-      send_file(req, res, artifact_file(*pool.acquire(), options.database, id, index), "application/octet-stream", true);
+      send_file(res, artifact_file(*pool.acquire(), options.database, id, index), "application/octet-stream", true);
     }));
-    http.Get(R"(/api/trials/([^/]+)/log)", api([this](const auto& req, auto& res) {
+    get(R"(/api/trials/([^/]+)/log)", api([this](const Request& req, Response& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
-      send_file(req, res, trial_log_file(*pool.acquire(), options.database, id), "text/plain; charset=utf-8", false);
+      send_file(res, trial_log_file(*pool.acquire(), options.database, id), "text/plain; charset=utf-8", false);
     }));
-    http.Get(R"(/api/trials/([^/]+)/trajectory)", api([this](const auto& req, auto& res) {
+    get(R"(/api/trials/([^/]+)/trajectory)", api([this](const Request& req, Response& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
       // ?artifact=NAME picks another recorded motion of the trial (trajectory_fast, ...).
-      const std::string name = req.has_param("artifact") ? req.get_param_value("artifact") : "trajectory";
+      const std::string name = req.param("artifact").value_or("trajectory");
       if (name.rfind("trajectory", 0) != 0) throw HttpError(400, "artifact \"" + name + "\" is not a trajectory (its name starts with trajectory)");
       auto q = pool.acquire();
-      send_file(req, res, artifact_file(*q, options.database, id, artifact_index(*q, id, name)),
+      send_file(res, artifact_file(*q, options.database, id, artifact_index(*q, id, name)),
                 "application/x-ndjson", false);  // sim/'s JSON-lines trajectory file
     }));
-    http.Get(R"(/api/.*)", api([](const auto& req, auto&) -> void { throw HttpError(404, "no endpoint " + req.path); }));
-    http.Get(R"(/(.*))", [this](const httplib::Request& req, httplib::Response& res) {
-      const std::string path = req.matches[1].str().empty() ? "index.html" : req.matches[1].str();
+    get(R"(/api/.*)", api([](const Request& req, Response&) -> void { throw HttpError(404, "no endpoint " + req.path); }));
+    get(R"(/(.*))", [this](const Request& req, Response& res) {
+      const std::string path = req.matches[1].empty() ? "index.html" : req.matches[1];
       if (const auto* f = files.find(path)) {
         res.set_header("Cache-Control", "no-cache");
         send_body(req, res, f->body, f->mime);
       } else {
         res.status = 404;
-        res.set_content("not found\n", "text/plain");
+        res.set_text("not found\n", "text/plain");
       }
     });
   }
@@ -282,14 +293,14 @@ Server::~Server() = default;
 
 int Server::bind() {
   const auto& o = impl_->options;
-  impl_->port = o.port == 0 ? impl_->http.bind_to_any_port(o.host) : (impl_->http.bind_to_port(o.host, o.port) ? o.port : -1);
+  impl_->port = impl_->http.bind(o.host, o.port);
   if (impl_->port <= 0)
     throw base::RuntimeError("podium serve: cannot listen on " + o.host + ":" + std::to_string(o.port) +
                              " (address in use or not local?)");
   return impl_->port;
 }
 
-void Server::run() { impl_->http.listen_after_bind(); }
+void Server::run() { impl_->http.run(); }
 void Server::stop() { impl_->http.stop(); }
 int Server::port() const { return impl_->port; }
 

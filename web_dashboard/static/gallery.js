@@ -3,8 +3,8 @@
 // the task's own summary of the trial (RunResult::info's `summary` object, e.g. the bar height a
 // jumper reached and its nearest captured technique). campaign.js announces the strategy table
 // with a `podium-strategies` event on every refresh (and keeps it in window.podiumStrategies); a card is built once per representative
-// trial and kept while it stays one. window.podiumGallery counts cards and frames drawn (the
-// browser tests read it).
+// trial and kept while it stays one. window.podiumGallery counts cards and frames drawn and lists
+// each card's props by kind (the browser tests read it).
 import { loadTrajectory, makeView } from './replay_view.js';
 
 const MAX_CARDS = 12;  // a browser keeps about 16 WebGL contexts alive
@@ -16,7 +16,7 @@ const onScreen = new Set();
 const watcher = new IntersectionObserver(entries => {
   for (const e of entries) if (e.isIntersecting) onScreen.add(e.target); else onScreen.delete(e.target);
 });
-window.podiumGallery = { cards: 0, rendered: 0 };
+window.podiumGallery = { cards: 0, rendered: 0, kinds: {} };  // kinds: per card's trial, its props' kinds
 
 function text(tag, content, cls) {
   const e = document.createElement(tag);
@@ -51,6 +51,7 @@ async function makeCard(s, stageName, featureNames) {
     return { element, view: null };
   }
   const view = makeView(traj, { label: '', colour: podium.colour(s.strategy), width: 300, height: 240, parent: holder });
+  window.podiumGallery.kinds[s.representative_trial] = view.props.children.map(c => c.userData.kind);
   return { element, view };
 }
 

@@ -29,9 +29,13 @@ async function main() {
   const playButton = document.getElementById('play'), speed = document.getElementById('speed');
   scrub.max = frames - 1;
   let playing = true, t = 0, last = performance.now();
+  // For the browser tests: the first view's frames and simulated seconds, and what it draws
+  // (kinds: each prop's, as the file declares it).
   window.podiumReplay = {
     frame: 0, frames, rendered: 0, shown: [],  // shown: each view's frame
+    duration: main.duration,
     drawn: { props: main.props.children.length, terrain: main.terrain.children.length },
+    kinds: main.props.children.map(c => c.userData.kind),
   };
   const draw = () => {
     window.podiumReplay.shown = views.map(v => v.frameAt(Math.min(t, v.duration)));

@@ -1,7 +1,8 @@
 // One 3D view of a recorded motion (sim/'s trajectory file, JSON lines; format in
 // web_dashboard/README.md): bodies as capsules, boxes and spheres, the ground (with holes where
-// terrain regions replace it), the terrain's boxes and the props (bar, box, blocks), an orbiting
-// camera. Shared by the replay page and the campaign page's strategy gallery.
+// terrain regions replace it), the terrain's boxes and the props as their `kind` says (a crossbar on
+// two standards, a landing mat, an obstacle box, a plain box), an orbiting camera that frames a
+// jump's whole motion. Shared by the replay page and the campaign page's strategy gallery.
 import * as THREE from './vendor/three.module.js';
 import { OrbitControls } from './vendor/OrbitControls.js';
 
@@ -34,6 +35,83 @@ function place(object, pos = [0, 0, 0], quat = [1, 0, 0, 0]) {  // quaternions a
   object.quaternion.set(quat[1], quat[2], quat[3], quat[0]);
 }
 
+const lambert = color => new THREE.MeshLambertMaterial({ color });
+const PROP_COLOURS = { box: 0x8d6e63, obstacle: 0xc7782e, mat: 0x1e5fae };
+// A high-jump bar and its standards (World Athletics: the bar 3.98–4.02 m long, 30 mm round).
+const BAR_LENGTH = 4.0, BAR_RADIUS = 0.015, BAR_BANDS = 8, STANDARD_RADIUS = 0.025, STANDARD_ABOVE = 0.35;
+
+// A point of the motion in the prop's frame (p's pos and quat).
+function toLocal(p, point) {
+  const q = new THREE.Quaternion(p.quat[1], p.quat[2], p.quat[3], p.quat[0]).invert();
+  return new THREE.Vector3(point[0] - p.pos[0], point[1] - p.pos[1], point[2] - p.pos[2]).applyQuaternion(q);
+}
+
+// Kind "crossbar": the box is the bar's collision stand-in (a wall from the ground up to the bar,
+// along its local y); drawn is the bar at the box's top edge, centred where the centre of mass
+// passes the box's mid-plane (a jumper takes the bar's middle), on two standards from the ground.
+function crossbar(p, frames) {
+  const [, hy, hz] = p.half_extents;
+  const nearest = frames.map(f => toLocal(p, f.com)).reduce((a, b) => (Math.abs(b.x) < Math.abs(a.x) ? b : a));
+  const room = Math.max(0, hy - BAR_LENGTH / 2);
+  const centre = Math.min(room, Math.max(-room, nearest.y));
+  const group = new THREE.Group();
+  const band = Math.min(BAR_LENGTH, 2 * hy) / BAR_BANDS;
+  for (let k = 0; k < BAR_BANDS; ++k) {  // three's cylinders run along y, as the bar does
+    const piece = new THREE.Mesh(new THREE.CylinderGeometry(BAR_RADIUS, BAR_RADIUS, band, 12), lambert(k % 2 ? 0xf5f5f5 : 0xd32f2f));
+    piece.position.set(0, centre + (k + 0.5 - BAR_BANDS / 2) * band, hz - BAR_RADIUS);
+    group.add(piece);
+  }
+  const height = 2 * hz + STANDARD_ABOVE;
+  for (const side of [-1, 1]) {
+    const y = centre + side * (BAR_BANDS * band / 2 + 2 * STANDARD_RADIUS);
+    const post = new THREE.Mesh(new THREE.CylinderGeometry(STANDARD_RADIUS, STANDARD_RADIUS, height, 12), lambert(0x455a64));
+    post.rotateX(Math.PI / 2);
+    post.position.set(0, y, height / 2 - hz);
+    const foot = new THREE.Mesh(new THREE.BoxGeometry(0.35, 0.35, 0.02), lambert(0x455a64));
+    foot.position.set(0, y, 0.01 - hz);
+    const peg = new THREE.Mesh(new THREE.BoxGeometry(0.04, 0.06, 0.02), lambert(0x263238));
+    peg.position.set(0, y - side * 2 * STANDARD_RADIUS, hz - 2 * BAR_RADIUS - 0.01);
+    group.add(post, foot, peg);
+  }
+  return group;
+}
+
+// The 3D object of one prop, tagged with its kind (userData.kind; a file without kinds: boxes).
+function propObject(p, frames) {
+  const kind = p.kind || 'box';
+  const material = lambert(PROP_COLOURS[kind] ?? PROP_COLOURS.box);
+  // A mat a few centimetres thick: drawn ahead of the floor's grid lines at equal depth.
+  if (kind === 'mat') Object.assign(material, { polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -4 });
+  const object = kind === 'crossbar' ? crossbar(p, frames) : new THREE.Mesh(geometry(p), material);
+  place(object, p.pos, p.quat);
+  object.userData = { kind, name: p.name };
+  object.name = p.name || kind;
+  return object;
+}
+
+// The camera for a jump (a crossbar or an obstacle in the scene): the whole motion in view, seen
+// from the take-off side at 45° to the bar (looking along the bar would hide it, across it the
+// arc), on the side that shows the jumper's travel across the picture, a little from above (the height over the bar reads best low).
+function frameJump(camera, p, frames) {
+  const box = new THREE.Box3();
+  for (const f of frames) for (const l of f.links) box.expandByPoint(new THREE.Vector3(l[0], l[1], l[2]));
+  const target = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3());
+  const q = new THREE.Quaternion(p.quat[1], p.quat[2], p.quat[3], p.quat[0]);
+  const over = new THREE.Vector3(1, 0, 0).applyQuaternion(q), along = new THREE.Vector3(0, 1, 0).applyQuaternion(q);
+  const first = frames[0].com, last = frames[frames.length - 1].com;
+  const travel = new THREE.Vector3(last[0] - first[0], last[1] - first[1], 0).normalize();
+  const sides = [1, -1].map(s => over.clone().negate().add(along.clone().multiplyScalar(s)).normalize());
+  const side = sides.reduce((a, b) => (Math.abs(b.x * travel.y - b.y * travel.x) > Math.abs(a.x * travel.y - a.y * travel.x) ? b : a));
+  // Far enough for the motion's ground extent across the picture and its height up it, with a margin.
+  const half = Math.tan(THREE.MathUtils.degToRad(camera.fov / 2));
+  const distance = 1.1 * Math.max(0.5 * Math.hypot(size.x, size.y) / (half * camera.aspect), 0.5 * size.z / half, 2.5) + 0.3 * Math.hypot(size.x, size.y);
+  camera.position.copy(target).addScaledVector(side.setZ(0.15).normalize(), distance);
+  // Metres away, a near plane of 1 cm leaves a thin mat's top and the floor to fight over depth.
+  camera.near = 0.1;
+  camera.updateProjectionMatrix();
+  return target;
+}
+
 export function makeView(traj, { label, colour, width, height, parent }) {
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(0xf4f6f8);
@@ -62,11 +140,7 @@ export function makeView(traj, { label, colour, width, height, parent }) {
     place(mesh, p.pos, p.quat);
     terrain.add(mesh);
   }
-  for (const p of traj.props || []) {
-    const mesh = new THREE.Mesh(geometry(p), new THREE.MeshLambertMaterial({ color: 0x8d6e63 }));
-    place(mesh, p.pos, p.quat);
-    props.add(mesh);
-  }
+  for (const p of traj.props || []) props.add(propObject(p, traj.frames));
   scene.add(terrain, props);
   const material = new THREE.MeshLambertMaterial({ color: colour });
   const bodies = traj.links.map(link => {
@@ -81,11 +155,16 @@ export function makeView(traj, { label, colour, width, height, parent }) {
   });
   const camera = new THREE.PerspectiveCamera(45, width / height, 0.01, 200);
   camera.up.set(0, 0, 1);
-  const first = traj.frames[0].links;
-  const centre = new THREE.Vector3();
-  for (const p of first) centre.add(new THREE.Vector3(p[0], p[1], p[2]));
-  centre.divideScalar(Math.max(1, first.length));
-  camera.position.set(centre.x + 3, centre.y - 3.5, centre.z + 1.8);
+  const jump = (traj.props || []).find(p => p.kind === 'crossbar' || p.kind === 'obstacle');
+  let centre = new THREE.Vector3();
+  if (jump) {
+    centre = frameJump(camera, jump, traj.frames);
+  } else {  // beside the first frame's centre (a get-up, a swing)
+    const first = traj.frames[0].links;
+    for (const p of first) centre.add(new THREE.Vector3(p[0], p[1], p[2]));
+    centre.divideScalar(Math.max(1, first.length));
+    camera.position.set(centre.x + 3, centre.y - 3.5, centre.z + 1.8);
+  }
   const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setSize(width, height);
   const holder = document.createElement('div');

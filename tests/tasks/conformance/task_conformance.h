@@ -1,5 +1,5 @@
 #pragma once
-// The task conformance suite (issue 16 item 6; STYLE.md "plugins/ and tasks/"): the checks every
+// The task conformance suite: the checks every
 // task plugin passes. A task joins with one line in its test file,
 //   PODIUM_TASK_CONFORMANCE(Landscape, {.task = "landscape", .long_config = {{"sleep_s", 60.0}}});
 // and its test target links podium_task_conformance (tests/tasks/CMakeLists.txt). Trials run in
@@ -19,8 +19,17 @@
 //                                          the worker SIGKILLed mid-run, attempt 2 in a new worker
 //                                          and the same trial folder: the result and every metric
 //                                          point equal a full run's
+//   WarmStartedTrialTrainsOnAndResumes     for a task with a warm start: a trial trained on from
+//                                          the smoke trial differs from it, and killed mid-run
+//                                          (after the copy of its source, before or after its
+//                                          first save) resumes to the uninterrupted warm trial
+// Metric series under time/ (wall seconds, character/training_stage.h) differ between runs: only
+// their names and steps are compared.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <functional>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -29,8 +38,20 @@
 
 namespace podium::testing {
 
+/// A trial that trains on from the smoke trial (a warm start): its config (on the smoke preset and
+/// base_config) and inputs, made from the smoke trial's folder and result.json.
+struct WarmStartCase {
+  struct Order {
+    base::Json config = base::Json::object();
+    base::Json inputs = base::Json::array();
+  };
+  std::function<Order(const std::filesystem::path& source_dir, const base::Json& source_result)> order;
+  int kill_after_metric_points = 0;                    ///< as ConformanceCase's, for the warm trial
+};
+
 struct ConformanceCase {
   std::string task;                                    ///< plugin name
+  base::Json base_config = base::Json::object();       ///< on the smoke preset, under every trial's config (e.g. the stage)
   base::Json smoke_config = base::Json::object();      ///< on top of the smoke preset: the smoke trial
   base::Json long_config = base::Json::object();       ///< on the smoke preset: runs ≥ 10 s unless cancelled
   base::Json resume_config = base::Json::object();     ///< on the smoke preset: long enough to be killed mid-run
@@ -41,12 +62,16 @@ struct ConformanceCase {
   /// Attempt 2 continues from a checkpoint: its first progress report is beyond a fresh start's.
   bool resumes_from_checkpoint = false;
   std::vector<std::string> artifacts;                  ///< artifact names every trial returns
+  std::optional<WarmStartCase> warm_start = std::nullopt;  ///< none: the task has no warm start
 };
 
 class TaskConformance : public ::testing::TestWithParam<ConformanceCase> {};
 
 /// Failure messages name the task, not the case's bytes.
-inline void PrintTo(const ConformanceCase& c, std::ostream* out) { *out << c.task; }
+inline void PrintTo(const ConformanceCase& c, std::ostream* out) {
+  *out << c.task;
+  if (c.base_config.contains("stage")) *out << " " << c.base_config["stage"].get<std::string>();
+}
 
 }  // namespace podium::testing
 

@@ -1,4 +1,4 @@
-// The get-up environment (issue 18 item 1) on real Bullet: episode length, the facing-invariant
+// The get-up environment (seed §4–5, §7) on real Bullet: episode length, the facing-invariant
 // s_weak, the per-episode strength β̂ as SAC's action bound, and exact replay of a saved start.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// The get-up rewards of seed 001's appendix B on hand-made states (issue 18, acceptance).
+// The get-up rewards of seed 001's appendix B on hand-made states, each term at known values.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -22,9 +22,27 @@ namespace {
 using base::Json;
 namespace fs = std::filesystem;
 
+// Weaker, warm-started from the smoke trial's checkpoint (400 steps, ≈ 70 metric points) to 1200;
+// Slower on the shipped π_weak (trained at strength 0.6), warm-started from its smoke trial
+// (200 steps) to 600.
+Json slower_stage() {
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt";
+  return {{"stage", "slower"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.6}}}}};
+}
+podium::testing::WarmStartCase warm_start(const char* key, const char* total, int steps, int kill_after) {
+  return {[=](const fs::path& source, const Json&) {
+            return podium::testing::WarmStartCase::Order{{{key, (source / "training.ckpt").string()}, {total, steps}}};
+          },
+          kill_after};
+}
 PODIUM_TASK_CONFORMANCE(Getup, {.task = "getup", .long_config = {{"total_steps", 1000000}},
                                 .resume_config = {{"total_steps", 1200}}, .kill_after_metric_points = 30,
-                                .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"}});
+                                .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"},
+                                .warm_start = warm_start("warm_start", "total_steps", 1200, 120)});
+PODIUM_TASK_CONFORMANCE(GetupSlower, {.task = "getup", .base_config = slower_stage(), .long_config = {{"slow_total_steps", 1000000}},
+                                      .resume_config = {{"slow_total_steps", 600}}, .kill_after_metric_points = 20,
+                                      .resumes_from_checkpoint = true, .artifacts = {"policy", "weak_policy", "trajectory"},
+                                      .warm_start = warm_start("slow_warm_start", "slow_total_steps", 600, 36)});
 
 // One smoke Weaker trial through `podium trial --batch`: its result and its metric points by name.
 struct SmokeTrial {
@@ -173,9 +191,9 @@ TEST(GetupTask, TrainMinutesEndTrainingEarlyAndTheTrialSaysSo) {
   EXPECT_EQ(unlimited.result["info"]["stopped_by"], "steps");
   EXPECT_EQ(unlimited.result["info"]["env_steps"], 400);
 
-  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
-  const SmokeTrial slower = run_smoke_trial(
-      {{"stage", "slower"}, {"slow_train_minutes", 1e-9}, {"root_velocity", false}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}});
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt";
+  const SmokeTrial slower =
+      run_smoke_trial({{"stage", "slower"}, {"slow_train_minutes", 1e-9}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.6}}}}});
   EXPECT_EQ(slower.result["info"]["stopped_by"], "time");
   EXPECT_EQ(slower.result["info"]["env_steps"], 100);
   EXPECT_EQ(slower.metrics.at("slow/test_return").size(), 1u);
@@ -183,10 +201,9 @@ TEST(GetupTask, TrainMinutesEndTrainingEarlyAndTheTrialSaysSo) {
 
 // Without an input trial, Slower imitates a π_weak file from `shipped` (here the committed one).
 TEST(GetupTask, SmokeSlowerTrialImitatesAShippedWeakPolicy) {
-  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
-  const double strength = 0.7737809375;
-  const SmokeTrial trial =
-      run_smoke_trial({{"stage", "slower"}, {"root_velocity", false}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", strength}}}}});
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt";
+  const double strength = 0.6;
+  const SmokeTrial trial = run_smoke_trial({{"stage", "slower"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", strength}}}}});
   EXPECT_EQ(trial.result["info"]["weak_strength"].get<double>(), strength);
   std::set<std::string> names;
   for (const auto& a : trial.result["artifacts"]) names.insert(a["name"].get<std::string>());
@@ -194,29 +211,29 @@ TEST(GetupTask, SmokeSlowerTrialImitatesAShippedWeakPolicy) {
   EXPECT_TRUE(trial.metrics.count("slow/test_return"));
 }
 
-// A policy trained on another s_weak (here the committed run-1 π_weak, from before the root's
-// velocity joined it) fails its Evaluate trial with one line that names the sizes and the key.
+// A policy trained for another character (here the committed π_weak of the whole humanoid, evaluated
+// on the one-armed variant) fails its Evaluate trial with one line that names both sizes.
 TEST(GetupTask, EvaluateRefusesAPolicyOfAnotherObservation) {
-  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_seed0.pt";
+  const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt";
   podium::testing::TempDir dir;
-  const auto run = run_smoke_batch({{"stage", "evaluate"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.7737809375}}}}},
-                                   dir / "trial", dir.path());
+  const auto run = run_smoke_batch(
+      {{"stage", "evaluate"}, {"variant", "missing_arm"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.6}}}}},
+      dir / "trial", dir.path());
   ASSERT_EQ(run.result["type"], "error") << run.result;
   const std::string message = run.result["message"];
-  EXPECT_NE(message.find("π_weak takes 63 observations"), std::string::npos) << message;
-  EXPECT_NE(message.find("has 69"), std::string::npos) << message;
-  EXPECT_NE(message.find("root_velocity: false"), std::string::npos) << message;
+  EXPECT_NE(message.find("π_weak takes 69 observations and gives 21 actions"), std::string::npos) << message;
+  EXPECT_NE(message.find("the env of this config has"), std::string::npos) << message;
+  EXPECT_NE(message.find("another variant"), std::string::npos) << message;
 }
 
 // A Slower trial warm-started from another's checkpoint trains on from its steps and carries its
 // curves; from a trial that imitated another π_weak it fails at once, naming both files.
 TEST(GetupTask, ASlowerWarmStartTrainsOnFromAnotherTrialOfTheSamePolicy) {
   podium::testing::TempDir dir;
-  const fs::path policies = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies";
   const auto slower = [&](const fs::path& weak) {
-    return Json{{"stage", "slower"}, {"root_velocity", false}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.9}}}}};
+    return Json{{"stage", "slower"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.9}}}}};
   };
-  const Json config = slower(policies / "weaker_run14_seed0.pt");
+  const Json config = slower(fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt");
   const SmokeTrial source = run_smoke_trial(config, dir / "source");  // 200 steps, tests at 100 and 200
   ASSERT_EQ(source.result["info"]["env_steps"], 200);
   Json warm_config = config;
@@ -232,13 +249,16 @@ TEST(GetupTask, ASlowerWarmStartTrainsOnFromAnotherTrialOfTheSamePolicy) {
   scratch_config.erase("slow_warm_start");
   EXPECT_NE(run_smoke_trial(scratch_config).metrics.at("slow/test_return")[0], returns[0]);  // κ 0.3 from scratch
 
-  Json other = slower(policies / "weaker_run11_seed0.pt");
+  run_smoke_trial(Json::object(), dir / "weaker");  // another π_weak: a smoke Weaker trial's export
+  const fs::path other_weak = dir / "weaker" / "policy.pt";
+  ASSERT_TRUE(fs::is_regular_file(other_weak));
+  Json other = slower(other_weak);
   other["slow_warm_start"] = warm_config["slow_warm_start"];
   const auto run = run_smoke_batch(other, dir / "other", dir.path());
   ASSERT_EQ(run.result["type"], "error") << run.result;
   const std::string message = run.result["message"];
   EXPECT_NE(message.find("imitated another π_weak"), std::string::npos) << message;
-  EXPECT_NE(message.find("weaker_run11_seed0.pt"), std::string::npos) << message;
+  EXPECT_NE(message.find(other_weak.string()), std::string::npos) << message;
   EXPECT_FALSE(fs::exists(dir / "other" / "training.ckpt"));
 }
 

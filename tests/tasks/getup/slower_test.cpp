@@ -1,4 +1,4 @@
-// The Slower and Evaluate stages' parts (issue 18 items 4, 5, 7) on real Bullet and a real
+// The Slower and Evaluate stages' parts on real Bullet and a real
 // (untrained) libtorch policy: retiming τ_fast by κ, the ε-RSI start distribution, a π_weak that
 // never rises failing with its reason, exact resume of a Slower episode, §8.3's pause, and the
 // strategy features on scripted states.

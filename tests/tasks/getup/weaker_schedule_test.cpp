@@ -1,6 +1,6 @@
-// Algorithm 1's curriculum decisions on a scripted sequence of test returns (issue 18 acceptance:
-// advances exactly when the return exceeds ω; ends when a level needs more than M_i steps, and
-// then holds the last strength passed).
+// Algorithm 1's curriculum decisions on a scripted sequence of test returns (advances exactly when
+// the return exceeds ω; ends when a level needs more than M_i steps, and then holds the last
+// strength passed), and the export rule's ranking where the curriculum does not decide.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -63,39 +63,27 @@ TEST(WeakerSchedule, ItsStateRoundTrips) {
   EXPECT_EQ(u.on_test(600'000, 99.0), Decision::carry_on);
 }
 
-// A checkpoint written before the curriculum could end (no "last_passed", no "ended") resumes a
-// running curriculum whose last pass was one factor above β^i.
-TEST(WeakerSchedule, AnOlderStateResumesARunningCurriculum) {
-  WeakerSchedule s({}, {});
-  s.on_test(100'000, 70.0);
-  s.on_test(200'000, 70.0);
-  base::Json old = s.state();
-  old.erase("last_passed");
-  old.erase("ended");
-  WeakerSchedule t({}, {});
-  t.load_state(old);
-  EXPECT_FALSE(t.ended());
-  EXPECT_DOUBLE_EQ(t.strength(), 0.95 * 0.95);
-  EXPECT_EQ(t.on_test(200'000 + 300'001, 0.0), Decision::end_curriculum);
-  EXPECT_DOUBLE_EQ(t.strength(), 0.95);
-}
-
 // Where the curriculum does not choose the export: a policy that stood at more starts wins over
-// a higher return (a leap loop earns more on the way); at equal stands the return decides; a
-// checkpoint's record without "stood_rate" (before session 25) counts as none stood.
+// a higher return (a leap loop earns more on the way); at equal stands the return decides.
 TEST(WeakerExport, StandsRankAboveReturn) {
-  const base::Json leap = {{"stood_rate", 0.0}, {"test_return", 95.0}};
-  const base::Json stand = {{"stood_rate", 0.1}, {"test_return", 40.0}};
+  const character::Figures leap = {{"stood_rate", 0.0}, {"test_return", 95.0}};
+  const character::Figures stand = {{"stood_rate", 0.1}, {"test_return", 40.0}};
   EXPECT_TRUE(exports_over(stand, leap));
   EXPECT_FALSE(exports_over(leap, stand));
-  const base::Json better_stand = {{"stood_rate", 0.1}, {"test_return", 41.0}};
+  const character::Figures better_stand = {{"stood_rate", 0.1}, {"test_return", 41.0}};
   EXPECT_TRUE(exports_over(better_stand, stand));
   EXPECT_FALSE(exports_over(stand, better_stand));
   EXPECT_FALSE(exports_over(stand, stand));  // a tie keeps what was exported
-  const base::Json older = {{"test_return", 73.7}};
-  EXPECT_TRUE(exports_over(stand, older));
-  EXPECT_TRUE(exports_over(leap, older));
-  EXPECT_FALSE(exports_over(older, leap));
+  EXPECT_THROW(exports_over(stand, {{"test_return", 73.7}}), std::logic_error);  // a test must report its stands
+}
+
+// A schedule state without its end (an older layout) is refused, naming the state.
+TEST(WeakerSchedule, AStateWithoutItsEndIsRefused) {
+  WeakerSchedule s({}, {});
+  base::Json old = s.state();
+  old.erase("ended");
+  WeakerSchedule t({}, {});
+  EXPECT_THROW(t.load_state(old), base::UserError);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // The captured techniques as Stage 1 features: they must be told apart by the stored strategy
-// definition (issue 19's acceptance), and a feature is labelled by the nearest one.
+// definition (the feature must separate real techniques), and a feature is labelled by the nearest one.
 #include "captured_techniques.h"
 
 #include <gtest/gtest.h>

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 
+#include "jump_evaluation.h"
 #include "jump_test_util.h"
 #include "podium/base/error.h"
 
@@ -161,6 +163,48 @@ TEST(JumpEnv, RandomActionsFromTheTakeoffStateStayFiniteAndEndDecided) {
                   env.outcome_reason().c_str());
     }
   }
+}
+
+// The replay's recording: ≥ 60 frames per simulated second at the quick preset's 150 Hz
+// simulation and 10 Hz control, the props with their kinds, and the evaluation's numbers (success,
+// feature, offsets) the same as without a recording.
+TEST(JumpEvaluation, RecordsTheJumpAtSixtyHertzOrMoreWithoutChangingIt) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "podium_jump_eval_record";
+  std::filesystem::remove_all(dir);
+  JumpSettings s = settings(JumpKind::high_jump, 0.5);
+  s.sim_hz = 150.0;
+  JumpEnv env(s);
+  ASSERT_EQ(env.world().config().control_hz, 10.0);
+  const character::PolicyFn hold = [&env](std::span<const double>, std::span<double> action) {
+    const std::vector<double> pose = testing::hold_pose(env);
+    std::copy(pose.begin(), pose.end(), action.begin());
+  };
+  const EvaluationJumps jumps{.jumps = 2, .sigma = 0.1, .seed = 4};
+  const JumpEvaluation plain = evaluate_jumps(env, hold, jumps);
+  const JumpEvaluation recorded = evaluate_jumps(env, hold, jumps, dir);
+  EXPECT_EQ(recorded.success_rate, plain.success_rate);
+  EXPECT_EQ(recorded.return_mean, plain.return_mean);
+  EXPECT_EQ(recorded.mean_offset_l1, plain.mean_offset_l1);
+  EXPECT_EQ(recorded.up_angle_rad, plain.up_angle_rad);
+  EXPECT_EQ(recorded.bar_rotation, plain.bar_rotation);
+  EXPECT_EQ(recorded.crossed, plain.crossed);
+  ASSERT_FALSE(recorded.trajectory.empty());
+
+  std::ifstream in(recorded.trajectory);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  const base::Json header = base::Json::parse(line);
+  ASSERT_EQ(header["props"].size(), 2u);
+  EXPECT_EQ(header["props"][0]["kind"], "crossbar");
+  EXPECT_EQ(header["props"][1]["kind"], "mat");
+  std::vector<double> times;
+  while (std::getline(in, line))
+    if (!line.empty()) times.push_back(base::Json::parse(line)["t"].get<double>());
+  ASSERT_GT(times.size(), 10u);
+  // 15 simulation steps per control step: every 3rd would be 50 Hz, so every one (150 Hz).
+  for (std::size_t f = 1; f < times.size(); ++f) EXPECT_NEAR(times[f] - times[f - 1], 1.0 / 150.0, 1e-5);
+  EXPECT_GE(static_cast<double>(times.size() - 1) / (times.back() - times.front()), 60.0);
+  std::filesystem::remove_all(dir);
 }
 
 TEST(JumpEnv, BadSettingsAreRejectedWithTheirName) {

@@ -22,9 +22,18 @@ namespace {
 using base::Json;
 namespace fs = std::filesystem;
 
+// The warm start: a novel trial (Stage 2) handed the explore smoke trial, its policy trained on.
+podium::testing::WarmStartCase::Order novel_from(const fs::path& source, const Json& result) {
+  Json input = {{"stage", "explore"}, {"stage_index", 0}, {"trial_index", 0}, {"params", Json::object()},
+                {"objectives", result["objectives"]}, {"features", result["features"]}, {"strategy", 0},
+                {"artifacts", Json::object()}, {"info", result["info"]}};
+  for (const auto& a : result["artifacts"]) input["artifacts"][a["name"].get<std::string>()] = (source / a["path"].get<std::string>()).string();
+  return {{{"stage", "novel"}, {"total_samples", 1024}}, Json::array({input})};
+}
 PODIUM_TASK_CONFORMANCE(Jump, {.task = "jump", .long_config = {{"total_samples", 100'000'000}},
                                .resume_config = {{"total_samples", 1024}}, .kill_after_metric_points = 24,
-                               .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"}});
+                               .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"},
+                               .warm_start = podium::testing::WarmStartCase{novel_from, 24}});
 
 TEST(JumpTask, StagesDeclareTheTakeoffFeaturesAndTheirStrategyFeature) {
   const auto task = plugins::load_task("jump");

@@ -1,6 +1,7 @@
-// The trial loop's curriculum on a scripted score sequence (thesis §3.6.1, Table 3.1): z rises by
+// The jump's training stage on a scripted score sequence (thesis §3.6.1, Table 3.1): z rises by
 // Δz when the accumulated scores exceed R_T and not before, every copy moves with it, and the
-// copies are rebuilt (same learner) when f_control(ρ(z)) changes.
+// copies are rebuilt (the learner trains on) when f_control(ρ(z)) changes; and a whole trial on
+// the driver resumed across such a rebuild.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -24,8 +25,20 @@ TrainSettings small() {
 // The observation ends with z (jump_env.h).
 double observed_z(learn::VecEnv& envs, std::size_t i) { return envs.observation(i).back(); }
 
-TEST(JumpTrainer, AdvancesWhenTheScoresExceedRTAndNotBefore) {
-  JumpTrainer t(small(), 1, {}, 0.5);
+// The stage with its copies built at the curriculum's start, and a learner for them.
+struct Built {
+  JumpStage stage;
+  std::unique_ptr<learn::Learner> learner;
+  explicit Built(const TrainSettings& s) : stage(s, 1, {}) {
+    stage.build(nullptr);
+    learner = learn::make_learner(stage.learner_spec(), stage.envs().observation_space(), stage.envs().action_space(), 2);
+  }
+  void train_one_iteration() { learner->train_until(stage.envs(), learner->env_steps() + 1); }
+};
+
+TEST(JumpStage, AdvancesWhenTheScoresExceedRTAndNotBefore) {
+  Built b(small());
+  JumpStage& t = b.stage;
   EXPECT_FALSE(t.feed(10.0));
   EXPECT_FALSE(t.feed(10.0));
   EXPECT_FALSE(t.feed(10.0));  // 30 is not above R_T = 30
@@ -35,13 +48,14 @@ TEST(JumpTrainer, AdvancesWhenTheScoresExceedRTAndNotBefore) {
   // Still 10 Hz (ρ = 0.02): the copies moved in place; their next observation shows the new bar.
   EXPECT_EQ(t.rebuilds(), 0);
   EXPECT_EQ(t.control_hz(), 10.0);
-  t.learner().train_until(t.envs(), t.learner().env_steps() + 1);
+  b.train_one_iteration();
   for (std::size_t i = 0; i < t.envs().size(); ++i) EXPECT_NEAR(observed_z(t.envs(), i), 0.51, 1e-12);
 }
 
-TEST(JumpTrainer, RebuildsTheCopiesWhenTheControlRateChanges) {
-  JumpTrainer t(small(), 1, {}, 0.5);
-  const std::vector<float> before = t.learner().parameters();
+TEST(JumpStage, RebuildsTheCopiesWhenTheControlRateChanges) {
+  Built b(small());
+  JumpStage& t = b.stage;
+  EXPECT_EQ(t.checkpoint_tag(), "10hz");
   EXPECT_TRUE(t.feed(31.0));  // 0.51 m: ρ = 0.02, 10.4 Hz → 10 Hz
   EXPECT_TRUE(t.feed(31.0));  // 0.52 m: 10.8 Hz → 10 Hz
   EXPECT_EQ(t.rebuilds(), 0);
@@ -49,21 +63,23 @@ TEST(JumpTrainer, RebuildsTheCopiesWhenTheControlRateChanges) {
   EXPECT_EQ(t.rebuilds(), 1);
   EXPECT_EQ(t.control_hz(), 12.0);
   EXPECT_NEAR(t.z_built(), 0.53, 1e-12);
+  EXPECT_EQ(t.checkpoint_tag(), "12hz");  // a checkpoint file of its own
+  EXPECT_EQ(t.build_state(), (base::Json{{"z_built_m", t.z_built()}}));
   for (std::size_t i = 0; i < t.envs().size(); ++i) EXPECT_NEAR(observed_z(t.envs(), i), 0.53, 1e-12);
-  EXPECT_EQ(t.learner().parameters(), before);  // the same learner goes on
-  t.learner().train_until(t.envs(), t.learner().env_steps() + 1);  // and trains on the new copies
+  b.train_one_iteration();  // the learner trains on the new copies
   EXPECT_TRUE(t.feed(31.0));  // 0.54 m: 11.6 Hz → 12 Hz, no rebuild
   EXPECT_EQ(t.rebuilds(), 1);
 }
 
-TEST(JumpTrainer, FreezesAtZFreeze) {
+TEST(JumpStage, FreezesAtZFreeze) {
   TrainSettings s = small();
   s.z_freeze_m = 0.52;
-  JumpTrainer t(s, 1, {}, 0.5);
-  t.feed(31.0);
-  EXPECT_FALSE(t.frozen());
-  t.feed(31.0);
-  EXPECT_TRUE(t.frozen());
+  Built b(s);
+  b.stage.feed(31.0);
+  EXPECT_FALSE(b.stage.finished());
+  EXPECT_NEAR(b.stage.progress(), 0.5, 1e-9);
+  b.stage.feed(31.0);
+  EXPECT_TRUE(b.stage.finished());
 }
 
 // A whole trial whose bar rises at every iteration (R_T below any score): its copies are rebuilt
@@ -71,13 +87,20 @@ TEST(JumpTrainer, FreezesAtZFreeze) {
 // the 12 Hz checkpoint (the 10 Hz one removed), builds its copies at the z they were built at,
 // trains only the two iterations left and ends exactly where the uninterrupted trial ends.
 struct TrialRecord {
-  std::map<std::pair<std::string, double>, double> metrics;  // a resent point overwrites itself
+  std::map<std::pair<std::string, double>, double> metrics;  // a resent point overwrites itself; no time/ series
   int progress_calls = 0;
-  Reporter reporter() {
-    return {[this](const std::string& name, double step, double value) { metrics[{name, step}] = value; },
+  character::Reporter reporter() {
+    return {[this](const std::string& name, double step, double value) {
+              if (name.rfind("time/", 0) != 0) metrics[{name, step}] = value;
+            },
             [this](double) { ++progress_calls; }};
   }
 };
+
+JumpOutcome run_trial(const TrainSettings& s, const std::filesystem::path& dir, const std::atomic<bool>* cancel,
+                      const character::Reporter& reporter) {
+  return run_jump_trial(s, {}, {.seed = 7, .work_dir = dir, .cancel = cancel, .report = reporter});
+}
 
 TEST(JumpTrial, ResumesAcrossAControlRateRebuild) {
   TrainSettings s = small();
@@ -92,24 +115,26 @@ TEST(JumpTrial, ResumesAcrossAControlRateRebuild) {
   const testing::TempDir whole, split;
 
   TrialRecord a;
-  const JumpOutcome full = run_jump_trial(s, 7, {}, whole.path(), nullptr, a.reporter());
+  const JumpOutcome full = run_trial(s, whole.path(), nullptr, a.reporter());
   ASSERT_NEAR(full.z_reached_m, 0.56, 1e-9);
   ASSERT_EQ(a.metrics.at({"curriculum/control_hz", 12.0}), 12.0);  // rebuilt by sample 12 (iteration 3)
 
   TrialRecord b;
   std::atomic<bool> cancel{false};
-  Reporter first = b.reporter();
+  character::Reporter first = b.reporter();
   const auto record = first.metric;
   first.metric = [&](const std::string& name, double step, double value) {
     record(name, step, value);
     if (name == "curriculum/z_m" && value > 0.535) cancel = true;  // after iteration 4's checkpoint
   };
-  EXPECT_THROW(run_jump_trial(s, 7, {}, split.path(), &cancel, first), std::runtime_error);
+  EXPECT_THROW(run_trial(s, split.path(), &cancel, first), std::runtime_error);
   EXPECT_TRUE(std::filesystem::exists(split / "training_12hz.ckpt"));
+  EXPECT_TRUE(std::filesystem::exists(split / "training_12hz.json"));  // the z its copies were built at
   EXPECT_FALSE(std::filesystem::exists(split / "training_10hz.ckpt"));
+  EXPECT_FALSE(std::filesystem::exists(split / "training_10hz.json"));
 
   b.progress_calls = 0;
-  const JumpOutcome resumed = run_jump_trial(s, 7, {}, split.path(), nullptr, b.reporter());
+  const JumpOutcome resumed = run_trial(s, split.path(), nullptr, b.reporter());
   EXPECT_EQ(b.progress_calls, 1 + 2 + 1);  // before the loop, iterations 5 and 6, the end
   EXPECT_EQ(resumed.samples, full.samples);
   EXPECT_EQ(resumed.levels, full.levels);

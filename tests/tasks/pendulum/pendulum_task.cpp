@@ -1,13 +1,16 @@
 // Test-only task plugin "test_pendulum" (libpodium_task_test_pendulum.so, built for tests, not a
-// shipped task): PPO on learn/'s Pendulum, the smallest real learning trial, for the conformance
-// suite and the hand-over and resume acceptance tests of issue 16.
+// shipped task): PPO on learn/'s Pendulum on character's training-stage driver, the smallest real
+// learning trial, for the conformance suite and the hand-over and resume campaigns
+// (tests/orchestrator/handover_campaign_test.cpp).
 //   param     log10_lr: the policy learning rate, 10^x
 //   features  final_return (deterministic evaluation on fixed starts), mean_abs_torque (of it)
 //   metrics   eval_return after every update, step 0 = before training (so a warm start's first
 //             evaluation can be compared with its source's last); train_return when episodes end
 //   artifact  "policy": the TorchScript export
 // It checkpoints every `checkpoint_every` updates into its trial folder and a later attempt
-// continues from there; with inputs it warm-starts from inputs[0]'s "policy".
+// continues from there; with inputs it warm-starts from inputs[0]'s "policy". It sends no time/
+// series: the hand-over test compares a resumed campaign's metric points with an uninterrupted
+// one's, all of them.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -16,8 +19,9 @@
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
 #include "podium/learn/classic_control.h"
+#include "podium/character/evaluator.h"
+#include "podium/character/training_stage.h"
 #include "podium/learn/learner.h"
-#include "podium/learn/training_checkpoint.h"
 #include "podium/plugins/export.h"
 
 namespace podium::tests::pendulum {
@@ -67,7 +71,7 @@ struct Evaluation {
 };
 
 // The deterministic policy on the same starts every time (the generator is seeded per call).
-Evaluation evaluate(learn::Learner& learner, const Settings& s) {
+Evaluation evaluate(const character::PolicyFn& policy, const Settings& s) {
   learn::Pendulum env;
   env.seed(static_cast<std::uint64_t>(s.eval_seed));
   std::vector<double> observation, action(1);
@@ -77,7 +81,7 @@ Evaluation evaluate(learn::Learner& learner, const Settings& s) {
   for (int e = 0; e < s.eval_episodes; ++e) {
     env.reset(observation);
     do {
-      learner.act(observation, action, true);
+      policy(observation, action);
       env.step(action, step);
       total += step.reward;
       torque += std::abs(action[0]);
@@ -102,6 +106,62 @@ std::string parameter_hash(const learn::Learner& learner) {
 }
 
 }  // namespace
+
+// The trial on the driver: an evaluation after every update (and before the first, test 0), the
+// last policy exported; its state the first evaluation and the warm start's source.
+class PendulumStage final : public character::TrainingStage {
+ public:
+  PendulumStage(const Settings& s, double lr, std::uint64_t seed, Json warm_start)
+      : s_(s), lr_(lr), seed_(seed), warm_start_(std::move(warm_start)) {}
+
+  void build(const Json&) override {
+    std::vector<std::unique_ptr<learn::Env>> copies;
+    for (int i = 0; i < s_.copies; ++i) copies.push_back(std::make_unique<learn::Pendulum>());
+    envs_ = std::make_unique<learn::VecEnv>(std::move(copies), 1, base::derive_seed(seed_, 1));
+  }
+  learn::VecEnv& envs() override { return *envs_; }
+  // Pendulum settings of tests/learn/learning_settings.h, σ annealed over the whole trial.
+  Json learner_spec() const override {
+    const Json ppo = {{"hidden", s_.hidden},           {"rollout_steps", s_.rollout_steps},
+                      {"epochs", s_.epochs},           {"minibatch_size", s_.minibatch_size},
+                      {"gamma", 0.95},                 {"reward_scale", 0.1},
+                      {"policy_lr_start", lr_},        {"policy_lr_end", lr_},
+                      {"sigma_anneal_steps", total_steps(s_)}};
+    return {{"algorithm", "ppo"}, {"config", ppo}};
+  }
+  Json state() const override { return {{"first_eval_return", first_eval_return_}, {"warm_start", warm_start_}}; }
+  void load_state(const Json& state) override {
+    first_eval_return_ = state.at("first_eval_return").get<double>();
+    warm_start_ = state.at("warm_start");
+  }
+  void on_iteration(const character::Iteration& it, learn::Learner&, const character::MetricFn& send) override {
+    if (it.training.last.episodes > 0) send("train_return", static_cast<double>(it.index), it.training.last.mean_return);
+  }
+  character::Figures test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) override {
+    const double r = evaluate([&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, s_).mean_return;
+    if (round.test == 0) first_eval_return_ = r;
+    send("eval_return", static_cast<double>(round.iteration), r);
+    return {{"eval_return", r}};
+  }
+  void record(const character::Recording& r) override {
+    last_ = evaluate([&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a); }, s_);
+    parameter_hash_ = parameter_hash(r.learner);
+  }
+
+  static std::int64_t total_steps(const Settings& s) { return std::int64_t{s.updates} * s.copies * s.rollout_steps; }
+  Json info() const { return {{"first_eval_return", first_eval_return_}, {"warm_start", warm_start_}, {"parameter_hash", parameter_hash_}}; }
+  const Evaluation& last() const { return last_; }
+
+ private:
+  const Settings& s_;
+  double lr_;
+  std::uint64_t seed_;
+  Json warm_start_;
+  double first_eval_return_ = 0.0;
+  std::unique_ptr<learn::VecEnv> envs_;
+  Evaluation last_;
+  std::string parameter_hash_;
+};
 
 class PendulumTask final : public plugins::Task {
  public:
@@ -130,67 +190,29 @@ class PendulumTask final : public plugins::Task {
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const Settings s = settings_from(request.config);
     const double lr = std::pow(10.0, request.params.at("log10_lr").get<double>());
-    std::vector<std::unique_ptr<learn::Env>> copies;
-    for (int i = 0; i < s.copies; ++i) copies.push_back(std::make_unique<learn::Pendulum>());
-    learn::VecEnv envs(std::move(copies), 1, base::derive_seed(request.seed, 1));
-    const std::int64_t total_steps = std::int64_t{s.updates} * s.copies * s.rollout_steps;
-    // Pendulum settings of tests/learn/learning_settings.h, σ annealed over the whole trial.
-    const Json ppo = {{"hidden", s.hidden},           {"rollout_steps", s.rollout_steps},
-                      {"epochs", s.epochs},           {"minibatch_size", s.minibatch_size},
-                      {"gamma", 0.95},                {"reward_scale", 0.1},
-                      {"policy_lr_start", lr},        {"policy_lr_end", lr},
-                      {"sigma_anneal_steps", total_steps}};
-    const auto learner = learn::make_learner({{"algorithm", "ppo"}, {"config", ppo}}, envs.observation_space(),
-                                             envs.action_space(), base::derive_seed(request.seed, 2));
-
-    // Keeps every metric point with the checkpoint and sends them again on resume (the store
-    // drops the repeats); the extra holds the first evaluation and the warm start.
-    learn::TrainingCheckpoint checkpoint(
-        request.work_dir / "training.ckpt", s.checkpoint_every,
-        [&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); });
-    Json extra;
-    if (auto saved = checkpoint.resume(*learner, envs)) {
-      extra = *saved;
-      std::fprintf(stderr, "test_pendulum: attempt %d resumes after update %lld\n", request.attempt,
-                   static_cast<long long>(checkpoint.updates()));
-    } else {
-      Json warm_start = nullptr;
-      if (!request.inputs.empty()) {
-        const auto& input = request.inputs.front();
-        const auto policy = input.artifacts.find("policy");
-        if (policy == input.artifacts.end())
-          throw base::UserError("test_pendulum: input trial " + std::to_string(input.trial_index) + " of stage " +
-                                input.stage + " has no \"policy\" artifact");
-        learner->warm_start(policy->second);
-        warm_start = {{"stage", input.stage}, {"trial_index", input.trial_index}};
-      }
-      const double first = evaluate(*learner, s).mean_return;
-      extra = {{"first_eval_return", first}, {"warm_start", warm_start}};
-      checkpoint.metric("eval_return", 0, first);
+    std::filesystem::path warm_start;
+    Json source = nullptr;
+    if (!request.inputs.empty()) {
+      const auto& input = request.inputs.front();
+      const auto policy = input.artifacts.find("policy");
+      if (policy == input.artifacts.end())
+        throw base::UserError("test_pendulum: input trial " + std::to_string(input.trial_index) + " of stage " + input.stage +
+                              " has no \"policy\" artifact");
+      warm_start = policy->second;
+      source = {{"stage", input.stage}, {"trial_index", input.trial_index}};
     }
-
-    Evaluation last = evaluate(*learner, s);
-    for (auto update = checkpoint.updates() + 1; update <= s.updates; ++update) {
-      if (request.cancel && request.cancel->load())
-        throw std::runtime_error("test_pendulum: cancelled before update " + std::to_string(update));
-      learn::TrainStats stats;
-      learner->train_until(envs, learner->env_steps() + 1, [&](const learn::TrainStats& t) { stats = t; });
-      last = evaluate(*learner, s);
-      checkpoint.metric("eval_return", static_cast<double>(update), last.mean_return);
-      if (stats.episodes > 0) checkpoint.metric("train_return", static_cast<double>(update), stats.mean_return);
-      sink.progress(static_cast<double>(update) / s.updates);
-      checkpoint.on_update(*learner, envs, extra);
-    }
-
+    PendulumStage stage(s, lr, request.seed, source);
+    const character::StageOutcome done = character::run_training_stage(
+        stage,
+        {.name = "test_pendulum", .total_steps = PendulumStage::total_steps(s), .test_before_training = true,
+         .checkpoint_every = s.checkpoint_every, .warm_start = warm_start,
+         .warm_start_kind = character::StageSettings::WarmStart::policy, .time_metrics = false},
+        {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
     plugins::RunResult result;
-    result.objectives = {last.mean_return};
-    result.features = {last.mean_return, last.mean_abs_torque};
-    const auto policy = request.work_dir / "policy.pt";
-    learner->export_torchscript(policy);
-    result.artifacts.push_back({"policy", policy});
-    result.info = {{"first_eval_return", extra.at("first_eval_return")},
-                   {"warm_start", extra.at("warm_start")},
-                   {"parameter_hash", parameter_hash(*learner)}};
+    result.objectives = {stage.last().mean_return};
+    result.features = {stage.last().mean_return, stage.last().mean_abs_torque};
+    result.artifacts.push_back({"policy", done.policy});
+    result.info = stage.info();
     return result;
   }
 };

@@ -12,10 +12,17 @@ namespace {
 using base::Json;
 namespace fs = std::filesystem;
 
+// The warm start: from the smoke trial's policy, handed over as an input trial.
+podium::testing::WarmStartCase::Order from_policy(const fs::path& source, const Json& result) {
+  const Json input = {{"stage", "explore"}, {"stage_index", 0}, {"trial_index", 0}, {"params", Json::object()},
+                      {"objectives", result["objectives"]}, {"features", result["features"]}, {"strategy", 0},
+                      {"artifacts", {{"policy", (source / result["artifacts"][0]["path"].get<std::string>()).string()}}}};
+  return {{{"updates", 60}, {"checkpoint_every", 3}}, Json::array({input})};
+}
 PODIUM_TASK_CONFORMANCE(TestPendulum, {.task = "test_pendulum", .long_config = {{"updates", 100000}},
                                        .resume_config = {{"updates", 60}, {"checkpoint_every", 3}},
                                        .kill_after_metric_points = 12, .resumes_from_checkpoint = true,
-                                       .artifacts = {"policy"}});
+                                       .artifacts = {"policy"}, .warm_start = podium::testing::WarmStartCase{from_policy, 12}});
 
 // `podium trial --batch` on one order in `dir`; returns result.json.
 Json run_trial(const fs::path& dir, const Json& inputs, double log10_lr) {

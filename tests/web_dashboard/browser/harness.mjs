@@ -33,9 +33,10 @@ export function run(name, body) {
   let browser = null;
   const h = {
     dir,
-    podium(args) {
+    // `status`: the exit code expected (podium run exits 1 when a campaign it ran failed).
+    podium(args, status = 0) {
       const r = spawnSync(process.env.PODIUM_BIN, args, { cwd: dir, encoding: 'utf8' });
-      assert.equal(r.status, 0, `podium ${args.join(' ')}: ${r.stderr}`);
+      assert.equal(r.status, status, `podium ${args.join(' ')}: ${r.stderr}`);
       return r.stdout.trim();
     },
     submit(file, spec) {

@@ -20,7 +20,7 @@ const spec = {
 
 run('strategies', async h => {
   const id = h.submit('handover', spec);
-  h.podium(['run', '--workers', '2']);
+  h.podium(['run', '--workers', '2'], 1);  // the "broken" stage fails the campaign
   const { url, api } = await h.serve();
   const { page, external, problems } = await h.browse(url);
   const detail = await api(`/api/campaigns/${id}`);

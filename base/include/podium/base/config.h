@@ -98,6 +98,10 @@ class ConfigReader {
   std::string string(const std::string& key, const std::string& fallback, const std::string& doc = "");
   /// A required string must not be empty.
   std::string string(const std::string& key, Required, const std::string& doc = "");
+  /// A file path: a string described with "format": "file", so `podium submit` resolves a relative
+  /// one against the spec's folder, checks that the file exists and passes it on absolute.
+  std::string file(const std::string& key, const std::string& fallback, const std::string& doc = "");
+  std::string file(const std::string& key, Required, const std::string& doc = "");
   std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed,
                      const std::string& doc = "");
   std::string choice(const std::string& key, Required, const std::vector<std::string>& allowed,

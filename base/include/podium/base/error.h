@@ -1,5 +1,5 @@
 #pragma once
-/// Errors in three tiers (STYLE.md "Errors everywhere"):
+/// Errors in three tiers (docs/style.md "Errors everywhere"):
 ///  - PODIUM_DEBUG_ASSERT: programmer errors, checked in debug builds only;
 ///  - PODIUM_CHECK: invariants that must hold in every build; aborts with file, line and condition;
 ///  - podium::base::UserError: bad user input (spec, model file, CLI); thrown, caught at the CLI,

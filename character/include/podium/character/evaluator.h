@@ -1,6 +1,6 @@
 #pragma once
 /// Evaluation of a policy over fixed starts (get-up seed App. D: "evaluated ... over 10
-/// episodes" from fixed starts; issue 18's 20 unseen falls): success rate, mean return, the
+/// episodes" from fixed starts; the get-up evaluation's 20 unseen falls): success rate, mean return, the
 /// task's per-episode measures, and chosen rollouts recorded as `trajectory` artifacts.
 #include <cstdint>
 #include <filesystem>
@@ -32,6 +32,12 @@ struct EvaluationConfig {
   std::function<void(std::size_t start, const CharacterEnv&)> each_step;
   std::vector<std::size_t> record;           ///< indices into start_seeds whose rollouts are written
   std::filesystem::path record_dir;          ///< where: trajectory_<index>.jsonl
+  /// Frames per second a recording needs at least (a smooth replay of a short motion, e.g. a jump
+  /// at 10–30 Hz control); 0: one frame per control step. Frames are the World's states every k
+  /// simulation steps, k the largest divisor of the control period that gives ≥ record_min_hz (every
+  /// simulation step if none does), so the control steps' frames are among them; nothing else the
+  /// evaluation computes changes.
+  double record_min_hz = 0.0;
 };
 
 struct EvaluationReport {
@@ -48,7 +54,7 @@ struct EvaluationReport {
 
 /// Runs one episode per start seed (the env's generator is re-seeded, so starts are fixed and
 /// independent of what ran before). Recorded rollouts are sim::write_trajectory files, one frame
-/// per control step from the start state on.
+/// per control step (or denser: record_min_hz) from the start state on.
 EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const EvaluationConfig& config);
 
 }  // namespace podium::character

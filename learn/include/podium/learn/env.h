@@ -1,5 +1,5 @@
 #pragma once
-/// The environment contract tasks implement for learn/'s trainers (DESIGN.md "Learning").
+/// The environment contract tasks implement for learn/'s trainers (docs/architecture.md "Physics and learning").
 ///
 /// Gymnasium semantics: an episode ends either by *termination* (a terminal state of the MDP,
 /// e.g. a fall: no bootstrapping from the next state) or by *truncation* (a time limit: the

@@ -23,6 +23,10 @@
 /// The learner and envs must be built exactly as in the first attempt (same config, seeds,
 /// copies); load_checkpoint() rejects another config. An "update" is one TrainCallback call:
 /// a PPO iteration, or a SAC log interval (SacConfig::log_interval_steps).
+///
+/// Each file carries kFormatVersion, raised whenever what is saved (here or in the `extra` of
+/// character::run_training_stage, its main user) changes layout or meaning: resume() refuses a file
+/// of another version with one line saying what to do, instead of reading it half right.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -39,6 +43,9 @@ namespace podium::learn {
 
 class TrainingCheckpoint {
  public:
+  /// The layout saved; resume() reads this version only.
+  static constexpr int kFormatVersion = 2;
+
   /// Where metric() sends points (a task binds its plugins::Sink here).
   using MetricSink = std::function<void(const std::string& name, double step, double value)>;
 
@@ -49,7 +56,8 @@ class TrainingCheckpoint {
   /// If the file exists: loads it into learner + envs, sends every metric point saved with it
   /// through `send` (per name in the order metric() kept them, names in alphabetical order) and
   /// returns the `extra` saved with it (null if none was given); otherwise std::nullopt and
-  /// nothing changes. Call it before metric(): a resume replaces the points kept so far.
+  /// nothing changes. Call it before metric(): a resume replaces the points kept so far. Throws
+  /// base::UserError for a file of another format version (or of none: an older build's).
   std::optional<base::Json> resume(Learner& learner, VecEnv& envs);
 
   /// Training on from another run's checkpoint (a warm start): if this checkpoint's file does not
@@ -64,8 +72,8 @@ class TrainingCheckpoint {
   /// Call from the TrainCallback after every update. Every Nth call saves learner, envs, the
   /// metric points and `extra` atomically: written to `file`.tmp, flushed to disk, then renamed
   /// over `file`, so a kill at any moment leaves either the previous checkpoint or the new one,
-  /// never a torn file.
-  void on_update(const Learner& learner, const VecEnv& envs, const base::Json& extra);
+  /// never a torn file. Returns whether it saved.
+  bool on_update(const Learner& learner, const VecEnv& envs, const base::Json& extra);
 
   /// Updates counted so far, including those before the checkpoint resumed from: after resume()
   /// the next callback is update updates() + 1.

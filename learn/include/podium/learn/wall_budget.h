@@ -1,8 +1,8 @@
 #pragma once
 /// A training loop's wall-clock limit, checked between its rounds (a round: train to the next
 /// test, then test). A preset sized in minutes fits a fixed slot on machines of any speed, where a
-/// step count alone does not (issue 18: the get-up `quick` campaign in 2 h; the update cost of
-/// the same 128-128 SAC ranged from 2 to 12 ms over this project's machines). Another round runs
+/// step count alone does not (the get-up `quick` campaign fits 2 h; the update cost of the same
+/// 128-128 SAC ranged from 2 to 12 ms over this project's machines). Another round runs
 /// only if it still ends inside the limit, predicting it to take as long as the last one. The
 /// state goes into the trial's checkpoint, so a resumed trial goes on with the same clock instead
 /// of getting its limit afresh (the time between the last checkpoint and a kill is not counted).
@@ -41,9 +41,9 @@ class WallBudget {
   /// What ended a loop that stopped at `steps` of `total_steps`: "steps", or "time" if the limit
   /// stopped it short.
   static std::string stopped_by(std::int64_t steps, std::int64_t total_steps);
-  /// The log line that says so, with the minutes spent (wall times go to logs, never to metrics,
-  /// which must be the same on every run of a seed): "<who>: training ended by time at
-  /// environment step 1160000 after 99.7 min".
+  /// The log line that says so, with the minutes spent: "<who>: training ended by time at
+  /// environment step 1160000 after 99.7 min". (Wall times reach metrics only as series under a
+  /// time/ prefix, the one kind of series that differs between runs of a seed.)
   std::string end_message(std::string_view who, std::int64_t steps, std::int64_t total_steps) const;
 
   bool limited() const { return limit_s_ > 0.0; }

@@ -15,10 +15,17 @@ namespace podium::orchestrator {
 
 /// Validates a spec (including each stage's task, preset, config and search config, asked of the
 /// plugin in a separate worker process) and queues it in `database`. Returns the campaign id.
-/// Throws base::UserError for spec errors; the database is opened (created if absent) only once
-/// the whole spec is valid.
+/// Paths in the spec are relative to `spec_dir` (the spec file's folder): `run_dir`, and every
+/// config value the task declares a file ("format": "file" in its config description), which
+/// must exist and is stored absolute. Throws base::UserError for spec errors (a missing file:
+/// its JSON path, the path as written and as resolved); the database is opened (created if
+/// absent) only once the whole spec is valid.
 std::int64_t submit_campaign(const std::filesystem::path& database, const base::Json& spec, const std::string& source,
-                             const std::filesystem::path& worker_binary);
+                             const std::filesystem::path& spec_dir, const std::filesystem::path& worker_binary);
+
+/// The id of the campaign `id_or_name` names (an id, or the newest campaign of that name).
+/// Throws base::UserError naming the database and the nearest campaign names when there is none.
+std::int64_t find_campaign_id(const store::Store& store, const std::string& id_or_name);
 
 /// pause: stop starting trials; resume: queue again; cancel: stop running trials, end the campaign.
 /// Throws base::UserError if the campaign is in a state the action does not apply to.

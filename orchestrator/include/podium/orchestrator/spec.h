@@ -19,7 +19,7 @@ inline constexpr int kMaxWorkers = 1024;
 /// The most trials a stage's budget holds (budget.trials, and `podium extend`).
 inline constexpr std::int64_t kMaxTrials = 10'000'000;
 
-/// A stage's hand-over (DESIGN.md "Hand-over"): which finished trials of earlier stages its
+/// A stage's hand-over (docs/architecture.md "Stage hand-over"): which finished trials of earlier stages its
 /// trials and its search receive. Resolved when the stage starts, then stored with it.
 struct InputsSpec {
   std::vector<std::string> stages;   ///< earlier stages, in the order their trials are handed over

@@ -26,6 +26,18 @@ using DestroyTaskFn = void(Task*);
 #define PODIUM_PLUGIN_ABI_VERSION ::podium::plugins::kAbiVersion
 #endif
 
+// A test plugin (built by add_podium_task from tests/, or with an ABI_VERSION) also exports
+// podium_test_only_task: `podium tasks` lists it only with --all (plugins::is_test_plugin).
+#ifdef PODIUM_TEST_PLUGIN
+#define PODIUM_EXPORT_TEST_MARK                                                                   \
+  namespace podium_plugin_exports {                                                               \
+  extern "C" const int podium_test_only_task_value = 1;                                          \
+  }                                                                                               \
+  BOOST_DLL_ALIAS(podium_plugin_exports::podium_test_only_task_value, podium_test_only_task)
+#else
+#define PODIUM_EXPORT_TEST_MARK
+#endif
+
 #define PODIUM_EXPORT_TASK(TaskClass, task_name_literal)                                          \
   namespace podium_plugin_exports {                                                               \
   extern "C" const ::podium::plugins::TaskDescriptor podium_task_descriptor_value = {            \
@@ -36,4 +48,5 @@ using DestroyTaskFn = void(Task*);
   }                                                                                               \
   BOOST_DLL_ALIAS(podium_plugin_exports::podium_task_descriptor_value, podium_task_descriptor)   \
   BOOST_DLL_ALIAS(podium_plugin_exports::podium_create_task_impl, podium_create_task)            \
-  BOOST_DLL_ALIAS(podium_plugin_exports::podium_destroy_task_impl, podium_destroy_task)
+  BOOST_DLL_ALIAS(podium_plugin_exports::podium_destroy_task_impl, podium_destroy_task)          \
+  PODIUM_EXPORT_TEST_MARK

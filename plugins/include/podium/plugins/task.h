@@ -1,5 +1,5 @@
 #pragma once
-/// The task plugin contract (DESIGN.md "Concepts: Task plugin").
+/// The task plugin contract (docs/architecture.md "Concepts").
 ///
 /// A task declares its parameter space, strategy features, metrics and fidelity presets
 /// (describe) and runs one trial (run). It runs inside a worker process, never inside the
@@ -22,7 +22,7 @@
 /// describes it from the same code. describe(config) throws base::ConfigError for a value it
 /// does not accept; `podium submit` reports it at its JSON path in the spec, exit 2.
 ///
-/// Trial folder and attempts (DESIGN.md "Trial"): an attempt that ends early (the scheduler
+/// Trial folder and attempts (docs/architecture.md "Concepts"): an attempt that ends early (the scheduler
 /// killed, the worker crashed, a timeout, a Slurm requeue) is retried with the same trial index,
 /// params, inputs and seed, and the same `work_dir`, which no executor empties between attempts.
 /// A long-running task checkpoints there and, on a later attempt, continues from the last
@@ -69,7 +69,7 @@ class Sink {
   virtual void metric(const std::string& name, double step, double value) = 0;
 };
 
-/// One earlier-stage trial handed to this trial (DESIGN.md "Hand-over"). The stage's spec
+/// One earlier-stage trial handed to this trial (docs/architecture.md "Stage hand-over"). The stage's spec
 /// `inputs` selects them from finished trials of earlier stages when the stage starts; they are
 /// stored with the stage, so every attempt and a resumed campaign see the same ones.
 struct InputTrial {

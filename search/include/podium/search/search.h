@@ -1,5 +1,5 @@
 #pragma once
-/// The ask/tell contract every search algorithm implements (DESIGN.md "Search algorithms").
+/// The ask/tell contract every search algorithm implements (docs/architecture.md "Search algorithms").
 ///
 /// - ask(n) returns up to n new proposals, each with a stage-unique id (0, 1, 2, ...) that the
 ///   orchestrator uses as the trial index. It may return fewer than n (or none) when the

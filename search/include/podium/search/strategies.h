@@ -1,5 +1,5 @@
 #pragma once
-/// The one definition of "distinct strategies" (DESIGN.md "Concepts": a strategy is a cluster of
+/// The one definition of "distinct strategies" (docs/architecture.md "Concepts": a strategy is a cluster of
 /// trials whose features are within a distance threshold), shared by the searches, the store and
 /// the dashboard.
 #include <vector>

@@ -1,5 +1,5 @@
 #pragma once
-/// CharacterData: the mutable state, caches and scratch of one character (STYLE.md "sim/").
+/// CharacterData: the mutable state, caches and scratch of one character (docs/style.md "sim/").
 /// Made from a CharacterModel, sized once: no algorithm allocates after construction.
 /// One CharacterData per rollout thread; copying it checkpoints the character.
 #include <Eigen/Cholesky>

@@ -1,5 +1,5 @@
 #pragma once
-/// CharacterModel: the immutable description of an articulated character (STYLE.md "sim/":
+/// CharacterModel: the immutable description of an articulated character (docs/style.md "sim/":
 /// constant model + mutable data). Built once from a model file and shared, read-only, by every
 /// rollout thread (hold it as ModelPtr). Frames: z up, metres, kilograms, radians.
 ///

@@ -1,5 +1,5 @@
 #pragma once
-/// Recording: one frame per control step (time, q, q̇, link poses, COM, contacts), written as a
+/// Recording: one frame per call (time, q, q̇, link poses, COM, contacts), written as a
 /// compact trajectory file for the dashboard's browser replay (format in sim/README.md; it
 /// carries the props and terrain) or as BVH for animation tools.
 #include <Eigen/Core>
@@ -22,8 +22,9 @@ struct Frame {
 class Recorder {
  public:
   explicit Recorder(ModelPtr model) : model_(std::move(model)) {}
-  /// Appends the world's current state as a frame (call once per control step); keeps the
-  /// world's terrain and props for the file (the latest recorded).
+  /// Appends the world's current state as a frame (call once per control step, or per recorded
+  /// simulation step: World::set_substep_observer); keeps the world's terrain and props for the
+  /// file (the latest recorded).
   void record(World& world);
   const std::vector<Frame>& frames() const { return frames_; }
   const CharacterModel& model() const { return *model_; }

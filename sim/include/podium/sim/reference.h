@@ -1,5 +1,5 @@
 #pragma once
-/// Bullet's own answer for the dynamics, for checking ours (STYLE.md: "both are checked
+/// Bullet's own answer for the dynamics, for checking ours (docs/style.md: "both are checked
 /// against Bullet"). No Bullet type crosses this header.
 #include <Eigen/Core>
 

@@ -20,6 +20,9 @@ struct BoxProp {
   Eigen::Vector3d half_extents{0.5, 0.5, 0.5};               // m, along the box's own axes
   Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  // box axes in world
   double friction = 1.0;                                     // multiplies the character's μ
+  /// What the box stands for, for a replay (web_dashboard/README.md "Trajectory files"): "" a box;
+  /// "crossbar" (the box is a bar's collision stand-in, the bar at its top edge), "obstacle", "mat".
+  std::string kind;
 };
 
 /// An axis-aligned rectangle of ground, [min, max] in x and y, whose surface replaces the plane.

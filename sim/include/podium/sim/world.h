@@ -4,6 +4,7 @@
 /// frequency; the step's dynamics are ours (sim/README.md "Stepping"). One World per
 /// rollout thread; many Worlds may share one ModelPtr. Bullet types stay behind the pimpl.
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -135,6 +136,9 @@ class World {
 
   /// One control period: substeps() simulation steps with the same command.
   StepReport control_step(Control mode, const Eigen::VectorXd& command);
+  /// Called by control_step after each of its simulation steps (e.g. a recorder taking the states
+  /// between control steps); it must not change the World. Not part of a snapshot; empty: none.
+  void set_substep_observer(std::function<void(World&)> observer) { substep_observer_ = std::move(observer); }
   /// One simulation step.
   StepReport sim_step(Control mode, const Eigen::VectorXd& command);
 
@@ -163,6 +167,7 @@ class World {
   Eigen::VectorXd tau_external_;            // passive joint torques + Jᵀ F over all bodies (nv)
   bool has_forces_ = false;
   std::vector<int> passive_links_;          // revolute links with damping or stiffness, when applied
+  std::function<void(World&)> substep_observer_;
 };
 
 struct WarmStarts;  // the contact solver's (src/contact_solver.h)

@@ -135,7 +135,7 @@ void ConfigReader::fail(const std::string& key, std::size_t index, const std::st
 
 bool ConfigReader::has(const std::string& key) const { return !describing_ && config_->contains(key); }
 
-const Json* ConfigReader::take(const std::string& key, bool is_required, Json info, const std::string& doc,
+const Json* ConfigReader::take(const std::string& key, bool is_required, const Json& info, const std::string& doc,
                                std::shared_ptr<Node> child) {
   read_.insert(key);
   auto& entries = node_->entries;

@@ -32,7 +32,7 @@ class Humanoid21Balance final : public learn::Env {
     standing_head_m_ = (sim::standing_start(world_), world_.observe().head_height_m);
   }
   learn::BoxSpace observation_space() const override {
-    const std::size_t n = std::size_t(model_->nq() - 2 + model_->nv());
+    const std::size_t n = std::size_t(model_->nq()) - 2 + std::size_t(model_->nv());
     return {std::vector<double>(n, -1e9), std::vector<double>(n, 1e9)};
   }
   learn::BoxSpace action_space() const override {

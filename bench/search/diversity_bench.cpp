@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
   std::vector<std::tuple<std::string, std::string, int, int>> jobs;
   for (const auto& f : o.families)
     for (const auto& a : o.algorithms) {
-      results[f][a].resize(static_cast<std::size_t>(o.landscapes * o.seeds));
+      results[f][a].resize(static_cast<std::size_t>(o.landscapes) * static_cast<std::size_t>(o.seeds));
       for (int l = 0; l < o.landscapes; ++l)
         for (int s = 0; s < o.seeds; ++s) jobs.emplace_back(f, a, l, s);
     }
@@ -224,7 +224,7 @@ int main(int argc, char** argv) {
         const auto& [f, a, l, s] = jobs[j];
         auto counts = run(o, f, a, l, s);
         std::lock_guard lock(mutex);
-        results[f][a][static_cast<std::size_t>(l * o.seeds + s)] = std::move(counts);
+        results[f][a][static_cast<std::size_t>(l) * static_cast<std::size_t>(o.seeds) + static_cast<std::size_t>(s)] = std::move(counts);
       }
     });
   for (auto& w : workers) w.join();

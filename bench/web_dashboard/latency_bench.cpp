@@ -101,7 +101,7 @@ Stats measure(httplib::Client& client, int port, const std::vector<std::string>&
     if (r >= 2) ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());  // 2 warm-ups
   }
   std::sort(ms.begin(), ms.end());
-  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * ms.size()))]; };
+  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * static_cast<double>(ms.size())))]; };
   return {at(0.5), at(0.95), ms.back()};
 }
 

@@ -289,7 +289,7 @@ class Driver {
       learner_->export_torchscript(policy_file());
       state_.exported = tested;
     }
-    if (s_.time_metrics && iteration > 0) {
+    if (iteration > 0) {
       const auto step = static_cast<double>(round.env_steps);
       send_("time/rollout_s", step, since_test_.rollout_s);
       send_("time/update_s", step, since_test_.update_s);

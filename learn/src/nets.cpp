@@ -42,7 +42,7 @@ torch::Tensor MlpImpl::forward(torch::Tensor x) {
 }
 
 namespace {
-void fill_uniform(torch::Tensor t, base::Rng& rng, double bound) {
+void fill_uniform(const torch::Tensor& t, base::Rng& rng, double bound) {
   auto flat = t.data_ptr<float>();
   for (std::int64_t i = 0; i < t.numel(); ++i) flat[i] = static_cast<float>(rng.uniform(-bound, bound));
 }
@@ -59,7 +59,7 @@ void init_mlp(Mlp& net, base::Rng& rng, double output_scale) {
   }
 }
 
-torch::Tensor normal_tensor(base::Rng& rng, std::vector<std::int64_t> sizes) {
+torch::Tensor normal_tensor(base::Rng& rng, const std::vector<std::int64_t>& sizes) {
   auto t = torch::empty(sizes, torch::kFloat32);
   auto p = t.data_ptr<float>();
   for (std::int64_t i = 0; i < t.numel(); ++i) p[i] = static_cast<float>(rng.normal());

@@ -67,7 +67,7 @@ void check_spec_keys(const Json& j, const std::string& source) {
 // A campaign or stage name: printed by status, looked up by `podium status NAME`, so no control
 // characters (C0, DEL, C1): they would reach terminals raw, and a NUL cannot be typed.
 std::string read_name(ConfigReader& f) {
-  const std::string name = f.string("name", required);
+  std::string name = f.string("name", required);  // not const: returned by move
   for (std::size_t i = 0; i < name.size(); ++i) {
     const auto c = static_cast<unsigned char>(name[i]);
     const bool c1 = c == 0xC2 && i + 1 < name.size() && static_cast<unsigned char>(name[i + 1]) <= 0x9F;

@@ -70,7 +70,7 @@ void Scheduler::load_stage(CampaignRun& c, std::size_t index) {
   // The results not yet told, in the order asked (trial ids grow with it); finished ones wait.
   std::sort(trials.begin(), trials.end(), [](const auto& a, const auto& b) { return a.id < b.id; });
   s.told = s.rec.told;
-  const auto first_untold = static_cast<std::size_t>(std::min<std::int64_t>(s.told, trials.size()));
+  const auto first_untold = static_cast<std::size_t>(std::min(s.told, static_cast<std::int64_t>(trials.size())));
   for (std::size_t i = first_untold; i < trials.size(); ++i) {
     const auto& t = trials[i];
     s.untold.push_back(t.index);

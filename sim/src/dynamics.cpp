@@ -41,6 +41,10 @@ CharacterData::CharacterData(const CharacterModel& model)
     if (l.joint == JointType::spherical) d.S.topRows<3>().setIdentity();
     if (l.joint == JointType::revolute) d.S.col(0).head<3>() = l.axis;
   }
+  // Eigen's sizing constructor leaves the LLT's status unset, and copying a CharacterData (world
+  // snapshots do) would read it (UBSan: invalid enum load); a factor of the identity sets every
+  // field and keeps the storage. Every dense solver computes its own factor before solving.
+  llt.compute(Eigen::MatrixXd::Identity(model.nv(), model.nv()));
 }
 
 namespace {

@@ -58,7 +58,7 @@ double contact_erp(double dt_s) {
 
 }  // namespace
 
-World::World(ModelPtr model, const WorldConfig& config)
+World::World(const ModelPtr& model, const WorldConfig& config)
     : model_(edit_model(model, config.edits)), config_(config), terrain_(config.terrain), data_(*model_), gains_(Gains::from_model(*model_)),
       limits_(model_->nv()) {
   const double ratio = config_.sim_hz / config_.control_hz;

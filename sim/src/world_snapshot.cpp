@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include "contact_solver.h"
@@ -31,8 +32,8 @@ double read_number(const Json& j, const std::string& where) {
   if (j.is_string()) {
     const std::string s = j.get<std::string>();
     if (s == "nan") return std::nan("");
-    if (s == "inf") return INFINITY;
-    if (s == "-inf") return -INFINITY;
+    if (s == "inf") return std::numeric_limits<double>::infinity();
+    if (s == "-inf") return -std::numeric_limits<double>::infinity();
   }
   throw base::UserError("sim: snapshot JSON: " + where + ": " + j.dump() + " is not a number");
 }

@@ -162,7 +162,7 @@ std::unique_ptr<Store> Store::open(const std::filesystem::path& path, Access acc
     try {
       impl->exec(kMigrations[v]);
       Statement s(impl->db, "UPDATE schema_version SET version = ?");
-      s.bind(1, static_cast<std::int64_t>(v + 1)).run();
+      s.bind(1, static_cast<std::int64_t>(v) + 1).run();
       impl->exec("COMMIT");
     } catch (...) {
       impl->exec("ROLLBACK");

@@ -177,7 +177,7 @@ class WeakerStage final : public character::TrainingStage {
     // start that rose and fell again fails bar (a) differently from one that never rose, and drops
     // tell a get-up that stands from a leap loop.
     tests_.each_step = [this](std::size_t start, const character::CharacterEnv& env) {
-      if (env.step_index() == 0) on_back_[start] = lies_on_back(env);
+      if (env.step_index() == 0) on_back_[start] = static_cast<char>(lies_on_back(env));
       if (env.step_index() > 0) heads_[start].observe(env.step_index(), as_getup(env).weak().head_height_m);
     };
   }

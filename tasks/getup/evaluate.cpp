@@ -67,7 +67,7 @@ struct FallWatch {
   FallWatch(std::size_t falls, double height_m) : heads(falls, HeadWatch{.height_m = height_m}), on_back(falls, 0) {}
   void observe(std::size_t fall, const character::CharacterEnv& env, double head_m) {
     heads[fall].observe(env.step_index(), head_m);
-    if (env.step_index() == 0) on_back[fall] = lies_on_back(env);
+    if (env.step_index() == 0) on_back[fall] = static_cast<char>(lies_on_back(env));
   }
 };
 

@@ -70,7 +70,7 @@ GetupEnv::GetupEnv(const EnvSettings& settings, std::shared_ptr<const double> cu
     : GetupEnv(settings, sim::edit_model(sim::load_shipped_model(settings.model), variant_edits(settings.variant)),
                std::move(curriculum), sample_strength) {}
 
-GetupEnv::GetupEnv(const EnvSettings& settings, sim::ModelPtr model, std::shared_ptr<const double> curriculum, bool sample_strength)
+GetupEnv::GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std::shared_ptr<const double> curriculum, bool sample_strength)
     : CharacterEnv(parts_for(settings, model)), curriculum_(std::move(curriculum)), sample_(sample_strength),
       settings_(settings), readings_(BodyReadings::of(*model)) {
   if (!curriculum_) throw base::UserError("getup env: no curriculum strength");

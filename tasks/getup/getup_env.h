@@ -72,7 +72,7 @@ class GetupEnv final : public character::CharacterEnv {
   void load_state(const base::Json& state) override;
 
  private:
-  GetupEnv(const EnvSettings& settings, sim::ModelPtr model, std::shared_ptr<const double> curriculum, bool sample_strength);
+  GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std::shared_ptr<const double> curriculum, bool sample_strength);
 
   std::shared_ptr<const double> curriculum_;
   bool sample_;

@@ -141,7 +141,7 @@ SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, std::
     : SlowerEnv(env, slower, sim::edit_model(sim::load_shipped_model(env.model), variant_edits(env.variant)), std::move(weak),
                 weak_strength, fixed_kappa) {}
 
-SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, sim::ModelPtr model, std::shared_ptr<const learn::FrozenPolicy> weak,
+SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, const sim::ModelPtr& model, std::shared_ptr<const learn::FrozenPolicy> weak,
                      double weak_strength, std::optional<double> fixed_kappa)
     : CharacterEnv(slower_parts(env, slower, model)), settings_(slower), weak_(std::move(weak)),
       teacher_strength_(std::make_shared<double>(weak_strength)), fixed_kappa_(fixed_kappa), readings_(BodyReadings::of(*model)) {

@@ -118,7 +118,7 @@ class SlowerEnv final : public character::CharacterEnv {
   void load_state(const base::Json& state) override;
 
  private:
-  SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, sim::ModelPtr model, std::shared_ptr<const learn::FrozenPolicy> weak,
+  SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, const sim::ModelPtr& model, std::shared_ptr<const learn::FrozenPolicy> weak,
             double weak_strength, std::optional<double> fixed_kappa);
   FastRollout rise(base::Rng& rng);
   void build_reference(FastRollout fast, double kappa);

@@ -24,7 +24,7 @@ inline VecEnv pendulums(std::uint64_t seed, int copies = 2) {
 
 /// A fresh folder under the temp directory, named for the test binary's process.
 inline std::filesystem::path temp_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("podium_learn_" + name + "_" + std::to_string(::getpid()));
+  auto dir = std::filesystem::temp_directory_path() / ("podium_learn_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir;
 }

@@ -86,6 +86,13 @@ std::set<std::string> results(const TempDir& dir, const std::string& id) {
   return out;
 }
 
+bool some_trial_running(const TempDir& dir, const std::string& id) {
+  auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  for (const auto& t : store->campaign_trials(std::stoll(id)))
+    if (t.state == "running") return true;
+  return false;
+}
+
 TEST(Cli, KillNineAtRandomMomentsLosesAndRepeatsNothing) {
   const Json spec = landscape_spec(400, {{"sleep_s", 0.008}});
   TempDir reference;
@@ -98,7 +105,10 @@ TEST(Cli, KillNineAtRandomMomentsLosesAndRepeatsNothing) {
   int kills = 0;
   for (int round = 0; round < 40 && kills < 6; ++round) {
     const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
-    std::this_thread::sleep_for(std::chrono::milliseconds(rng.integer(40, 250)));
+    // A random moment once a trial runs: a slow start (a sanitizer build, a loaded machine) would
+    // otherwise put every kill before the first attempt.
+    if (!podium::testing::wait_until(pid, [&] { return some_trial_running(dir, id); })) break;  // finished
+    std::this_thread::sleep_for(std::chrono::milliseconds(rng.integer(0, 200)));
     int status = 0;
     if (::waitpid(pid, &status, WNOHANG) == pid) break;  // finished before the kill
     ::kill(pid, SIGKILL);

@@ -48,7 +48,7 @@ Json handover_spec() {
 // Everything a finished campaign's trial leaves that a resumed run must reproduce.
 struct TrialOutcome {
   store::TrialRecord trial;
-  std::map<std::pair<std::string, double>, double> metrics;  // (name, step) -> value
+  std::map<std::pair<std::string, double>, double> metrics;  // (name, step) -> value; time/: 0
   std::map<std::string, std::string> artifact_sha256;
 };
 
@@ -61,7 +61,8 @@ Outcomes outcomes(const TempDir& dir, const std::string& id) {
   for (const auto& stage : store->stages(std::stoll(id)))
     for (const auto& t : store->trials(stage.id)) {
       TrialOutcome o{t, {}, {}};
-      for (const auto& m : store->metrics(t.id)) o.metrics[{m.name, m.step}] = m.value;
+      // The time/ series are wall seconds, different in every run: their names and steps count.
+      for (const auto& m : store->metrics(t.id)) o.metrics[{m.name, m.step}] = m.name.rfind("time/", 0) == 0 ? 0.0 : m.value;
       for (const auto& a : store->artifacts(t.id)) o.artifact_sha256[a.name] = a.sha256;
       out[{stage.index, t.index}] = std::move(o);
     }

@@ -36,7 +36,7 @@ TEST(Cmaes, WaitsForTheWholeGenerationBeforeProposingMore) {
   const auto first = search->ask(100);
   ASSERT_EQ(first.size(), 8u);
   EXPECT_TRUE(search->ask(1).empty());
-  for (std::size_t k = 0; k + 1 < first.size(); ++k) search->tell({{first[k].id, k % 3 != 0, {1.0 * k}, {}}});
+  for (std::size_t k = 0; k + 1 < first.size(); ++k) search->tell({{first[k].id, k % 3 != 0, {static_cast<double>(k)}, {}}});
   EXPECT_TRUE(search->ask(1).empty());
   search->tell({{first.back().id, false, {}, {}}});  // failures rank last and do not stall
   const auto second = search->ask(2);

@@ -10,7 +10,7 @@
 namespace podium::search {
 namespace {
 
-std::vector<Feature> features(std::vector<FeatureMetric> metrics, double low = -4.0, double high = 4.0) {
+std::vector<Feature> features(const std::vector<FeatureMetric>& metrics, double low = -4.0, double high = 4.0) {
   std::vector<Feature> out;
   for (auto m : metrics) out.push_back(Feature{"f" + std::to_string(out.size()), low, high, m, "", false});
   return out;

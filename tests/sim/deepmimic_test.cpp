@@ -34,7 +34,7 @@ std::filesystem::path write_character(const std::string& name, const Json& joint
       {"BodyDefs",
        {{{"ID", 0}, {"Shape", "sphere"}, {"Mass", 8}, {"AttachX", 0}, {"AttachY", 0}, {"AttachZ", 0}, {"Param0", 0.2}, {"Param1", 0.2}, {"Param2", 0.2}},
         {{"ID", 1}, {"Shape", "capsule"}, {"Mass", 4}, {"AttachX", 0}, {"AttachY", -0.2}, {"AttachZ", 0}, {"Param0", 0.1}, {"Param1", 0.3}, {"Param2", 0.1}}}}};
-  const auto path = std::filesystem::temp_directory_path() /
+  auto path = std::filesystem::temp_directory_path() /
                     ("podium_sim_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name);
   std::ofstream(path) << character.dump(1);
   return path;

@@ -174,7 +174,7 @@ fs::path file_in_run_folder(const Queries& q, const fs::path& database, std::int
                             const std::string& what) {
   std::error_code ec;
   const fs::path root = fs::weakly_canonical(store::campaign_run_dir(database, *q.store().campaign(campaign_id)), ec);
-  const fs::path file = fs::weakly_canonical(path, ec);
+  fs::path file = fs::weakly_canonical(path, ec);  // not const: returned by move
   if (ec || !inside(file, root)) throw HttpError(403, what + " outside the campaign's run folder");
   if (!fs::is_regular_file(file)) throw HttpError(404, what + " file " + file.string() + " is missing");
   if (fs::hard_link_count(file, ec) != 1) throw HttpError(403, what + " has other hard links (maybe outside the run folder)");

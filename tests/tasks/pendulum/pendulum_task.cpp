@@ -8,9 +8,9 @@
 //             evaluation can be compared with its source's last); train_return when episodes end
 //   artifact  "policy": the TorchScript export
 // It checkpoints every `checkpoint_every` updates into its trial folder and a later attempt
-// continues from there; with inputs it warm-starts from inputs[0]'s "policy". It sends no time/
-// series: the hand-over test compares a resumed campaign's metric points with an uninterrupted
-// one's, all of them.
+// continues from there; with inputs it warm-starts from inputs[0]'s "policy". Like every
+// stage on the driver it sends the time/ series (wall seconds), which the hand-over test compares
+// by name and step only.
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -167,7 +167,7 @@ class PendulumTask final : public plugins::Task {
  public:
   Json describe(const Json& config) const override {
     settings_from(config);
-    return {{"params", {{{"name", "log10_lr"}, {"low", -4.0}, {"high", -2.0}}}},
+    Json d = {{"params", {{{"name", "log10_lr"}, {"low", -4.0}, {"high", -2.0}}}},
             {"features",
              {{{"name", "final_return"}, {"low", -2000.0}, {"high", 0.0}, {"metric", "euclidean"}},
               {{"name", "mean_abs_torque"}, {"low", 0.0}, {"high", 2.0}, {"metric", "euclidean"}, {"unit", "N·m"}}}},
@@ -185,6 +185,8 @@ class PendulumTask final : public plugins::Task {
                          {"hidden", {64, 64}}, {"checkpoint_every", 10}, {"eval_episodes", 20}}}}},
             {"config", accepted_config()},
             {"config_defaults", base::ConfigReader::defaults(accepted_config())}};
+    for (const Json& m : character::time_metric_entries()) d["metrics"].push_back(m);  // the driver's wall times
+    return d;
   }
 
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
@@ -206,7 +208,7 @@ class PendulumTask final : public plugins::Task {
         stage,
         {.name = "test_pendulum", .total_steps = PendulumStage::total_steps(s), .test_before_training = true,
          .checkpoint_every = s.checkpoint_every, .warm_start = warm_start,
-         .warm_start_kind = character::StageSettings::WarmStart::policy, .time_metrics = false},
+         .warm_start_kind = character::StageSettings::WarmStart::policy},
         {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
     plugins::RunResult result;
     result.objectives = {stage.last().mean_return};

@@ -210,7 +210,7 @@ class ConfigReader {
   std::vector<ConfigReader> enter_array(const std::string& key, const std::string& doc);
   // Marks `key` read, records its description (once) and returns its value, or null if absent;
   // a required absent key throws.
-  const Json* take(const std::string& key, bool is_required, Json info, const std::string& doc,
+  const Json* take(const std::string& key, bool is_required, const Json& info, const std::string& doc,
                    std::shared_ptr<Node> child = nullptr);
   [[noreturn]] void fail_at(const std::string& path, const std::string& problem) const;
 

@@ -209,7 +209,6 @@ struct StageSettings {
   };
   std::filesystem::path warm_start = {};
   WarmStart warm_start_kind = WarmStart::checkpoint;
-  bool time_metrics = true;                 ///< send the time/ series
 };
 
 /// The trial a stage runs in, as the plugin hands it.

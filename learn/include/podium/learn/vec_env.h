@@ -56,7 +56,6 @@ class VecEnv {
   std::vector<StepResult> results_;
   std::vector<double> running_returns_;
   std::vector<double> finished_returns_;
-  const std::vector<double>* actions_ = nullptr;
 
   // Persistent workers: each generation runs `work_` on the copies i ≡ worker (mod threads).
   std::vector<std::thread> workers_;

@@ -82,7 +82,7 @@ struct Observation {
 
 class World {
  public:
-  World(ModelPtr model, const WorldConfig& config);
+  World(const ModelPtr& model, const WorldConfig& config);
   ~World();
   World(const World&) = delete;
   World& operator=(const World&) = delete;

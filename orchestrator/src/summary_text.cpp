@@ -113,7 +113,7 @@ Lines stage_lines(const Json& stage) {
     const Json& b = stage["best"];
     std::string line = "  best: " + b["trial"].get<std::string>() + ": " + values_text(b["objectives"]);
     if (!b["features"].empty()) line += "; " + values_text(b["features"]);
-    if (!b["strategy"].is_null()) line += "; strategy " + b["strategy"].dump();
+    if (!b["strategy"].is_null() && !stage["features"].empty()) line += "; strategy " + b["strategy"].dump();
     out.push_back(line);
   }
   for (auto& l : strategy_lines(stage)) out.push_back(std::move(l));

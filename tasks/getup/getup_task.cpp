@@ -114,8 +114,8 @@ Json stage_description(const std::string& stage) {
               plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end")}},
             {"objectives", {"success_rate", "neg_com_error_m"}},
             {"objective_info",
-             {plugins::objective_entry("success_rate", "", "fraction of the fixed starts π_slow stands at the end of, at slow_test_kappa"),
-              plugins::objective_entry("neg_com_error_m", "m", "minus π_slow's mean COM-height tracking error on those starts")}}};
+             Json::array({plugins::objective_entry("success_rate", "", "fraction of the fixed starts π_slow stands at the end of, at slow_test_kappa"),
+                          plugins::objective_entry("neg_com_error_m", "m", "minus π_slow's mean COM-height tracking error on those starts")})}};
   const Json features = {{"features", described_features()}, {"strategy_threshold", 0.3}};
   if (stage == "evaluate") {
     Json d = features;
@@ -128,8 +128,8 @@ Json stage_description(const std::string& stage) {
                     plugins::metric_entry("eval/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step π_slow reached (positive: below the reference); step = κ"),
                     plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls; step = strength β")};
     plugins::set_objectives(
-        d, {plugins::objective_entry("slow_success_rate", "", "mean slowed success: π_slow's success over the unseen falls, averaged over the speeds κ < 1 (π_weak's fast success when there is no π_slow)"),
-            plugins::objective_entry("fast_success_rate", "", "fast success: π_weak's success over the unseen falls at its own strength")});
+        d, Json::array({plugins::objective_entry("slow_success_rate", "", "mean slowed success: π_slow's success over the unseen falls, averaged over the speeds κ < 1 (π_weak's fast success when there is no π_slow)"),
+            plugins::objective_entry("fast_success_rate", "", "fast success: π_weak's success over the unseen falls at its own strength")}));
     return d;
   }
   Json d = features;
@@ -148,8 +148,8 @@ Json stage_description(const std::string& stage) {
                   plugins::metric_entry("sac/alpha", "", "SAC's temperature α"),
                   plugins::metric_entry("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far")};
   plugins::set_objectives(
-      d, {plugins::objective_entry("success_rate", "", "fraction of the fixed starts the exported policy gets up from, at the strength it passed at"),
-          plugins::objective_entry("weakness", "", "1 − β^i, the torque multiplier the exported policy passed at (0: full strength)")});
+      d, Json::array({plugins::objective_entry("success_rate", "", "fraction of the fixed starts the exported policy gets up from, at the strength it passed at"),
+          plugins::objective_entry("weakness", "", "1 − β^i, the torque multiplier the exported policy passed at (0: full strength)")}));
   return d;
 }
 
@@ -289,12 +289,12 @@ class GetupTask final : public plugins::Task {
       const bool fast = s.kappa == 0;
       const std::string speed = fast ? "fast β " + format_cell(s.strength) : s.name == "pause" ? "paused κ " + format_cell(s.kappa)
                                                                                              : "κ " + format_cell(s.kappa);
-      rows.push_back({speed, s.risen, s.stood, s.risen > 0 ? Json(s.rise_time_s) : Json(nullptr),
-                      fast ? Json(nullptr) : Json(s.com_error_m)});
+      rows.push_back(Json::array({speed, s.risen, s.stood, s.risen > 0 ? Json(s.rise_time_s) : Json(nullptr),
+                                  fast ? Json(nullptr) : Json(s.com_error_m)}));
     }
     return plugins::result_table("evaluation over " + std::to_string(falls) + " unseen falls",
-                                 {plugins::table_column("speed"), plugins::table_column("rose"), plugins::table_column("stood"),
-                                  plugins::table_column("rise time", "s"), plugins::table_column("COM error", "m")},
+                                 Json::array({plugins::table_column("speed"), plugins::table_column("rose"), plugins::table_column("stood"),
+                                              plugins::table_column("rise time", "s"), plugins::table_column("COM error", "m")}),
                                  rows);
   }
 

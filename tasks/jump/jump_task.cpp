@@ -114,27 +114,27 @@ Json feature(const char* name, double low, double high, const char* description)
 // jumps that cleared it, its feature and the nearest captured technique (when labelled).
 Json jump_table(const std::string& bar, double bar_m, const std::string& success, double success_rate, double up_angle_rad, const Json& info) {
   const Json technique = info.contains("nearest_technique") ? info["nearest_technique"]["name"] : Json(nullptr);
-  return plugins::result_table("jump", {plugins::table_column(bar, "m"), plugins::table_column(success),
-                                        plugins::table_column("up-angle", "rad"), plugins::table_column("nearest captured technique")},
-                               {{bar_m, success_rate, std::isnan(up_angle_rad) ? Json(nullptr) : Json(up_angle_rad), technique}});
+  return plugins::result_table("jump", Json::array({plugins::table_column(bar, "m"), plugins::table_column(success),
+                                                     plugins::table_column("up-angle", "rad"), plugins::table_column("nearest captured technique")}),
+                               Json::array({Json::array({bar_m, success_rate, std::isnan(up_angle_rad) ? Json(nullptr) : Json(up_angle_rad), technique})}));
 }
 
 Json describe_stage(const TaskConfig& c) {
   if (c.stage == "pose_vae")
     return {{"params", Json::array()}, {"features", Json::array()}, {"objectives", {"fit"}},
-            {"objective_info", {plugins::objective_entry("fit", "rad", "minus the P-VAE's reconstruction RMSE over the training poses")}},
+            {"objective_info", Json::array({plugins::objective_entry("fit", "rad", "minus the P-VAE's reconstruction RMSE over the training poses")})},
             {"metrics", {plugins::metric_entry("pose_vae_loss", "", "mean P-VAE loss (MSE + β·KL) per epoch; step = epoch"),
                          plugins::metric_entry("pose_vae_rmse_rad", "rad", "reconstruction RMSE over the training poses at the last epoch")}}};
   Json params = Json::array();
   for (const TakeoffFeature& f : c.box) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
   Json d = {{"params", params}, {"metrics", metrics()}};
   plugins::set_objectives(
-      d, {plugins::objective_entry("z_reached_m", "m", "the bar height (obstacle width) the curriculum reached"),
-          plugins::objective_entry("success_rate_start_bar", "", "the final policy's evaluation jumps that clear the starting bar")});
+      d, Json::array({plugins::objective_entry("z_reached_m", "m", "the bar height (obstacle width) the curriculum reached"),
+                      plugins::objective_entry("success_rate_start_bar", "", "the final policy's evaluation jumps that clear the starting bar")}));
   constexpr double pi = std::numbers::pi;
   if (c.stage == "evaluate") {
     d["params"] = Json::array();  // each trial's take-off state is its shipped entry's
-    plugins::set_objectives(d, {plugins::objective_entry("success_rate", "", "the shipped policy's evaluation jumps that clear its bar")});
+    plugins::set_objectives(d, Json::array({plugins::objective_entry("success_rate", "", "the shipped policy's evaluation jumps that clear its bar")}));
   }
   if (c.stage == "explore" || c.stage == "evaluate") {
     d["features"] = {feature("up_angle_rad", 0.0, pi, "angle between the root's forward axis and up as the COM crosses the bar's plane (0: facing up, a flop; π/2: a scissor; π: facing down, a straddle)")};

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <random>
 #include <set>
 #include <sstream>
@@ -199,6 +200,50 @@ TEST(Summary, ReadsAStageWithoutObjectiveInfo) {
   EXPECT_EQ(objective_entries(old), Json::parse(R"([{"name": "objective"}])"));
   EXPECT_EQ(feature_entries(old), Json::parse(R"([{"name": "f0"}])"));
   EXPECT_EQ(objective_entries(Json::object()), Json::array());
+}
+
+// A database an older Podium wrote (the store's saved schema-1 file, migrated): its stages have
+// objective names but no objective_info; summary and export still name everything.
+TEST(Summary, ReadsADatabaseAnOlderPodiumWrote) {
+  TempDir dir;
+  std::filesystem::copy_file(std::string(PODIUM_SOURCE_DIR) + "/tests/store/testdata/schema_v1.db", dir / "podium.db");
+  store::Store::open(dir / "podium.db", store::Store::Access::read_write);  // migrates
+  const auto r = run_podium({"summary", "1", "--json"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json stage = Json::parse(r.out)["stages"][0];
+  EXPECT_EQ(stage["objectives"], Json::parse(R"([{"name": "objective"}])"));
+  EXPECT_EQ(stage["best"]["objectives"][0]["name"], "objective");
+  EXPECT_FALSE(stage["strategies"].empty());
+  const auto csv = run_podium({"export", "1", "--format", "csv"}, dir.path());
+  EXPECT_EQ(csv.out.rfind("campaign,stage,trial,state,attempts,seed,param.x0,param.x1,param.x2,objective.objective,feature.f0,feature.f1,", 0), 0u)
+      << csv.out;
+}
+
+// A task names its objectives per stage from the stage's config: the demo's get-up Evaluate stage
+// ranks by the mean slowed success, its training stage by the success rate; the jump's by its
+// jumps' success. Submitted (each stage described by its plugin), not run.
+TEST(Summary, ObjectivesAreNamedPerStageByTheTasksDescription) {
+  TempDir dir;
+  const auto submit = run_podium({"submit", std::string(PODIUM_SOURCE_DIR) + "/campaigns/getup_demo.json"}, dir.path());
+  ASSERT_EQ(submit.exit_code, 0) << submit.err;
+  const auto status = run_podium({"status", "getup-demo", "--json"}, dir.path());
+  ASSERT_EQ(status.exit_code, 0) << status.err;
+  const Json stages = Json::parse(status.out)["stages"];
+  ASSERT_EQ(stages.size(), 3u);
+  const auto names = [](const Json& entries) {
+    std::vector<std::string> out;
+    for (const auto& e : entries) out.push_back(e["name"]);
+    return out;
+  };
+  EXPECT_EQ(names(stages[0]["objectives"]), (std::vector<std::string>{"slow_success_rate", "fast_success_rate"}));
+  EXPECT_NE(stages[0]["objectives"][0]["description"].get<std::string>().find("mean slowed success"), std::string::npos);
+  EXPECT_EQ(names(stages[0]["features"]),
+            (std::vector<std::string>{"chest_up_at_half_height", "side_lean", "hand_support", "knee_support"}));
+  EXPECT_EQ(names(stages[1]["objectives"]), std::vector<std::string>{"success_rate"});
+  EXPECT_EQ(stages[1]["features"][0]["unit"], "rad");
+  EXPECT_EQ(names(stages[2]["objectives"]), (std::vector<std::string>{"success_rate", "weakness"}));
+  for (const auto& stage : stages)
+    for (const auto& entry : stage["objectives"]) EXPECT_TRUE(entry.contains("description")) << stage["name"] << entry;
 }
 
 // Two real landscape campaigns (BDS and random) side by side: one discovery curve each, ending at

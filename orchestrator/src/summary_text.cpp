@@ -104,11 +104,9 @@ Lines stage_lines(const Json& stage) {
                "): " + stage["state"].get<std::string>() + ", " + std::to_string(n["done"].get<long long>()) + " of " +
                std::to_string(n["budget"].get<long long>()) + " trials done, " + std::to_string(n["failed"].get<long long>()) +
                " failed"};
-  std::string objectives;
+  if (!stage["objectives"].empty()) out.emplace_back("  objectives (the first ranks trials):");
   for (const auto& o : stage["objectives"])
-    objectives += (objectives.empty() ? "" : "; ") + label(o) +
-                  (o.contains("description") ? ": " + o["description"].get<std::string>() : "");
-  if (!objectives.empty()) out.push_back("  objectives: " + objectives);
+    out.push_back("    " + label(o) + (o.contains("description") ? ": " + o["description"].get<std::string>() : ""));
   if (stage["best"].is_object()) {
     const Json& b = stage["best"];
     std::string line = "  best: " + b["trial"].get<std::string>() + ": " + values_text(b["objectives"]);

@@ -120,15 +120,21 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
   for (const auto& st : store.stages(c.id)) {
     const auto sc = store.stage_trial_counts(st.id);
     budget += st.budget_trials;
-    std::map<std::int64_t, std::int64_t> index_of;
-    for (const auto& t : store.trials(st.id)) index_of[t.id] = t.index;
     Json running = Json::array();
     std::int64_t interrupted = 0;
-    for (const auto& a : store.running_attempts(st.id)) {
+    // Trial indices: a read per running attempt when they are few, else the stage's trials once.
+    const auto attempts = store.running_attempts(st.id);
+    std::map<std::int64_t, std::int64_t> index_of;
+    if (attempts.size() > 64)
+      for (const auto& t : store.trials(st.id)) index_of[t.id] = t.index;
+    for (const auto& a : attempts) {
       const bool dead = !alive && a.job_id.empty();
       interrupted += dead;
-      running.push_back({{"name", podium::orchestrator::trial_name(st.name, index_of[a.trial_id])},
-                         {"trial", index_of[a.trial_id]}, {"attempt", a.number}, {"worker", a.worker},
+      if (!index_of.count(a.trial_id))
+        if (const auto trial = store.trial(a.trial_id)) index_of[a.trial_id] = trial->index;
+      const std::int64_t index = index_of[a.trial_id];
+      running.push_back({{"name", podium::orchestrator::trial_name(st.name, index)},
+                         {"trial", index}, {"attempt", a.number}, {"worker", a.worker},
                          {"host", a.host}, {"job_id", a.job_id}, {"started_at", a.started_at},
                          {"interrupted", dead}});
     }

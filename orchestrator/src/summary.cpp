@@ -53,45 +53,49 @@ std::vector<double> objective_values(const store::TrialRecord& t) {
   return out;
 }
 
-// Whether trial a ranks above b: a higher primary objective, else the lower index.
-bool ranks_above(const store::TrialRecord& a, const store::TrialRecord& b) {
-  const double oa = a.objectives[0].get<double>(), ob = b.objectives[0].get<double>();
-  return oa != ob ? oa > ob : a.index < b.index;
+bool has_primary(const store::TrialOutcome& t) { return t.objective && !std::isnan(*t.objective); }
+
+// Whether trial a ranks above b: one with a primary objective above one without, a higher one,
+// else the lower index.
+bool ranks_above(const store::TrialOutcome& a, const store::TrialOutcome& b) {
+  if (has_primary(a) != has_primary(b)) return has_primary(a);
+  if (has_primary(a) && *a.objective != *b.objective) return *a.objective > *b.objective;
+  return a.index < b.index;
 }
 
-bool has_primary(const store::TrialRecord& t) {
-  return t.state == "done" && t.objectives.is_array() && !t.objectives.empty() && t.objectives[0].is_number() &&
-         !std::isnan(t.objectives[0].get<double>());
-}
-
-Json trial_ref(const std::string& stage, const store::TrialRecord& t) {
+Json trial_ref(const std::string& stage, const store::TrialOutcome& t) {
   return {{"trial", trial_name(stage, t.index)}, {"index", t.index}, {"id", t.id}};
 }
 
-Json strategies_of(const std::string& stage, const std::vector<store::TrialRecord>& trials, const Json& features) {
-  std::map<std::int64_t, std::pair<std::int64_t, const store::TrialRecord*>> by_id;  // id -> (trials, representative)
-  for (const auto& t : trials) {
-    if (t.state != "done" || !t.strategy) continue;
+std::vector<double> features_of(const store::Store& store, std::int64_t trial_id) {
+  const auto t = store.trial(trial_id);
+  return t ? t->features : std::vector<double>{};
+}
+
+Json strategies_of(const store::Store& store, const std::string& stage, const std::vector<store::TrialOutcome>& done,
+                   const Json& features) {
+  std::map<std::int64_t, std::pair<std::int64_t, const store::TrialOutcome*>> by_id;  // id -> (trials, representative)
+  for (const auto& t : done) {
+    if (!t.strategy) continue;
     auto& [count, best] = by_id[*t.strategy];
     ++count;
-    if (!best || (has_primary(t) && (!has_primary(*best) || ranks_above(t, *best)))) best = &t;
+    if (!best || ranks_above(t, *best)) best = &t;
   }
   Json out = Json::array();
   for (const auto& [id, entry] : by_id) {
-    const store::TrialRecord& rep = *entry.second;
+    const store::TrialOutcome& rep = *entry.second;
     out.push_back({{"id", id},
                    {"trials", entry.first},
-                   {"best_objective", has_primary(rep) ? Json(rep.objectives[0]) : Json(nullptr)},
+                   {"best_objective", has_primary(rep) ? Json(*rep.objective) : Json(nullptr)},
                    {"representative", trial_ref(stage, rep)},
-                   {"features", named_values(features, rep.features)}});
+                   {"features", named_values(features, features_of(store, rep.id))}});
   }
   return out;
 }
 
-Json discovery_curve(const std::vector<store::TrialRecord>& trials) {
-  std::vector<const store::TrialRecord*> done;
-  for (const auto& t : trials)
-    if (t.state == "done") done.push_back(&t);
+Json discovery_curve(const std::vector<store::TrialOutcome>& done_trials) {
+  std::vector<const store::TrialOutcome*> done;
+  for (const auto& t : done_trials) done.push_back(&t);
   std::stable_sort(done.begin(), done.end(), [](const auto* a, const auto* b) {
     return a->finished_at != b->finished_at ? a->finished_at < b->finished_at : a->index < b->index;
   });
@@ -107,11 +111,13 @@ Json discovery_curve(const std::vector<store::TrialRecord>& trials) {
 }
 
 // The per-task tables (plugins/task.h "Result tables") of a stage's done trials, merged by title and columns.
-Json stage_tables(const std::string& stage, const std::vector<store::TrialRecord>& trials) {
+Json stage_tables(const std::string& stage, const std::vector<store::TrialOutcome>& done) {
   Json tables = Json::array();
-  for (const auto& t : trials) {
-    if (t.state != "done" || !t.result_info.is_object() || !t.result_info.contains("table")) continue;
-    const Json& table = t.result_info["table"];
+  for (const auto& t : done) {
+    if (t.result_info.empty()) continue;
+    const Json info = Json::parse(t.result_info, nullptr, false);
+    if (!info.is_object() || !info.contains("table")) continue;
+    const Json& table = info["table"];
     if (!table.is_object() || !table.contains("columns") || !table["columns"].is_array() || !table.contains("rows") ||
         !table["rows"].is_array())
       continue;
@@ -136,20 +142,25 @@ Json stage_tables(const std::string& stage, const std::vector<store::TrialRecord
   return tables;
 }
 
+Json best_of(const store::Store& store, const std::string& stage, const std::vector<store::TrialOutcome>& done,
+             const Json& objectives, const Json& features) {
+  const store::TrialOutcome* best = nullptr;
+  for (const auto& t : done)
+    if (has_primary(t) && (!best || ranks_above(t, *best))) best = &t;
+  if (!best) return nullptr;
+  const auto record = store.trial(best->id);
+  if (!record) return nullptr;
+  Json out = trial_ref(stage, *best);
+  out["strategy"] = best->strategy ? Json(*best->strategy) : Json(nullptr);
+  out["objectives"] = named_values(objectives, objective_values(*record));
+  out["features"] = named_values(features, record->features);
+  return out;
+}
+
 Json stage_summary(const store::Store& store, const store::StageRecord& st, const std::string& campaign_state) {
   const auto counts = store.stage_trial_counts(st.id);
-  const auto trials = store.trials(st.id);
+  const auto done = store.done_trials(st.id);
   const Json objectives = objective_entries(st.description), features = feature_entries(st.description);
-  const store::TrialRecord* best = nullptr;
-  for (const auto& t : trials)
-    if (has_primary(t) && (!best || ranks_above(t, *best))) best = &t;
-  Json best_json = nullptr;
-  if (best) {
-    best_json = trial_ref(st.name, *best);
-    best_json["strategy"] = best->strategy ? Json(*best->strategy) : Json(nullptr);
-    best_json["objectives"] = named_values(objectives, objective_values(*best));
-    best_json["features"] = named_values(features, best->features);
-  }
   return {{"index", st.index},
           {"name", st.name},
           {"task", st.task},
@@ -165,10 +176,10 @@ Json stage_summary(const store::Store& store, const store::StageRecord& st, cons
             {"cancelled", counts.cancelled}}},
           {"objectives", objectives},
           {"features", features},
-          {"best", best_json},
-          {"strategies", strategies_of(st.name, trials, features)},
-          {"discovery", discovery_curve(trials)},
-          {"tables", stage_tables(st.name, trials)}};
+          {"best", best_of(store, st.name, done, objectives, features)},
+          {"strategies", strategies_of(store, st.name, done, features)},
+          {"discovery", discovery_curve(done)},
+          {"tables", stage_tables(st.name, done)}};
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ TORCH_MODULE(Mlp);
 /// layer is scaled by `output_scale` (small policy outputs start near the mean action).
 void init_mlp(Mlp& net, base::Rng& rng, double output_scale = 1.0);
 /// A float32 tensor of N(0, 1) samples drawn from `rng`.
-torch::Tensor normal_tensor(base::Rng& rng, std::vector<std::int64_t> sizes);
+torch::Tensor normal_tensor(base::Rng& rng, const std::vector<std::int64_t>& sizes);
 /// Rows of observations normalised into a float32 tensor [rows, size].
 torch::Tensor normalized_batch(const RunningNormalizer& normalizer, const std::vector<double>& rows_data, std::size_t rows);
 

@@ -37,6 +37,8 @@ Json metric_series(const store::Queries& q, std::int64_t trial_id, std::int64_t 
 /// (resolving symlinks and ".."); 404 for an unknown trial or artifact, 403 outside the folder.
 std::filesystem::path artifact_file(const store::Queries& q, const std::filesystem::path& database,
                                     std::int64_t trial_id, std::size_t index);
+/// The name the trial's artifact number `index` downloads as: "<campaign>_<stage>-<index>_<artifact><ext>".
+std::string artifact_download_name(const store::Queries& q, std::int64_t trial_id, std::size_t index);
 /// The trial's log (store::kTrialLog in its folder), under the same rule; 404 while it has none.
 std::filesystem::path trial_log_file(const store::Queries& q, const std::filesystem::path& database, std::int64_t trial_id);
 /// The index of the trial's artifact called `name`; 404 if it has none.

@@ -1,23 +1,44 @@
-"""Shared by the tasks' report.py scripts: a campaign's stages, read-only from its Podium database, trial wall times
-and trial logs."""
+"""Shared by the tasks' report.py scripts: a campaign as the `podium` command line gives it (`podium summary --json`
+and `podium export --format json --metrics`), never its database schema or its logs."""
+import json
 import os
-import re
-import sqlite3
+import shutil
+import subprocess
 import sys
+from pathlib import Path
+
+
+def podium_binary():
+    """The `podium` to ask: $PODIUM, else the repository's build/bin/podium, else the one on PATH."""
+    if os.environ.get("PODIUM"):
+        return os.environ["PODIUM"]
+    built = Path(__file__).resolve().parent.parent / "build" / "bin" / "podium"
+    if built.is_file():
+        return str(built)
+    found = shutil.which("podium")
+    if not found:
+        sys.exit("report.py: no podium binary (set PODIUM, build the repository, or put podium on PATH)")
+    return found
+
+
+def podium_json(db_path, *args):
+    """`podium ARGS --db DB_PATH` parsed as JSON; exits with podium's own one-line error when it fails."""
+    done = subprocess.run([podium_binary(), *args, "--db", str(db_path)], capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"report.py: {done.stderr.strip() or f'podium {args[0]} exited {done.returncode}'}")
+    return json.loads(done.stdout)
 
 
 def open_campaign(db_path, campaign):
-    """(connection, [(stage id, stage name, task config JSON)]) of the newest campaign named `campaign`;
-    exits with a one-line error when there is none."""
-    try:
-        db = sqlite3.connect(f"file:{db_path}?mode=ro", uri=True)
-        row = db.execute("SELECT id FROM campaigns WHERE name = ? ORDER BY id DESC", (campaign,)).fetchone()
-    except sqlite3.Error as e:
-        sys.exit(f"report.py: {db_path}: not a Podium database ({e})")
-    if row is None:
-        sys.exit(f"report.py: {db_path}: no campaign named {campaign!r}")
-    stages = db.execute("SELECT id, name, task_config FROM stages WHERE campaign_id = ? ORDER BY idx", (row[0],)).fetchall()
-    return db, stages
+    """(summary, {stage name: [trial rows]}) of campaign `campaign` (an id or a name: the newest of that name):
+    the summary as `podium summary --json` gives it (stages in order, each with its config), the rows as
+    `podium export --format json --metrics` gives them (objectives and features named, metric series, result info)."""
+    summary = podium_json(db_path, "summary", str(campaign), "--json")
+    rows = podium_json(db_path, "export", str(summary["campaign"]["id"]), "--format", "json", "--metrics")
+    by_stage = {stage["name"]: [] for stage in summary["stages"]}
+    for row in rows:
+        by_stage.setdefault(row["stage"], []).append(row)
+    return summary, by_stage
 
 
 def minutes(started, finished):
@@ -25,13 +46,17 @@ def minutes(started, finished):
     return (finished - started) / 60 if finished and started else float("nan")
 
 
-def trial_log(db_path, db, stage_id, trial_index):
-    """The path of a trial's trial.log, by store/run_folders.h's rule (`podium log CAMPAIGN TRIAL --path` prints
-    the same): <run folder>/stage-<i>-<name>/trial-<n>/trial.log."""
-    campaign, run_dir, stage_index, stage_name = db.execute(
-        "SELECT c.id, c.run_dir, s.idx, s.name FROM stages s JOIN campaigns c ON c.id = s.campaign_id WHERE s.id = ?",
-        (stage_id,)).fetchone()
-    database = os.path.abspath(db_path)
-    run = os.path.join(os.path.dirname(database), run_dir) if run_dir else f"{database}.runs/{campaign}"
-    stage = f"stage-{stage_index}-" + re.sub(rb"[^A-Za-z0-9._-]", b"_", stage_name.encode()[:64]).decode()
-    return os.path.join(os.path.normpath(run), stage, f"trial-{trial_index}", "trial.log")
+def series(row, name):
+    """A trial's metric `name` as [(step, value)] in step order (empty when it has none)."""
+    return sorted((step, value) for step, value in row.get("metrics", {}).get(name, []))
+
+
+def training_minutes(row):
+    """{environment step: minutes of training so far} from the training-stage driver's time/* metrics (rollouts,
+    updates and the test at each test step, summed from the first); empty without them."""
+    parts = [dict(series(row, f"time/{name}_s")) for name in ("rollout", "update", "test")]
+    spent, at = 0.0, {}
+    for step in sorted(parts[0]):
+        spent += sum(p.get(step, 0.0) for p in parts)
+        at[step] = spent / 60
+    return at

@@ -8,6 +8,7 @@
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
 #include "podium/orchestrator/spec.h"
+#include "podium/orchestrator/summary.h"
 #include "podium/plugins/suggest.h"
 #include "podium/search/search.h"
 #include "podium/store/store.h"
@@ -218,62 +219,105 @@ std::string csv_field(const std::string& s) {
   for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
   return out + "\"";
 }
-std::string number(const Json& v) {
-  if (!v.is_number()) return "";
-  std::ostringstream out;
-  out.precision(17);
-  out << v.get<double>();
-  return out.str();
+
+using Ordered = nlohmann::ordered_json;
+
+std::string number(const Ordered& v) { return v.is_number() ? format_number(v.get<double>()) : ""; }
+
+void add_unique(std::vector<std::string>& list, const std::string& name) {
+  if (std::find(list.begin(), list.end(), name) == list.end()) list.push_back(name);
+}
+
+// {name: value} in the task's order: `names` first, then any other key of `values` (a JSON object,
+// or an array named by position).
+Ordered in_order(const std::vector<std::string>& names, const Json& values) {
+  Ordered out = Ordered::object();
+  if (values.is_array()) {
+    for (std::size_t i = 0; i < values.size(); ++i)
+      out[i < names.size() ? names[i] : "value" + std::to_string(i)] = Ordered::parse(values[i].dump());
+    return out;
+  }
+  if (!values.is_object()) return out;
+  for (const auto& n : names)
+    if (values.contains(n)) out[n] = Ordered::parse(values[n].dump());
+  for (const auto& [k, v] : values.items())
+    if (!out.contains(k)) out[k] = Ordered::parse(v.dump());
+  return out;
+}
+
+std::vector<std::string> names_of(const Json& entries) {
+  std::vector<std::string> out;
+  for (const auto& e : entries) out.push_back(e.is_object() ? e.value("name", std::string()) : e.get<std::string>());
+  return out;
+}
+
+struct StageColumns {
+  std::vector<std::string> params, objectives, features;
+};
+
+// Every trial of a campaign as rows, and the column names in the tasks' order (stage by stage).
+std::vector<Ordered> export_rows(const store::Store& store, std::int64_t campaign_id, bool json, bool metrics,
+                                 StageColumns& columns) {
+  std::vector<Ordered> rows;
+  for (const auto& st : store.stages(campaign_id)) {
+    const auto params = names_of(st.description.value("params", Json::array()));
+    const auto objectives = names_of(objective_entries(st.description));
+    const auto features = names_of(feature_entries(st.description));
+    for (const auto& n : params) add_unique(columns.params, n);
+    for (const auto& n : objectives) add_unique(columns.objectives, n);
+    for (const auto& n : features) add_unique(columns.features, n);
+    for (const auto& t : store.trials(st.id)) {
+      Ordered row = {{"campaign", campaign_id}, {"name", trial_name(st.name, t.index)}, {"id", t.id},
+                     {"stage", st.name},        {"trial", t.index},                    {"state", t.state},
+                     {"attempts", t.attempts},  {"seed", t.seed}};
+      row["params"] = in_order(params, t.params);
+      row["objectives"] = in_order(objectives, t.objectives);
+      for (const auto& [k, v] : row["objectives"].items()) add_unique(columns.objectives, k);
+      row["features"] = in_order(features, Json(t.features));
+      for (const auto& [k, v] : row["features"].items()) add_unique(columns.features, k);
+      for (const auto& [k, v] : row["params"].items()) add_unique(columns.params, k);
+      row["strategy"] = t.strategy ? Ordered(*t.strategy) : Ordered(nullptr);
+      row["error"] = t.error;
+      row["started_at"] = t.started_at;
+      row["finished_at"] = t.finished_at;
+      if (json) row["result"] = Ordered::parse(t.result_info.dump());  // the task's free-form results (RunResult::info)
+      if (metrics) {
+        Ordered series = Ordered::object();
+        for (const auto& m : store.metrics(t.id)) series[m.name].push_back({m.step, m.value});
+        row["metrics"] = series;
+      }
+      rows.push_back(std::move(row));
+    }
+  }
+  return rows;
 }
 }  // namespace
 
 std::string trial_name(const std::string& stage, std::int64_t index) { return stage + "/" + std::to_string(index); }
 
-std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format) {
+std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format, bool metrics) {
   if (format != "csv" && format != "json") throw UserError("--format: \"" + format + "\" is not one of csv, json");
-  const auto stages = store.stages(campaign_id);
-  Json rows = Json::array();
-  for (const auto& st : stages) {
-    const auto& features = st.description.at("features");
-    for (const auto& t : store.trials(st.id)) {
-      Json row = {{"campaign", campaign_id}, {"name", trial_name(st.name, t.index)}, {"id", t.id},
-                  {"stage", st.name},        {"trial", t.index},
-                  {"state", t.state},        {"attempts", t.attempts}, {"seed", t.seed},
-                  {"params", t.params},      {"objectives", t.objectives}, {"error", t.error}};
-      Json f = Json::object();
-      for (std::size_t i = 0; i < t.features.size() && i < features.size(); ++i) f[features[i]["name"]] = t.features[i];
-      row["features"] = f;
-      row["strategy"] = t.strategy ? Json(*t.strategy) : Json(nullptr);
-      if (format == "json") row["result"] = t.result_info;  // the task's free-form results (RunResult::info)
-      rows.push_back(row);
-    }
+  if (metrics && format != "json") throw UserError("--metrics: only with --format json");
+  StageColumns columns;
+  const auto rows = export_rows(store, campaign_id, format == "json", metrics, columns);
+  if (format == "json") {
+    Ordered array = Ordered::array();
+    for (const auto& r : rows) array.push_back(r);
+    return array.dump(2) + "\n";
   }
-  if (format == "json") return rows.dump(2) + "\n";
-
-  // CSV: one column per parameter, objective and feature name over all stages.
-  std::vector<std::string> param_names, feature_names;
-  std::size_t objectives = 0;
-  auto add_unique = [](std::vector<std::string>& list, const std::string& name) {
-    if (std::find(list.begin(), list.end(), name) == list.end()) list.push_back(name);
-  };
-  for (const auto& r : rows) {
-    for (const auto& [k, v] : r["params"].items()) add_unique(param_names, k);
-    for (const auto& [k, v] : r["features"].items()) add_unique(feature_names, k);
-    if (r["objectives"].is_array()) objectives = std::max(objectives, r["objectives"].size());
-  }
+  // CSV: one column per parameter, objective and feature name, in the tasks' order over the stages.
   std::ostringstream out;
   out << "campaign,stage,trial,state,attempts,seed";
-  for (const auto& p : param_names) out << "," << csv_field("param." + p);
-  for (std::size_t i = 0; i < objectives; ++i) out << ",objective" << i;
-  for (const auto& f : feature_names) out << "," << csv_field("feature." + f);
+  for (const auto& p : columns.params) out << "," << csv_field("param." + p);
+  for (const auto& o : columns.objectives) out << "," << csv_field("objective." + o);
+  for (const auto& f : columns.features) out << "," << csv_field("feature." + f);
   out << ",strategy,error\n";
   for (const auto& r : rows) {
     out << campaign_id << "," << csv_field(r["stage"]) << "," << r["trial"] << "," << r["state"].get<std::string>() << ","
         << r["attempts"] << "," << r["seed"];
-    for (const auto& p : param_names) out << "," << number(r["params"].value(p, Json()));
-    for (std::size_t i = 0; i < objectives; ++i)
-      out << "," << (r["objectives"].is_array() && i < r["objectives"].size() ? number(r["objectives"][i]) : "");
-    for (const auto& f : feature_names) out << "," << number(r["features"].value(f, Json()));
+    for (const auto& p : columns.params) out << "," << (r["params"].contains(p) ? number(r["params"][p]) : "");
+    for (const auto& o : columns.objectives) out << "," << (r["objectives"].contains(o) ? number(r["objectives"][o]) : "");
+    for (const auto& f : columns.features) out << "," << (r["features"].contains(f) ? number(r["features"][f]) : "");
     out << "," << (r["strategy"].is_null() ? "" : r["strategy"].dump()) << "," << csv_field(r["error"]) << "\n";
   }
   return out.str();

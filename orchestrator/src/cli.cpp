@@ -1,5 +1,5 @@
 // The `podium` command line: submit, run, status, trials, log, pause, resume, cancel, extend, export,
-// serve, tasks (and the internal `worker`). Exit codes: 0 ok, 1 runtime failure (and `run` when a
+// summary, serve, tasks (and the internal `worker`). Exit codes: 0 ok, 1 runtime failure (and `run` when a
 // campaign it ran ended failed), 2 usage or spec error.
 #include <unistd.h>
 
@@ -19,6 +19,7 @@
 #include "podium/orchestrator/campaigns.h"
 #include "podium/orchestrator/scheduler.h"
 #include "podium/orchestrator/spec.h"
+#include "podium/orchestrator/summary.h"
 #include "podium/store/run_folders.h"
 #include "podium/store/store.h"
 #include "podium/store/writer_lock.h"
@@ -51,7 +52,12 @@ commands:
   pause|resume|cancel CAMPAIGN
   extend CAMPAIGN [--stage NAME] --add-trials N
                              raise a done campaign's last stage's trial budget and queue it again
-  export CAMPAIGN --format csv|json
+  export CAMPAIGN --format csv|json [--metrics]
+                             every trial, objectives and features named (--metrics: with each trial's
+                             metric series, JSON only)
+  summary CAMPAIGN... [--json]
+                             per stage: trials done, the best trial, the strategies found, the task's
+                             result tables; several campaigns: side by side, with discovery curves
   tasks [NAME] [--json] [--all]
                              installed task plugins: params, features, metrics, presets, config keys
                              (--all: with the test plugins)
@@ -90,6 +96,12 @@ std::int64_t campaign_id(const Store& store, const std::string& id_or_name) {
   return podium::orchestrator::find_campaign_id(store, id_or_name);
 }
 
+// A table column named by an objective or feature entry: "name", or "name(unit)" (one word).
+std::string named_column(const Json& entry) {
+  const std::string unit = entry.value("unit", std::string());
+  return entry.value("name", std::string()) + (unit.empty() ? "" : "(" + unit + ")");
+}
+
 std::string fmt_time(double unix_s) {
   if (unix_s <= 0) return "-";
   const std::time_t t = static_cast<std::time_t>(unix_s);
@@ -108,15 +120,21 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
   for (const auto& st : store.stages(c.id)) {
     const auto sc = store.stage_trial_counts(st.id);
     budget += st.budget_trials;
-    std::map<std::int64_t, std::int64_t> index_of;
-    for (const auto& t : store.trials(st.id)) index_of[t.id] = t.index;
     Json running = Json::array();
     std::int64_t interrupted = 0;
-    for (const auto& a : store.running_attempts(st.id)) {
+    // Trial indices: a read per running attempt when they are few, else the stage's trials once.
+    const auto attempts = store.running_attempts(st.id);
+    std::map<std::int64_t, std::int64_t> index_of;
+    if (attempts.size() > 64)
+      for (const auto& t : store.trials(st.id)) index_of[t.id] = t.index;
+    for (const auto& a : attempts) {
       const bool dead = !alive && a.job_id.empty();
       interrupted += dead;
-      running.push_back({{"name", podium::orchestrator::trial_name(st.name, index_of[a.trial_id])},
-                         {"trial", index_of[a.trial_id]}, {"attempt", a.number}, {"worker", a.worker},
+      if (!index_of.count(a.trial_id))
+        if (const auto trial = store.trial(a.trial_id)) index_of[a.trial_id] = trial->index;
+      const std::int64_t index = index_of[a.trial_id];
+      running.push_back({{"name", podium::orchestrator::trial_name(st.name, index)},
+                         {"trial", index}, {"attempt", a.number}, {"worker", a.worker},
                          {"host", a.host}, {"job_id", a.job_id}, {"started_at", a.started_at},
                          {"interrupted", dead}});
     }
@@ -128,7 +146,9 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
                       {"budget_trials", st.budget_trials},
                       {"done", sc.done},       {"failed", sc.failed}, {"running", sc.running - interrupted},
                       {"pending", sc.pending + sc.interrupted + interrupted}, {"cancelled", sc.cancelled},
-                      {"elapsed_s", st.elapsed_s}, {"error", st.error}, {"running_attempts", running}});
+                      {"elapsed_s", st.elapsed_s}, {"error", st.error}, {"running_attempts", running},
+                      {"objectives", podium::orchestrator::objective_entries(st.description)},
+                      {"features", podium::orchestrator::feature_entries(st.description)}});
   }
   return {{"id", c.id},
           {"name", c.name},
@@ -270,6 +290,11 @@ int cmd_status(int argc, char** argv) {
                   s["index"].get<int>(), s["name"].get<std::string>().c_str(), shown_state(s["state"], c).c_str(),
                   s["task"].get<std::string>().c_str(), s["algorithm"].get<std::string>().c_str(), s["done"].get<long>(),
                   s["budget_trials"].get<long>(), s["failed"].get<long>(), s["running"].get<long>(), s["elapsed_s"].get<double>());
+      std::string names;
+      for (const auto& o : s["objectives"]) names += (names.empty() ? "    objectives: " : ", ") + named_column(o);
+      for (std::size_t i = 0; i < s["features"].size(); ++i)
+        names += (i == 0 ? (names.empty() ? "    features: " : "; features: ") : ", ") + named_column(s["features"][i]);
+      if (!names.empty()) std::printf("%s\n", names.c_str());
       for (const auto& a : s["running_attempts"]) {
         const std::string where = a["job_id"].get<std::string>().empty() ? a["worker"].get<std::string>()
                                                                          : "slurm job " + a["job_id"].get<std::string>();
@@ -289,6 +314,23 @@ std::string significant(double value, int digits) {
   return text;
 }
 
+// Rows padded to their widest cell, names and states left, numbers right; the last cell as it is.
+void print_padded(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> width(rows[0].size() - 1, 0);
+  for (const auto& row : rows)
+    for (std::size_t i = 0; i < width.size(); ++i) width[i] = std::max(width[i], row[i].size());
+  for (const auto& row : rows) {
+    std::string line;
+    for (std::size_t i = 0; i < width.size(); ++i) {
+      const std::string pad(width[i] - row[i].size(), ' ');
+      line += i < 2 ? row[i] + pad + "  " : pad + row[i] + "  ";
+    }
+    line += row.back();
+    while (!line.empty() && line.back() == ' ') line.pop_back();
+    std::printf("%s\n", line.c_str());
+  }
+}
+
 int cmd_trials(int argc, char** argv) {
   Command cmd;
   cmd.options.add_options()("campaign", po::value<std::string>()->required(), "campaign id or name")("json", "print JSON");
@@ -300,30 +342,33 @@ int cmd_trials(int argc, char** argv) {
     std::cout << podium::orchestrator::export_campaign(*store, id, "json");
     return 0;
   }
-  // One row per trial, columns padded to their widest cell; the last one (features or error) is not.
-  std::vector<std::vector<std::string>> rows = {
-      {"trial", "state", "attempts", "objective", "strategy", "id", "features / error"}};
+  // Per stage, one row per trial under the task's objective and feature names; columns padded to
+  // their widest cell; the last one (the error) is not.
+  bool first = true;
   for (const auto& st : store->stages(id)) {
+    const Json objectives = podium::orchestrator::objective_entries(st.description);
+    const Json features = podium::orchestrator::feature_entries(st.description);
+    std::vector<std::string> header = {"trial", "state", "attempts"};
+    for (const auto& o : objectives) header.push_back(named_column(o));
+    header.insert(header.end(), {"strategy", "id"});
+    for (const auto& f : features) header.push_back(named_column(f));
+    header.push_back("error");
+    std::vector<std::vector<std::string>> rows = {header};
     for (const auto& t : store->trials(st.id)) {
-      std::string features;
-      for (double f : t.features) features += (features.empty() ? "" : " ") + significant(f, 3);
-      const bool has_objective = t.objectives.is_array() && !t.objectives.empty() && t.objectives[0].is_number();
-      rows.push_back({podium::orchestrator::trial_name(st.name, t.index), t.state, std::to_string(t.attempts),
-                      has_objective ? significant(t.objectives[0].get<double>(), 4) : "-",
-                      t.strategy ? std::to_string(*t.strategy) : "-", std::to_string(t.id),
-                      t.error.empty() ? features : error_line(t.error)});
+      std::vector<std::string> row = {podium::orchestrator::trial_name(st.name, t.index), t.state, std::to_string(t.attempts)};
+      for (std::size_t i = 0; i < objectives.size(); ++i) {
+        const bool has = t.objectives.is_array() && i < t.objectives.size() && t.objectives[i].is_number();
+        row.push_back(has ? significant(t.objectives[i].get<double>(), 4) : "-");
+      }
+      row.insert(row.end(), {t.strategy ? std::to_string(*t.strategy) : "-", std::to_string(t.id)});
+      for (std::size_t i = 0; i < features.size(); ++i)
+        row.push_back(i < t.features.size() ? significant(t.features[i], 3) : "-");
+      row.push_back(error_line(t.error));
+      rows.push_back(std::move(row));
     }
-  }
-  std::vector<std::size_t> width(rows[0].size() - 1, 0);
-  for (const auto& row : rows)
-    for (std::size_t i = 0; i < width.size(); ++i) width[i] = std::max(width[i], row[i].size());
-  for (const auto& row : rows) {
-    std::string line;
-    for (std::size_t i = 0; i < width.size(); ++i) {
-      const std::string pad(width[i] - row[i].size(), ' ');
-      line += i < 2 ? row[i] + pad + "  " : pad + row[i] + "  ";  // names and states left, numbers right
-    }
-    std::printf("%s%s\n", line.c_str(), row.back().c_str());
+    if (!first) std::printf("\n");
+    first = false;
+    print_padded(rows);
   }
   return 0;
 }
@@ -418,12 +463,33 @@ int cmd_extend(int argc, char** argv) {
 int cmd_export(int argc, char** argv) {
   Command cmd;
   cmd.options.add_options()("campaign", po::value<std::string>()->required(), "campaign id or name")(
-      "format", po::value<std::string>()->default_value("csv"), "csv or json");
+      "format", po::value<std::string>()->default_value("csv"), "csv or json")(
+      "metrics", "with each trial's metric series (JSON only)");
   cmd.positional.add("campaign", 1);
-  if (!parse(cmd, "export", "CAMPAIGN --format csv|json [--db PATH]", argc, argv)) return 0;
+  if (!parse(cmd, "export", "CAMPAIGN --format csv|json [--metrics] [--db PATH]", argc, argv)) return 0;
   auto store = open_read(cmd);
   std::cout << podium::orchestrator::export_campaign(*store, campaign_id(*store, cmd.vm["campaign"].as<std::string>()),
-                                                     cmd.vm["format"].as<std::string>());
+                                                     cmd.vm["format"].as<std::string>(), cmd.vm.count("metrics") > 0);
+  return 0;
+}
+
+int cmd_summary(int argc, char** argv) {
+  Command cmd;
+  cmd.options.add_options()("campaign", po::value<std::vector<std::string>>()->required(), "campaign ids or names")(
+      "json", "print JSON");
+  cmd.positional.add("campaign", -1);
+  if (!parse(cmd, "summary", "CAMPAIGN... [--json] [--db PATH]", argc, argv)) return 0;
+  auto store = open_read(cmd);
+  std::vector<std::int64_t> ids;
+  for (const auto& c : cmd.vm["campaign"].as<std::vector<std::string>>()) ids.push_back(campaign_id(*store, c));
+  const bool json = cmd.vm.count("json") > 0;
+  if (ids.size() == 1) {
+    const Json summary = podium::orchestrator::campaign_summary(*store, ids[0]);
+    std::cout << (json ? summary.dump(2) + "\n" : podium::orchestrator::format_summary(summary));
+  } else {
+    const Json comparison = podium::orchestrator::compare_campaigns(*store, ids);
+    std::cout << (json ? comparison.dump(2) + "\n" : podium::orchestrator::format_comparison(comparison));
+  }
   return 0;
 }
 
@@ -466,6 +532,7 @@ int dispatch(const std::string& command, int argc, char** argv) {
   if (command == "pause" || command == "resume" || command == "cancel") return cmd_control(command, argc, argv);
   if (command == "extend") return cmd_extend(argc, argv);
   if (command == "export") return cmd_export(argc, argv);
+  if (command == "summary") return cmd_summary(argc, argv);
   if (command == "serve") return cmd_serve(argc, argv);
   if (command == "tasks") return cmd_tasks(argc, argv);
   if (command == "worker") return podium::orchestrator::run_worker();

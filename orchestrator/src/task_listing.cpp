@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "podium/base/error.h"
+#include "podium/orchestrator/summary.h"
 #include "podium/plugins/loader.h"
 #include "worker_process.h"
 
@@ -66,6 +67,7 @@ std::string range_list(const Json& entries) {
   for (const auto& e : entries) {
     out += (out.empty() ? "" : ", ") + e.at("name").get<std::string>() + " [" + number_text(e.at("low")) + ", " +
            number_text(e.at("high")) + "]";
+    if (e.contains("unit")) out += " " + e["unit"].get<std::string>();
     if (e.contains("metric")) out += " " + e["metric"].get<std::string>();
   }
   return out.empty() ? "none" : out;
@@ -106,8 +108,12 @@ std::string format_tasks(const Json& tasks) {
       metrics += (metrics.empty() ? "" : ", ") + m.at("name").get<std::string>() +
                  (m.contains("description") ? " (" + m["description"].get<std::string>() + ")" : "");
     out << "  metrics: " << (metrics.empty() ? "none" : metrics) << "\n";
-    std::string objectives;
-    for (const auto& o : t.value("objectives", Json::array())) objectives += (objectives.empty() ? "" : ", ") + o.get<std::string>();
+    std::string objectives;  // with unit and meaning (the default config's stage; a stage may name them otherwise)
+    for (const auto& o : objective_entries(t))
+      objectives += (objectives.empty() ? "" : ", ") + o.at("name").get<std::string>() +
+                    (o.contains("description") ? " (" + (o.contains("unit") ? o["unit"].get<std::string>() + "; " : "") +
+                                                     o["description"].get<std::string>() + ")"
+                                               : "");
     out << "  objectives: " << (objectives.empty() ? "none" : objectives) << "\n";
     out << "  presets:\n";
     const Json presets = t.value("presets", Json::object());

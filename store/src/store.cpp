@@ -323,6 +323,36 @@ std::vector<TrialRecord> Store::campaign_trials(std::int64_t campaign_id) const 
   return read_trials(impl_->db, s);
 }
 
+std::optional<TrialRecord> Store::trial(std::int64_t trial_id) const {
+  Statement s(impl_->db, (std::string(kTrialSelect) + "WHERE t.id = ?").c_str());
+  s.bind(1, trial_id);
+  auto trials = read_trials(impl_->db, s);
+  if (trials.empty()) return std::nullopt;
+  return std::move(trials.front());
+}
+
+std::vector<TrialOutcome> Store::done_trials(std::int64_t stage_id) const {
+  // trials_by_state (stage_id, state, idx) gives the order; result_info is read only where it
+  // names a table (plugins/task.h "Result tables"), so a 100,000-trial stage parses no JSON.
+  Statement s(impl_->db,
+              "SELECT id, idx, objective, strategy, finished_at, "
+              "CASE WHEN instr(result_info, '\"table\"') > 0 THEN result_info ELSE '' END "
+              "FROM trials WHERE stage_id = ? AND state = 'done' ORDER BY idx");
+  s.bind(1, stage_id);
+  std::vector<TrialOutcome> out;
+  while (s.step()) {
+    TrialOutcome t;
+    t.id = s.int64(0);
+    t.index = s.int64(1);
+    if (!s.is_null(2)) t.objective = s.real(2);
+    if (!s.is_null(3)) t.strategy = s.int64(3);
+    t.finished_at = s.real(4);
+    t.result_info = s.text(5);
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
 // From the counts the triggers keep (schema v3): a few rows, not a scan of the trials.
 TrialCounts Store::trial_counts(std::int64_t campaign_id) const {
   Statement s(impl_->db,

@@ -4,6 +4,8 @@
 // question, the metrics and the presets.
 
 #include <cmath>
+#include <cstdio>
+#include <map>
 
 #include "evaluate.h"
 #include "podium/plugins/export.h"
@@ -88,6 +90,19 @@ Json presets() {
            {{"total_steps", 10'000'000}, {"sac_preset", "paper"}, {"sac", Json::object()}, {"slow_total_steps", 2'000'000}, {"passive_joints", true}}}};
 }
 
+// The strategy features (strategy_features.h) with what each means.
+Json described_features() {
+  const std::map<std::string, std::string> meaning = {
+      {"chest_up_at_half_height", "torso front axis z when the head top first passes half the rise height (+1: rising from the back, −1: from the front)"},
+      {"side_lean", "mean torso left axis z over the rise (+: turning over the right side, −: over the left)"},
+      {"hand_support", "fraction of the rise with a hand or forearm on the ground"},
+      {"knee_support", "fraction of the rise with a shin on the ground (kneeling)"}};
+  Json features = StrategyFeatures::describe();
+  for (Json& f : features)
+    if (const auto it = meaning.find(f["name"].get<std::string>()); it != meaning.end()) f["description"] = it->second;
+  return features;
+}
+
 Json stage_description(const std::string& stage) {
   // The metrics' plots: training curves over environment steps; the evaluation's points over κ
   // (1 = fast: π_weak itself) or over π_weak's strength β.
@@ -102,8 +117,11 @@ Json stage_description(const std::string& stage) {
               plugins::metric_entry("slow/tracked_fraction", "", "mean share of the rise tracked before a 0.5 m COM deviation ended the episode", steps_rate),
               plugins::metric_entry("slow/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step reached (positive: below the reference)", steps),
               plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end", steps_rate)}},
-            {"objectives", {"success_rate", "neg_com_error_m"}}};
-  const Json features = {{"features", StrategyFeatures::describe()}, {"strategy_threshold", 0.3}};
+            {"objectives", {"success_rate", "neg_com_error_m"}},
+            {"objective_info",
+             Json::array({plugins::objective_entry("success_rate", "", "fraction of the fixed starts π_slow stands at the end of, at slow_test_kappa"),
+                          plugins::objective_entry("neg_com_error_m", "m", "minus π_slow's mean COM-height tracking error on those starts")})}};
+  const Json features = {{"features", described_features()}, {"strategy_threshold", 0.3}};
   if (stage == "evaluate") {
     Json d = features;
     d["metrics"] = {plugins::metric_entry("eval/success_rate", "", "success over the unseen falls (κ = 1: fast, π_weak itself)", kappa_rate),
@@ -114,7 +132,9 @@ Json stage_description(const std::string& stage) {
                     plugins::metric_entry("eval/tracked_fraction", "", "mean share of the rise π_slow tracked before a 0.5 m COM deviation ended it", kappa_rate),
                     plugins::metric_entry("eval/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step π_slow reached (positive: below the reference)", kappa),
                     plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls", strength_rate)};
-    d["objectives"] = {"slow_success_rate", "fast_success_rate"};
+    plugins::set_objectives(
+        d, Json::array({plugins::objective_entry("slow_success_rate", "", "mean slowed success: π_slow's success over the unseen falls, averaged over the speeds κ < 1 (π_weak's fast success when there is no π_slow)"),
+            plugins::objective_entry("fast_success_rate", "", "fast success: π_weak's success over the unseen falls at its own strength")}));
     return d;
   }
   Json d = features;
@@ -132,7 +152,9 @@ Json stage_description(const std::string& stage) {
                   plugins::metric_entry("train_return", "", "mean return of the training episodes since the last test", steps),
                   plugins::metric_entry("sac/alpha", "", "SAC's temperature α", steps),
                   plugins::metric_entry("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far", steps)};
-  d["objectives"] = {"success_rate", "weakness"};  // of the exported policy; weakness = 1 − its β^i
+  plugins::set_objectives(
+      d, Json::array({plugins::objective_entry("success_rate", "", "fraction of the fixed starts the exported policy gets up from, at the strength it passed at"),
+          plugins::objective_entry("weakness", "", "1 − β^i, the torque multiplier the exported policy passed at (0: full strength)")}));
   return d;
 }
 
@@ -260,7 +282,31 @@ class GetupTask final : public plugins::Task {
     for (std::size_t i = 0; i < out.speeds.size(); ++i)
       result.artifacts.push_back({i == shown ? "trajectory" : "trajectory_" + out.speeds[i].name, out.speeds[i].trajectory});
     result.info = out.to_json();
+    result.info["table"] = evaluation_table(out, c.evaluate.falls);
     return result;
+  }
+
+  // The Evaluate trial as a table (plugins/task.h "Result tables"): per speed κ (fast: π_weak at
+  // its strength β), of the unseen falls how many rose and stood, the mean rise time and COM error.
+  static Json evaluation_table(const EvaluateOutcome& out, int falls) {
+    Json rows = Json::array();
+    for (const auto& s : out.speeds) {
+      const bool fast = s.kappa == 0;
+      const std::string speed = fast ? "fast β " + format_cell(s.strength) : s.name == "pause" ? "paused κ " + format_cell(s.kappa)
+                                                                                             : "κ " + format_cell(s.kappa);
+      rows.push_back(Json::array({speed, s.risen, s.stood, s.risen > 0 ? Json(s.rise_time_s) : Json(nullptr),
+                                  fast ? Json(nullptr) : Json(s.com_error_m)}));
+    }
+    return plugins::result_table("evaluation over " + std::to_string(falls) + " unseen falls",
+                                 Json::array({plugins::table_column("speed"), plugins::table_column("rose"), plugins::table_column("stood"),
+                                              plugins::table_column("rise time", "s"), plugins::table_column("COM error", "m")}),
+                                 rows);
+  }
+
+  static std::string format_cell(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
   }
 };
 

@@ -4,6 +4,7 @@
 // trial, warm-started from its policy, rewarded for a bar-frame rotation unlike those found).
 // `kind` picks the high jump or the obstacle jump. README.md gives the metrics and the presets.
 
+#include <cmath>
 #include <numbers>
 
 #include "captured_techniques.h"
@@ -109,27 +110,42 @@ Json metrics() {
   return metrics;
 }
 
-Json feature(const char* name, double low, double high) {
-  return {{"name", name}, {"low", low}, {"high", high}, {"metric", "euclidean"}, {"unit", "rad"}};
+Json feature(const char* name, double low, double high, const char* description) {
+  return {{"name", name}, {"low", low}, {"high", high}, {"metric", "euclidean"}, {"unit", "rad"}, {"description", description}};
+}
+
+// A jump trial as a table (plugins/task.h "Result tables"): its bar, the share of its evaluation
+// jumps that cleared it, its feature and the nearest captured technique (when labelled).
+Json jump_table(const std::string& bar, double bar_m, const std::string& success, double success_rate, double up_angle_rad, const Json& info) {
+  const Json technique = info.contains("nearest_technique") ? info["nearest_technique"]["name"] : Json(nullptr);
+  return plugins::result_table("jump", Json::array({plugins::table_column(bar, "m"), plugins::table_column(success),
+                                                     plugins::table_column("up-angle", "rad"), plugins::table_column("nearest captured technique")}),
+                               Json::array({Json::array({bar_m, success_rate, std::isnan(up_angle_rad) ? Json(nullptr) : Json(up_angle_rad), technique})}));
 }
 
 Json describe_stage(const TaskConfig& c) {
   if (c.stage == "pose_vae")
     return {{"params", Json::array()}, {"features", Json::array()}, {"objectives", {"fit"}},
+            {"objective_info", Json::array({plugins::objective_entry("fit", "rad", "minus the P-VAE's reconstruction RMSE over the training poses")})},
             {"metrics", {plugins::metric_entry("pose_vae_loss", "", "mean P-VAE loss (MSE + β·KL) per epoch", plugins::MetricShape{.x = {"epochs", ""}}),
                          plugins::metric_entry("pose_vae_rmse_rad", "rad", "reconstruction RMSE over the training poses at the last epoch", plugins::MetricShape{.x = {"epochs", ""}, .evaluation = true})}}};
   Json params = Json::array();
   for (const TakeoffFeature& f : c.box) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
-  Json d = {{"params", params}, {"metrics", metrics()}, {"objectives", {"z_reached_m", "success_rate_start_bar"}}};
+  Json d = {{"params", params}, {"metrics", metrics()}};
+  plugins::set_objectives(
+      d, Json::array({plugins::objective_entry("z_reached_m", "m", "the bar height (obstacle width) the curriculum reached"),
+                      plugins::objective_entry("success_rate_start_bar", "", "the final policy's evaluation jumps that clear the starting bar")}));
   constexpr double pi = std::numbers::pi;
   if (c.stage == "evaluate") {
     d["params"] = Json::array();  // each trial's take-off state is its shipped entry's
-    d["objectives"] = {"success_rate"};
+    plugins::set_objectives(d, Json::array({plugins::objective_entry("success_rate", "", "the shipped policy's evaluation jumps that clear its bar")}));
   }
   if (c.stage == "explore" || c.stage == "evaluate") {
-    d["features"] = {feature("up_angle_rad", 0.0, pi)};
+    d["features"] = {feature("up_angle_rad", 0.0, pi, "angle between the root's forward axis and up as the COM crosses the bar's plane (0: facing up, a flop; π/2: a scissor; π: facing down, a straddle)")};
   } else {
-    d["features"] = {feature("rotation_x", -pi, pi), feature("rotation_y", -pi, pi), feature("rotation_z", -pi, pi)};
+    d["features"] = {feature("rotation_x", -pi, pi, "the root orientation at the bar in the bar frame as a rotation vector: its x component"),
+                     feature("rotation_y", -pi, pi, "the root orientation at the bar in the bar frame as a rotation vector: its y component"),
+                     feature("rotation_z", -pi, pi, "the root orientation at the bar in the bar frame as a rotation vector: its z component")};
   }
   d["strategy_threshold"] = kUpAngleStrategyThresholdRad;  // strategy_feature.h says why (Stage 2: the same radians)
   return d;
@@ -210,6 +226,8 @@ plugins::RunResult run_shipped(const TaskConfig& c, const plugins::RunRequest& r
   result.info = {{"success_rate", e.success_rate}, {"up_angle_rad", e.up_angle_rad}, {"policy", entry.policy}};
   result.info["summary"] = labelled(c, {{"bar m", entry.z_m}, {"success over " + std::to_string(jumps.jumps) + " jumps", e.success_rate}},
                                     e.up_angle_rad, result.info);
+  result.info["table"] = jump_table("bar", entry.z_m, "success over " + std::to_string(jumps.jumps) + " jumps", e.success_rate,
+                                    e.up_angle_rad, result.info);
   return result;
 }
 
@@ -272,6 +290,8 @@ class JumpTask final : public plugins::Task {
     const Json summary = {{"bar reached m", out.z_reached_m}, {"success at the starting bar", out.start_bar.success_rate}};
     result.info["summary"] = c.stage == "explore" ? labelled(c, summary, shown.up_angle_rad, result.info)
                                                   : summary;  // Stage 2's feature is 3-D: not labelled
+    result.info["table"] = jump_table("bar reached", out.z_reached_m, "success at the starting bar", out.start_bar.success_rate,
+                                      c.stage == "explore" ? shown.up_angle_rad : std::nan(""), result.info);
     return result;
   }
 };

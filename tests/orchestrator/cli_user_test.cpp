@@ -76,7 +76,7 @@ TEST(CliUser, TrialsTableNamesTrialsByStageAndIndexWithReadableNumbers) {
   const auto table = lines(r.out);
   ASSERT_EQ(table.size(), 6u) << r.out;
   EXPECT_EQ(words(table[0]),
-            (std::vector<std::string>{"trial", "state", "attempts", "objective", "strategy", "id", "features", "/", "error"}));
+            (std::vector<std::string>{"trial", "state", "attempts", "objective", "strategy", "id", "f0", "f1", "error"}));
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const Json& row = rows[i];
     SCOPED_TRACE(table[i + 1]);
@@ -86,7 +86,7 @@ TEST(CliUser, TrialsTableNamesTrialsByStageAndIndexWithReadableNumbers) {
     EXPECT_EQ(cells[1], row["state"]);
     EXPECT_EQ(cells[5], std::to_string(row["id"].get<std::int64_t>()));  // the dashboard's trial.html?id=
     if (row["state"] == "done") {
-      EXPECT_EQ(cells[3], significant(row["objectives"][0].get<double>(), 4));
+      EXPECT_EQ(cells[3], significant(row["objectives"]["objective"].get<double>(), 4));
       EXPECT_EQ(cells[4], std::to_string(row["strategy"].get<int>()));
       EXPECT_EQ(cells[6], significant(row["features"]["f0"].get<double>(), 3));
       EXPECT_EQ(cells[7], significant(row["features"]["f1"].get<double>(), 3));

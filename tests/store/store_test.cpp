@@ -390,5 +390,37 @@ TEST(StoreCounts, CountRowsEqualARecountThroughTheTrialLifecycle) {
   EXPECT_EQ(rows(path, "SELECT strategy, trials FROM stage_strategy_counts WHERE stage_id = 1 ORDER BY 1"), "0|3\n1|0\n2|1\n");
 }
 
+// What a campaign summary reads: a stage's done trials in index order with their primary
+// objective, strategy and finish time, and the result info only of those that give a table.
+TEST(Store, DoneTrialsAreLeanAndInIndexOrder) {
+  TempDir dir;
+  auto store = Store::open(dir / "p.db", Store::Access::read_write);
+  const auto stage = store->stages(store->add_campaign("c", Json::object(), 1, "", {one_stage()}))[0].id;
+  std::vector<std::int64_t> ids;
+  store->transaction([&] {
+    for (int i = 0; i < 4; ++i) ids.push_back(store->add_trial(stage, i, Json::object(), Json::object(), Json::object(), i));
+    store->complete_trial(ids[2], {0.5, 2.0}, {"f0"}, {0.25}, Json{{"table", {{"rows", Json::array()}}}}, {});
+    store->complete_trial(ids[0], {-1.0}, {"f0"}, {0.75}, Json{{"note", "no table"}}, {});
+    store->set_trial_strategy(ids[2], 3);
+    store->set_trial_state(ids[1], "failed", "boom");
+  });
+  const auto done = store->done_trials(stage);
+  ASSERT_EQ(done.size(), 2u);
+  EXPECT_EQ(done[0].index, 0);
+  EXPECT_EQ(done[0].objective, -1.0);
+  EXPECT_FALSE(done[0].strategy);
+  EXPECT_EQ(done[0].result_info, "");
+  EXPECT_EQ(done[1].id, ids[2]);
+  EXPECT_EQ(done[1].objective, 0.5);
+  EXPECT_EQ(done[1].strategy, 3);
+  EXPECT_GT(done[1].finished_at, 0.0);
+  EXPECT_EQ(Json::parse(done[1].result_info), (Json{{"table", {{"rows", Json::array()}}}}));
+  const auto one = store->trial(ids[2]);
+  ASSERT_TRUE(one);
+  EXPECT_EQ(one->features, std::vector<double>{0.25});
+  EXPECT_EQ(one->objectives, Json({0.5, 2.0}));
+  EXPECT_FALSE(store->trial(ids.back() + 100));
+}
+
 }  // namespace
 }  // namespace podium::store

@@ -53,7 +53,15 @@ Extension extend_campaign(store::Store& store, const std::string& id_or_name, co
 std::string trial_name(const std::string& stage, std::int64_t index);
 
 /// Every trial of a campaign as CSV (a header row, then one row per trial) or a JSON array (each
-/// row also with its `name` and database `id`).
-std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format);
+/// row also with its `name`, database `id` and result info). Objectives and features are named, in
+/// the task's order: CSV columns `param.<name>`, `objective.<name>`, `feature.<name>` (over the
+/// stages, in stage order), JSON objects {name: value} (an older store's unnamed values: `value<i>`).
+/// Numbers at the shortest precision that round-trips. `metrics` (JSON only): each row also has
+/// "metrics": {name: [[step, value], ...]}.
+///   JSON row: {"campaign", "name", "id", "stage", "trial", "state", "attempts", "seed", "params",
+///              "objectives", "features", "strategy", "error", "started_at", "finished_at", "result",
+///              "metrics"?}
+std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format,
+                            bool metrics = false);
 
 }  // namespace podium::orchestrator

@@ -8,16 +8,29 @@
 /// The description is plain JSON so the scheduler can hand it to the search layer without either
 /// side including the other:
 ///   {"params":   [{"name", "low", "high", "integer"?}],
-///    "features": [{"name", "low", "high", "metric": "euclidean"|"angular", "unit"?}],
+///    "features": [{"name", "low", "high", "metric": "euclidean"|"angular", "unit"?, "description"?}],
 ///    "metrics":  [{"name", "unit"?, "description"?, "x"?: {"name", "unit"?},
 ///                  "kind"?: "learning_curve"|"evaluation", "range"?: [low, high]}],
 ///    "objectives": ["name", ...],        // objectives[0] is the primary one
+///    "objective_info": [{"name", "unit"?, "description"?}],  // optional: what each objective is,
+///                                        // in the order of "objectives" (set_objectives writes both)
 ///    "strategy_threshold": 0.1,          // optional: feature distance within which two trials
 ///                                        // are the same strategy (a spec may override it)
 ///    "presets":  {"smoke": {config}, "quick": {config}, "paper": {config}},
 ///    "config": [{"key", "type", "default"?, ...}],  // optional: the keys it accepts, as
 ///                                        // base::ConfigReader::describe gives them
 ///    "config_defaults": {config}}         // every config key the task accepts, with its default
+///
+/// Names: describe(config) gets the stage's resolved config, so a task whose stages mean different
+/// things by their objectives names them per stage (the get-up's Evaluate stage: the mean slowed
+/// success and the fast success). `podium trials`, `export`, `status`, `summary` and the dashboard
+/// show objectives and features by these names and units, in this order.
+///
+/// Result tables: RunResult::info["table"], when a task gives one, is what the trial found as a
+/// small table, shown by `podium summary` (a stage's trials' tables with the same columns, one under
+/// the other, each row led by its trial's name) and on the dashboard's trial page:
+///   {"title": "...", "columns": [{"name", "unit"?}], "rows": [[cell, ...], ...]}
+/// with one cell per column, each a number, a string or null (not measured). See result_table.
 ///
 /// Config: a task reads its config with base::ConfigReader (validating in describe and run) and
 /// describes it from the same code. describe(config) throws base::ConfigError for a value it
@@ -77,6 +90,32 @@ inline Json metric_entry(const std::string& name, const std::string& unit, const
   m["kind"] = shape.evaluation ? "evaluation" : "learning_curve";
   if (shape.rate) m["range"] = {0.0, 1.0};
   return m;
+}
+
+/// One entry of a description's "objective_info" (what an objective means); an empty unit is left out.
+inline Json objective_entry(const std::string& name, const std::string& unit, const std::string& description) {
+  return metric_entry(name, unit, description);
+}
+
+/// Sets a description's "objectives" (the names) and "objective_info" (the entries) from `entries`
+/// (objective_entry's), in their order: the first is the primary objective.
+inline void set_objectives(Json& description, const Json& entries) {
+  Json names = Json::array();
+  for (const Json& e : entries) names.push_back(e.at("name"));
+  description["objectives"] = names;
+  description["objective_info"] = entries;
+}
+
+/// One column of a result table (see "Result tables" above); an empty unit is left out.
+inline Json table_column(const std::string& name, const std::string& unit = "") {
+  Json c = {{"name", name}};
+  if (!unit.empty()) c["unit"] = unit;
+  return c;
+}
+
+/// A result table for RunResult::info["table"]: `columns` of table_column, `rows` of cells.
+inline Json result_table(const std::string& title, const Json& columns, const Json& rows) {
+  return {{"title", title}, {"columns", columns}, {"rows", rows}};
 }
 
 /// Bumped whenever Task, RunRequest, RunResult or TaskDescriptor change layout or meaning.

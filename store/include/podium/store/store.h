@@ -73,6 +73,15 @@ struct TrialRecord {
   double created_at = 0, started_at = 0, finished_at = 0;
 };
 
+/// A done trial as a campaign summary reads it: a few columns, no params, info or features.
+struct TrialOutcome {
+  std::int64_t id = 0, index = 0;
+  std::optional<double> objective;       ///< objectives[0] (absent when not a number)
+  std::optional<std::int64_t> strategy;
+  double finished_at = 0;
+  std::string result_info;               ///< its result info's JSON text when it has a "table", else ""
+};
+
 struct AttemptRecord {
   std::int64_t id = 0, trial_id = 0;
   int number = 0;
@@ -151,6 +160,11 @@ class Store {
                          const Json& info, std::uint64_t seed);
   std::vector<TrialRecord> trials(std::int64_t stage_id) const;
   std::vector<TrialRecord> campaign_trials(std::int64_t campaign_id) const;
+  /// One trial (with its features), or nullopt.
+  std::optional<TrialRecord> trial(std::int64_t trial_id) const;
+  /// A stage's done trials in index order, lean (TrialOutcome): one walk of an index, no JSON
+  /// parsed but the result info of trials whose info holds a per-task table.
+  std::vector<TrialOutcome> done_trials(std::int64_t stage_id) const;
   TrialCounts trial_counts(std::int64_t campaign_id) const;
   TrialCounts stage_trial_counts(std::int64_t stage_id) const;
   std::int64_t start_attempt(std::int64_t trial_id, int number, const std::string& worker, const std::string& host,

@@ -212,6 +212,28 @@ TEST_F(Api, StagesNameTheirBestTrialAndStrategiesSayWhetherTheyMove) {
   for (const auto& row : moving) EXPECT_EQ(row["motion"], true) << row;
 }
 
+// The summary panel's and the comparison view's documents are the orchestrator's summary library's
+// (what `podium summary --json` prints); campaigns are named by id or name, a bad list is refused.
+TEST_F(Api, SummaryAndComparisonAreTheSummaryLibrarysDocuments) {
+  const Json summary = server_->get_json("/api/campaigns/smoke/summary");
+  EXPECT_EQ(summary["campaign"]["id"], landscape_);
+  ASSERT_EQ(summary["stages"].size(), 1u);
+  EXPECT_EQ(summary["stages"][0]["trials"]["done"], 120);
+  EXPECT_EQ(summary["stages"][0]["best"]["id"], server_->get_json("/api/campaigns")[0]["stages"][0]["best"]["id"]);
+  const Json both = server_->get_json("/api/compare?campaigns=" + std::to_string(landscape_) + ",swing");
+  ASSERT_EQ(both["campaigns"].size(), 2u);
+  EXPECT_EQ(both["campaigns"][0], summary);
+  EXPECT_EQ(both["campaigns"][1]["campaign"]["id"], replay_);
+  int status = 0;
+  for (const char* bad : {"/api/compare", "/api/compare?campaigns=", "/api/compare?campaigns=smoke,,swing",
+                          "/api/compare?campaigns=1,1,1,1,1,1,1,1,1"}) {
+    server_->get_json(bad, &status);
+    EXPECT_EQ(status, 400) << bad;
+  }
+  server_->get_json("/api/compare?campaigns=smoke,no-such-campaign", &status);
+  EXPECT_EQ(status, 404);
+}
+
 TEST_F(Api, TrajectoryEndpointServesTheReplayArtifact) {
   const auto trial = store()->campaign_trials(replay_)[0];
   auto client = server_->client();

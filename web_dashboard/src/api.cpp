@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <string_view>
 
+#include "podium/orchestrator/summary.h"
 #include "podium/store/run_folders.h"
 #include "podium/store/writer_lock.h"
 
@@ -372,6 +373,24 @@ std::string scatter_points(const Queries& q, std::int64_t campaign_id, std::int6
 
 Json strategy_table(const Queries& q, std::int64_t campaign_id) {
   return strategy_json(q, q.strategies(campaign_id), q.store().stages(campaign_id));
+}
+
+Json summary_document(const Queries& q, std::int64_t campaign_id) { return orchestrator::campaign_summary(q.store(), campaign_id); }
+
+Json comparison_document(const Queries& q, const std::string& campaigns) {
+  constexpr std::size_t kMaxCampaigns = 8;  // each summary reads its campaign's done trials
+  std::vector<std::int64_t> ids;
+  std::size_t start = 0;
+  while (start <= campaigns.size()) {
+    const std::size_t comma = std::min(campaigns.find(',', start), campaigns.size());
+    const std::string name = campaigns.substr(start, comma - start);
+    if (name.empty()) throw HttpError(400, "campaigns: \"" + campaigns + "\" has an empty entry (ids or names, comma-separated)");
+    ids.push_back(resolve_campaign(q, name));
+    start = comma + 1;
+  }
+  if (ids.size() > kMaxCampaigns)
+    throw HttpError(400, "campaigns: " + std::to_string(ids.size()) + " given, at most " + std::to_string(kMaxCampaigns) + " compare at once");
+  return orchestrator::compare_campaigns(q.store(), ids);
 }
 
 Json campaign_events(const Queries& q, std::int64_t campaign_id, std::size_t last_n) {

@@ -245,6 +245,14 @@ struct Server::Impl {
     get(R"(/api/campaigns/([^/]+)/strategies)", json([](const Request& req, const store::Queries& q) {
       return strategy_table(q, resolve_campaign(q, req.matches[1]));
     }));
+    get(R"(/api/campaigns/([^/]+)/summary)", json([](const Request& req, const store::Queries& q) {
+      return summary_document(q, resolve_campaign(q, req.matches[1]));
+    }));
+    get("/api/compare", json([](const Request& req, const store::Queries& q) {
+      const auto campaigns = param(req, "campaigns");
+      if (!campaigns) throw HttpError(400, "campaigns: missing (compare?campaigns=ID,ID,...)");
+      return comparison_document(q, *campaigns);
+    }));
     get(R"(/api/campaigns/([^/]+)/events)", json([](const Request& req, const store::Queries& q) {
       const auto last = int_param(req, "last", 200, 1, 10000);
       return campaign_events(q, resolve_campaign(q, req.matches[1]), static_cast<std::size_t>(last));

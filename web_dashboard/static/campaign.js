@@ -207,13 +207,11 @@ function renderHistory() {
 }
 
 // Discovery: per stage with strategy features, the distinct strategies found against the trials
-// done, one line per stage on one plot (ids restart per stage: each line counts its own stage's).
-function renderDiscovery() {
-  const stages = state.detail.stages.filter(st => (st.description?.features || []).length);
-  const list = stages.map(st => {
-    const series = podium.stageSeries(state.points, st.index, st.counts.done);
-    return { x: series.samples, y: series.strategies };
-  });
+// done (the summary's exact step curve), one line per stage on one plot (ids restart per stage:
+// each line counts its own stage's).
+function renderDiscovery(summary) {
+  const stages = summary.stages.filter(st => st.features.length);
+  const list = stages.map(st => podium.discoverySeries(st.discovery));
   const holder = document.getElementById('discovery');
   holder.dataset.stages = stages.map(st => st.name).join(',');
   holder.dataset.strategies = list.map(l => l.y[l.y.length - 1] ?? 0).join(',');
@@ -228,19 +226,33 @@ function renderDiscovery() {
   holder.replaceChildren();
   state.discovery = { key, plot: podium.plot(holder, {
     title: 'distinct strategies', x: { name: 'trials done (samples)' }, y: { name: 'distinct strategies' },
-    series: stages.map(st => ({ label: st.name, colour: podium.colour(st.index) })),
+    series: stages.map(st => ({ label: st.name, colour: podium.colour(st.index), stepped: true })),
   }, data) };
 }
 
-// The summary: per stage, the trials done, the best trial by its named objective and the
-// strategies found.
-function renderSummaryPanel() {
+// The summary (orchestrator/summary.h, as `podium summary` prints it): per stage the trials done,
+// the best trial by its named objective, the strategies found with their representatives, and the
+// task's result tables of the stage's trials.
+function renderSummaryPanel(summary) {
   const c = state.detail;
   document.getElementById('compare-link').href = `compare.html?campaigns=${c.id}`;
-  podium.fill(document.getElementById('summary-stages'), ['stage', 'task', 'trials done', 'failed', 'best trial', 'by', 'value', 'strategies'],
-    c.stages.map(st => [st.name, st.task, `${st.counts.done}/${st.budget_trials}`, st.counts.failed,
-      st.best ? podium.trialLink(st.best.id, st.best.name) : '–', st.best?.objective ?? podium.objectiveName(st),
-      st.best ? podium.num(st.best.value) : '–', st.strategies]));
+  const representatives = st => st.strategies.slice(0, 6).map(x => x.representative.trial).join(', ') + (st.strategies.length > 6 ? ', …' : '');
+  podium.fill(document.getElementById('summary-stages'), ['stage', 'task', 'trials done', 'failed', 'best trial', 'by', 'value', 'strategies', 'representatives'],
+    summary.stages.map(st => {
+      const best = st.best, objective = best?.objectives[0] ?? st.objectives[0];
+      return [st.name, st.task, `${st.trials.done}/${st.trials.budget}`, st.trials.failed,
+        best ? podium.trialLink(best.id, best.trial) : '–', objective ? podium.named(objective) : '–',
+        best ? podium.num(best.objectives[0]?.value) : '–', st.features.length ? st.strategies.length : '–', representatives(st) || '–'];
+    }));
+  const tables = document.getElementById('summary-tables');
+  const key = JSON.stringify(summary.stages.map(st => st.tables));
+  if (tables.dataset.key === key) return;  // unchanged: keep the DOM (and a reader's selection)
+  tables.dataset.key = key;
+  tables.replaceChildren(...summary.stages.flatMap(st => st.tables.map(t => {
+    const block = podium.dataTable({ ...t, title: `${st.name}: ${t.title}` });
+    block.dataset.stage = st.name;
+    return block;
+  })));
 }
 
 // Every stage's strategies, grouped by stage (the same id in two stages is two strategies).
@@ -345,10 +357,11 @@ async function renderStage() {
 }
 
 async function refreshCampaign() {
-  const [detail, points, events] = await Promise.all([
-    podium.api(base), podium.api(`${base}/points`), podium.api(`${base}/events?last=50`)]);
+  const [detail, points, events, summary] = await Promise.all([
+    podium.api(base), podium.api(`${base}/points`), podium.api(`${base}/events?last=50`), podium.api(`${base}/summary`)]);
   state.detail = detail; state.points = points;
-  renderSummary(); renderSummaryPanel(); await renderStage(); renderHistory(); renderDiscovery(); renderStrategies(detail.strategy_table);
+  renderSummary(); renderSummaryPanel(summary); await renderStage(); renderHistory(); renderDiscovery(summary);
+  renderStrategies(detail.strategy_table);
   podium.fill(document.getElementById('events'), ['time', 'kind', 'details'],
     events.slice().reverse().map(e => [podium.time(e.time), e.kind, JSON.stringify(e.payload).slice(0, 160)]));
   await renderTrials();

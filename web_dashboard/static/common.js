@@ -104,7 +104,7 @@ const podium = {
   },
 
   // A uPlot with named axes. o: { title, x: {name, unit}, y: {name, unit}, series: [{label, colour,
-  // points?}], points (true: each value a point, as an evaluation over its axis; false: lines, as a
+  // points?, stepped? (a count that holds until its next point)}], points (true: each value a point, as an evaluation over its axis; false: lines, as a
   // learning curve; a series' own `points` overrides it), rate (a fraction: the y axis is [0, 1]), width, height }. The legend is shown only to
   // tell several series apart (names only, no empty live values). Registered in
   // window.podiumPlots with its axes' labels as uPlot holds them (the browser tests read them).
@@ -116,7 +116,8 @@ const podium = {
     };
     const series = o.series.map(s => (s.points ?? o.points)
       ? { label: s.label, stroke: s.colour, paths: () => null, points: { show: true, size: s.size ?? 9, fill: s.colour, stroke: s.colour } }
-      : { label: s.label, stroke: s.colour, width: 1.5, spanGaps: true, points: { show: data[0].length < 3 } });
+      : { label: s.label, stroke: s.colour, width: 1.5, spanGaps: true, points: { show: data[0].length < 3 },
+        ...(s.stepped ? { paths: uPlot.paths.stepped({ align: 1 }) } : {}) });
     const u = new uPlot({
       title: o.title, width: o.width || 420, height: o.height || 240,
       legend: { show: o.series.length > 1, live: false },
@@ -155,6 +156,12 @@ const podium = {
     });
     return out;
   },
+
+  // A summary's discovery curve ([[samples, strategies], ...], orchestrator/summary.h) as {x, y}.
+  discoverySeries(discovery) { return { x: discovery.map(p => p[0]), y: discovery.map(p => p[1]) }; },
+
+  // "name (unit)" of a summary's named value ({"name", "unit"?}).
+  named(e) { return podium.axisLabel(e.name, e.unit); },
 
   // Several (x, y) series on one x axis: the union of their xs, each y null where it has none.
   align(list) {

@@ -1,7 +1,8 @@
 // What a researcher reads on the dashboard, in headless Chromium (setup: harness.mjs): a small
 // demo-like campaign (the shipped get-up pair evaluated at smoke size, fast and slowed, then a
 // smoke Weaker training stage) and two landscape searches. Asserted: the campaign page's summary
-// panel rows; named axes with units on a learning curve and on an evaluation plot (drawn as
+// panel rows and the task's table (as /api/campaigns/ID/summary, podium summary's document, has
+// them), the trial page's table in place of the JSON dump; named axes with units on a learning curve and on an evaluation plot (drawn as
 // points, in its own section; a rate on [0, 1]); replay labels with the trial name and κ; the
 // breadcrumb naming the campaign; artifacts downloading under distinct names; no replay link on a
 // landscape campaign; the discovery curve; parallel-coordinates labels inside the canvas; the
@@ -41,7 +42,8 @@ run('summary', async h => {
   const [train] = (await api(`/api/campaigns/${getup}/trials?stage=1&limit=1`)).trials;
   for (const t of [standing, train]) assert.equal(t.state, 'done', `${t.name}: ${t.error}`);
 
-  step('campaign page: the summary panel, a row per stage');
+  step('campaign page: the summary panel, a row per stage and the task\'s table');
+  const summary = await api(`/api/campaigns/${getup}/summary`);  // podium summary --json's document
   await page.goto(`${url}campaign.html?id=${getup}`);
   const rows = () => page.$$eval('#summary-stages tr', r => r.slice(1).map(row => [...row.cells].map(c => c.textContent)));
   await waitFor('summary rows', async () => (await rows()).length === 2);
@@ -49,12 +51,25 @@ run('summary', async h => {
   assert.deepEqual(first.slice(0, 7), ['standing', 'getup', '1/1', '0', 'standing/0', 'slow_success_rate',
     String(Number(standing.objectives[0].toFixed(4)))]);
   assert.equal(first[7], String(detail.stages[0].strategies));
+  assert.equal(first[8], summary.stages[0].strategies.map(s => s.representative.trial).join(', '));
   assert.deepEqual(second.slice(0, 6), ['train', 'getup', '1/1', '0', 'train/0', 'success_rate']);
   assert.equal(await page.locator('#crumb').innerText(), 'getup-mini');
+  const [evaluation] = summary.stages[0].tables;  // speed × rose / stood / rise time / COM error
+  const shownTable = page.locator('#summary-tables .result-table[data-stage="standing"]');
+  assert.equal(await shownTable.locator('h3').innerText(), `standing: ${evaluation.title}`);
+  const cells = await shownTable.locator('tr').evaluateAll(r => r.map(row => [...row.cells].map(c => c.textContent)));
+  assert.deepEqual(cells[0], evaluation.columns.map(c => c.unit ? `${c.name} (${c.unit})` : c.name));
+  assert.deepEqual(cells.slice(1).map(r => r.slice(0, 2)), evaluation.rows.map(r => r.slice(0, 2)));
+  assert.ok(cells.slice(1).some(r => /^κ 0\.5$/.test(r[1])), `speeds: ${cells.map(r => r[1])}`);
 
-  step('trial page: an evaluation plot over κ, points, in its own section, with units');
+  step('trial page: the task\'s table in place of the JSON dump, an evaluation plot over κ with units');
   await page.goto(`${url}trial.html?id=${standing.id}`);
   await waitFor('evaluation plots', async () => (await page.locator('#evaluations .uplot').count()) > 0);
+  const trialTable = await page.locator('#result-table tr').evaluateAll(r => r.map(row => [...row.cells].map(c => c.textContent)));
+  assert.equal(trialTable.length, evaluation.rows.length + 1);
+  assert.equal(await page.locator('#result').isVisible(), false, 'the raw JSON is one click away, not shown');
+  await page.locator('#result-raw summary').click();
+  assert.deepEqual(JSON.parse(await page.locator('#result').innerText()), standing.result_info);
   assert.equal(await page.locator('#crumb-campaign').innerText(), 'getup-mini');
   const plots = () => page.evaluate(() => window.podiumPlots);
   const rise = (await plots()).find(p => p.title === 'eval/rise_time_s');
@@ -117,6 +132,7 @@ run('summary', async h => {
   step('comparison view: two campaigns\' tables and curves overlaid');
   await page.goto(`${url}compare.html?campaigns=${random},${bds}`);
   await waitFor('comparison', () => page.evaluate(() => window.podiumCompare?.campaigns.length === 2));
+  await waitFor('comparison table', async () => (await page.locator('#compare-table tr').count()) === 3);
   const table = await page.$$eval('#compare-table tr', r => r.slice(1).map(row => [...row.cells].map(c => c.textContent)));
   assert.deepEqual(table.map(r => r.slice(0, 5)), [['landscape-random', 'explore', 'landscape', 'random', '24/24'],
     ['landscape-bds', 'explore', 'landscape', 'bds', '24/24']]);

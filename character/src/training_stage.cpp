@@ -57,9 +57,12 @@ double TestRound::seconds() const { return std::chrono::duration<double>(std::ch
 
 Json time_metric_entries() {
   const auto entry = [](const char* name, const char* description) {
-    return Json{{"name", name}, {"unit", "s"}, {"description", description}};
+    // plugins::metric_entry's shape (character/ does not depend on plugins/): a learning curve
+    // over environment steps.
+    return Json{{"name", name}, {"unit", "s"}, {"description", description}, {"x", {{"name", "environment steps"}}},
+                {"kind", "learning_curve"}};
   };
-  const char* note = " since the previous test; step = environment steps (wall time: differs between runs of a seed)";
+  const char* note = " since the previous test (wall time: differs between runs of a seed)";
   return {entry("time/rollout_s", (std::string("seconds stepping the copies and querying the policy") + note).c_str()),
           entry("time/update_s", (std::string("seconds in network updates") + note).c_str()),
           entry("time/test_s", "seconds of the test at this step (wall time: differs between runs of a seed)"),

@@ -104,14 +104,19 @@ Json described_features() {
 }
 
 Json stage_description(const std::string& stage) {
+  // The metrics' plots: training curves over environment steps; the evaluation's points over κ
+  // (1 = fast: π_weak itself) or over π_weak's strength β.
+  const plugins::MetricShape steps{.x = {"environment steps", ""}}, steps_rate{.x = {"environment steps", ""}, .rate = true};
+  const plugins::MetricShape kappa{.x = {"κ", ""}, .evaluation = true}, kappa_rate{.x = {"κ", ""}, .evaluation = true, .rate = true};
+  const plugins::MetricShape strength_rate{.x = {"strength β", ""}, .evaluation = true, .rate = true};
   if (stage == "slower")
     return {{"features", Json::array()},
             {"metrics",
-             {plugins::metric_entry("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa; step = environment steps"),
-              plugins::metric_entry("slow/com_error_m", "m", "mean |h_com − h'_com| over the tracked part of the rise on those starts"),
-              plugins::metric_entry("slow/tracked_fraction", "", "mean share of the rise tracked before a 0.5 m COM deviation ended the episode"),
-              plugins::metric_entry("slow/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step reached (positive: below the reference)"),
-              plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end")}},
+             {plugins::metric_entry("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa", steps),
+              plugins::metric_entry("slow/com_error_m", "m", "mean |h_com − h'_com| over the tracked part of the rise on those starts", steps),
+              plugins::metric_entry("slow/tracked_fraction", "", "mean share of the rise tracked before a 0.5 m COM deviation ended the episode", steps_rate),
+              plugins::metric_entry("slow/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step reached (positive: below the reference)", steps),
+              plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end", steps_rate)}},
             {"objectives", {"success_rate", "neg_com_error_m"}},
             {"objective_info",
              Json::array({plugins::objective_entry("success_rate", "", "fraction of the fixed starts π_slow stands at the end of, at slow_test_kappa"),
@@ -119,34 +124,34 @@ Json stage_description(const std::string& stage) {
   const Json features = {{"features", described_features()}, {"strategy_threshold", 0.3}};
   if (stage == "evaluate") {
     Json d = features;
-    d["metrics"] = {plugins::metric_entry("eval/success_rate", "", "success over the unseen falls; step = κ (1 = fast: π_weak itself)"),
-                    plugins::metric_entry("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m; step = κ"),
-                    plugins::metric_entry("eval/stood_rate", "", "fraction of the unseen falls whose head top stayed above rise_height_m for the last stand_steps; step = κ"),
-                    plugins::metric_entry("eval/head_drops", "", "mean times the head top fell back below rise_height_m, over the falls that rose (standing: 0; a leap loop: 2–4); step = κ"),
-                    plugins::metric_entry("eval/com_error_m", "m", "mean COM-height tracking error of π_slow over the tracked part of the rise; step = κ"),
-                    plugins::metric_entry("eval/tracked_fraction", "", "mean share of the rise π_slow tracked before a 0.5 m COM deviation ended it; step = κ"),
-                    plugins::metric_entry("eval/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step π_slow reached (positive: below the reference); step = κ"),
-                    plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls; step = strength β")};
+    d["metrics"] = {plugins::metric_entry("eval/success_rate", "", "success over the unseen falls (κ = 1: fast, π_weak itself)", kappa_rate),
+                    plugins::metric_entry("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m", kappa),
+                    plugins::metric_entry("eval/stood_rate", "", "fraction of the unseen falls whose head top stayed above rise_height_m for the last stand_steps", kappa_rate),
+                    plugins::metric_entry("eval/head_drops", "", "mean times the head top fell back below rise_height_m, over the falls that rose (standing: 0; a leap loop: 2–4)", kappa),
+                    plugins::metric_entry("eval/com_error_m", "m", "mean COM-height tracking error of π_slow over the tracked part of the rise", kappa),
+                    plugins::metric_entry("eval/tracked_fraction", "", "mean share of the rise π_slow tracked before a 0.5 m COM deviation ended it", kappa_rate),
+                    plugins::metric_entry("eval/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step π_slow reached (positive: below the reference)", kappa),
+                    plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls", strength_rate)};
     plugins::set_objectives(
         d, Json::array({plugins::objective_entry("slow_success_rate", "", "mean slowed success: π_slow's success over the unseen falls, averaged over the speeds κ < 1 (π_weak's fast success when there is no π_slow)"),
             plugins::objective_entry("fast_success_rate", "", "fast success: π_weak's success over the unseen falls at its own strength")}));
     return d;
   }
   Json d = features;
-  d["metrics"] = {plugins::metric_entry("test_return", "", "mean R_weak return on the fixed starts at β^i; step = environment steps"),
-                  plugins::metric_entry("test_return_min", "", "the lowest of those returns: R_test, which advances β above ω (§5)"),
-                  plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes"),
-                  plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m"),
-                  plugins::metric_entry("risen_rate", "", "fraction of the fixed starts whose head top passed success_height_m at some step (risen − success: rose and fell again)"),
-                  plugins::metric_entry("risen_on_back_rate", "", "risen_rate over the fixed starts that lie on the back (the torso's front axis up); absent when none does"),
-                  plugins::metric_entry("stood_on_back_rate", "", "stood_rate over those starts"),
-                  plugins::metric_entry("stood_rate", "", "fraction of the fixed starts whose head top stayed above success_height_m for the last stand_steps control steps (a get-up that stands; a leap's flight is shorter)"),
-                  plugins::metric_entry("head_drops", "", "mean times the head top fell back below success_height_m, over the fixed starts whose head passed it (a get-up that stands: 0; a leap loop: 2–4 per 250 steps)"),
-                  plugins::metric_entry("head_peak_m", "m", "mean highest head top over those starts (standing humanoid21: 1.56 m; above it: the character leaps)"),
-                  plugins::metric_entry("curriculum/strength", "", "β^i, the torque multiplier trained at after the test"),
-                  plugins::metric_entry("train_return", "", "mean return of the training episodes since the last test"),
-                  plugins::metric_entry("sac/alpha", "", "SAC's temperature α"),
-                  plugins::metric_entry("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far")};
+  d["metrics"] = {plugins::metric_entry("test_return", "", "mean R_weak return on the fixed starts at β^i", steps),
+                  plugins::metric_entry("test_return_min", "", "the lowest of those returns: R_test, which advances β above ω (§5)", steps),
+                  plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes", steps),
+                  plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m", steps_rate),
+                  plugins::metric_entry("risen_rate", "", "fraction of the fixed starts whose head top passed success_height_m at some step (risen − success: rose and fell again)", steps_rate),
+                  plugins::metric_entry("risen_on_back_rate", "", "risen_rate over the fixed starts that lie on the back (the torso's front axis up); absent when none does", steps_rate),
+                  plugins::metric_entry("stood_on_back_rate", "", "stood_rate over those starts", steps_rate),
+                  plugins::metric_entry("stood_rate", "", "fraction of the fixed starts whose head top stayed above success_height_m for the last stand_steps control steps (a get-up that stands; a leap's flight is shorter)", steps_rate),
+                  plugins::metric_entry("head_drops", "", "mean times the head top fell back below success_height_m, over the fixed starts whose head passed it (a get-up that stands: 0; a leap loop: 2–4 per 250 steps)", steps),
+                  plugins::metric_entry("head_peak_m", "m", "mean highest head top over those starts (standing humanoid21: 1.56 m; above it: the character leaps)", steps),
+                  plugins::metric_entry("curriculum/strength", "", "β^i, the torque multiplier trained at after the test", steps),
+                  plugins::metric_entry("train_return", "", "mean return of the training episodes since the last test", steps),
+                  plugins::metric_entry("sac/alpha", "", "SAC's temperature α", steps),
+                  plugins::metric_entry("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far", steps)};
   plugins::set_objectives(
       d, Json::array({plugins::objective_entry("success_rate", "", "fraction of the fixed starts the exported policy gets up from, at the strength it passed at"),
           plugins::objective_entry("weakness", "", "1 − β^i, the torque multiplier the exported policy passed at (0: full strength)")}));

@@ -92,16 +92,20 @@ Json presets() {
 }
 
 Json metrics() {
-  Json metrics = {plugins::metric_entry("train/avg_reward", "", "the iteration's curriculum score (curriculum_score); step = samples"),
-          plugins::metric_entry("train/episodes", "", "episodes ended in the iteration"),
-          plugins::metric_entry("curriculum/z_m", "m", "bar height (obstacle width) z after the iteration (Table 3.1)"),
-          plugins::metric_entry("curriculum/control_hz", "Hz", "the copies' control rate f_control(ρ(z))"),
-          plugins::metric_entry("eval/success_rate", "", "test jumps at the current z that land on the block (the first deterministic)"),
-          plugins::metric_entry("eval/return", "", "mean reward of the test jumps (eq. 3.16 × naturalness × novelty)"),
-          plugins::metric_entry("eval/up_angle_rad", "rad", "the deterministic test jump's up-angle at the bar"),
-          plugins::metric_entry("eval/mean_offset_l1", "rad", "mean L1 norm of the P-VAE offsets in the test jumps (0 with plain targets)"),
-          plugins::metric_entry("eval/success_rate_start_bar", "", "the final policy's evaluation jumps at the starting bar (the task's bar: at least half)"),
-          plugins::metric_entry("eval/success_rate_final", "", "the final policy's evaluation jumps at the z reached")};
+  // Training's curves over samples (environment steps of every copy); the final policy's
+  // evaluation jumps, one point each at the samples trained.
+  const plugins::MetricShape samples{.x = {"samples", ""}}, samples_rate{.x = {"samples", ""}, .rate = true};
+  const plugins::MetricShape final_rate{.x = {"samples", ""}, .evaluation = true, .rate = true};
+  Json metrics = {plugins::metric_entry("train/avg_reward", "", "the iteration's curriculum score (curriculum_score)", samples),
+          plugins::metric_entry("train/episodes", "", "episodes ended in the iteration", samples),
+          plugins::metric_entry("curriculum/z_m", "m", "bar height (obstacle width) z after the iteration (Table 3.1)", samples),
+          plugins::metric_entry("curriculum/control_hz", "Hz", "the copies' control rate f_control(ρ(z))", samples),
+          plugins::metric_entry("eval/success_rate", "", "test jumps at the current z that land on the block (the first deterministic)", samples_rate),
+          plugins::metric_entry("eval/return", "", "mean reward of the test jumps (eq. 3.16 × naturalness × novelty)", samples),
+          plugins::metric_entry("eval/up_angle_rad", "rad", "the deterministic test jump's up-angle at the bar", samples),
+          plugins::metric_entry("eval/mean_offset_l1", "rad", "mean L1 norm of the P-VAE offsets in the test jumps (0 with plain targets)", samples),
+          plugins::metric_entry("eval/success_rate_start_bar", "", "the final policy's evaluation jumps at the starting bar (the task's bar: at least half)", final_rate),
+          plugins::metric_entry("eval/success_rate_final", "", "the final policy's evaluation jumps at the z reached", final_rate)};
   for (const Json& m : character::time_metric_entries()) metrics.push_back(m);  // the training's wall times
   return metrics;
 }
@@ -123,8 +127,8 @@ Json describe_stage(const TaskConfig& c) {
   if (c.stage == "pose_vae")
     return {{"params", Json::array()}, {"features", Json::array()}, {"objectives", {"fit"}},
             {"objective_info", Json::array({plugins::objective_entry("fit", "rad", "minus the P-VAE's reconstruction RMSE over the training poses")})},
-            {"metrics", {plugins::metric_entry("pose_vae_loss", "", "mean P-VAE loss (MSE + β·KL) per epoch; step = epoch"),
-                         plugins::metric_entry("pose_vae_rmse_rad", "rad", "reconstruction RMSE over the training poses at the last epoch")}}};
+            {"metrics", {plugins::metric_entry("pose_vae_loss", "", "mean P-VAE loss (MSE + β·KL) per epoch", plugins::MetricShape{.x = {"epochs", ""}}),
+                         plugins::metric_entry("pose_vae_rmse_rad", "rad", "reconstruction RMSE over the training poses at the last epoch", plugins::MetricShape{.x = {"epochs", ""}, .evaluation = true})}}};
   Json params = Json::array();
   for (const TakeoffFeature& f : c.box) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
   Json d = {{"params", params}, {"metrics", metrics()}};

@@ -101,7 +101,8 @@ class LandscapeTask final : public plugins::Task {
       features.push_back({{"name", "f" + std::to_string(f)}, {"low", 0.0}, {"high", 1.0}, {"metric", "euclidean"}});
     return {{"params", params},
             {"features", features},
-            {"metrics", {{{"name", "trace"}, {"description", "a synthetic learning curve ending at the objective"}}}},
+            {"metrics", {plugins::metric_entry("trace", "", "a synthetic learning curve ending at the objective",
+                                                {.x = {"iteration", ""}})}},
             {"objectives", {"objective"}},
             {"strategy_threshold", 0.02},  // plateau values are constant: any two strategies differ more
             {"presets",

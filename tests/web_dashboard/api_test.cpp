@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -152,6 +153,85 @@ TEST_F(Api, TrialDetailHasAttemptsArtifactsAndMetrics) {
   EXPECT_EQ(metrics[0]["name"], "trace");
   EXPECT_EQ(metrics[0]["steps"].size(), 5u);
   EXPECT_DOUBLE_EQ(metrics[0]["values"][4].get<double>(), trial.objectives[0].get<double>());
+}
+
+// Artifacts download as campaign_stage-index_artifact.ext: a trial's files, and those of different
+// trials, never share a name.
+TEST_F(Api, ArtifactsDownloadUnderTheirCampaignStageTrialAndName) {
+  const auto trials = store()->campaign_trials(landscape_);
+  std::set<std::string> names;
+  for (const auto& trial : {trials[3], trials[17]}) {
+    const Json t = server_->get_json("/api/trials/" + std::to_string(trial.id));
+    EXPECT_EQ(t["campaign_name"], "smoke");
+    const std::string expected = "smoke_explore-" + std::to_string(trial.index) + "_result" +
+                                 std::filesystem::path(t["artifacts"][0]["path"].get<std::string>()).extension().string();
+    EXPECT_EQ(t["artifacts"][0]["download_name"], expected);
+    auto client = server_->client();
+    const auto r = client.Get(t["artifacts"][0]["url"].get<std::string>().c_str());
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->get_header_value("Content-Disposition"), "attachment; filename=\"" + expected + "\"");
+    names.insert(expected);
+  }
+  EXPECT_EQ(names.size(), 2u);
+}
+
+// Metrics carry their plot's shape: the landscape's trace declares its axis; the replay fixture
+// declares none, and reads as a learning curve over "step".
+TEST_F(Api, MetricsDeclareTheirAxisAndKindWithAFallback) {
+  const Json landscape = server_->get_json("/api/trials/" + std::to_string(store()->campaign_trials(landscape_)[0].id));
+  ASSERT_EQ(landscape["metrics"].size(), 1u);
+  EXPECT_EQ(landscape["metrics"][0]["x"]["name"], "iteration");
+  EXPECT_EQ(landscape["metrics"][0]["kind"], "learning_curve");
+  const Json fixture = server_->get_json("/api/trials/" + std::to_string(store()->campaign_trials(replay_)[0].id));
+  ASSERT_FALSE(fixture["metrics"].empty());
+  for (const auto& m : fixture["metrics"]) {
+    EXPECT_EQ(m["x"]["name"], "step") << m;
+    EXPECT_EQ(m["kind"], "learning_curve") << m;
+  }
+  const Json detail = server_->get_json("/api/campaigns/" + std::to_string(landscape_));
+  EXPECT_EQ(detail["stages"][0]["description"]["metrics"], landscape["metrics"]);
+}
+
+// Each stage's best done trial by its own objective (no number across stages), and whether a
+// strategy's representative recorded a motion (a landscape's did not: no replay link).
+TEST_F(Api, StagesNameTheirBestTrialAndStrategiesSayWhetherTheyMove) {
+  const Json list = server_->get_json("/api/campaigns");
+  const Json& c = list[0];
+  const Json& best = c["stages"][0]["best"];
+  EXPECT_EQ(best["objective"], "objective");
+  EXPECT_DOUBLE_EQ(best["value"].get<double>(), c["best_objective"].get<double>());
+  const Json t = server_->get_json("/api/trials/" + std::to_string(best["id"].get<std::int64_t>()));
+  EXPECT_EQ(best["name"], t["name"]);
+  EXPECT_EQ(t["objectives"][0], best["value"]);
+  for (const auto& row : server_->get_json("/api/campaigns/" + std::to_string(landscape_) + "/strategies")) {
+    EXPECT_EQ(row["motion"], false) << row;
+    EXPECT_TRUE(row["technique"].is_null()) << row;
+  }
+  const Json moving = server_->get_json("/api/campaigns/" + std::to_string(replay_) + "/strategies");
+  ASSERT_FALSE(moving.empty());
+  for (const auto& row : moving) EXPECT_EQ(row["motion"], true) << row;
+}
+
+// The summary panel's and the comparison view's documents are the orchestrator's summary library's
+// (what `podium summary --json` prints); campaigns are named by id or name, a bad list is refused.
+TEST_F(Api, SummaryAndComparisonAreTheSummaryLibrarysDocuments) {
+  const Json summary = server_->get_json("/api/campaigns/smoke/summary");
+  EXPECT_EQ(summary["campaign"]["id"], landscape_);
+  ASSERT_EQ(summary["stages"].size(), 1u);
+  EXPECT_EQ(summary["stages"][0]["trials"]["done"], 120);
+  EXPECT_EQ(summary["stages"][0]["best"]["id"], server_->get_json("/api/campaigns")[0]["stages"][0]["best"]["id"]);
+  const Json both = server_->get_json("/api/compare?campaigns=" + std::to_string(landscape_) + ",swing");
+  ASSERT_EQ(both["campaigns"].size(), 2u);
+  EXPECT_EQ(both["campaigns"][0], summary);
+  EXPECT_EQ(both["campaigns"][1]["campaign"]["id"], replay_);
+  int status = 0;
+  for (const char* bad : {"/api/compare", "/api/compare?campaigns=", "/api/compare?campaigns=smoke,,swing",
+                          "/api/compare?campaigns=1,1,1,1,1,1,1,1,1"}) {
+    server_->get_json(bad, &status);
+    EXPECT_EQ(status, 400) << bad;
+  }
+  server_->get_json("/api/compare?campaigns=smoke,no-such-campaign", &status);
+  EXPECT_EQ(status, 404);
 }
 
 TEST_F(Api, TrajectoryEndpointServesTheReplayArtifact) {

@@ -7,6 +7,7 @@
 #include <type_traits>
 #include <string_view>
 
+#include "podium/orchestrator/summary.h"
 #include "podium/store/run_folders.h"
 #include "podium/store/writer_lock.h"
 
@@ -36,7 +37,27 @@ std::string shown_state(const std::string& state, bool scheduler_alive) {
 }
 bool scheduler_alive(const Queries& q) { return store::WriterLock::held(q.store().path()); }
 
-Json campaign_summary(const store::CampaignRecord& c, const store::CampaignSummary& s,
+// A stage's best done trial by its primary objective (an index probe: trials_by_objective), with
+// the objective's name, so no page compares objectives across stages; null before one is done.
+Json stage_best(const Queries& q, std::int64_t campaign_id, const store::StageRecord& st) {
+  store::TrialFilter f;
+  f.stage_index = static_cast<int>(st.index);
+  f.state = "done";
+  f.order = store::TrialFilter::Order::objective;
+  f.descending = true;
+  f.limit = 1;
+  const auto page = q.trial_page(campaign_id, f);
+  const Json names = st.description.value("objectives", Json::array());
+  const std::string objective = !names.empty() && names[0].is_string() ? names[0].get<std::string>() : "objective";
+  if (page.trials.empty()) return nullptr;
+  const auto& t = page.trials.front();
+  const Json values = Json::parse(t.objectives, nullptr, false);
+  const bool has_value = values.is_array() && !values.empty() && values[0].is_number();
+  return {{"id", t.id}, {"name", trial_name(st.name, t.index)}, {"objective", objective},
+          {"value", has_value ? values[0] : Json(nullptr)}};
+}
+
+Json campaign_summary(const Queries& q, const store::CampaignRecord& c, const store::CampaignSummary& s,
                       const std::vector<store::StageRecord>& stage_list, bool alive, double now) {
   std::map<std::int64_t, std::int64_t> strategies;  // by stage index: ids restart per stage
   for (const auto& row : s.strategy_table) ++strategies[row.stage_index];
@@ -51,7 +72,8 @@ Json campaign_summary(const store::CampaignRecord& c, const store::CampaignSumma
                       {"state", shown_state(store::shown_stage_state(c.state, st.state), alive)},
                       {"error", st.error},
                       {"budget_trials", st.budget_trials},
-                      {"strategies", strategies[st.index]}});
+                      {"strategies", strategies[st.index]},
+                      {"best", stage_best(q, c.id, st)}});
   }
   // Rate over the span the campaign has been producing results (to now while it runs).
   const double end = c.state == "running" ? now : s.last_finished_at;
@@ -181,16 +203,33 @@ fs::path file_in_run_folder(const Queries& q, const fs::path& database, std::int
   return file;
 }
 
-Json strategy_json(const std::vector<store::StrategySummary>& list, const std::vector<store::StageRecord>& stages) {
+bool has_motion(const std::vector<store::ArtifactRecord>& artifacts) {
+  return std::any_of(artifacts.begin(), artifacts.end(), [](const auto& a) { return a.name == "trajectory"; });
+}
+
+// The nearest captured technique a task named in a trial's result info ({"nearest_technique":
+// {"name"}}, as the jump's explore trials carry it), or null.
+Json nearest_technique(const Json& result_info) {
+  const Json* t = result_info.is_object() && result_info.contains("nearest_technique") ? &result_info["nearest_technique"] : nullptr;
+  return t && t->is_object() && t->contains("name") && (*t)["name"].is_string() ? (*t)["name"] : Json(nullptr);
+}
+
+Json strategy_json(const Queries& q, const std::vector<store::StrategySummary>& list,
+                   const std::vector<store::StageRecord>& stages) {
   Json out = Json::array();
-  for (const auto& s : list)
+  for (const auto& s : list) {
+    // Per representative: whether it recorded a motion (no replay link otherwise) and its technique.
+    const auto representative = q.trial(s.representative_trial);
     out.push_back({{"stage", s.stage_index},
                    {"strategy", s.strategy},
                    {"trials", s.trials},
                    {"representative_trial", s.representative_trial},
                    {"representative_name", trial_name(stages.at(static_cast<std::size_t>(s.stage_index)).name, s.representative_index)},
                    {"best_objective", optional_number(s.best_objective)},
-                   {"features", s.representative_features}});
+                   {"features", s.representative_features},
+                   {"motion", has_motion(q.store().artifacts(s.representative_trial))},
+                   {"technique", representative ? nearest_technique(representative->result_info) : Json(nullptr)}});
+  }
   return out;
 }
 
@@ -222,13 +261,34 @@ Json trial_inputs(const Queries& q, const store::StageRecord& stage, const store
   return out;
 }
 
+// A description's metrics as the pages draw them (plugins::metric_entry's fields): an entry
+// written without "x" or "kind" (an older task or database) is a learning curve over "step".
+Json metric_shapes(const Json& description) {
+  Json out = Json::array();
+  for (Json m : description.value("metrics", Json::array())) {
+    if (!m.is_object() || !m.contains("name")) continue;
+    if (!m.contains("x") || !m["x"].is_object() || !m["x"].contains("name")) m["x"] = {{"name", "step"}};
+    if (!m.contains("kind") || (m["kind"] != "learning_curve" && m["kind"] != "evaluation")) m["kind"] = "learning_curve";
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+// The file name an artifact downloads as: campaign, stage, trial index and artifact name with the
+// file's extension ("getup-demo_evaluate-0_trajectory_fast.jsonl"), so a trial's artifacts, and
+// those of different trials, never share a name. send_file() keeps it to [A-Za-z0-9._-].
+std::string download_name(const std::string& campaign, const std::string& stage, std::int64_t index,
+                          const store::ArtifactRecord& a) {
+  return campaign + "_" + stage + "-" + std::to_string(index) + "_" + a.name + fs::path(a.path).extension().string();
+}
+
 }  // namespace
 
 Json campaign_list(const Queries& q, double now) {
   Json out = Json::array();
   const bool alive = scheduler_alive(q);
   for (const auto& c : q.store().campaigns())
-    out.push_back(campaign_summary(c, q.summary(c.id, now), q.store().stages(c.id), alive, now));
+    out.push_back(campaign_summary(q, c, q.summary(c.id, now), q.store().stages(c.id), alive, now));
   return out;
 }
 
@@ -243,7 +303,7 @@ Json campaign_detail(const Queries& q, std::int64_t campaign_id, double now) {
   if (!c) throw HttpError(404, "no campaign " + std::to_string(campaign_id));
   const auto summary = q.summary(campaign_id, now);
   const auto stage_list = q.store().stages(campaign_id);
-  Json out = campaign_summary(*c, summary, stage_list, scheduler_alive(q), now);
+  Json out = campaign_summary(q, *c, summary, stage_list, scheduler_alive(q), now);
   out["spec"] = c->spec;
   out["podium_version"] = c->podium_version;
   // The summary's stage entries, with what the campaign page shows beside them.
@@ -256,6 +316,7 @@ Json campaign_detail(const Queries& q, std::int64_t campaign_id, double now) {
     entry["id"] = st.id;
     entry["search_config"] = st.search_config;
     entry["task_config"] = st.task_config;
+    description["metrics"] = metric_shapes(st.description);
     entry["description"] = description;  // with "config": the keys the task accepts
     entry["inputs"] = st.inputs;
     // How many trials the stage was handed when it started (null before, or without inputs).
@@ -264,7 +325,7 @@ Json campaign_detail(const Queries& q, std::int64_t campaign_id, double now) {
     entry["elapsed_s"] = st.elapsed_s;
     entry["counts"] = counts_json(counts == summary.stage_counts.end() ? store::TrialCounts{} : counts->second);
   }
-  out["strategy_table"] = strategy_json(summary.strategy_table, stage_list);
+  out["strategy_table"] = strategy_json(q, summary.strategy_table, stage_list);
   return out;
 }
 
@@ -311,7 +372,25 @@ std::string scatter_points(const Queries& q, std::int64_t campaign_id, std::int6
 }
 
 Json strategy_table(const Queries& q, std::int64_t campaign_id) {
-  return strategy_json(q.strategies(campaign_id), q.store().stages(campaign_id));
+  return strategy_json(q, q.strategies(campaign_id), q.store().stages(campaign_id));
+}
+
+Json summary_document(const Queries& q, std::int64_t campaign_id) { return orchestrator::campaign_summary(q.store(), campaign_id); }
+
+Json comparison_document(const Queries& q, const std::string& campaigns) {
+  constexpr std::size_t kMaxCampaigns = 8;  // each summary reads its campaign's done trials
+  std::vector<std::int64_t> ids;
+  std::size_t start = 0;
+  while (start <= campaigns.size()) {
+    const std::size_t comma = std::min(campaigns.find(',', start), campaigns.size());
+    const std::string name = campaigns.substr(start, comma - start);
+    if (name.empty()) throw HttpError(400, "campaigns: \"" + campaigns + "\" has an empty entry (ids or names, comma-separated)");
+    ids.push_back(resolve_campaign(q, name));
+    start = comma + 1;
+  }
+  if (ids.size() > kMaxCampaigns)
+    throw HttpError(400, "campaigns: " + std::to_string(ids.size()) + " given, at most " + std::to_string(kMaxCampaigns) + " compare at once");
+  return orchestrator::compare_campaigns(q.store(), ids);
 }
 
 Json campaign_events(const Queries& q, std::int64_t campaign_id, std::size_t last_n) {
@@ -334,6 +413,11 @@ Json trial_detail(const Queries& q, std::int64_t trial_id) {
   out["feature_names"] = Json::array();
   for (const auto& f : stage->description.value("features", Json::array())) out["feature_names"].push_back(f.value("name", ""));
   out["objective_names"] = stage->description.value("objectives", Json::array());
+  out["metrics"] = metric_shapes(stage->description);  // each metric's axis, unit and kind
+  out["task_config"] = stage->task_config;              // resolved (e.g. a slowed get-up's κ)
+  const auto campaign = q.store().campaign(*campaign_id);
+  const std::string campaign_name = campaign ? campaign->name : "";
+  out["campaign_name"] = campaign_name;
   Json attempts = Json::array();
   for (const auto& a : q.store().attempts(trial_id))
     attempts.push_back({{"number", a.number},
@@ -354,6 +438,7 @@ Json trial_detail(const Queries& q, std::int64_t trial_id) {
                          {"path", list[i].path},
                          {"sha256", list[i].sha256},
                          {"size_bytes", list[i].size_bytes},
+                         {"download_name", download_name(campaign_name, stage->name, t->index, list[i])},
                          {"url", "/api/trials/" + std::to_string(trial_id) + "/artifacts/" + std::to_string(i)}});
   out["artifacts"] = artifacts;
   out["log_url"] = "/api/trials/" + std::to_string(trial_id) + "/log";
@@ -378,6 +463,18 @@ std::size_t artifact_index(const Queries& q, std::int64_t trial_id, const std::s
   for (std::size_t i = 0; i < list.size(); ++i)
     if (list[i].name == name) return i;
   throw HttpError(404, "trial " + std::to_string(trial_id) + " has no artifact \"" + name + "\"");
+}
+
+std::string artifact_download_name(const Queries& q, std::int64_t trial_id, std::size_t index) {
+  const auto t = q.trial(trial_id);
+  const auto campaign_id = q.trial_campaign(trial_id);
+  if (!t || !campaign_id) throw HttpError(404, "no trial " + std::to_string(trial_id));
+  const auto list = q.store().artifacts(trial_id);
+  if (index >= list.size())
+    throw HttpError(404, "trial " + std::to_string(trial_id) + " has no artifact " + std::to_string(index));
+  const auto stage = q.store().stages(*campaign_id);
+  const auto st = std::find_if(stage.begin(), stage.end(), [&](const auto& s) { return s.id == t->stage_id; });
+  return download_name(q.store().campaign(*campaign_id)->name, st->name, t->index, list[index]);
 }
 
 fs::path artifact_file(const Queries& q, const fs::path& database, std::int64_t trial_id, std::size_t index) {

@@ -28,6 +28,12 @@ std::string trial_page(const store::Queries& q, std::int64_t campaign_id, const 
 /// JSON text (written directly: 5,000 points are 40,000 numbers).
 std::string scatter_points(const store::Queries& q, std::int64_t campaign_id, std::int64_t max_points);
 Json strategy_table(const store::Queries& q, std::int64_t campaign_id);
+/// The campaign's summary: orchestrator::campaign_summary's JSON (orchestrator/summary.h), what
+/// `podium summary --json` prints.
+Json summary_document(const store::Queries& q, std::int64_t campaign_id);
+/// Several campaigns side by side: orchestrator::compare_campaigns's JSON. `campaigns`: ids or
+/// names, comma-separated, 1 to 8 of them; 400 otherwise, 404 for one that does not exist.
+Json comparison_document(const store::Queries& q, const std::string& campaigns);
 Json campaign_events(const store::Queries& q, std::int64_t campaign_id, std::size_t last_n);
 Json trial_detail(const store::Queries& q, std::int64_t trial_id);
 Json metric_series(const store::Queries& q, std::int64_t trial_id, std::int64_t max_points,
@@ -37,6 +43,8 @@ Json metric_series(const store::Queries& q, std::int64_t trial_id, std::int64_t 
 /// (resolving symlinks and ".."); 404 for an unknown trial or artifact, 403 outside the folder.
 std::filesystem::path artifact_file(const store::Queries& q, const std::filesystem::path& database,
                                     std::int64_t trial_id, std::size_t index);
+/// The name the trial's artifact number `index` downloads as: "<campaign>_<stage>-<index>_<artifact><ext>".
+std::string artifact_download_name(const store::Queries& q, std::int64_t trial_id, std::size_t index);
 /// The trial's log (store::kTrialLog in its folder), under the same rule; 404 while it has none.
 std::filesystem::path trial_log_file(const store::Queries& q, const std::filesystem::path& database, std::int64_t trial_id);
 /// The index of the trial's artifact called `name`; 404 if it has none.

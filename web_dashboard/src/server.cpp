@@ -78,10 +78,11 @@ void send_json(Response& res, const Json& body) {
   res.set_text(body.dump(), "application/json");
 }
 
-// A file, read as it is sent (checkpoints can be large).
-void send_file(Response& res, const fs::path& file, const std::string& mime, bool attachment) {
-  if (attachment) {
-    std::string name = file.filename().string();
+// A file, read as it is sent (checkpoints can be large); `download`: the name it is saved as
+// (empty: shown inline).
+void send_file(Response& res, const fs::path& file, const std::string& mime, const std::string& download) {
+  if (!download.empty()) {
+    std::string name = download;
     for (char& c : name)
       if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '-' && c != '_') c = '_';
     res.set_header("Content-Disposition", "attachment; filename=\"" + name + "\"");
@@ -244,6 +245,14 @@ struct Server::Impl {
     get(R"(/api/campaigns/([^/]+)/strategies)", json([](const Request& req, const store::Queries& q) {
       return strategy_table(q, resolve_campaign(q, req.matches[1]));
     }));
+    get(R"(/api/campaigns/([^/]+)/summary)", json([](const Request& req, const store::Queries& q) {
+      return summary_document(q, resolve_campaign(q, req.matches[1]));
+    }));
+    get("/api/compare", json([](const Request& req, const store::Queries& q) {
+      const auto campaigns = param(req, "campaigns");
+      if (!campaigns) throw HttpError(400, "campaigns: missing (compare?campaigns=ID,ID,...)");
+      return comparison_document(q, *campaigns);
+    }));
     get(R"(/api/campaigns/([^/]+)/events)", json([](const Request& req, const store::Queries& q) {
       const auto last = int_param(req, "last", 200, 1, 10000);
       return campaign_events(q, resolve_campaign(q, req.matches[1]), static_cast<std::size_t>(last));
@@ -259,11 +268,12 @@ struct Server::Impl {
     get(R"(/api/trials/([^/]+)/artifacts/([^/]+))", api([this](const Request& req, Response& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
       const auto index = static_cast<std::size_t>(parse_int(req.matches[2], "artifact", 0, 1'000'000));
-      send_file(res, artifact_file(*pool.acquire(), options.database, id, index), "application/octet-stream", true);
+      auto q = pool.acquire();
+      send_file(res, artifact_file(*q, options.database, id, index), "application/octet-stream", artifact_download_name(*q, id, index));
     }));
     get(R"(/api/trials/([^/]+)/log)", api([this](const Request& req, Response& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
-      send_file(res, trial_log_file(*pool.acquire(), options.database, id), "text/plain; charset=utf-8", false);
+      send_file(res, trial_log_file(*pool.acquire(), options.database, id), "text/plain; charset=utf-8", "");
     }));
     get(R"(/api/trials/([^/]+)/trajectory)", api([this](const Request& req, Response& res) {
       const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
@@ -272,7 +282,7 @@ struct Server::Impl {
       if (name.rfind("trajectory", 0) != 0) throw HttpError(400, "artifact \"" + name + "\" is not a trajectory (its name starts with trajectory)");
       auto q = pool.acquire();
       send_file(res, artifact_file(*q, options.database, id, artifact_index(*q, id, name)),
-                "application/x-ndjson", false);  // sim/'s JSON-lines trajectory file
+                "application/x-ndjson", "");  // sim/'s JSON-lines trajectory file
     }));
     get(R"(/api/.*)", api([](const Request& req, Response&) -> void { throw HttpError(404, "no endpoint " + req.path); }));
     get(R"(/(.*))", [this](const Request& req, Response& res) {

@@ -1,6 +1,7 @@
-// Campaign page: summary, stages (state, error, hand-over, task config), strategy-feature scatter
-// of one stage (colour: strategy cluster; marker: BDS step), search history, strategy table,
-// parallel coordinates, trial table with paging, events.
+// Campaign page: the summary (per stage: trials, best trial by its named objective, strategies),
+// stages (state, error, hand-over, task config), strategy-feature scatter of one stage (colour:
+// strategy cluster; marker: BDS step), search history and discovery curve per stage, strategy
+// table, parallel coordinates, trial table with paging, events.
 'use strict';
 
 const campaignId = podium.param('id');
@@ -29,8 +30,7 @@ function renderSummary() {
   s.replaceChildren(podium.el('span', { class: 'state-' + c.state }, c.state),
     c.state === 'stopped' ? ' (no scheduler is running it: podium run resumes it)' : '',
     ` · ${c.counts.done}/${c.budget_trials} done, ${c.counts.failed} failed, ${c.counts.running} running, ${c.counts.pending} pending`,
-    ` · ${podium.num(c.trials_per_minute, 1)} trials/min · best objective ${podium.num(c.best_objective)}`,
-    ` · strategies ${c.stages.map(st => `${st.name} ${st.strategies}`).join(' · ')} · seed ${c.seed}`,
+    ` · ${podium.num(c.trials_per_minute, 1)} trials/min · seed ${c.seed}`,
     c.error ? podium.el('div', { class: 'error' }, c.error) : '');
   s.dataset.done = c.counts.done;
   podium.fill(document.getElementById('stages'),
@@ -125,7 +125,12 @@ function renderScatter() {
   const ctx = podium.canvas(canvas, W, H);
   const xs = shown.map(i => axisValue(sx.value, i)), ys = shown.map(i => axisValue(sy.value, i));
   const finite = a => a.filter(v => v !== null && v !== undefined && Number.isFinite(v));
-  const range = a => { const f = finite(a); let lo = Math.min(...f), hi = Math.max(...f); if (!(hi > lo)) { lo -= 0.5; hi += 0.5; } return [lo, hi]; };
+  // Padded by a tenth of the range each side, so no point sits on the frame.
+  const range = a => {
+    const f = finite(a); let lo = Math.min(...f), hi = Math.max(...f);
+    const pad = hi > lo ? 0.1 * (hi - lo) : Math.max(0.5, 0.1 * Math.abs(lo));
+    return [lo - pad, hi + pad];
+  };
   const [x0, x1] = finite(xs).length ? range(xs) : [0, 1], [y0, y1] = finite(ys).length ? range(ys) : [0, 1];
   const px = v => pad + (v - x0) / (x1 - x0) * (W - 2 * pad), py = v => H - pad - (v - y0) / (y1 - y0) * (H - 2 * pad);
   ctx.strokeStyle = '#9e9e9e'; ctx.strokeRect(pad, pad, W - 2 * pad, H - 2 * pad);
@@ -178,26 +183,76 @@ scatter.addEventListener('mousemove', ev => {
   scatter.title = p ? text : '';
 });
 
+// Search history, one plot per stage (stages have their own objectives): each finished trial's
+// objective against the time since the campaign started, and the best so far.
 function renderHistory() {
-  const cols = state.points.columns, n = cols.id.length;
-  const order = [...Array(n).keys()].sort((a, b) => cols.finished_at[a] - cols.finished_at[b]);  // points come in trial order
-  const t0 = state.detail.started_at || (n ? cols.finished_at[order[0]] : 0);
-  const t = [], obj = [], best = [];
-  let b = -Infinity;
-  for (const i of order) {
-    t.push(cols.finished_at[i] - t0);
-    obj.push(cols.objective[i]);
-    if (cols.objective[i] !== null) b = Math.max(b, cols.objective[i]);
-    best.push(Number.isFinite(b) ? b : null);
+  const holder = document.getElementById('history'), stages = state.detail.stages;
+  const t0 = state.detail.started_at;
+  state.history = state.history || new Map();
+  for (const st of stages) {
+    const series = podium.stageSeries(state.points, st.index, st.counts.done);
+    if (!series.n) continue;
+    const start = t0 || series.finished_at[0];
+    const data = [series.finished_at.map(t => t - start), series.objective, series.best];
+    if (state.history.has(st.index)) { state.history.get(st.index).setData(data); continue; }
+    const box = podium.el('div', { 'data-stage': st.index });
+    holder.append(box);
+    const objective = podium.objectiveName(st);
+    state.history.set(st.index, podium.plot(box, {
+      title: `${st.name}: ${objective}`, width: 420, height: 220,
+      x: { name: 'time since the campaign started', unit: 's' }, y: { name: objective },
+      series: [{ label: objective, colour: '#4e79a7', points: true, size: 4 }, { label: 'best so far', colour: '#e15759' }],
+    }, data));
   }
-  const data = [t, obj, best];
-  if (state.history) { state.history.setData(data); return; }
-  state.history = new uPlot({
-    width: 480, height: 360, scales: { x: { time: false } },
-    axes: [{ label: 'seconds since start' }, { label: 'objective' }],
-    series: [{}, { label: 'objective', stroke: '#4e79a7', paths: () => null, points: { show: true, size: 4, fill: '#4e79a7' } },
-      { label: 'best so far', stroke: '#e15759', width: 2 }],
-  }, data, document.getElementById('history'));
+}
+
+// Discovery: per stage with strategy features, the distinct strategies found against the trials
+// done (the summary's exact step curve), one line per stage on one plot (ids restart per stage:
+// each line counts its own stage's).
+function renderDiscovery(summary) {
+  const stages = summary.stages.filter(st => st.features.length);
+  const list = stages.map(st => podium.discoverySeries(st.discovery));
+  const holder = document.getElementById('discovery');
+  holder.dataset.stages = stages.map(st => st.name).join(',');
+  holder.dataset.strategies = list.map(l => l.y[l.y.length - 1] ?? 0).join(',');
+  if (!stages.length) {
+    if (state.discovery !== null) holder.replaceChildren(podium.el('p', { class: 'muted' }, 'No stage has strategy features.'));
+    state.discovery = null;
+    return;
+  }
+  const data = podium.align(list);
+  const key = stages.map(st => st.index).join(',');
+  if (state.discovery?.key === key) { state.discovery.plot.setData(data); return; }
+  holder.replaceChildren();
+  state.discovery = { key, plot: podium.plot(holder, {
+    title: 'distinct strategies', x: { name: 'trials done (samples)' }, y: { name: 'distinct strategies' },
+    series: stages.map(st => ({ label: st.name, colour: podium.colour(st.index), stepped: true })),
+  }, data) };
+}
+
+// The summary (orchestrator/summary.h, as `podium summary` prints it): per stage the trials done,
+// the best trial by its named objective, the strategies found with their representatives, and the
+// task's result tables of the stage's trials.
+function renderSummaryPanel(summary) {
+  const c = state.detail;
+  document.getElementById('compare-link').href = `compare.html?campaigns=${c.id}`;
+  const representatives = st => st.strategies.slice(0, 6).map(x => x.representative.trial).join(', ') + (st.strategies.length > 6 ? ', …' : '');
+  podium.fill(document.getElementById('summary-stages'), ['stage', 'task', 'trials done', 'failed', 'best trial', 'by', 'value', 'strategies', 'representatives'],
+    summary.stages.map(st => {
+      const best = st.best, objective = best?.objectives[0] ?? st.objectives[0];
+      return [st.name, st.task, `${st.trials.done}/${st.trials.budget}`, st.trials.failed,
+        best ? podium.trialLink(best.id, best.trial) : '–', objective ? podium.named(objective) : '–',
+        best ? podium.num(best.objectives[0]?.value) : '–', st.features.length ? st.strategies.length : '–', representatives(st) || '–'];
+    }));
+  const tables = document.getElementById('summary-tables');
+  const key = JSON.stringify(summary.stages.map(st => st.tables));
+  if (tables.dataset.key === key) return;  // unchanged: keep the DOM (and a reader's selection)
+  tables.dataset.key = key;
+  tables.replaceChildren(...summary.stages.flatMap(st => st.tables.map(t => {
+    const block = podium.dataTable({ ...t, title: `${st.name}: ${t.title}` });
+    block.dataset.stage = st.name;
+    return block;
+  })));
 }
 
 // Every stage's strategies, grouped by stage (the same id in two stages is two strategies).
@@ -206,17 +261,25 @@ function renderStrategies(list) {
   const stages = state.detail.stages;
   window.podiumStrategies = { list, stages };  // for gallery.js
   document.dispatchEvent(new CustomEvent('podium-strategies', { detail: window.podiumStrategies }));
-  podium.fill(document.getElementById('strategies'), ['stage', 'strategy', 'trials', 'best objective', 'representative trial', 'features', ''],
+  // A technique column when a task names its strategies' nearest captured technique; a replay
+  // link only for a representative that recorded a motion.
+  const techniques = list.some(s => s.technique);
+  podium.fill(document.getElementById('strategies'), ['stage', 'strategy', 'trials', 'best objective', 'representative trial', 'features',
+    ...(techniques ? ['nearest captured technique'] : []), ''],
     list.map(s => {
       const names = featureNames(s.stage);
       return [stages[s.stage]?.name ?? s.stage, podium.el('span', {}, podium.swatch(s.strategy), ` ${s.strategy}`),
-        s.trials, podium.num(s.best_objective), podium.trialLink(s.representative_trial, s.representative_name),
+        s.trials, `${podium.objectiveName(stages[s.stage])} ${podium.num(s.best_objective)}`,
+        podium.trialLink(s.representative_trial, s.representative_name),
         s.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' '),
-        podium.link(`replay.html?trial=${s.representative_trial}`, 'replay')];
+        ...(techniques ? [s.technique ?? '–'] : []),
+        s.motion ? podium.link(`replay.html?trial=${s.representative_trial}`, 'replay') : ''];
     }));
-  if (list.length >= 2 && !document.getElementById('cmp-a').value) {
-    document.getElementById('cmp-a').value = list[0].representative_trial;
-    document.getElementById('cmp-b').value = list[1].representative_trial;
+  const moving = list.filter(s => s.motion);
+  document.getElementById('cmp-controls').hidden = moving.length < 2;
+  if (moving.length >= 2 && !document.getElementById('cmp-a').value) {
+    document.getElementById('cmp-a').value = moving[0].representative_trial;
+    document.getElementById('cmp-b').value = moving[1].representative_trial;
   }
 }
 document.getElementById('cmp-go').addEventListener('click', ev => {
@@ -227,7 +290,7 @@ document.getElementById('cmp-go').addEventListener('click', ev => {
 // Parallel coordinates of the scatter's stage: one axis per parameter, then one per feature; one
 // line per done trial (the stage's first 1,000).
 function renderParallel(stage, trials) {
-  const W = 980, H = 260, pad = 30;
+  const W = 980, H = 280, pad = 30, bottom = 48;
   const ctx = podium.canvas(document.getElementById('parallel'), W, H);
   document.getElementById('parallel-stage').textContent = `· stage ${state.detail.stages[stage]?.name ?? stage}`;
   if (!trials.length) return;
@@ -238,19 +301,31 @@ function renderParallel(stage, trials) {
     const v = trials.map(a.get).filter(Number.isFinite);
     a.lo = Math.min(...v); a.hi = Math.max(...v); if (!(a.hi > a.lo)) { a.lo -= 0.5; a.hi += 0.5; }
   }
-  const ax = i => pad + i * (W - 2 * pad) / Math.max(1, axes.length - 1);
+  const left = 50, right = 50;  // room for the first and last axes' labels
+  const ax = i => left + i * (W - left - right) / Math.max(1, axes.length - 1);
+  const yOf = (a, v) => H - bottom - (v - a.lo) / (a.hi - a.lo) * (H - bottom - pad);
   ctx.globalAlpha = 0.35;
   for (const t of trials) {
     ctx.strokeStyle = podium.colour(t.strategy);
     ctx.beginPath();
-    axes.forEach((a, i) => { const y = H - pad - (a.get(t) - a.lo) / (a.hi - a.lo) * (H - 2 * pad); i ? ctx.lineTo(ax(i), y) : ctx.moveTo(ax(i), y); });
+    axes.forEach((a, i) => { const y = yOf(a, a.get(t)); i ? ctx.lineTo(ax(i), y) : ctx.moveTo(ax(i), y); });
     ctx.stroke();
   }
   ctx.globalAlpha = 1; ctx.strokeStyle = '#333'; ctx.fillStyle = '#333'; ctx.font = '11px sans-serif';
+  // Labels centred under their axes, on two rows when neighbours would touch; none is cut.
+  const gap = axes.length > 1 ? ax(1) - ax(0) : W;
+  const tight = axes.some(a => ctx.measureText(a.name).width + 6 > gap);
+  const placed = [];
   axes.forEach((a, i) => {
-    ctx.beginPath(); ctx.moveTo(ax(i), pad); ctx.lineTo(ax(i), H - pad); ctx.stroke();
-    ctx.fillText(a.name, ax(i) - 8, H - 8); ctx.fillText(podium.num(a.hi, 2), ax(i) + 3, pad); ctx.fillText(podium.num(a.lo, 2), ax(i) + 3, H - pad);
+    ctx.beginPath(); ctx.moveTo(ax(i), pad); ctx.lineTo(ax(i), H - bottom); ctx.stroke();
+    const width = ctx.measureText(a.name).width;
+    const x = Math.min(W - width - 2, Math.max(2, ax(i) - width / 2)), y = H - bottom + 16 + (tight && i % 2 ? 14 : 0);
+    ctx.textAlign = 'left';
+    ctx.fillText(a.name, x, y);
+    placed.push({ name: a.name, left: x, right: x + width });
+    ctx.fillText(podium.num(a.hi, 2), ax(i) + 3, pad); ctx.fillText(podium.num(a.lo, 2), ax(i) + 3, H - bottom);
   });
+  window.podiumParallel = { width: W, labels: placed };  // the browser tests check that none is cut
 }
 
 async function renderTrials() {
@@ -261,9 +336,11 @@ async function renderTrials() {
   }
   const page = await podium.api(`${base}/trials?${q}`);
   document.getElementById('page').textContent = ` ${page.total ? state.offset + 1 : 0}–${state.offset + page.trials.length} of ${page.total} `;
+  // The objective by its stage's name for it: the table may list several stages.
   podium.fill(document.getElementById('trials'), ['trial', 'state', 'attempts', 'objective', 'features', 'strategy', 'step', 'error'],
     page.trials.map(t => [podium.trialLink(t.id, t.name), podium.el('span', { class: 'state-' + t.state }, t.state),
-      t.attempts, podium.num(t.objectives?.[0]), t.features.map(f => podium.num(f, 3)).join(', '), t.strategy ?? '–',
+      t.attempts, t.objectives ? `${podium.objectiveName(state.detail.stages[t.stage])} ${podium.num(t.objectives[0])}` : '–',
+      t.features.map(f => podium.num(f, 3)).join(', '), t.strategy ?? '–',
       t.info?.step ?? '', t.error.slice(0, 80)]));
   state.total = page.total;
 }
@@ -280,10 +357,11 @@ async function renderStage() {
 }
 
 async function refreshCampaign() {
-  const [detail, points, events] = await Promise.all([
-    podium.api(base), podium.api(`${base}/points`), podium.api(`${base}/events?last=50`)]);
+  const [detail, points, events, summary] = await Promise.all([
+    podium.api(base), podium.api(`${base}/points`), podium.api(`${base}/events?last=50`), podium.api(`${base}/summary`)]);
   state.detail = detail; state.points = points;
-  renderSummary(); await renderStage(); renderHistory(); renderStrategies(detail.strategy_table);
+  renderSummary(); renderSummaryPanel(summary); await renderStage(); renderHistory(); renderDiscovery(summary);
+  renderStrategies(detail.strategy_table);
   podium.fill(document.getElementById('events'), ['time', 'kind', 'details'],
     events.slice().reverse().map(e => [podium.time(e.time), e.kind, JSON.stringify(e.payload).slice(0, 160)]));
   await renderTrials();

@@ -71,7 +71,9 @@ function animate(now) {
 }
 
 async function render({ list, stages }) {
-  const shown = list.filter(s => s.representative_trial !== null && s.representative_trial !== undefined).slice(0, MAX_CARDS);
+  // Only strategies whose representative recorded a motion (a landscape's have none).
+  const shown = list.filter(s => s.representative_trial !== null && s.representative_trial !== undefined && s.motion !== false)
+    .slice(0, MAX_CARDS);
   document.getElementById('no-gallery').hidden = shown.length > 0;
   const keep = new Set(shown.map(s => String(s.representative_trial)));
   for (const [id, card] of cards)

@@ -17,12 +17,19 @@ const width = ids.length > 1 ? 560 : 900, height = 520;
 
 async function main() {
   if (!ids.length) throw new Error('no trial given (replay.html?trial=ID[&compare=ID])');
+  // Each view is labelled with its trial's name and what its motion is (a get-up's κ).
+  const trials = await Promise.all(views_asked.map(({ id }) => podium.api(`/api/trials/${encodeURIComponent(id)}`)));
+  const first = trials[0];
+  document.title = `Podium · replay ${first.name}`;
+  const crumbCampaign = document.getElementById('crumb-campaign');
+  crumbCampaign.href = `campaign.html?id=${first.campaign_id}`;
+  crumbCampaign.textContent = first.campaign_name;
   document.getElementById('crumb-trial').href = `trial.html?id=${encodeURIComponent(ids[0])}`;
-  document.getElementById('crumb-trial').textContent = `trial #${ids[0]}`;
+  document.getElementById('crumb-trial').textContent = first.name;
   const trajs = await Promise.all(views_asked.map(({ id, artifact }) => loadTrajectory(id, artifact)));
-  const label = v => v.artifact === 'trajectory' ? `trial #${v.id}` : `trial #${v.id} · ${v.artifact.replace(/^trajectory_/, '')}`;
+  const labels = views_asked.map((v, i) => podium.motionLabel(trials[i], v.artifact));
   const parent = document.getElementById('viewports');
-  const views = trajs.map((t, i) => makeView(t, { label: label(views_asked[i]), colour: palette[i], width, height, parent }));
+  const views = trajs.map((t, i) => makeView(t, { label: labels[i], colour: palette[i], width, height, parent }));
   const main = views[0];
   const frames = main.traj.frames.length, duration = Math.max(...views.map(v => v.duration));
   const scrub = document.getElementById('scrub'), counter = document.getElementById('frame');
@@ -32,7 +39,7 @@ async function main() {
   // For the browser tests: the first view's frames and simulated seconds, and what it draws
   // (kinds: each prop's, as the file declares it).
   window.podiumReplay = {
-    frame: 0, frames, rendered: 0, shown: [],  // shown: each view's frame
+    frame: 0, frames, rendered: 0, shown: [], labels,  // shown: each view's frame
     duration: main.duration,
     drawn: { props: main.props.children.length, terrain: main.terrain.children.length },
     kinds: main.props.children.map(c => c.userData.kind),

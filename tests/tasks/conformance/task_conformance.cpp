@@ -52,6 +52,14 @@ void expect_valid_description(const Json& d, const std::string& where) {
       EXPECT_TRUE(p["integer"].is_boolean()) << where << ".params: " << p;
     }
   }
+  for (const auto& m : d["metrics"]) {  // the plot's shape (plugins::metric_entry), when declared
+    if (m.contains("x")) {
+      EXPECT_TRUE(m["x"].is_object() && m["x"].contains("name") && m["x"]["name"].is_string()) << where << ".metrics: " << m;
+    }
+    if (m.contains("kind")) {
+      EXPECT_TRUE(m["kind"] == "learning_curve" || m["kind"] == "evaluation") << where << ".metrics: " << m;
+    }
+  }
   for (const auto& f : d["features"]) {
     expect_box(f, where + ".features");
     const std::string metric = f.value("metric", "");

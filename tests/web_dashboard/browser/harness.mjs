@@ -75,6 +75,7 @@ export function run(name, body) {
         return route.abort();
       });
       const page = await context.newPage();
+      h.problems = problems;  // printed when the test fails
       page.on('pageerror', e => problems.push(`page error: ${e.message}`));
       page.on('console', m => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
       return { page, external, problems };
@@ -86,5 +87,10 @@ export function run(name, body) {
     rmSync(dir, { recursive: true, force: true });
   };
   body(h).then(async () => { await cleanup(); console.log('PASS'); process.exit(0); },
-    async e => { console.error('FAIL:', e.stack || e); await cleanup(); process.exit(1); });
+    async e => {
+      console.error('FAIL:', e.stack || e);
+      if (h.problems?.length) console.error('page problems so far:\n' + h.problems.join('\n'));
+      await cleanup();
+      process.exit(1);
+    });
 }

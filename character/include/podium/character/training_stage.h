@@ -235,7 +235,8 @@ struct StageOutcome {
 /// base::UserError for a checkpoint of another format version or a bad warm start.
 StageOutcome run_training_stage(TrainingStage& stage, const StageSettings& settings, const StageRun& run);
 
-/// The time/ series' descriptions, for a task's describe(): [{name, unit, description}].
+/// The time/ series' descriptions, for a task's describe(): [{name, unit, description, x, kind}]
+/// (plugins::metric_entry's shape: learning curves over environment steps).
 base::Json time_metric_entries();
 
 }  // namespace podium::character

@@ -9,7 +9,8 @@
 /// side including the other:
 ///   {"params":   [{"name", "low", "high", "integer"?}],
 ///    "features": [{"name", "low", "high", "metric": "euclidean"|"angular", "unit"?, "description"?}],
-///    "metrics":  [{"name", "unit"?, "description"?}],
+///    "metrics":  [{"name", "unit"?, "description"?, "x"?: {"name", "unit"?},
+///                  "kind"?: "learning_curve"|"evaluation", "range"?: [low, high]}],
 ///    "objectives": ["name", ...],        // objectives[0] is the primary one
 ///    "objective_info": [{"name", "unit"?, "description"?}],  // optional: what each objective is,
 ///                                        // in the order of "objectives" (set_objectives writes both)
@@ -62,10 +63,32 @@ namespace podium::plugins {
 
 using base::Json;
 
-/// One entry of a description's "metrics" list; an empty unit is left out.
-inline Json metric_entry(const std::string& name, const std::string& unit, const std::string& description) {
+/// What a metric's points are plotted against: the quantity its steps count, and its unit.
+struct MetricAxis {
+  std::string name;  ///< e.g. "environment steps", "samples", "κ", "strength β"
+  std::string unit;  ///< empty: a count or a pure number
+};
+
+/// A metric's plot: its x axis, whether it is a learning curve (a value over training, drawn as a
+/// line) or an evaluation (one value per setting of its axis, drawn as points), and the value's
+/// range when it has one (a rate: [0, 1]).
+struct MetricShape {
+  MetricAxis x = {"step", ""};
+  bool evaluation = false;
+  bool rate = false;  ///< a fraction: plotted on [0, 1]
+};
+
+/// One entry of a description's "metrics" list; an empty unit is left out. A description written
+/// without "x", "kind" or "range" (older tasks, older databases) reads as a learning curve over
+/// "step" with no fixed range; the dashboard draws it so.
+inline Json metric_entry(const std::string& name, const std::string& unit, const std::string& description,
+                         const MetricShape& shape = {}) {
   Json m = {{"name", name}, {"description", description}};
   if (!unit.empty()) m["unit"] = unit;
+  m["x"] = {{"name", shape.x.name}};
+  if (!shape.x.unit.empty()) m["x"]["unit"] = shape.x.unit;
+  m["kind"] = shape.evaluation ? "evaluation" : "learning_curve";
+  if (shape.rate) m["range"] = {0.0, 1.0};
   return m;
 }
 

@@ -54,7 +54,8 @@ TaskConfig read_task_config(base::ConfigReader& r) {
                      "features, feature = up-angle, optional input: a pose_vae trial; novel: Stage 2 (§3.5.2), one input trial of an "
                      "explore stage, its policy warm-started (and its P-VAE), feature = bar-frame rotation; evaluate: final_jumps jumps of "
                      "the `shipped` policies (trial i: entry i mod n), feature = up-angle; runup: the run-up (§3.6.1) to one input trial's "
-                     "take-off state (inputs with \"per_trial\": \"each\"), then its full jump");
+                     "take-off state (inputs with \"per_trial\": \"each\") or, without inputs, to a `shipped` entry's (trial i: entry i mod "
+                     "n), then its full jump");
   c.train = read_train_settings(r);
   c.box = read_takeoff_box(r, c.train.env.kind);
   c.pose = read_pose_prior_settings(r);
@@ -254,6 +255,13 @@ plugins::RunResult run_runup(TaskConfig c, const plugins::RunRequest& request, p
   if (request.inputs.size() > 1)
     throw base::UserError("jump runup: takes at most one input trial (inputs with \"per_trial\": \"each\"), got " + std::to_string(request.inputs.size()));
   std::optional<JumpPolicy> jump;
+  if (request.inputs.empty() && !c.shipped.empty()) {  // a shipped strategy (trial i: entry i mod n), as the evaluate stage
+    const ShippedJump& entry = c.shipped[request.trial_index % c.shipped.size()];
+    c.train.env.takeoff_features = entry.takeoff;
+    c.train.env.difficulty_m = entry.z_m;
+    jump = JumpPolicy{entry.policy, {}, c.train.env};
+    if (!entry.pose_vae.empty()) jump->prior = load_pose_prior(entry.pose_vae);
+  }
   if (!request.inputs.empty()) {
     const plugins::InputTrial& in = request.inputs.front();
     c.train.env.takeoff_features = takeoff_params(c, in.params);

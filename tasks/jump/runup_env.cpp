@@ -33,6 +33,10 @@ RunupSettings read_runup_settings(base::ConfigReader& r, const RunupSettings& ju
   s.handover_window_s = r.number("runup_window_s", s.handover_window_s, {.min = 0.0},
                                  "how early before the take-off time a step on takeoff_foot alone hands over to the jump");
   s.start_noise_rad = r.number("runup_start_noise", s.start_noise_rad, {.min = 0.0}, "RSI joint noise, rad");
+  s.actions = r.choice("runup_actions", s.actions, {"residual", "targets"},
+                       "residual: the reference pose + a per-joint offset (the default); targets: the PD targets themselves (DeepMimic's)");
+  s.offset_bound_rad = r.number("runup_offset_bound", s.offset_bound_rad, {.min = 0.0, .exclusive_min = true},
+                                "the residual action's per-joint offset bound, rad");
   s.max_com_deviation_m = r.number("runup_max_com_deviation_m", s.max_com_deviation_m, {.min = 0.0, .exclusive_min = true},
                                    "early termination when the COM is this far from the reference's");
   return s;
@@ -93,7 +97,8 @@ RunupEnv::RunupEnv(const RunupSettings& settings, std::shared_ptr<const characte
         e.world.sim_hz = settings.sim_hz;
         e.world.control_hz = settings.control_hz;
         e.episode_steps = static_cast<int>(std::ceil(p.condition.takeoff_time_s * settings.control_hz - 1e-9)) + 1;
-        e.action = std::make_unique<TargetActions>(model, sim::Control::spd_maba);
+        if (settings.actions == "residual") e.action = std::make_unique<ResidualActions>(model, sim::Control::spd_maba, settings.offset_bound_rad);
+        else e.action = std::make_unique<TargetActions>(model, sim::Control::spd_maba);
         e.observation.push_back(std::make_unique<LinkStates>(LinkStates::Blocks{}, LinkStates::Frame::heading));
         e.observation.push_back(std::make_unique<TaskScalars>(1, [](const CharacterEnv& env, std::span<double> out) {
           out[0] = env.world().data().q(2);

@@ -9,6 +9,8 @@
 /// ω_G = 0.3 and N the control steps of a whole run-up, so that the task term's share of a whole
 /// run-up's return is DeepMimic's 0.3 (the thesis gives r_G for the end state only).
 ///
+/// Action: residual targets on the reference (default) or DeepMimic's plain PD targets.
+///
 /// Observation (facing-invariant, DeepMimic-like): per body its position relative to the root,
 /// rotation and velocities in the heading frame (character::LinkStates), the root's height, the
 /// reference's phase.
@@ -34,13 +36,18 @@ struct RunupSettings {
   double takeoff_time_s = 0.0;       ///< on the reference's clock; 0: reference_takeoff_time
   double handover_window_s = 0.2;    ///< TakeoffCondition::window_s
   double start_noise_rad = 0.02;     ///< RSI joint noise
+  /// The action: "residual" (the reference pose + Δq, |Δq| ≤ offset_bound_rad, as the get-up's
+  /// Slower stage: a policy that outputs 0 already follows the run for a while) or "targets"
+  /// (DeepMimic's: the PD targets themselves, within the joint limits).
+  std::string actions = "residual";
+  double offset_bound_rad = 1.0;
   double imitation_weight = 0.7, task_weight = 0.3;  ///< DeepMimic's ω_I, ω_G
   double max_com_deviation_m = 1.0;  ///< early termination
   std::vector<double> takeoff_features;  ///< the strategy's (takeoff_features(kind)'s order)
 };
 
-/// Reads the run-up keys (runup_motions, runup_motion, runup_control_hz, runup_takeoff_time_s,
-/// runup_window_s, runup_start_noise, runup_max_com_deviation_m); kind, model, takeoff_foot and
+/// Reads the run-up keys (runup_motion, runup_control_hz, runup_takeoff_time_s, runup_window_s,
+/// runup_start_noise, runup_actions, runup_offset_bound, runup_max_com_deviation_m); kind, model, takeoff_foot and
 /// sim_hz are the jump's, passed in `jump`.
 RunupSettings read_runup_settings(base::ConfigReader& r, const RunupSettings& jump);
 

@@ -207,7 +207,7 @@ void RunupStage::build(const Json&) {
 // unless the config sets one.
 Json RunupStage::learner_spec() const {
   Json spec = jump::learner_spec(train_);
-  if (!spec["config"].contains("gamma") || train_.ppo_preset == "paper") spec["config"]["gamma"] = 0.95;
+  if (!spec["config"].contains("gamma")) spec["config"]["gamma"] = 0.95;
   return spec;
 }
 

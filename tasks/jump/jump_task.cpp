@@ -12,6 +12,7 @@
 #include "shipped_jumps.h"
 #include "podium/plugins/export.h"
 #include "train_jump.h"
+#include "train_runup.h"
 
 namespace podium::tasks::jump {
 
@@ -26,6 +27,7 @@ struct TaskConfig {
   std::vector<ShippedJump> shipped;  ///< the evaluate stage's policies
   std::string captured_motions;  ///< the captured techniques' folder ("": no labels)
   std::vector<TakeoffFeature> box;  ///< the ranges Stage 1 searches: takeoff_features(kind), narrowed by `takeoff_box`
+  RunupSettings runup;           ///< the runup stage's (runup_*.{h,cpp})
 };
 
 // `takeoff_box`: {feature: [low, high]} replaces a take-off feature's default range (takeoff.h).
@@ -48,16 +50,21 @@ std::vector<TakeoffFeature> read_takeoff_box(base::ConfigReader& r, JumpKind kin
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice("stage", c.stage, {"pose_vae", "explore", "novel", "evaluate"},
+  c.stage = r.choice("stage", c.stage, {"pose_vae", "explore", "novel", "evaluate", "runup"},
                      "pose_vae: trains the P-VAE (§3.4.2) the jumps act through; explore: Stage 1 (§3.5.1), params = take-off "
                      "features, feature = up-angle, optional input: a pose_vae trial; novel: Stage 2 (§3.5.2), one input trial of an "
                      "explore stage, its policy warm-started (and its P-VAE), feature = bar-frame rotation; evaluate: final_jumps jumps of "
-                     "the `shipped` policies (trial i: entry i mod n), feature = up-angle");
+                     "the `shipped` policies (trial i: entry i mod n), feature = up-angle; runup: the run-up (§3.6.1) to one input trial's "
+                     "take-off state (inputs with \"per_trial\": \"each\") or, without inputs, to a `shipped` entry's (trial i: entry i mod "
+                     "n), then its full jump");
   c.train = read_train_settings(r);
   c.box = read_takeoff_box(r, c.train.env.kind);
   c.pose = read_pose_prior_settings(r);
   c.pose.model = c.train.env.model;
   c.shipped = read_shipped_jumps(r, c.train.env.kind);
+  RunupSettings jump;  // the jump's athlete, foot and simulation rate
+  jump.kind = c.train.env.kind, jump.model = c.train.env.model, jump.takeoff_foot = c.train.env.takeoff_foot, jump.sim_hz = c.train.env.sim_hz;
+  c.runup = read_runup_settings(r, jump);
   c.captured_motions = r.string("captured_motions", c.captured_motions,
                                 "folder of the captured Fosbury flop, straddle and scissor jumps (DeepMimic format, e.g. "
                                 "data/motions/beyond of the authors' arpspoof/Jump): an explore trial is labelled by its nearest technique; "
@@ -68,7 +75,8 @@ TaskConfig read_task_config(base::ConfigReader& r) {
 TaskConfig config_from(const Json& config) { return base::ConfigReader::parse(config, "jump config", read_task_config); }
 
 // smoke: seconds per trial (16-16 networks, 4 iterations of 64 samples, 2 copies, a 2-epoch P-VAE;
-// mechanics only: no jump is learnt). The P-VAE: quick 600 epochs of the shipped 2,400 poses (about
+// mechanics only: no jump is learnt; the run-up hands over 0.3 s into the reference run, so that an
+// untrained run-up reaches the take-off and the full jump runs too). The P-VAE: quick 600 epochs of the shipped 2,400 poses (about
 // the thesis's number of updates, 80 epochs of 20,000 poses; ≈ 50 s), paper 80 epochs of the poses
 // the user points `pose_set` at (the thesis's: arpspoof/Jump's data/vae/txt). quick: 2 cores, about 10 min per trial on one core (see
 // README.md "Presets": 256-128 ReLU, 1024 samples per iteration, 150 Hz simulation, measured to
@@ -79,7 +87,7 @@ Json presets() {
            {{"ppo_preset", "quick"},
             {"ppo", {{"hidden", {16, 16}}, {"rollout_steps", 32}, {"epochs", 2}, {"minibatch_size", 32}, {"gamma", 1.0}}},
             {"copies", 2}, {"threads", 1}, {"total_samples", 256}, {"sim_hz", 150.0}, {"eval_every", 2}, {"eval_jumps", 2},
-            {"final_jumps", 2}, {"checkpoint_every", 1}, {"vae_epochs", 2}}},
+            {"final_jumps", 2}, {"checkpoint_every", 1}, {"vae_epochs", 2}, {"runup_takeoff_time_s", 0.3}}},
           {"quick",
            {{"ppo_preset", "paper"},
             {"ppo", {{"hidden", {256, 128}}, {"rollout_steps", 256}, {"sigma_anneal_steps", 400'000}, {"policy_lr_start", 1e-4},
@@ -110,6 +118,23 @@ Json metrics() {
   return metrics;
 }
 
+Json runup_metrics() {
+  const plugins::MetricShape samples{.x = {"samples", ""}}, rate{.x = {"samples", ""}, .rate = true};
+  const plugins::MetricShape final_value{.x = {"samples", ""}, .evaluation = true}, final_rate{.x = {"samples", ""}, .evaluation = true, .rate = true};
+  Json m = {plugins::metric_entry("runup/return", "", "mean return of the test run-ups from the reference's first frame (the first deterministic)", samples),
+            plugins::metric_entry("runup/handover_rate", "", "test run-ups that reached the take-off condition", rate),
+            plugins::metric_entry("runup/task_reward", "", "mean r_G (eq. 3.13 high jump, 3.14 obstacle) at the hand-over", samples),
+            plugins::metric_entry("runup/omega_error_x", "rad/s", "mean |ω_x − ω̄_x| at the hand-over, heading frame", samples),
+            plugins::metric_entry("runup/omega_error_y", "rad/s", "mean |ω_y − ω̄_y| at the hand-over, heading frame", samples),
+            plugins::metric_entry("runup/omega_error_z", "rad/s", "mean |ω_z − ω̄_z| at the hand-over, heading frame", samples),
+            plugins::metric_entry("runup/lateral_speed_error", "m/s", "mean |v_y − v̄_y| at the hand-over (high jump; the thesis's v_z)", samples),
+            plugins::metric_entry("runup/final_task_reward", "", "the exported policy's mean r_G over final_jumps run-ups", final_value),
+            plugins::metric_entry("runup/final_handover_rate", "", "the exported policy's hand-over rate over final_jumps run-ups", final_rate),
+            plugins::metric_entry("full_jump/success_rate", "", "full jumps (run-up, then the input's jump policy) that clear the bar", final_rate)};
+  for (const Json& t : character::time_metric_entries()) m.push_back(t);
+  return m;
+}
+
 Json feature(const char* name, double low, double high, const char* description) {
   return {{"name", name}, {"low", low}, {"high", high}, {"metric", "euclidean"}, {"unit", "rad"}, {"description", description}};
 }
@@ -129,6 +154,13 @@ Json describe_stage(const TaskConfig& c) {
             {"objective_info", Json::array({plugins::objective_entry("fit", "rad", "minus the P-VAE's reconstruction RMSE over the training poses")})},
             {"metrics", {plugins::metric_entry("pose_vae_loss", "", "mean P-VAE loss (MSE + β·KL) per epoch", plugins::MetricShape{.x = {"epochs", ""}}),
                          plugins::metric_entry("pose_vae_rmse_rad", "rad", "reconstruction RMSE over the training poses at the last epoch", plugins::MetricShape{.x = {"epochs", ""}, .evaluation = true})}}};
+  if (c.stage == "runup") {  // each trial's target is its input's take-off; no strategy feature of its own
+    Json d = {{"params", Json::array()}, {"features", Json::array()}, {"metrics", runup_metrics()}};
+    plugins::set_objectives(
+        d, Json::array({plugins::objective_entry("task_reward", "", "mean r_G (eq. 3.13 high jump, 3.14 obstacle) of the exported run-up at the hand-over"),
+                        plugins::objective_entry("full_jump_success_rate", "", "full jumps (run-up, then the input's jump policy) that clear the bar")}));
+    return d;
+  }
   Json params = Json::array();
   for (const TakeoffFeature& f : c.box) params.push_back({{"name", f.name}, {"low", f.low}, {"high", f.high}});
   Json d = {{"params", params}, {"metrics", metrics()}};
@@ -245,6 +277,40 @@ plugins::RunResult run_pose_vae(const TaskConfig& c, const plugins::RunRequest& 
   return result;
 }
 
+// The runup stage: the target is the input trial's take-off (its params; without an input, the
+// config's takeoff_features), and with its policy the full jump is recorded and measured.
+plugins::RunResult run_runup(TaskConfig c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  if (request.inputs.size() > 1)
+    throw base::UserError("jump runup: takes at most one input trial (inputs with \"per_trial\": \"each\"), got " + std::to_string(request.inputs.size()));
+  std::optional<JumpPolicy> jump;
+  if (request.inputs.empty() && !c.shipped.empty()) {  // a shipped strategy (trial i: entry i mod n), as the evaluate stage
+    const ShippedJump& entry = c.shipped[request.trial_index % c.shipped.size()];
+    c.train.env.takeoff_features = entry.takeoff;
+    c.train.env.difficulty_m = entry.z_m;
+    jump = JumpPolicy{entry.policy, {}, c.train.env};
+    if (!entry.pose_vae.empty()) jump->prior = load_pose_prior(entry.pose_vae);
+  }
+  if (!request.inputs.empty()) {
+    const plugins::InputTrial& in = request.inputs.front();
+    c.train.env.takeoff_features = takeoff_params(c, in.params);
+    if (!in.artifacts.count("policy")) throw base::UserError("jump runup: input trial " + in.stage + "/" + std::to_string(in.trial_index) + " has no artifact policy");
+    jump = JumpPolicy{in.artifacts.at("policy"), {}, c.train.env};
+    if (in.artifacts.count("pose_vae")) jump->prior = load_pose_prior(in.artifacts.at("pose_vae"));
+  }
+  if (c.train.env.takeoff_features.empty())
+    throw base::UserError("jump runup: no target take-off: give an input trial of an explore or novel stage, or takeoff_features");
+  c.runup.takeoff_features = c.train.env.takeoff_features;
+  const RunupOutcome out = run_runup_trial(c.train, c.runup, jump, {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
+  plugins::RunResult result;
+  result.objectives = {out.runups.task_reward, out.full.success_rate};
+  result.artifacts = {{"policy", out.policy}};
+  if (!out.full.trajectory.empty()) result.artifacts.push_back({"trajectory", out.full.trajectory});
+  result.info = out.to_json();
+  result.info["summary"] = {{"run-up r_G", out.runups.task_reward}, {"hand-over rate", out.runups.handover_rate},
+                            {"full jump success", out.full.success_rate}};
+  return result;
+}
+
 }  // namespace
 
 class JumpTask final : public plugins::Task {
@@ -263,6 +329,7 @@ class JumpTask final : public plugins::Task {
     TaskConfig c = config_from(request.config);
     if (c.stage == "pose_vae") return run_pose_vae(c, request, sink);
     if (c.stage == "evaluate") return run_shipped(c, request);
+    if (c.stage == "runup") return run_runup(c, request, sink);
     TrialInputs inputs;
     if (c.stage == "novel") {
       inputs = novel_inputs(request);

@@ -1,0 +1,156 @@
+#include "podium/character/imitation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "podium/base/error.h"
+#include "podium/character/frames.h"
+#include "podium/character/starts.h"
+#include "podium/sim/dynamics.h"
+
+namespace podium::character {
+
+using sim::JointType;
+using sim::Link;
+
+// DeepMimic §5: r_I = w_p r_p + w_v r_v + w_e r_e + w_c r_c, each r = exp(−k · squared error).
+ImitationTerms imitation_terms(const TrackingErrors& e, const ImitationWeights& w) {
+  ImitationTerms t;
+  t.pose = exp_kernel(e.pose, w.pose_scale);
+  t.velocity = exp_kernel(e.velocity, w.velocity_scale);
+  t.end_effector = exp_kernel(e.end_effector, w.end_effector_scale);
+  t.com = exp_kernel(e.com, w.com_scale);
+  t.total = w.pose * t.pose + w.velocity * t.velocity + w.end_effector * t.end_effector + w.com * t.com;
+  return t;
+}
+
+namespace {
+
+std::shared_ptr<const Clip> checked(std::shared_ptr<const Clip> clip) {
+  if (!clip || !clip->model) throw base::UserError("imitation: the reference clip has no model");
+  if (clip->size() < 2) throw base::UserError("imitation: the reference clip has " + std::to_string(clip->size()) + " frames, not ≥ 2");
+  return clip;
+}
+
+// Σ_j ‖q̂_j ⊖ q_j‖²: the rotation angle between the two orientations of every ball joint and the
+// root, the angle difference of every hinge.
+double pose_error(const sim::CharacterModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& ref) {
+  double sum = 0.0;
+  for (const Link& l : model.links()) {
+    if (l.joint == JointType::revolute) {
+      const double d = ref(l.q_index) - q(l.q_index);
+      sum += d * d;
+      continue;
+    }
+    const int i = l.joint == JointType::free ? l.q_index + 3 : l.q_index;
+    sum += log_map(quat_at(ref, i).normalized().conjugate() * quat_at(q, i).normalized()).squaredNorm();
+  }
+  return sum;
+}
+
+// Σ_j ‖q̇̂_j − q̇_j‖² over every rotational DoF: the root's ω (not its linear velocity) and the joints.
+double velocity_error(const sim::CharacterModel& model, const Eigen::VectorXd& qd, const Eigen::VectorXd& ref) {
+  double sum = 0.0;
+  for (const Link& l : model.links()) {
+    const int n = l.joint == JointType::free ? 3 : l.nv;
+    sum += (ref.segment(l.v_index, n) - qd.segment(l.v_index, n)).squaredNorm();
+  }
+  return sum;
+}
+
+}  // namespace
+
+ImitationReference::ImitationReference(std::shared_ptr<const Clip> clip, ImitationWeights weights)
+    : clip_(checked(std::move(clip))), weights_(weights), velocities_(clip_->velocities()), sim_(*clip_->model), ref_(*clip_->model) {}
+
+std::size_t ImitationReference::frame_at(double t_s) const {
+  const Clip& c = *clip_;
+  const double T = c.duration_s();
+  if (c.loop && T > 0) t_s = std::fmod(std::fmod(t_s, T) + T, T);
+  const auto k = std::upper_bound(c.times_s.begin(), c.times_s.end(), t_s) - c.times_s.begin();
+  return static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(k - 1, 0, static_cast<std::ptrdiff_t>(c.size()) - 1));
+}
+
+const Eigen::VectorXd& ImitationReference::velocity(double t_s) const { return velocities_[frame_at(t_s)]; }
+
+double ImitationReference::phase(double t_s) const {
+  const double T = clip_->duration_s();
+  if (clip_->loop) return std::fmod(std::fmod(t_s, T) + T, T) / T;
+  return std::clamp(t_s / T, 0.0, 1.0);
+}
+
+TrackingErrors ImitationReference::errors(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double t_s) const {
+  const sim::CharacterModel& model = *clip_->model;
+  sim_.q = q, sim_.qd = qd;
+  ref_.q = pose(t_s), ref_.qd = velocity(t_s);
+  TrackingErrors e;
+  e.pose = pose_error(model, q, ref_.q);
+  e.velocity = velocity_error(model, qd, ref_.qd);
+  sim::forward_kinematics(model, sim_);
+  sim::forward_kinematics(model, ref_);
+  for (int b : model.end_effector_bodies())
+    e.end_effector += (sim::body_point(model, ref_, b, Eigen::Vector3d::Zero()) - sim::body_point(model, sim_, b, Eigen::Vector3d::Zero())).squaredNorm();
+  Eigen::Vector3d com, com_ref, vel;
+  sim::center_of_mass(model, sim_, com, vel);
+  sim::center_of_mass(model, ref_, com_ref, vel);
+  e.com = (com_ref - com).squaredNorm();
+  return e;
+}
+
+ImitationTerms ImitationReference::terms(const Eigen::VectorXd& q, const Eigen::VectorXd& qd, double t_s) const {
+  return imitation_terms(errors(q, qd, t_s), weights_);
+}
+
+TrackingErrors ImitationReference::errors(const CharacterEnv& env) const {
+  return errors(env.world().data().q, env.world().data().qd, env.reference_time_s());
+}
+
+std::size_t ReferenceStateStart::draw_frame(const Clip& clip, base::Rng& rng) const {
+  const int last = last_ < 0 ? static_cast<int>(clip.size()) - 1 : last_;
+  if (first_ < 0 || last >= static_cast<int>(clip.size()) || first_ > last)
+    throw base::UserError("imitation: reference start frames [" + std::to_string(first_) + ", " + std::to_string(last) + "] are not within the clip's " +
+                          std::to_string(clip.size()) + " frames");
+  return static_cast<std::size_t>(rng.integer(first_, last));
+}
+
+void ReferenceStateStart::begin(CharacterEnv& env, base::Rng& rng) const {
+  const Clip* clip = env.reference();
+  if (!clip) throw base::UserError("imitation: a reference start needs the env's reference clip");
+  // The frame's own time: Clip::sample returns that frame exactly, ReferenceStart its velocity.
+  ReferenceStart(noise_, false, clip->times_s[draw_frame(*clip, rng)]).begin(env, rng);
+}
+
+const char* to_string(Termination termination) {
+  switch (termination) {
+    case Termination::none: return "none";
+    case Termination::fell: return "fell";
+    case Termination::deviated: return "deviated";
+  }
+  return "?";
+}
+
+std::vector<int> fall_bodies_except(const sim::CharacterModel& model, const std::vector<std::string>& allowed) {
+  std::vector<char> keep(model.bodies().size(), 1);
+  for (const std::string& name : allowed) {
+    const int b = model.find_body(name);
+    if (b < 0) throw base::UserError("imitation: model " + model.name() + " has no body " + name + " (allowed on the ground)");
+    keep[static_cast<std::size_t>(b)] = 0;
+  }
+  std::vector<int> out;
+  for (std::size_t b = 0; b < keep.size(); ++b)
+    if (keep[b]) out.push_back(static_cast<int>(b));
+  return out;
+}
+
+Termination early_termination(const EarlyTermination& rule, const sim::Observation& features, const TrackingErrors& errors,
+                              const ImitationTerms& terms) {
+  for (int b : rule.fall_bodies)
+    if (features.touches(b, sim::Contact::Partner::ground)) return Termination::fell;
+  if (std::sqrt(errors.com) >= rule.max_com_deviation_m) return Termination::deviated;
+  if (rule.min_pose_reward > 0 && terms.pose <= rule.min_pose_reward) return Termination::deviated;
+  return Termination::none;
+}
+
+void ReferencePhase::write(const CharacterEnv& env, std::span<double> out) const { out[0] = reference_->phase(env.reference_time_s()); }
+
+}  // namespace podium::character

@@ -22,7 +22,7 @@ podium::testing::WarmStartCase::Order from_policy(const fs::path& source, const 
 PODIUM_TASK_CONFORMANCE(TestPendulum, {.task = "test_pendulum", .long_config = {{"updates", 100000}},
                                        .resume_config = {{"updates", 60}, {"checkpoint_every", 3}},
                                        .kill_after_metric_points = 12, .resumes_from_checkpoint = true,
-                                       .artifacts = {"policy"}, .warm_start = podium::testing::WarmStartCase{from_policy, 12}});
+                                       .artifacts = {"policy"}, .warm_start = podium::testing::WarmStartCase{from_policy, 40}});
 
 // `podium trial --batch` on one order in `dir`; returns result.json.
 Json run_trial(const fs::path& dir, const Json& inputs, double log10_lr) {

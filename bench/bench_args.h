@@ -78,9 +78,12 @@ bool read_flags(int argc, char** argv, const char* usage, Read&& read) {
     const std::string key = argv[i];
     if (i + 1 == argc) return fail("no value after " + key);
     switch (read(key, argv[i + 1])) {
-      case Flag::read: break;
-      case Flag::unknown: return fail("unknown option " + key);
-      case Flag::bad_value: return fail("bad value '" + std::string(argv[i + 1]) + "' for " + key);
+      case Flag::read:
+        break;
+      case Flag::unknown:
+        return fail("unknown option " + key);
+      case Flag::bad_value:
+        return fail("bad value '" + std::string(argv[i + 1]) + "' for " + key);
     }
   }
   return true;

@@ -76,8 +76,7 @@ std::string integer_problem(const Json& v, IntInterval range) {
 std::string number_problem(const Json& v, Interval range) {
   if (!v.is_number() || !std::isfinite(v.get<double>())) return shown(v) + " is not a number";
   const double x = v.get<double>();
-  if (x < range.min || (range.exclusive_min && x == range.min) || x > range.max)
-    return shown(v) + " is not " + bound_text(range);
+  if (x < range.min || (range.exclusive_min && x == range.min) || x > range.max) return shown(v) + " is not " + bound_text(range);
   return "";
 }
 
@@ -111,8 +110,7 @@ ConfigReader::ConfigReader(const Json& config, std::string path, std::string sou
 
 ConfigReader::ConfigReader() : ConfigReader(&empty_object(), "", "", std::make_shared<Node>(), true) {}
 
-ConfigReader::ConfigReader(const Json* config, std::string path, std::string source, std::shared_ptr<Node> node,
-                           bool describing)
+ConfigReader::ConfigReader(const Json* config, std::string path, std::string source, std::shared_ptr<Node> node, bool describing)
     : config_(config), path_(std::move(path)), source_(std::move(source)), node_(std::move(node)), describing_(describing) {
   if (!config_->is_object()) fail_at(path_, shown(*config_) + " is not an object");
 }
@@ -162,8 +160,8 @@ bool ConfigReader::boolean(const std::string& key, bool fallback, const std::str
   return v->get<bool>();
 }
 
-std::int64_t ConfigReader::read_integer(const std::string& key, std::int64_t fallback, bool is_required,
-                                        IntInterval range, const std::string& doc) {
+std::int64_t ConfigReader::read_integer(const std::string& key, std::int64_t fallback, bool is_required, IntInterval range,
+                                        const std::string& doc) {
   Json info = {{"type", "integer"}, {"default", fallback}};
   add_bounds(info, range);
   const Json* v = take(key, is_required, info, doc);
@@ -229,8 +227,8 @@ std::string ConfigReader::read_choice(const std::string& key, const std::string&
   fail_at(path_of(key), shown(*v) + " is not one of " + joined(allowed));
 }
 
-std::string ConfigReader::choice(const std::string& key, const std::string& fallback,
-                                 const std::vector<std::string>& allowed, const std::string& doc) {
+std::string ConfigReader::choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed,
+                                 const std::string& doc) {
   return read_choice(key, fallback, false, allowed, doc);
 }
 
@@ -266,8 +264,7 @@ std::vector<double> ConfigReader::numbers(const std::string& key, const std::vec
   if (!v->is_array()) fail_at(path_of(key), shown(*v) + " is not an array of numbers" + (rule.empty() ? "" : " " + rule));
   std::vector<double> out;
   for (std::size_t i = 0; i < v->size(); ++i) {
-    if (const auto problem = number_problem((*v)[i], range); !problem.empty())
-      fail_at(json_path_index(path_of(key), i), problem);
+    if (const auto problem = number_problem((*v)[i], range); !problem.empty()) fail_at(json_path_index(path_of(key), i), problem);
     out.push_back((*v)[i].get<double>());
   }
   return out;
@@ -275,8 +272,7 @@ std::vector<double> ConfigReader::numbers(const std::string& key, const std::vec
 
 std::vector<std::string> ConfigReader::strings(const std::string& key, const std::vector<std::string>& fallback,
                                                const std::string& doc) {
-  const Json* v =
-      take(key, false, {{"type", "array"}, {"default", fallback}, {"items", {{"type", "string"}}}}, doc);
+  const Json* v = take(key, false, {{"type", "array"}, {"default", fallback}, {"items", {{"type", "string"}}}}, doc);
   if (!v) return fallback;
   if (!v->is_array()) fail_at(path_of(key), shown(*v) + " is not an array of strings");
   std::vector<std::string> out;
@@ -307,8 +303,7 @@ ConfigReader ConfigReader::enter_object(const std::string& key, bool is_required
 
 std::vector<ConfigReader> ConfigReader::enter_array(const std::string& key, const std::string& doc) {
   auto keys = std::make_shared<Node>();
-  const Json* v =
-      take(key, false, {{"type", "array"}, {"default", Json::array()}, {"items", {{"type", "object"}}}}, doc, keys);
+  const Json* v = take(key, false, {{"type", "array"}, {"default", Json::array()}, {"items", {{"type", "object"}}}}, doc, keys);
   if (describing_) return {ConfigReader(&empty_object(), path_of(key) + "[]", source_, keys, true)};
   if (!v) return {};
   if (!v->is_array()) fail_at(path_of(key), shown(*v) + " is not an array of objects");
@@ -324,7 +319,8 @@ void ConfigReader::finish() const {
   if (describing_) return;
   for (const auto& [key, value] : config_->items())
     if (!read_.count(key))
-      fail_at(path_of(key), "unknown key (known: " + (read_.empty() ? std::string("none") : joined({read_.begin(), read_.end()})) + ")");
+      fail_at(path_of(key),
+              "unknown key (known: " + (read_.empty() ? std::string("none") : joined({read_.begin(), read_.end()})) + ")");
 }
 
 Json ConfigReader::description() const { return node_->description(); }

@@ -1,8 +1,9 @@
 #include "podium/base/json.h"
 
+#include <unistd.h>
+
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "podium/base/error.h"
 
@@ -16,7 +17,12 @@ constexpr std::size_t kMaxJsonDepth = 100;  // json.h documents it
 std::string position_of(const std::string& text, std::size_t offset) {
   std::size_t line = 1, column = 1;
   for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
-    if (text[i] == '\n') { ++line; column = 1; } else { ++column; }
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
   }
   return "line " + std::to_string(line) + " column " + std::to_string(column);
 }
@@ -85,8 +91,6 @@ std::string json_path_join(const std::string& parent, const std::string& key) {
   return parent.empty() ? key : parent + "." + key;
 }
 
-std::string json_path_index(const std::string& parent, std::size_t index) {
-  return parent + "[" + std::to_string(index) + "]";
-}
+std::string json_path_index(const std::string& parent, std::size_t index) { return parent + "[" + std::to_string(index) + "]"; }
 
 }  // namespace podium::base

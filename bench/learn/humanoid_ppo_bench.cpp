@@ -107,10 +107,11 @@ Round run_round(const sim::ModelPtr& model, int iterations, int threads, std::ui
   learn::Ppo ppo(config, vec.observation_space(), vec.action_space(), seed);
   double rollout_s = 0, update_s = 0;
   const auto t0 = Clock::now();
-  ppo.train_until(vec, std::int64_t(iterations) * config.rollout_steps * std::int64_t(vec.size()), [&](const learn::TrainStats& s) {
-    rollout_s += s.rollout_seconds;
-    update_s += s.update_seconds;
-  });
+  ppo.train_until(vec, std::int64_t(iterations) * config.rollout_steps * std::int64_t(vec.size()),
+                  [&](const learn::TrainStats& s) {
+                    rollout_s += s.rollout_seconds;
+                    update_s += s.update_seconds;
+                  });
   const double wall = std::chrono::duration<double>(Clock::now() - t0).count();
   r.rollout = double(ppo.env_steps()) / rollout_s;
   r.overall = double(ppo.env_steps()) / wall;
@@ -143,9 +144,11 @@ int main(int argc, char** argv) {
   if (!count(3, 1'000'000, rounds)) return fail("bad value '" + std::string(argv[3]) + "' for ROUNDS");
   const auto model = sim::load_shipped_model("humanoid21");
   std::vector<double> raw, rollout, overall, share, per_core, per_thread;
-  std::printf("humanoid21 balance, PPO 256-256, %d rollout threads, %d copies, 800 Hz sim / 40 Hz control, %d iterations x 1024 steps\n",
-              threads, 2 * threads, iterations);
-  std::printf("%5s %12s %12s %12s %9s %14s %16s\n", "seed", "raw/s 1 core", "rollout/s", "overall/s", "updates", "rollout/raw", "per thread");
+  std::printf(
+      "humanoid21 balance, PPO 256-256, %d rollout threads, %d copies, 800 Hz sim / 40 Hz control, %d iterations x 1024 steps\n",
+      threads, 2 * threads, iterations);
+  std::printf("%5s %12s %12s %12s %9s %14s %16s\n", "seed", "raw/s 1 core", "rollout/s", "overall/s", "updates", "rollout/raw",
+              "per thread");
   for (int k = 1; k <= rounds; ++k) {
     const Round r = run_round(model, iterations, threads, std::uint64_t(k));
     raw.push_back(r.raw);
@@ -158,9 +161,12 @@ int main(int argc, char** argv) {
                 100 * per_core.back(), 100 * per_thread.back());
   }
   const double share_m = median(share), per_core_m = median(per_core);
-  std::printf("median: raw %.0f control steps/s (one core), rollout %.0f, overall %.0f env steps/s\n", median(raw), median(rollout), median(overall));
-  std::printf("updates %.1f%% of wall time (bar <= 25%%: %s); rollout %.0f%% of one-core raw (bar >= 80%%: %s); %.0f%% per rollout thread\n",
-              100 * share_m, share_m <= 0.25 ? "met" : "NOT met", 100 * per_core_m, per_core_m >= 0.8 ? "met" : "NOT met",
-              100 * median(per_thread));
+  std::printf("median: raw %.0f control steps/s (one core), rollout %.0f, overall %.0f env steps/s\n", median(raw),
+              median(rollout), median(overall));
+  std::printf(
+      "updates %.1f%% of wall time (bar <= 25%%: %s); rollout %.0f%% of one-core raw (bar >= 80%%: %s); %.0f%% per rollout "
+      "thread\n",
+      100 * share_m, share_m <= 0.25 ? "met" : "NOT met", 100 * per_core_m, per_core_m >= 0.8 ? "met" : "NOT met",
+      100 * median(per_thread));
   return 0;
 }

@@ -19,8 +19,9 @@ int main(int argc, char** argv) {
   long long seed_arg = 0, steps = 0, copies = 8, threads = 1;
   using podium::bench::whole_number;
   const std::string algo = argc > 1 ? argv[1] : "";
-  if (argc < 4 || argc > 7 || (algo != "ppo" && algo != "sac") || !whole_number(argv[2], 0, seed_arg) || !whole_number(argv[3], 1, steps) ||
-      (argc > 4 && !whole_number(argv[4], 1, copies)) || (argc > 5 && !whole_number(argv[5], 1, threads))) {
+  if (argc < 4 || argc > 7 || (algo != "ppo" && algo != "sac") || !whole_number(argv[2], 0, seed_arg) ||
+      !whole_number(argv[3], 1, steps) || (argc > 4 && !whole_number(argv[4], 1, copies)) ||
+      (argc > 5 && !whole_number(argv[5], 1, threads))) {
     std::fprintf(stderr, "usage: %s ppo|sac SEED ENV_STEPS>0 [COPIES>0] [THREADS>0] [CONFIG_JSON]\n", argv[0]);
     return 2;
   }
@@ -34,8 +35,7 @@ int main(int argc, char** argv) {
     const auto config = argc > 6 ? podium::base::Json::parse(argv[6]) : podium::base::Json::object();
     if (algo == "ppo")
       learner = std::make_unique<Ppo>(PpoConfig::from_json(config), probe.observation_space(), probe.action_space(), seed);
-    else
-      learner = std::make_unique<Sac>(SacConfig::from_json(config), probe.observation_space(), probe.action_space(), seed);
+    else learner = std::make_unique<Sac>(SacConfig::from_json(config), probe.observation_space(), probe.action_space(), seed);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "learn_pendulum_bench: CONFIG_JSON: %s\n", error.what());
     return 2;
@@ -53,7 +53,9 @@ int main(int argc, char** argv) {
   const auto returns = evaluate(*learner, eval_env, 10);
   double mean = 0;
   for (double r : returns) mean += r / double(returns.size());
-  std::printf("%s seed %llu: final evaluation mean return %.1f over 10 episodes; wall %.1f s (rollout %.1f s, update %.1f s), %.0f env steps/s\n",
-              algo.c_str(), static_cast<unsigned long long>(seed_arg), mean, wall, rollout_s, update_s, double(steps) / wall);
+  std::printf(
+      "%s seed %llu: final evaluation mean return %.1f over 10 episodes; wall %.1f s (rollout %.1f s, update %.1f s), %.0f env "
+      "steps/s\n",
+      algo.c_str(), static_cast<unsigned long long>(seed_arg), mean, wall, rollout_s, update_s, double(steps) / wall);
   return 0;
 }

@@ -4,13 +4,14 @@
 // One intra-op thread and one BLAS thread, as every learner runs.
 // Usage: learn_sac_update_bench [OBSERVATIONS] [UPDATES] [CONFIG_JSON]
 // e.g. learn_sac_update_bench 150 2000 '{"hidden": [1024, 1024], "batch_size": 1024}'
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
 #include <exception>
-#include <sys/resource.h>
 #include <memory>
 #include <string>
 #include <vector>
@@ -61,12 +62,16 @@ double quantile(std::vector<double> v, double q) {
 
 int main(int argc, char** argv) {
   long long observations = 150, updates = 1000;
-  if (argc > 4 || (argc > 1 && !podium::bench::whole_number(argv[1], 1, observations)) || (argc > 2 && !podium::bench::whole_number(argv[2], 1, updates))) {
+  if (argc > 4 || (argc > 1 && !podium::bench::whole_number(argv[1], 1, observations)) ||
+      (argc > 2 && !podium::bench::whole_number(argv[2], 1, updates))) {
     std::fprintf(stderr, "usage: learn_sac_update_bench [OBSERVATIONS>0] [UPDATES>0] [CONFIG_JSON]\n");
     return 2;
   }
-  podium::base::Json config = {{"hidden", {256, 256}}, {"batch_size", 256}, {"warmup_steps", 1000},
-                               {"updates_per_step", 1.0}, {"buffer_capacity", 100000}};
+  podium::base::Json config = {{"hidden", {256, 256}},
+                               {"batch_size", 256},
+                               {"warmup_steps", 1000},
+                               {"updates_per_step", 1.0},
+                               {"buffer_capacity", 100000}};
   SacConfig c;
   try {
     if (argc > 3) config.merge_patch(podium::base::Json::parse(argv[3]));
@@ -92,8 +97,8 @@ int main(int argc, char** argv) {
     sac.train_until(envs, sac.env_steps() + 1);
     samples[7].push_back(thread_cpu_seconds() - cpu0);
     const SacUpdateTimes after = sac.update_times();
-    const double parts[] = {after.batch - before.batch,   after.target - before.target, after.critic - before.critic,
-                            after.actor - before.actor,   after.alpha - before.alpha,   after.polyak - before.polyak};
+    const double parts[] = {after.batch - before.batch, after.target - before.target, after.critic - before.critic,
+                            after.actor - before.actor, after.alpha - before.alpha,   after.polyak - before.polyak};
     double total = 0.0;
     for (int p = 0; p < 6; ++p) {
       samples[std::size_t(p)].push_back(parts[p]);
@@ -105,8 +110,9 @@ int main(int argc, char** argv) {
   getrusage(RUSAGE_THREAD, &usage1);
   std::printf("SAC update, %lld observations, 21 actions, config %s: ms over %lld updates\n", observations,
               c.to_json().dump().c_str(), static_cast<long long>(updates));
-  std::printf("(CPU ms of the updating thread per part; cpu: per environment step + update)\n"
-              "         median   10%%\n");
+  std::printf(
+      "(CPU ms of the updating thread per part; cpu: per environment step + update)\n"
+      "         median   10%%\n");
   for (std::size_t p = 0; p < 8; ++p)
     std::printf("  %-7s %7.3f %7.3f\n", names[p], 1e3 * quantile(samples[p], 0.5), 1e3 * quantile(samples[p], 0.1));
   std::printf("page faults per update: %.1f\n", double(usage1.ru_minflt - usage0.ru_minflt) / double(updates));

@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
   using podium::bench::checked, podium::bench::Flag;
   if (!podium::bench::read_flags(argc, argv, "[--observations N ≥ 1] [--proposals N ≥ 1] [--bds-config JSON]",
                                  [&](const std::string& key, const char* value) {
-                                   if (key == "--observations") return checked(podium::bench::count(value, 1, 1'000'000, observations));
+                                   if (key == "--observations")
+                                     return checked(podium::bench::count(value, 1, 1'000'000, observations));
                                    if (key == "--proposals") return checked(podium::bench::count(value, 1, 1'000'000, proposals));
                                    if (key == "--bds-config") return checked(podium::bench::json_value(value, config));
                                    return Flag::unknown;

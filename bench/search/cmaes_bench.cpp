@@ -54,8 +54,7 @@ int main() {
   };
   const auto rosenbrock = [](const std::vector<double>& x) {
     double s = 0;
-    for (std::size_t i = 0; i + 1 < x.size(); ++i)
-      s += 100.0 * std::pow(x[i + 1] - x[i] * x[i], 2) + std::pow(1.0 - x[i], 2);
+    for (std::size_t i = 0; i + 1 < x.size(); ++i) s += 100.0 * std::pow(x[i + 1] - x[i] * x[i], 2) + std::pow(1.0 - x[i], 2);
     return s;
   };
   const std::string command = std::string(PODIUM_PYTHON) + " " + PODIUM_CMAES_REFERENCE + " " + std::to_string(kSeeds);
@@ -73,12 +72,14 @@ int main() {
        {std::tuple<std::string, std::function<double(const std::vector<double>&)>, double, double>{"sphere", sphere, 3.0, 1.0},
         {"rosenbrock", rosenbrock, 0.0, 0.5}}) {
     std::vector<int> ours;
-    for (int seed = 0; seed < kSeeds; ++seed) ours.push_back(evaluations_to_target(f, x0, sigma0, static_cast<std::uint64_t>(seed)));
+    for (int seed = 0; seed < kSeeds; ++seed)
+      ours.push_back(evaluations_to_target(f, x0, sigma0, static_cast<std::uint64_t>(seed)));
     const double m_ours = median(ours), m_ref = median(reference[name].get<std::vector<int>>());
     const bool ok = m_ours <= 1.5 * m_ref;
     pass = pass && ok;
-    std::printf("%-10s 10-D: median evaluations to 1e-8 over %d seeds: podium %.0f, python-cmaes %.0f, ratio %.2f (bar <= 1.5) %s\n",
-                name.c_str(), kSeeds, m_ours, m_ref, m_ours / m_ref, ok ? "PASS" : "FAIL");
+    std::printf(
+        "%-10s 10-D: median evaluations to 1e-8 over %d seeds: podium %.0f, python-cmaes %.0f, ratio %.2f (bar <= 1.5) %s\n",
+        name.c_str(), kSeeds, m_ours, m_ref, m_ours / m_ref, ok ? "PASS" : "FAIL");
   }
   std::printf("%s\n", pass ? "PASS" : "FAIL");
   return pass ? 0 : 1;

@@ -49,7 +49,7 @@ struct Options {
   double threshold = 0.05;
   // Continuous families: a 5 × 5 grid of the [0,1]² feature box, so 20 samples cannot fill it.
   double continuous_threshold = 0.2;
-  double noise = 0.02;  // sd of the noisy families' measurement noise (the landscape task's threshold)
+  double noise = 0.02;         // sd of the noisy families' measurement noise (the landscape task's threshold)
   double max_frequency = 0.0;  // plateau families' trend frequency bound; 0 = the family's own
   Json bds_config = Json::object(), novelty_config = Json::object();
   std::vector<std::string> families = {"plateaus", "voronoi", "plateaus_rough", "plateaus_noisy", "smooth", "smooth_noisy"},
@@ -72,8 +72,8 @@ podium::tasks::landscape::LandscapeModel landscape_model(const Options& o, const
   return podium::tasks::landscape::LandscapeModel(options);
 }
 
-podium::search::SearchSetup search_setup(const Options& o, const std::string& family, const std::string& algorithm,
-                                         int landscape, int seed) {
+podium::search::SearchSetup search_setup(const Options& o, const std::string& family, const std::string& algorithm, int landscape,
+                                         int seed) {
   podium::search::SearchSetup setup;
   Json space = Json::array();
   for (int i = 0; i < o.dim; ++i) space.push_back({{"name", "x" + std::to_string(i)}, {"low", 0.0}, {"high", 1.0}});
@@ -99,7 +99,8 @@ std::vector<int> run(const Options& o, const std::string& family, const std::str
   podium::base::Rng noise(podium::base::derive_seed(setup.seed, 0x6e015e));
   std::vector<std::vector<double>> found;
   while (static_cast<int>(found.size()) < o.budgets.back()) {
-    const auto proposals = search->ask(static_cast<std::size_t>(std::min<int>(o.batch, o.budgets.back() - static_cast<int>(found.size()))));
+    const auto proposals =
+        search->ask(static_cast<std::size_t>(std::min<int>(o.batch, o.budgets.back() - static_cast<int>(found.size()))));
     std::vector<podium::search::Observation> observations;
     for (const auto& p : proposals) {
       auto f = family.starts_with("smooth") ? model.trend(p.x) : model.feature(p.x);
@@ -113,8 +114,8 @@ std::vector<int> run(const Options& o, const std::string& family, const std::str
   std::vector<int> counts;
   for (double scale : {1.0, 2.0})
     for (int b : o.budgets)
-      counts.push_back(podium::search::count_strategies(setup.features, {found.begin(), found.begin() + b},
-                                                        scale * threshold_of(o, family)));
+      counts.push_back(
+          podium::search::count_strategies(setup.features, {found.begin(), found.begin() + b}, scale * threshold_of(o, family)));
   return counts;
 }
 
@@ -158,7 +159,8 @@ int main(int argc, char** argv) {
     else return Flag::unknown;
     return Flag::read;
   };
-  if (!podium::bench::read_flags(argc, argv, "[--FLAG VALUE ...] (the flags: the comment at the top of bench/search/diversity_bench.cpp)", read))
+  if (!podium::bench::read_flags(
+          argc, argv, "[--FLAG VALUE ...] (the flags: the comment at the top of bench/search/diversity_bench.cpp)", read))
     return 2;
   if (o.landscapes * o.seeds < 2) {
     std::fprintf(stderr, "%s: --landscapes × --seeds must be at least 2: the bars compare with a standard error\n", argv[0]);
@@ -196,10 +198,11 @@ int main(int argc, char** argv) {
       return 2;
     }
   std::printf("split %s (landscape seeds %d.., search seeds %d..): ", o.split.c_str(), o.first_landscape, o.first_seed);
-  std::printf("landscapes %d x seeds %d, dim %d, regions %d, max frequency %g, threshold %.3g (continuous families %.3g), "
-              "noise %.3g, batch %d, bds config %s, novelty config %s\n",
-              o.landscapes, o.seeds, o.dim, o.regions, o.max_frequency, o.threshold, o.continuous_threshold, o.noise, o.batch,
-              o.bds_config.dump().c_str(), o.novelty_config.dump().c_str());
+  std::printf(
+      "landscapes %d x seeds %d, dim %d, regions %d, max frequency %g, threshold %.3g (continuous families %.3g), "
+      "noise %.3g, batch %d, bds config %s, novelty config %s\n",
+      o.landscapes, o.seeds, o.dim, o.regions, o.max_frequency, o.threshold, o.continuous_threshold, o.noise, o.batch,
+      o.bds_config.dump().c_str(), o.novelty_config.dump().c_str());
   // results[family][algorithm][run][budget]
   std::map<std::string, std::map<std::string, std::vector<std::vector<int>>>> results;
   std::vector<std::tuple<std::string, std::string, int, int>> jobs;
@@ -224,7 +227,8 @@ int main(int argc, char** argv) {
         const auto& [f, a, l, s] = jobs[j];
         auto counts = run(o, f, a, l, s);
         std::lock_guard lock(mutex);
-        results[f][a][static_cast<std::size_t>(l) * static_cast<std::size_t>(o.seeds) + static_cast<std::size_t>(s)] = std::move(counts);
+        results[f][a][static_cast<std::size_t>(l) * static_cast<std::size_t>(o.seeds) + static_cast<std::size_t>(s)] =
+            std::move(counts);
       }
     });
   for (auto& w : workers) w.join();
@@ -262,10 +266,13 @@ int main(int argc, char** argv) {
         const bool has_bar = (f == "plateaus" || f == "voronoi") && k == 0;
         if (has_bar) pass = pass && not_below && (!ratio_bar || ratio >= 1.2);
         const char* ratio_note = ratio_bar ? (ratio >= 1.2 ? "  (bar >= 1.2: PASS)" : "  (bar >= 1.2: FAIL)")
-                                 : at_20 && k == 0 && continuous(f) ? (ratio >= 1.2 ? "  (1.2x target, no bar: met)" : "  (1.2x target, no bar: not met)")
-                                                                    : "";
+                                 : at_20 && k == 0 && continuous(f)
+                                     ? (ratio >= 1.2 ? "  (1.2x target, no bar: met)" : "  (1.2x target, no bar: not met)")
+                                     : "";
         std::printf("  bds vs random @%d: ratio %.3f, paired difference %+.2f ± %.2f%s%s\n", o.budgets[b], ratio, d.mean, d.se,
-                    not_below ? "" : has_bar ? "  FAIL (below random beyond noise)" : "  (below random beyond noise; no bar)",
+                    not_below ? ""
+                    : has_bar ? "  FAIL (below random beyond noise)"
+                              : "  (below random beyond noise; no bar)",
                     ratio_note);
       }
     }

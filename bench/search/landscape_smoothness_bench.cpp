@@ -30,8 +30,8 @@ double median(std::vector<double> v) {
 }
 
 // R² of a GP fitted to (x, y) at predicting the test targets.
-double r_squared(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::MatrixXd& test_x,
-                 const Eigen::VectorXd& test_y, podium::base::Rng& rng) {
+double r_squared(const Eigen::MatrixXd& x, const Eigen::VectorXd& y, const Eigen::MatrixXd& test_x, const Eigen::VectorXd& test_y,
+                 podium::base::Rng& rng) {
   podium::search::GaussianProcess gp(static_cast<int>(x.cols()), 0.5);
   gp.set(x, y, gp.default_theta());
   gp.fit(rng, 4, podium::search::GpBounds{});
@@ -57,7 +57,8 @@ int main(int argc, char** argv) {
   const auto read = [&](const std::string& key, const char* value) {
     if (key == "--family") family = value;
     else if (key == "--frequencies")
-      return checked(podium::bench::list(value, frequencies, [](const char* f, double& v) { return podium::bench::real_number(f, v) && v >= 0; }));
+      return checked(podium::bench::list(value, frequencies,
+                                         [](const char* f, double& v) { return podium::bench::real_number(f, v) && v >= 0; }));
     else if (key == "--first-landscape") return checked(count(value, 0, 1'000'000'000, first));
     else if (key == "--landscapes") return checked(count(value, 1, 1'000'000, landscapes));
     else if (key == "--samples") return checked(count(value, 1, 1'000'000, samples));
@@ -78,10 +79,9 @@ int main(int argc, char** argv) {
     return 2;
   }
   const auto features = podium::search::Feature::list_from_json(
-      podium::search::Json::parse(R"([{"name": "f0", "low": 0, "high": 1}, {"name": "f1", "low": 0, "high": 1}])"),
-      "features");
-  std::printf("family %s, landscapes %d..%d, %d samples, dim %d, regions %d\n", family.c_str(), first,
-              first + landscapes - 1, samples, dim, regions);
+      podium::search::Json::parse(R"([{"name": "f0", "low": 0, "high": 1}, {"name": "f1", "low": 0, "high": 1}])"), "features");
+  std::printf("family %s, landscapes %d..%d, %d samples, dim %d, regions %d\n", family.c_str(), first, first + landscapes - 1,
+              samples, dim, regions);
   std::printf("max frequency | median R² trend | median R² feature | strategies in box\n");
   bool any_pass = false;
   for (double frequency : frequencies) {

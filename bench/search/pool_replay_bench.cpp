@@ -25,8 +25,7 @@ using podium::base::Json;
 using podium::tasks::pool::mean_sd;
 
 namespace {
-void print_counts(const podium::tasks::pool::ReplayResult& r, const std::vector<std::string>& arms, std::size_t b,
-                  bool coarse) {
+void print_counts(const podium::tasks::pool::ReplayResult& r, const std::vector<std::string>& arms, std::size_t b, bool coarse) {
   const auto pick = [&](const podium::tasks::pool::ArmRuns& runs) { return coarse ? runs.strategies_coarse : runs.strategies; };
   for (const auto& arm : arms) {
     std::vector<double> v, fails, techniques;
@@ -65,7 +64,8 @@ int main(int argc, char** argv) {
     else return Flag::unknown;
     return Flag::read;
   };
-  if (!podium::bench::read_flags(argc, argv, "--table FILE [--FLAG VALUE ...] (the top of bench/search/pool_replay_bench.cpp)", read))
+  if (!podium::bench::read_flags(argc, argv, "--table FILE [--FLAG VALUE ...] (the top of bench/search/pool_replay_bench.cpp)",
+                                 read))
     return 2;
   if (table_file.empty() || o.budgets.empty() || !std::is_sorted(o.budgets.begin(), o.budgets.end())) {
     std::fprintf(stderr, "%s: needs --table FILE and ascending --budgets\n", argv[0]);

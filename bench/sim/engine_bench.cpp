@@ -9,8 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -26,7 +26,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-constexpr double kSimSeconds = 30.0;    // per measurement
+constexpr double kSimSeconds = 30.0;     // per measurement
 constexpr double kEpisodeSeconds = 5.0;  // a new ragdoll drop every 5 s
 constexpr double kControlHz = 10.0;
 // Sane physics, checked the same way for both engines: kinetic energy (after every control step)
@@ -48,7 +48,8 @@ bool standing_holds(const ModelPtr& model, double hz) {
   world.set_gains(gains);
   const double h0 = world.observe().head_height_m;
   for (int k = 0; k < static_cast<int>(10 * hz); ++k) {
-    if (!world.control_step(Control::spd_maba, model->standing_pose()).ok || world.observe().head_height_m < 0.9 * h0) return false;
+    if (!world.control_step(Control::spd_maba, model->standing_pose()).ok || world.observe().head_height_m < 0.9 * h0)
+      return false;
   }
   return true;
 }
@@ -230,21 +231,26 @@ int main(int argc, char** argv) {
   if (argc > 1) rates.assign(argc - 1, 0.0);
   for (int i = 1; i < argc; ++i) {
     // The workload's 10 Hz control must divide the rate (World refuses it otherwise).
-    if (!podium::bench::real_number(argv[i], rates[i - 1]) || rates[i - 1] < kControlHz || std::fmod(rates[i - 1], kControlHz) != 0) {
-      std::fprintf(stderr, "%s: bad value '%s' for HZ\nusage: %s [HZ ...]  (each a multiple of %g)\n", argv[0], argv[i], argv[0], kControlHz);
+    if (!podium::bench::real_number(argv[i], rates[i - 1]) || rates[i - 1] < kControlHz ||
+        std::fmod(rates[i - 1], kControlHz) != 0) {
+      std::fprintf(stderr, "%s: bad value '%s' for HZ\nusage: %s [HZ ...]  (each a multiple of %g)\n", argv[0], argv[i], argv[0],
+                   kControlHz);
       return 2;
     }
   }
   const ModelPtr model = load_shipped_model("humanoid21");
-  std::printf("Benchmark B: humanoid21, random SPD targets every 1/%g s, ragdoll drop every %g s, %g simulated s per row (median of seeds 1-3, fastest of %d repetitions each), one core\n",
-              kControlHz, kEpisodeSeconds, kSimSeconds, kRepetitions);
-  std::printf("%-8s %8s %10s %12s %10s %9s %10s %10s\n", "engine", "dt (ms)", "standing", "workload ok", "steps/s", "x real", "max KE J", "lowest m");
+  std::printf(
+      "Benchmark B: humanoid21, random SPD targets every 1/%g s, ragdoll drop every %g s, %g simulated s per row (median of "
+      "seeds 1-3, fastest of %d repetitions each), one core\n",
+      kControlHz, kEpisodeSeconds, kSimSeconds, kRepetitions);
+  std::printf("%-8s %8s %10s %12s %10s %9s %10s %10s\n", "engine", "dt (ms)", "standing", "workload ok", "steps/s", "x real",
+              "max KE J", "lowest m");
   double best_rtf = 0, best_dt = 0;
   for (double hz : rates) {
     const bool stands = standing_holds(model, hz);
     const Result r = median_of_3([&](std::uint64_t seed) { return run_bullet(model, hz, seed); });
-    std::printf("%-8s %8.2f %10s %12s %10.0f %9.1f %10.1f %10.3f\n", "podium", 1000.0 / hz, stands ? "holds" : "falls", r.sane() ? "yes" : "NO", r.steps_per_s,
-                r.rtf, r.max_energy, r.lowest_m);
+    std::printf("%-8s %8.2f %10s %12s %10.0f %9.1f %10.1f %10.3f\n", "podium", 1000.0 / hz, stands ? "holds" : "falls",
+                r.sane() ? "yes" : "NO", r.steps_per_s, r.rtf, r.max_energy, r.lowest_m);
     if (stands && r.sane() && best_dt == 0) {
       best_rtf = r.rtf;
       best_dt = 1.0 / hz;
@@ -273,8 +279,8 @@ int main(int argc, char** argv) {
     const bool stands = mujoco_standing_holds(welded, dt);
     const Result mj = median_of_3([&](std::uint64_t seed) { return run_mujoco(m, seed); });
     const bool is_default = dt == default_dt;
-    std::printf("%-8s %8.2f %10s %12s %10.0f %9.1f %10.1f %10.3f%s\n", "mujoco", 1000.0 * dt, stands ? "holds" : "falls", mj.sane() ? "yes" : "NO",
-                mj.steps_per_s, mj.rtf, mj.max_energy, mj.lowest_m, is_default ? "  (default dt)" : "");
+    std::printf("%-8s %8.2f %10s %12s %10.0f %9.1f %10.1f %10.3f%s\n", "mujoco", 1000.0 * dt, stands ? "holds" : "falls",
+                mj.sane() ? "yes" : "NO", mj.steps_per_s, mj.rtf, mj.max_energy, mj.lowest_m, is_default ? "  (default dt)" : "");
     if (is_default) mj_default = mj;
     if (stands && mj.sane() && mj_best_dt == 0) {
       mj_best = mj;
@@ -284,10 +290,13 @@ int main(int argc, char** argv) {
   if (best_dt == 0 || mj_best_dt == 0) {
     std::printf("largest admissible dt: %s has none among the rates run; no verdict\n", best_dt == 0 ? "podium" : "MuJoCo");
   } else {
-    std::printf("largest admissible dt: podium %.2f ms, %.1fx real time; MuJoCo %.2f ms, %.1fx; ratio %.2f; bar (>= MuJoCo): %s\n", best_dt * 1000, best_rtf,
-                mj_best_dt * 1000, mj_best.rtf, best_rtf / mj_best.rtf, best_rtf >= mj_best.rtf ? "met" : "NOT met");
+    std::printf(
+        "largest admissible dt: podium %.2f ms, %.1fx real time; MuJoCo %.2f ms, %.1fx; ratio %.2f; bar (>= MuJoCo): %s\n",
+        best_dt * 1000, best_rtf, mj_best_dt * 1000, mj_best.rtf, best_rtf / mj_best.rtf,
+        best_rtf >= mj_best.rtf ? "met" : "NOT met");
   }
-  std::printf("MuJoCo at its default %.1f ms: %.1fx; podium / that: %.2f\n", default_dt * 1000, mj_default.rtf, best_rtf / mj_default.rtf);
+  std::printf("MuJoCo at its default %.1f ms: %.1fx; podium / that: %.2f\n", default_dt * 1000, mj_default.rtf,
+              best_rtf / mj_default.rtf);
   mj_deleteModel(welded);
   mj_deleteModel(m);
   return 0;

@@ -67,9 +67,11 @@ int main() {
       {"chain72", make_chain(23), "snake2 (72): 5,099 / 8,334 fps; 39.9% / 2.5%"},
       {"chain195", make_chain(64), "snake3 (195): 1,036 / 3,036 fps; 64.4% / 3.7%"},
   };
-  std::printf("Benchmark A: SPD per call and full simulation step with MABA SPD at 600 Hz, lying on flat ground (medians of 7 runs, seed 1)\n");
-  std::printf("%-11s %4s %11s %11s %7s %8s %12s %9s %10s   thesis (PhysX, DF / MABA)\n", "model", "nv", "dense ns", "MABA ns", "ratio", "FK ns", "step ns",
-              "SPD %", "allocs");
+  std::printf(
+      "Benchmark A: SPD per call and full simulation step with MABA SPD at 600 Hz, lying on flat ground (medians of 7 runs, seed "
+      "1)\n");
+  std::printf("%-11s %4s %11s %11s %7s %8s %12s %9s %10s   thesis (PhysX, DF / MABA)\n", "model", "nv", "dense ns", "MABA ns",
+              "ratio", "FK ns", "step ns", "SPD %", "allocs");
   for (const Row& row : rows) {
     const CharacterModel& m = *row.model;
     podium::base::Rng rng(1);
@@ -111,10 +113,15 @@ int main() {
       shares.push_back((mabas.back() - fks.back()) / steps.back());
     }
     const double maba = median(mabas), fk = median(fks), step = median(steps), share = median(shares);
-    std::printf("%-11s %4d %11.0f %11.0f %6.1fx %8.0f %12.0f %8.1f%% %4lld/%-5lld   %s%s\n", row.label, m.nv(), dense, maba, dense / maba, fk, step, 100.0 * share,
-                spd_allocs, step_allocs, row.thesis, world.data().qd.allFinite() ? "" : "  (STATE NOT FINITE: step time invalid)");
+    std::printf("%-11s %4d %11.0f %11.0f %6.1fx %8.0f %12.0f %8.1f%% %4lld/%-5lld   %s%s\n", row.label, m.nv(), dense, maba,
+                dense / maba, fk, step, 100.0 * share, spd_allocs, step_allocs, row.thesis,
+                world.data().qd.allFinite() ? "" : "  (STATE NOT FINITE: step time invalid)");
   }
-  std::printf("SPD %%: (MABA - FK) / step, SPD's share of a step that already has its pose (median over the 7 runs of each run's share)\n");
-  std::printf("allocs: C++ heap allocations (operator new) in one MABA SPD call / in one full step; Bullet allocates through malloc and is not counted\n");
+  std::printf(
+      "SPD %%: (MABA - FK) / step, SPD's share of a step that already has its pose (median over the 7 runs of each run's "
+      "share)\n");
+  std::printf(
+      "allocs: C++ heap allocations (operator new) in one MABA SPD call / in one full step; Bullet allocates through malloc and "
+      "is not counted\n");
   return 0;
 }

@@ -41,7 +41,9 @@ double final_climb_s(const FastRollout& fast, double dt) {
 }
 
 // The first frame of the upper half of τ_fast's COM climb.
-int climb_start(const FastRollout& fast, double dt) { return fast.steps() - static_cast<int>(std::lround(final_climb_s(fast, dt) / dt)); }
+int climb_start(const FastRollout& fast, double dt) {
+  return fast.steps() - static_cast<int>(std::lround(final_climb_s(fast, dt) / dt));
+}
 
 // At pose q: the bodies touching the ground ("+"-joined) and the horizontal distance (m) from the
 // COM to the nearer foot's centroid.
@@ -51,7 +53,8 @@ std::pair<std::string, double> support(sim::World& world, const Eigen::VectorXd&
   const sim::CharacterModel& model = world.model();
   std::string on_ground;
   for (std::size_t b = 0; b < model.bodies().size(); ++b)
-    if (o.touches(static_cast<int>(b), sim::Contact::Partner::ground)) on_ground += (on_ground.empty() ? "" : "+") + model.bodies()[b].name;
+    if (o.touches(static_cast<int>(b), sim::Contact::Partner::ground))
+      on_ground += (on_ground.empty() ? "" : "+") + model.bodies()[b].name;
   double nearer = INFINITY;
   for (const char* foot : {"foot_right", "foot_left"})
     nearer = std::min(nearer, (o.com - world.body_centroid(model.find_body(foot))).head<2>().norm());
@@ -82,19 +85,23 @@ int main(int argc, char** argv) {
   if (argc < 4 || argc > 7 || !bench::real_number(argv[2], strength) || !(strength > 0.0 && strength <= 1.0) ||
       !bench::real_number(argv[3], kappa) || !(kappa > 0.0) || (argc > 4 && !bench::whole_number(argv[4], 1, falls)) ||
       (argc > 6 && (!bench::real_number(argv[6], settings.reference_end_m) || !(settings.reference_end_m > 0.0)))) {
-    std::fprintf(stderr, "usage: getup_slower_probe WEAK_POLICY STRENGTH(0,1] KAPPA>0 [FALLS>0] [SLOW_POLICY|-] [REFERENCE_END_M>0]\n");
+    std::fprintf(stderr,
+                 "usage: getup_slower_probe WEAK_POLICY STRENGTH(0,1] KAPPA>0 [FALLS>0] [SLOW_POLICY|-] [REFERENCE_END_M>0]\n");
     return 2;
   }
   try {
     const auto weak = std::make_shared<const learn::FrozenPolicy>(argv[1]);
-    const std::unique_ptr<learn::FrozenPolicy> slow = argc > 5 && std::string(argv[5]) != "-" ? std::make_unique<learn::FrozenPolicy>(argv[5]) : nullptr;
+    const std::unique_ptr<learn::FrozenPolicy> slow =
+        argc > 5 && std::string(argv[5]) != "-" ? std::make_unique<learn::FrozenPolicy>(argv[5]) : nullptr;
     tasks::getup::SlowerEnv env({}, settings, weak, strength, kappa);
     sim::World still(env.world().model_ptr(), sim::WorldConfig{});
     std::vector<double> observation, action(env.action_space().size(), 0.0), low_s, climb_s, offset_m, speed;
     int reached = 0, stood = 0;
     std::printf("standing: COM %.2f m from the nearer foot\n", support(still, env.world().model().standing_pose()).second);
-    std::printf("κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at T/κ (m)  head top max (m)  climb: peak leg rad/s; at its start: COM–foot (m), on the ground\n", kappa, settings.reference_end_m,
-                slow ? "π_slow" : "zero residual (PD on the reference)");
+    std::printf(
+        "κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at "
+        "T/κ (m)  head top max (m)  climb: peak leg rad/s; at its start: COM–foot (m), on the ground\n",
+        kappa, settings.reference_end_m, slow ? "π_slow" : "zero residual (PD on the reference)");
     for (long long k = 0; k < falls; ++k) {
       env.seed(1000 + static_cast<std::uint64_t>(k));
       env.reset(observation);
@@ -125,12 +132,15 @@ int main(int argc, char** argv) {
       const auto [on_ground, offset] = support(still, fast.q[static_cast<std::size_t>(climb)]);
       offset_m.push_back(offset);
       speed.push_back(peak_leg_speed(env.world().model(), fast, climb));
-      std::printf("%4lld  %8d  %5.2f  %13.2f  %5d  %-16s  %.2f / %.2f           %.2f  %6.1f  %.2f  %s\n", k, fast.steps(), low_s.back(),
-                  climb_s.back(), steps, ended, com_at_end, ref_at_end, head_max, speed.back(), offset, on_ground.c_str());
+      std::printf("%4lld  %8d  %5.2f  %13.2f  %5d  %-16s  %.2f / %.2f           %.2f  %6.1f  %.2f  %s\n", k, fast.steps(),
+                  low_s.back(), climb_s.back(), steps, ended, com_at_end, ref_at_end, head_max, speed.back(), offset,
+                  on_ground.c_str());
     }
-    std::printf("medians: low %.2f s, upper climb %.2f s (fast time), its peak leg speed %.1f rad/s, COM to the nearer foot at its start %.2f m; "
-                "reached T/κ in %d/%lld, stood to the end in %d/%lld\n",
-                median(low_s), median(climb_s), median(speed), median(offset_m), reached, falls, stood, falls);
+    std::printf(
+        "medians: low %.2f s, upper climb %.2f s (fast time), its peak leg speed %.1f rad/s, COM to the nearer foot at its start "
+        "%.2f m; "
+        "reached T/κ in %d/%lld, stood to the end in %d/%lld\n",
+        median(low_s), median(climb_s), median(speed), median(offset_m), reached, falls, stood, falls);
   } catch (const std::exception& error) {
     std::fprintf(stderr, "getup_slower_probe: %s\n", error.what());
     return 1;

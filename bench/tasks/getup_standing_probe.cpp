@@ -21,8 +21,8 @@
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -111,7 +111,8 @@ Outcome hold_mujoco(mjModel* m, double strength, double gain_scale, double kd_ra
         for (int a = 0; a < m->nu; ++a) {
           const int j = m->actuator_trnid[2 * a];
           const double kp = gain_scale * m->actuator_gear[6 * a];
-          const double tau = kp * (m->qpos0[m->jnt_qposadr[j]] - d->qpos[m->jnt_qposadr[j]]) - kd_ratio * kp * d->qvel[m->jnt_dofadr[j]];
+          const double tau =
+              kp * (m->qpos0[m->jnt_qposadr[j]] - d->qpos[m->jnt_qposadr[j]]) - kd_ratio * kp * d->qvel[m->jnt_dofadr[j]];
           d->ctrl[a] = std::clamp(tau / m->actuator_gear[6 * a], -strength, strength);
         }
       mj_step(m, d);
@@ -124,8 +125,8 @@ Outcome hold_mujoco(mjModel* m, double strength, double gain_scale, double kd_ra
 }
 
 void print(const char* engine, double strength, double scale, double kd_ratio, int hold_steps, const Outcome& o) {
-  std::printf("%-26s %-8.2f %-6.1f %-6.2f %-14d %-10.3f %.3f to %.3f%s\n", engine, strength, scale, kd_ratio, hold_steps, o.stood_s,
-              o.lowest_m, o.highest_m, o.blew_up ? " (blew up)" : "");
+  std::printf("%-26s %-8.2f %-6.1f %-6.2f %-14d %-10.3f %.3f to %.3f%s\n", engine, strength, scale, kd_ratio, hold_steps,
+              o.stood_s, o.lowest_m, o.highest_m, o.blew_up ? " (blew up)" : "");
 }
 
 // Sets every joint's armature, damping and stiffness of `m` to 0 (`bare`) or back to `saved`.
@@ -161,20 +162,27 @@ int main(int argc, char** argv) {
   char error[1000] = "";
   mjModel* m = mj_loadXML(xml.c_str(), nullptr, error, sizeof error);
   if (!m) std::printf("mujoco: skipped, cannot load %s: %s\n", xml.c_str(), error);
-  std::printf("From the standing pose, joint PD to it (kp = scale × torque limit) chosen every `hold` simulation steps at 800 Hz (20: the task's 40 Hz), "
-              "%.0f s at most; stood = head top above 1.2 m\n", seconds);
-  std::printf("%-26s %-8s %-6s %-6s %-14s %-10s %s\n", "engine", "strength", "scale", "kd/kp", "hold (steps)", "stood (s)", "head top range (m)");
+  std::printf(
+      "From the standing pose, joint PD to it (kp = scale × torque limit) chosen every `hold` simulation steps at 800 Hz (20: "
+      "the task's 40 Hz), "
+      "%.0f s at most; stood = head top above 1.2 m\n",
+      seconds);
+  std::printf("%-26s %-8s %-6s %-6s %-14s %-10s %s\n", "engine", "strength", "scale", "kd/kp", "hold (steps)", "stood (s)",
+              "head top range (m)");
   for (const double strength : {1.0, 0.6})
     for (const double scale : {1.0, 2.0})
       for (const int hold_steps : {1, 8, 20}) {
         const double kd_ratio = 0.1;
         print("podium", strength, scale, kd_ratio, hold_steps, hold(strength, scale, kd_ratio, hold_steps, false, seconds));
-        print("podium passive_joints", strength, scale, kd_ratio, hold_steps, hold(strength, scale, kd_ratio, hold_steps, true, seconds));
+        print("podium passive_joints", strength, scale, kd_ratio, hold_steps,
+              hold(strength, scale, kd_ratio, hold_steps, true, seconds));
         if (!m) continue;
-        print("mujoco as the file", strength, scale, kd_ratio, hold_steps, hold_mujoco(m, strength, scale, kd_ratio, hold_steps, seconds));
+        print("mujoco as the file", strength, scale, kd_ratio, hold_steps,
+              hold_mujoco(m, strength, scale, kd_ratio, hold_steps, seconds));
         const PassiveTerms terms(m);
         terms.bare(m);
-        print("mujoco bare", strength, scale, kd_ratio, hold_steps, hold_mujoco(m, strength, scale, kd_ratio, hold_steps, seconds));
+        print("mujoco bare", strength, scale, kd_ratio, hold_steps,
+              hold_mujoco(m, strength, scale, kd_ratio, hold_steps, seconds));
         terms.restore(m);
       }
   if (m) mj_deleteModel(m);

@@ -22,8 +22,8 @@
 
 #include "bench_args.h"
 #include "jump_env.h"
-#include "podium/character/pose_bridge.h"
 #include "podium/base/rng.h"
+#include "podium/character/pose_bridge.h"
 
 namespace jump = podium::tasks::jump;
 
@@ -68,7 +68,8 @@ std::vector<Sequence> sequences(jump::JumpKind kind, int n, std::uint64_t seed, 
   for (int k = 0; k <= n; ++k) {
     podium::base::Rng rng(podium::base::derive_seed(seed, static_cast<std::uint64_t>(k)));
     Sequence s;
-    for (const auto& f : jump::takeoff_features(kind)) s.features.push_back(k == 0 ? 0.5 * (f.low + f.high) : rng.uniform(f.low, f.high));
+    for (const auto& f : jump::takeoff_features(kind))
+      s.features.push_back(k == 0 ? 0.5 * (f.low + f.high) : rng.uniform(f.low, f.high));
     std::vector<double> u(box.size(), 0.0);
     for (int t = 0; t < steps; ++t) {
       std::vector<double> a(box.size());
@@ -90,7 +91,8 @@ void compare(jump::JumpKind kind, double z, int n, std::uint64_t seed) {
   const double rho = jump::difficulty_ratio(kind, z);
   const double reference_hz = jump::control_hz_for(rho, 600.0);
   const auto seqs = sequences(kind, n, seed, jump::JumpEnv(s), static_cast<int>(std::ceil(2.0 * reference_hz)));
-  std::printf("\n%s, z = %.2f m (control %.0f Hz at 600 Hz), %zu sequences\n", jump::jump_kind_name(kind), z, reference_hz, seqs.size());
+  std::printf("\n%s, z = %.2f m (control %.0f Hz at 600 Hz), %zu sequences\n", jump::jump_kind_name(kind), z, reference_hz,
+              seqs.size());
   std::printf("  sim_hz  control  same outcome+step  same outcome  max |Δ up-angle|  max |Δ COM peak|  mean steps  ms/episode\n");
   std::vector<Episode> reference;
   for (double hz : {600.0, 300.0, 200.0, 150.0, 120.0, 100.0}) {
@@ -103,7 +105,8 @@ void compare(jump::JumpKind kind, double z, int n, std::uint64_t seed) {
     std::vector<Episode> episodes;
     const auto t0 = std::chrono::steady_clock::now();
     for (const auto& seq : seqs) episodes.push_back(run(s, seq));
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / static_cast<double>(seqs.size());
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() /
+                      static_cast<double>(seqs.size());
     if (reference.empty()) reference = episodes;
     int same_step = 0, same = 0;
     double angle = 0.0, peak = 0.0, steps = 0.0;
@@ -117,8 +120,8 @@ void compare(jump::JumpKind kind, double z, int n, std::uint64_t seed) {
       peak = std::max(peak, std::abs(a.com_peak - b.com_peak));
       steps += a.steps / static_cast<double>(episodes.size());
     }
-    std::printf("  %6.0f  %5.0f Hz  %8d/%zu          %6d/%zu      %8.3f rad      %8.3f m     %6.1f    %7.2f\n", hz, control, same_step,
-                episodes.size(), same, episodes.size(), angle, peak, steps, ms);
+    std::printf("  %6.0f  %5.0f Hz  %8d/%zu          %6d/%zu      %8.3f rad      %8.3f m     %6.1f    %7.2f\n", hz, control,
+                same_step, episodes.size(), same, episodes.size(), angle, peak, steps, ms);
   }
 }
 

@@ -67,7 +67,8 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("encodings per latent dimension, mean ± std:");
-  for (std::size_t k = 0; k < nz; ++k) std::printf(" %.2f±%.2f", z_mean[k], std::sqrt(std::max(0.0, z_sq[k] - z_mean[k] * z_mean[k])));
+  for (std::size_t k = 0; k < nz; ++k)
+    std::printf(" %.2f±%.2f", z_mean[k], std::sqrt(std::max(0.0, z_sq[k] - z_mean[k] * z_mean[k])));
   const std::vector<double> zero = prior.vae->decode(std::vector<double>(nz, 0.0));
   double nearest = 1e9, to_mean = 0.0;
   for (const auto& p : all.poses) {

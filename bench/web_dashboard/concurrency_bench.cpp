@@ -44,8 +44,8 @@ int main(int argc, char** argv) {
     requests += h.requests;
     errors += h.errors;
     locked += h.locked;
-    std::printf("round %d: alone %.0f trials/s, hammered %.0f trials/s (%+.1f%%), %lld API requests\n", round,
-                alone.back(), hammered.back(), 100 * (ratios.back() - 1), static_cast<long long>(h.requests));
+    std::printf("round %d: alone %.0f trials/s, hammered %.0f trials/s (%+.1f%%), %lld API requests\n", round, alone.back(),
+                hammered.back(), 100 * (ratios.back() - 1), static_cast<long long>(h.requests));
   }
   auto median = [](std::vector<double> v) {
     std::sort(v.begin(), v.end());
@@ -54,8 +54,9 @@ int main(int argc, char** argv) {
   // Paired within a round: the machine's throughput drifts across rounds (seen: 2100 -> 1300
   // trials/s alone over 15 s), which unpaired medians would mistake for the client's effect.
   const double drop = 1.0 - median(ratios);
-  std::printf("median over %d rounds: alone %.0f trials/s, hammered %.0f trials/s; median paired drop %.1f%% (bar < 20%%); "
-              "%lld API requests, %lld errors, %lld 'locked'\n",
-              rounds, median(alone), median(hammered), 100 * drop, requests, errors, locked);
+  std::printf(
+      "median over %d rounds: alone %.0f trials/s, hammered %.0f trials/s; median paired drop %.1f%% (bar < 20%%); "
+      "%lld API requests, %lld errors, %lld 'locked'\n",
+      rounds, median(alone), median(hammered), 100 * drop, requests, errors, locked);
   return 0;
 }

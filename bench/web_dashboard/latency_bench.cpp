@@ -52,7 +52,8 @@ void build_database(const fs::path& db) {
           store->set_trial_strategy(t, i % 12);
           if (c == 0 && i == 0) {
             std::vector<podium::store::MetricPoint> points;
-            for (int k = 0; k < kMetricPoints; ++k) points.push_back({"return", double(k), std::sin(k * 1e-3) + rng.normal(0, 0.1)});
+            for (int k = 0; k < kMetricPoints; ++k)
+              points.push_back({"return", double(k), std::sin(k * 1e-3) + rng.normal(0, 0.1)});
             store->add_metrics(t, points);
           }
         }
@@ -101,7 +102,9 @@ Stats measure(httplib::Client& client, int port, const std::vector<std::string>&
     if (r >= 2) ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());  // 2 warm-ups
   }
   std::sort(ms.begin(), ms.end());
-  const auto at = [&](double q) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * static_cast<double>(ms.size())))]; };
+  const auto at = [&](double q) {
+    return ms[std::min(ms.size() - 1, static_cast<std::size_t>(q * static_cast<double>(ms.size())))];
+  };
   return {at(0.5), at(0.95), ms.back()};
 }
 
@@ -124,16 +127,15 @@ int main(int argc, char** argv) {
   if (!fs::exists(db)) {
     const auto start = Clock::now();
     build_database(db);
-    std::printf("built %s (%d-trial campaign + 9 small ones, %d metric points) in %.1f s\n", db.c_str(), kTrials,
-                kMetricPoints, std::chrono::duration<double>(Clock::now() - start).count());
+    std::printf("built %s (%d-trial campaign + 9 small ones, %d metric points) in %.1f s\n", db.c_str(), kTrials, kMetricPoints,
+                std::chrono::duration<double>(Clock::now() - start).count());
   }
   // What each page fetches (see static/*.js).
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases = {
       {"campaign list (10 campaigns)", {"/api/campaigns"}},
       {"campaign page, 100k trials (5 requests at once)",
-       {"/api/campaigns/1", "/api/campaigns/1/points",
-        "/api/campaigns/1/trials?limit=1000&order=index&state=done", "/api/campaigns/1/events?last=50",
-        "/api/campaigns/1/trials?offset=0&limit=50&order=index&desc=0"}},
+       {"/api/campaigns/1", "/api/campaigns/1/points", "/api/campaigns/1/trials?limit=1000&order=index&state=done",
+        "/api/campaigns/1/events?last=50", "/api/campaigns/1/trials?offset=0&limit=50&order=index&desc=0"}},
       {"  /api/campaigns/1", {"/api/campaigns/1"}},
       {"  /api/campaigns/1/points (5k of 100k)", {"/api/campaigns/1/points"}},
       {"  /api/campaigns/1/strategies", {"/api/campaigns/1/strategies"}},
@@ -183,8 +185,10 @@ int main(int argc, char** argv) {
     server.stop();
     thread.join();
   }
-  std::printf("%s: cold p95 < 100 ms for the campaign list, the 100k-trial campaign page and the 100k-point series "
-              "(repeat %d)\n", pass ? "PASS" : "FAIL", repeat);
+  std::printf(
+      "%s: cold p95 < 100 ms for the campaign list, the 100k-trial campaign page and the 100k-point series "
+      "(repeat %d)\n",
+      pass ? "PASS" : "FAIL", repeat);
   if (keep.empty()) fs::remove_all(dir);
   return pass ? 0 : 1;
 }

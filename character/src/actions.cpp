@@ -25,7 +25,9 @@ void TorqueActions::command(const CharacterEnv& env, std::span<const double> act
   for (int i = 6; i < model.nv(); ++i) out(i) = std::clamp(action[i - 6], -1.0, 1.0) * model.torque_limits()(i) * strength;
 }
 
-TargetActions::TargetActions(sim::ModelPtr model, sim::Control mode) : bridge_(std::move(model)), mode_(mode) { check_target_mode(mode); }
+TargetActions::TargetActions(sim::ModelPtr model, sim::Control mode) : bridge_(std::move(model)), mode_(mode) {
+  check_target_mode(mode);
+}
 
 learn::BoxSpace TargetActions::space(const sim::CharacterModel&) const { return {bridge_.lower(), bridge_.upper()}; }
 
@@ -35,9 +37,13 @@ void TargetActions::command(const CharacterEnv&, std::span<const double> action,
   out = bridge_.target(pose);
 }
 
-VaeActions::VaeActions(std::shared_ptr<const learn::PoseVae> vae, PoseBridge bridge, sim::Control mode, double latent_bound, double offset_bound,
-                       ConditionFn condition)
-    : vae_(std::move(vae)), bridge_(std::move(bridge)), mode_(mode), latent_bound_(latent_bound), offset_bound_(offset_bound),
+VaeActions::VaeActions(std::shared_ptr<const learn::PoseVae> vae, PoseBridge bridge, sim::Control mode, double latent_bound,
+                       double offset_bound, ConditionFn condition)
+    : vae_(std::move(vae)),
+      bridge_(std::move(bridge)),
+      mode_(mode),
+      latent_bound_(latent_bound),
+      offset_bound_(offset_bound),
       condition_(std::move(condition)) {
   check_target_mode(mode);
   if (!vae_) throw base::UserError("character actions: VaeActions without a VAE");

@@ -13,10 +13,12 @@ CharacterEnv::CharacterEnv(CharacterEnvParts parts) : parts_(std::move(parts)) {
   if (!parts_.action) throw base::UserError("character env: no action map");
   if (!parts_.start) throw base::UserError("character env: no start");
   if (!parts_.reward) throw base::UserError("character env: no reward");
-  if (parts_.episode_steps < 1) throw base::UserError("character env: episode_steps " + std::to_string(parts_.episode_steps) + " is not ≥ 1");
+  if (parts_.episode_steps < 1)
+    throw base::UserError("character env: episode_steps " + std::to_string(parts_.episode_steps) + " is not ≥ 1");
   world_ = std::make_unique<sim::World>(parts_.model, parts_.world);
   if (world_->model_ptr() != parts_.model)  // the World applied model edits (casts, a removed limb)
-    throw base::UserError("character env: the World edits the model; build the parts on sim::edit_model(model, edits) and pass that model");
+    throw base::UserError(
+        "character env: the World edits the model; build the parts on sim::edit_model(model, edits) and pass that model");
   action_space_ = parts_.action->space(*parts_.model);
   for (const auto& p : parts_.observation) observation_size_ += p->size(*parts_.model);
   features_ = world_->observe();

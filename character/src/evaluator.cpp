@@ -59,8 +59,8 @@ EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const Evalu
   if (config.start_seeds.empty()) throw base::UserError("evaluator: no start seeds");
   for (std::size_t r : config.record)
     if (r >= config.start_seeds.size())
-      throw base::UserError("evaluator: record index " + std::to_string(r) + " is not below the " + std::to_string(config.start_seeds.size()) +
-                            " starts");
+      throw base::UserError("evaluator: record index " + std::to_string(r) + " is not below the " +
+                            std::to_string(config.start_seeds.size()) + " starts");
   if (!config.record.empty()) std::filesystem::create_directories(config.record_dir);
   EvaluationReport report;
   std::vector<double> observation;
@@ -74,7 +74,8 @@ EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const Evalu
     env.reset(observation);
     if (recording) recorder.record(env.world());
     if (config.each_step) config.each_step(i, env);
-    const SubstepRecording substeps(env.world(), recorder, recording ? record_stride(env.world(), config.record_min_hz) : env.world().substeps());
+    const SubstepRecording substeps(env.world(), recorder,
+                                    recording ? record_stride(env.world(), config.record_min_hz) : env.world().substeps());
     double ret = 0.0;
     for (;;) {
       policy(observation, action);

@@ -28,7 +28,8 @@ namespace {
 
 std::shared_ptr<const Clip> checked(std::shared_ptr<const Clip> clip) {
   if (!clip || !clip->model) throw base::UserError("imitation: the reference clip has no model");
-  if (clip->size() < 2) throw base::UserError("imitation: the reference clip has " + std::to_string(clip->size()) + " frames, not ≥ 2");
+  if (clip->size() < 2)
+    throw base::UserError("imitation: the reference clip has " + std::to_string(clip->size()) + " frames, not ≥ 2");
   return clip;
 }
 
@@ -61,7 +62,11 @@ double velocity_error(const sim::CharacterModel& model, const Eigen::VectorXd& q
 }  // namespace
 
 ImitationReference::ImitationReference(std::shared_ptr<const Clip> clip, ImitationWeights weights)
-    : clip_(checked(std::move(clip))), weights_(weights), velocities_(clip_->velocities()), sim_(*clip_->model), ref_(*clip_->model) {}
+    : clip_(checked(std::move(clip))),
+      weights_(weights),
+      velocities_(clip_->velocities()),
+      sim_(*clip_->model),
+      ref_(*clip_->model) {}
 
 std::size_t ImitationReference::frame_at(double t_s) const {
   const Clip& c = *clip_;
@@ -89,7 +94,9 @@ TrackingErrors ImitationReference::errors(const Eigen::VectorXd& q, const Eigen:
   sim::forward_kinematics(model, sim_);
   sim::forward_kinematics(model, ref_);
   for (int b : model.end_effector_bodies())
-    e.end_effector += (sim::body_point(model, ref_, b, Eigen::Vector3d::Zero()) - sim::body_point(model, sim_, b, Eigen::Vector3d::Zero())).squaredNorm();
+    e.end_effector +=
+        (sim::body_point(model, ref_, b, Eigen::Vector3d::Zero()) - sim::body_point(model, sim_, b, Eigen::Vector3d::Zero()))
+            .squaredNorm();
   Eigen::Vector3d com, com_ref, vel;
   sim::center_of_mass(model, sim_, com, vel);
   sim::center_of_mass(model, ref_, com_ref, vel);
@@ -108,8 +115,8 @@ TrackingErrors ImitationReference::errors(const CharacterEnv& env) const {
 std::size_t ReferenceStateStart::draw_frame(const Clip& clip, base::Rng& rng) const {
   const int last = last_ < 0 ? static_cast<int>(clip.size()) - 1 : last_;
   if (first_ < 0 || last >= static_cast<int>(clip.size()) || first_ > last)
-    throw base::UserError("imitation: reference start frames [" + std::to_string(first_) + ", " + std::to_string(last) + "] are not within the clip's " +
-                          std::to_string(clip.size()) + " frames");
+    throw base::UserError("imitation: reference start frames [" + std::to_string(first_) + ", " + std::to_string(last) +
+                          "] are not within the clip's " + std::to_string(clip.size()) + " frames");
   return static_cast<std::size_t>(rng.integer(first_, last));
 }
 
@@ -122,9 +129,12 @@ void ReferenceStateStart::begin(CharacterEnv& env, base::Rng& rng) const {
 
 const char* to_string(Termination termination) {
   switch (termination) {
-    case Termination::none: return "none";
-    case Termination::fell: return "fell";
-    case Termination::deviated: return "deviated";
+    case Termination::none:
+      return "none";
+    case Termination::fell:
+      return "fell";
+    case Termination::deviated:
+      return "deviated";
   }
   return "?";
 }
@@ -151,6 +161,8 @@ Termination early_termination(const EarlyTermination& rule, const sim::Observati
   return Termination::none;
 }
 
-void ReferencePhase::write(const CharacterEnv& env, std::span<double> out) const { out[0] = reference_->phase(env.reference_time_s()); }
+void ReferencePhase::write(const CharacterEnv& env, std::span<double> out) const {
+  out[0] = reference_->phase(env.reference_time_s());
+}
 
 }  // namespace podium::character

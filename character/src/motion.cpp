@@ -68,7 +68,8 @@ std::vector<Eigen::VectorXd> Clip::velocities() const {
       // Body-frame ω: q_b = q_a ⊗ exp(ω dt), as sim::integrate advances rotations.
       qd.segment<3>(l.v_index) = log_map(ra.conjugate() * quat_at(qb, i).normalized()) / dt;
       if (l.joint == JointType::free)
-        qd.segment<3>(l.v_index + 3) = ra.toRotationMatrix().transpose() * (qb.segment<3>(l.q_index) - qa.segment<3>(l.q_index)) / dt;
+        qd.segment<3>(l.v_index + 3) =
+            ra.toRotationMatrix().transpose() * (qb.segment<3>(l.q_index) - qa.segment<3>(l.q_index)) / dt;
     }
     out.push_back(qd);
   }
@@ -158,8 +159,8 @@ Clip read_deepmimic_clip(const sim::ModelPtr& model, const std::filesystem::path
     const base::Json& fr = src["Frames"][f];
     const std::string fw = where + ": " + base::json_path_index("Frames", f);
     if (!fr.is_array() || fr.size() != width)
-      throw base::UserError(fw + ": has " + std::to_string(fr.is_array() ? fr.size() : 0) + " numbers but model " + model->name() +
-                            " needs " + std::to_string(width) + " (dt + nq)");
+      throw base::UserError(fw + ": has " + std::to_string(fr.is_array() ? fr.size() : 0) + " numbers but model " +
+                            model->name() + " needs " + std::to_string(width) + " (dt + nq)");
     Eigen::VectorXd q(model->nq());
     for (int k = 0; k < model->nq(); ++k) {
       if (!fr[k + 1].is_number()) throw base::UserError(fw + "[" + std::to_string(k + 1) + "]: not a number");
@@ -174,7 +175,8 @@ Clip read_deepmimic_clip(const sim::ModelPtr& model, const std::filesystem::path
     clip.times_s.push_back(t);
     clip.poses.push_back(q);
     const double dt = fr[0].is_number() ? fr[0].get<double>() : -1.0;
-    if (!(dt > 0) && f + 1 < src["Frames"].size()) throw base::UserError(fw + "[0]: frame duration " + std::to_string(dt) + " is not > 0");
+    if (!(dt > 0) && f + 1 < src["Frames"].size())
+      throw base::UserError(fw + "[0]: frame duration " + std::to_string(dt) + " is not > 0");
     t += dt;
   }
   return clip;

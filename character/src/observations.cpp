@@ -29,7 +29,8 @@ void link_velocities(const sim::CharacterModel& model, const sim::CharacterData&
       velocity[i] = R * d.qd.segment<3>(l.v_index + 3);
       continue;
     }
-    const Eigen::Vector3d rel = l.joint == sim::JointType::revolute ? Eigen::Vector3d(l.axis * d.qd(l.v_index)) : Eigen::Vector3d(d.qd.segment<3>(l.v_index));
+    const Eigen::Vector3d rel = l.joint == sim::JointType::revolute ? Eigen::Vector3d(l.axis * d.qd(l.v_index))
+                                                                    : Eigen::Vector3d(d.qd.segment<3>(l.v_index));
     omega[i] = omega[l.parent] + R * rel;  // joint rates are in the child frame
     velocity[i] = velocity[l.parent] + omega[l.parent].cross(d.links[i].p - d.links[l.parent].p);
   }

@@ -50,8 +50,8 @@ std::vector<double> PoseBridge::pose(const Eigen::VectorXd& q) const {
 
 void PoseBridge::set_pose(std::span<const double> pose, Eigen::VectorXd& q) const {
   if (pose.size() != names_.size())
-    throw base::UserError("pose bridge: a pose of " + std::to_string(pose.size()) + " values for model " + model_->name() + ", which needs " +
-                          std::to_string(names_.size()));
+    throw base::UserError("pose bridge: a pose of " + std::to_string(pose.size()) + " values for model " + model_->name() +
+                          ", which needs " + std::to_string(names_.size()));
   const Eigen::Quaterniond& c = yup_to_zup();
   std::size_t k = 0;
   for (const Link& l : model_->links()) {

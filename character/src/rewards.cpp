@@ -14,9 +14,10 @@ struct SigmoidName {
   Sigmoid kind;
   const char* name;
 };
-constexpr SigmoidName kNames[] = {{Sigmoid::gaussian, "gaussian"}, {Sigmoid::hyperbolic, "hyperbolic"}, {Sigmoid::long_tail, "long_tail"},
-                                  {Sigmoid::reciprocal, "reciprocal"}, {Sigmoid::cosine, "cosine"},       {Sigmoid::linear, "linear"},
-                                  {Sigmoid::quadratic, "quadratic"},   {Sigmoid::tanh_squared, "tanh_squared"}};
+constexpr SigmoidName kNames[] = {{Sigmoid::gaussian, "gaussian"},   {Sigmoid::hyperbolic, "hyperbolic"},
+                                  {Sigmoid::long_tail, "long_tail"}, {Sigmoid::reciprocal, "reciprocal"},
+                                  {Sigmoid::cosine, "cosine"},       {Sigmoid::linear, "linear"},
+                                  {Sigmoid::quadratic, "quadratic"}, {Sigmoid::tanh_squared, "tanh_squared"}};
 
 bool reaches_zero(Sigmoid kind) { return kind == Sigmoid::cosine || kind == Sigmoid::linear || kind == Sigmoid::quadratic; }
 
@@ -52,12 +53,14 @@ double sigmoid(double d, double v, Sigmoid kind) {
       const double s = std::sqrt(-2.0 * std::log(v));
       return std::exp(-0.5 * (d * s) * (d * s));
     }
-    case Sigmoid::hyperbolic: return 1.0 / std::cosh(d * std::acosh(1.0 / v));
+    case Sigmoid::hyperbolic:
+      return 1.0 / std::cosh(d * std::acosh(1.0 / v));
     case Sigmoid::long_tail: {
       const double s = std::sqrt(1.0 / v - 1.0);
       return 1.0 / ((d * s) * (d * s) + 1.0);
     }
-    case Sigmoid::reciprocal: return 1.0 / (std::abs(d) * (1.0 / v - 1.0) + 1.0);
+    case Sigmoid::reciprocal:
+      return 1.0 / (std::abs(d) * (1.0 / v - 1.0) + 1.0);
     case Sigmoid::cosine: {
       const double x = d * std::acos(2.0 * v - 1.0) / std::numbers::pi;
       return std::abs(x) < 1.0 ? 0.5 * (1.0 + std::cos(std::numbers::pi * x)) : 0.0;
@@ -79,7 +82,8 @@ double sigmoid(double d, double v, Sigmoid kind) {
 }
 
 double tolerance(double x, const Tolerance& t) {
-  if (t.lower > t.upper) throw base::UserError("tolerance: lower bound " + std::to_string(t.lower) + " > upper bound " + std::to_string(t.upper));
+  if (t.lower > t.upper)
+    throw base::UserError("tolerance: lower bound " + std::to_string(t.lower) + " > upper bound " + std::to_string(t.upper));
   if (t.margin < 0.0) throw base::UserError("tolerance: margin " + std::to_string(t.margin) + " is negative");
   if (t.margin > 0.0) check_value_at_margin(t.value_at_margin, t.sigmoid);  // a bad config fails on its first use
   if (x >= t.lower && x <= t.upper) return 1.0;

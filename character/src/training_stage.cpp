@@ -25,9 +25,12 @@ double figure(const Figures& figures, const std::string& name) {
 
 std::string to_string(ExportReason reason) {
   switch (reason) {
-    case ExportReason::passed: return "passed";
-    case ExportReason::best: return "best";
-    case ExportReason::last: return "last";
+    case ExportReason::passed:
+      return "passed";
+    case ExportReason::best:
+      return "best";
+    case ExportReason::last:
+      return "last";
   }
   return "?";
 }
@@ -59,7 +62,10 @@ Json time_metric_entries() {
   const auto entry = [](const char* name, const char* description) {
     // plugins::metric_entry's shape (character/ does not depend on plugins/): a learning curve
     // over environment steps.
-    return Json{{"name", name}, {"unit", "s"}, {"description", description}, {"x", {{"name", "environment steps"}}},
+    return Json{{"name", name},
+                {"unit", "s"},
+                {"description", description},
+                {"x", {{"name", "environment steps"}}},
                 {"kind", "learning_curve"}};
   };
   const char* note = " since the previous test (wall time: differs between runs of a seed)";
@@ -97,9 +103,10 @@ class CheckpointFiles {
       if (!std::regex_match(file, m, name) || !fs::exists(side(m[1]))) continue;
       const Json saved = base::read_json_file(side(m[1]));
       if (saved.value("format", Json()) != learn::TrainingCheckpoint::kFormatVersion)
-        throw base::UserError("training stage: " + side(m[1]).string() + " is of another format than this build's " +
-                              std::to_string(learn::TrainingCheckpoint::kFormatVersion) +
-                              ": delete the trial's training_* files to train it from scratch, or finish it with the build that wrote them");
+        throw base::UserError(
+            "training stage: " + side(m[1]).string() + " is of another format than this build's " +
+            std::to_string(learn::TrainingCheckpoint::kFormatVersion) +
+            ": delete the trial's training_* files to train it from scratch, or finish it with the build that wrote them");
       if (const auto order = saved.at("order").get<std::int64_t>(); order > best_order)
         best_order = order, best = Newest{m[1], saved.at("build")};
     }
@@ -109,7 +116,8 @@ class CheckpointFiles {
   // Names the copies now checkpointed under `tag`.
   void note(const std::string& tag, const Json& build) {
     ++order_;
-    base::write_json_file_atomic(side(tag), {{"format", learn::TrainingCheckpoint::kFormatVersion}, {"order", order_}, {"build", build}});
+    base::write_json_file_atomic(side(tag),
+                                 {{"format", learn::TrainingCheckpoint::kFormatVersion}, {"order", order_}, {"build", build}});
   }
   // After the first save under `tag`: the older tags' files go.
   void remove_others(const std::string& tag) const {
@@ -165,7 +173,11 @@ void check(const StageSettings& s) {
 class Driver {
  public:
   Driver(TrainingStage& stage, const StageSettings& settings, const StageRun& run)
-      : stage_(stage), s_(settings), run_(run), files_(run.work_dir), checkpoint_(files_.file(""), settings.checkpoint_every, run.report.metric) {
+      : stage_(stage),
+        s_(settings),
+        run_(run),
+        files_(run.work_dir),
+        checkpoint_(files_.file(""), settings.checkpoint_every, run.report.metric) {
     send_ = [this](const std::string& name, double step, double value) { checkpoint_.metric(name, step, value); };
   }
 
@@ -205,7 +217,8 @@ class Driver {
                                    base::derive_seed(run_.seed, 2));
     const bool checkpoint_warm_start = !s_.warm_start.empty() && s_.warm_start_kind == StageSettings::WarmStart::checkpoint;
     if (checkpoint_warm_start) {
-      if (!tag_.empty()) throw std::logic_error("training stage " + s_.name + ": a checkpoint warm start needs an untagged checkpoint");
+      if (!tag_.empty())
+        throw std::logic_error("training stage " + s_.name + ": a checkpoint warm start needs an untagged checkpoint");
       checkpoint_.start_from(s_.warm_start);
     }
     std::optional<Json> extra = checkpoint_.resume(*learner_, stage_.envs());
@@ -263,7 +276,8 @@ class Driver {
     clock.end_round();
     state_.clock = clock.state();
     progress(clock);
-    if (checkpoint_.on_update(*learner_, stage_.envs(), state_.to_json(stage_.state())) && !tag_.empty()) files_.remove_others(tag_);
+    if (checkpoint_.on_update(*learner_, stage_.envs(), state_.to_json(stage_.state())) && !tag_.empty())
+      files_.remove_others(tag_);
   }
 
   static void add(TrainingTally& tally, const learn::TrainStats& t) {

@@ -68,8 +68,8 @@ void Pendulum::load_state(const base::Json& state) {
 
 // ---- CartPole (Gym CartPole-v1 constants, continuous force) ----
 namespace {
-constexpr double kGravity = 9.8, kMassCart = 1.0, kMassPole = 0.1, kHalfLength = 0.5, kForceMag = 10.0,
-                 kTau = 0.02, kThetaLimit = 12 * 2 * kPi / 360, kXLimit = 2.4;
+constexpr double kGravity = 9.8, kMassCart = 1.0, kMassPole = 0.1, kHalfLength = 0.5, kForceMag = 10.0, kTau = 0.02,
+                 kThetaLimit = 12 * 2 * kPi / 360, kXLimit = 2.4;
 }
 
 BoxSpace CartPole::observation_space() const {
@@ -92,8 +92,7 @@ void CartPole::step(std::span<const double> action, StepResult& out) {
   const double c = std::cos(theta), s = std::sin(theta);
   // Barto et al. 1983 with the corrected sign of Florian 2007, as in Gym.
   const double temp = (force + pole_ml * theta_dot * theta_dot * s) / total_mass;
-  const double theta_acc =
-      (kGravity * s - c * temp) / (kHalfLength * (4.0 / 3.0 - kMassPole * c * c / total_mass));
+  const double theta_acc = (kGravity * s - c * temp) / (kHalfLength * (4.0 / 3.0 - kMassPole * c * c / total_mass));
   const double x_acc = temp - pole_ml * theta_acc * c / total_mass;
   x += kTau * x_dot;
   x_dot += kTau * x_acc;

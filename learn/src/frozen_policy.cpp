@@ -33,12 +33,12 @@ void FrozenPolicy::act(std::span<const double> observation, std::span<double> ac
   const auto& f = impl_->file;
   if (observation.size() != impl_->n_obs || action.size() != action_size())
     throw base::UserError("learn: FrozenPolicy.act: observation " + std::to_string(observation.size()) + " / action " +
-                          std::to_string(action.size()) + " values, the policy has " + std::to_string(impl_->n_obs) +
-                          " / " + std::to_string(action_size()));
+                          std::to_string(action.size()) + " values, the policy has " + std::to_string(impl_->n_obs) + " / " +
+                          std::to_string(action_size()));
   // The range the learners' act() allows (PPO's β is 1): a scale only shrinks the action box.
   if (!(action_scale > 0.0 && f.head.bound * action_scale <= 1.0))
-    throw base::UserError("learn: FrozenPolicy.act: action_scale " + std::to_string(action_scale) +
-                          " is not allowed for this " + algorithm() + " policy (β·s in (0, 1])");
+    throw base::UserError("learn: FrozenPolicy.act: action_scale " + std::to_string(action_scale) + " is not allowed for this " +
+                          algorithm() + " policy (β·s in (0, 1])");
   detail::deterministic_action(f.net, f.normalizer ? &*f.normalizer : nullptr, f.head, observation, action, action_scale);
 }
 

@@ -22,8 +22,8 @@ base::Json merged(base::Json preset, const base::Json& overrides) {
 
 }  // namespace
 
-std::unique_ptr<Learner> make_learner(const base::Json& spec, const BoxSpace& observation_space,
-                                      const BoxSpace& action_space, std::uint64_t seed) {
+std::unique_ptr<Learner> make_learner(const base::Json& spec, const BoxSpace& observation_space, const BoxSpace& action_space,
+                                      std::uint64_t seed) {
   base::ConfigReader r(spec, "", "learner spec");
   const std::string algorithm = r.choice("algorithm", base::required, {"ppo", "sac"});
   const std::string preset = r.choice("preset", "quick", {"quick", "paper"});
@@ -31,12 +31,12 @@ std::unique_ptr<Learner> make_learner(const base::Json& spec, const BoxSpace& ob
   r.finish();
   if (algorithm == "sac") {
     const SacConfig base_config = preset == "paper" ? SacConfig::paper() : SacConfig::quick();
-    return std::make_unique<Sac>(SacConfig::from_json(merged(base_config.to_json(), overrides)), observation_space,
-                                 action_space, seed);
+    return std::make_unique<Sac>(SacConfig::from_json(merged(base_config.to_json(), overrides)), observation_space, action_space,
+                                 seed);
   }
   const PpoConfig base_config = preset == "paper" ? PpoConfig::paper() : PpoConfig{};  // "ppo", the other choice
-  return std::make_unique<Ppo>(PpoConfig::from_json(merged(base_config.to_json(), overrides)), observation_space,
-                               action_space, seed);
+  return std::make_unique<Ppo>(PpoConfig::from_json(merged(base_config.to_json(), overrides)), observation_space, action_space,
+                               seed);
 }
 
 std::vector<double> evaluate(Learner& learner, Env& env, int episodes, bool deterministic) {
@@ -67,9 +67,7 @@ std::string active_blas_library() {
   return ec ? std::string(info.dli_fname) : resolved.string();
 }
 
-bool is_reference_blas(const std::string& library_path) {
-  return library_path.find("/blas/libblas.so") != std::string::npos;
-}
+bool is_reference_blas(const std::string& library_path) { return library_path.find("/blas/libblas.so") != std::string::npos; }
 
 void setup_blas() {
   static std::once_flag once;

@@ -1,9 +1,9 @@
 #include "nets.h"
 
-#include <torch/csrc/jit/api/module.h>
 #include <ATen/ops/_foreach_add.h>
 #include <ATen/ops/_foreach_mul.h>
 #include <malloc.h>
+#include <torch/csrc/jit/api/module.h>
 #include <torch/optim/adam.h>
 
 #include <algorithm>
@@ -66,8 +66,7 @@ torch::Tensor normal_tensor(base::Rng& rng, const std::vector<std::int64_t>& siz
   return t;
 }
 
-torch::Tensor normalized_batch(const RunningNormalizer& normalizer, const std::vector<double>& rows_data,
-                               std::size_t rows) {
+torch::Tensor normalized_batch(const RunningNormalizer& normalizer, const std::vector<double>& rows_data, std::size_t rows) {
   const std::size_t n = normalizer.size();
   auto t = torch::empty({static_cast<std::int64_t>(rows), static_cast<std::int64_t>(n)}, torch::kFloat32);
   auto p = t.data_ptr<float>();
@@ -177,10 +176,8 @@ void export_policy(const std::filesystem::path& path, const Mlp& net, const Runn
     if (i + 1 < net->layers.size()) src << "    x = torch." << activation_name(net->activation) << "(x)\n";
   }
   src << "    mu = x[:, 0:" << head.action_size << "]\n";
-  if (head.tanh_squash)
-    src << "    a = torch.tanh(mu).to(" << f64_code << ") * self.bound\n";
-  else
-    src << "    a = torch.clamp(mu.to(" << f64_code << "), -1.0, 1.0)\n";
+  if (head.tanh_squash) src << "    a = torch.tanh(mu).to(" << f64_code << ") * self.bound\n";
+  else src << "    a = torch.clamp(mu.to(" << f64_code << "), -1.0, 1.0)\n";
   src << "    return self.act_center + self.act_half * a\n";
   m.define(src.str());
   m.save(path.string());

@@ -55,9 +55,9 @@ base::Json read_json(torch::serialize::InputArchive& archive, const std::string&
 
 /// How the exported policy turns the network output into an action in the environment box.
 struct PolicyHead {
-  int action_size = 0;          // the first action_size outputs are the mean
-  bool tanh_squash = false;     // SAC: β·tanh(mean); PPO: clip(mean, −1, 1)
-  double bound = 1.0;           // β
+  int action_size = 0;            // the first action_size outputs are the mean
+  bool tanh_squash = false;       // SAC: β·tanh(mean); PPO: clip(mean, −1, 1)
+  double bound = 1.0;             // β
   std::vector<double> low, high;  // the environment's action box
 };
 /// The deterministic action of `net` for one observation, as every act() computes it: normalise

@@ -6,8 +6,8 @@
 
 namespace podium::learn::detail {
 
-base::Json policy_record(const std::string& algorithm, const Mlp& net, std::size_t observation_size,
-                         const BoxSpace& action_space, double bound, const RunningNormalizer* normalizer) {
+base::Json policy_record(const std::string& algorithm, const Mlp& net, std::size_t observation_size, const BoxSpace& action_space,
+                         double bound, const RunningNormalizer* normalizer) {
   std::vector<int> hidden;
   for (std::size_t i = 0; i + 1 < net->layers.size(); ++i) hidden.push_back(int(net->layers[i]->weight.size(0)));
   return {{"algorithm", algorithm},
@@ -76,11 +76,9 @@ void check_warm_start(const PolicyFile& source, const base::Json& mine, const st
   const std::string where = mine.at("algorithm").get<std::string>() + ": warm start from " + path.string() + ": ";
   for (const char* key : {"algorithm", "hidden", "activation", "observation_size", "action_low", "action_high"})
     if (source.record.at(key) != mine.at(key))
-      throw base::UserError(where + key + " is " + source.record.at(key).dump() + " there but " + mine.at(key).dump() +
-                            " here");
+      throw base::UserError(where + key + " is " + source.record.at(key).dump() + " there but " + mine.at(key).dump() + " here");
   if (source.record.at("normalizer").is_null() != mine.at("normalizer").is_null())
-    throw base::UserError(where + "normalize_observations differs (" +
-                          (source.normalizer ? "on" : "off") + " there)");
+    throw base::UserError(where + "normalize_observations differs (" + (source.normalizer ? "on" : "off") + " there)");
 }
 
 }  // namespace podium::learn::detail

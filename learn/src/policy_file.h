@@ -18,8 +18,8 @@ namespace podium::learn::detail {
 
 /// The record both file kinds carry: {"algorithm", "hidden", "activation", "observation_size",
 /// "action_low", "action_high", "bound", "normalizer": RunningNormalizer::save() or null}.
-base::Json policy_record(const std::string& algorithm, const Mlp& net, std::size_t observation_size,
-                         const BoxSpace& action_space, double bound, const RunningNormalizer* normalizer);
+base::Json policy_record(const std::string& algorithm, const Mlp& net, std::size_t observation_size, const BoxSpace& action_space,
+                         double bound, const RunningNormalizer* normalizer);
 
 struct PolicyFile {
   base::Json record;                            // policy_record() of the learner that wrote it
@@ -27,7 +27,7 @@ struct PolicyFile {
   Mlp net{nullptr};                             // PPO's policy or SAC's actor
   std::optional<RunningNormalizer> normalizer;  // when the learner normalised observations
   PolicyHead head;
-  torch::serialize::InputArchive archive;       // the whole file, for value / Q networks
+  torch::serialize::InputArchive archive;  // the whole file, for value / Q networks
 };
 
 /// Reads either file kind; throws UserError naming the file when it is neither.

@@ -27,8 +27,8 @@ PoseDataset read_pose_dataset(const std::filesystem::path& path) {
   }
   const std::size_t n = d.dof_names.size();
   if (d.lower.size() != n || d.upper.size() != n)
-    throw base::UserError(where + ": lower/upper have " + std::to_string(d.lower.size()) + "/" +
-                          std::to_string(d.upper.size()) + " entries but dof_names has " + std::to_string(n));
+    throw base::UserError(where + ": lower/upper have " + std::to_string(d.lower.size()) + "/" + std::to_string(d.upper.size()) +
+                          " entries but dof_names has " + std::to_string(n));
   for (std::size_t k = 0; k < n; ++k)
     if (!(d.lower[k] < d.upper[k]))
       throw base::UserError(where + ": " + d.dof_names[k] + ": limits [" + std::to_string(d.lower[k]) + ", " +
@@ -42,9 +42,8 @@ PoseDataset read_pose_dataset(const std::filesystem::path& path) {
                           std::to_string(d.poses.size()) + " poses");
   for (std::size_t i = 0; i < d.conditions.size(); ++i)
     if (d.conditions[i].size() != d.condition_names.size())
-      throw base::UserError(where + ": conditions[" + std::to_string(i) + "] has " +
-                            std::to_string(d.conditions[i].size()) + " values, expected " +
-                            std::to_string(d.condition_names.size()));
+      throw base::UserError(where + ": conditions[" + std::to_string(i) + "] has " + std::to_string(d.conditions[i].size()) +
+                            " values, expected " + std::to_string(d.condition_names.size()));
   return d;
 }
 

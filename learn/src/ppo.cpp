@@ -15,8 +15,8 @@
 
 #include "config_json.h"
 #include "nets.h"
-#include "policy_file.h"
 #include "podium/base/error.h"
+#include "policy_file.h"
 
 namespace podium::learn {
 
@@ -40,10 +40,27 @@ PpoConfig PpoConfig::paper() {
   return c;
 }
 
-#define PODIUM_PPO_FIELDS(X)                                                                                        \
-  X(hidden) X(activation) X(rollout_steps) X(epochs) X(minibatch_size) X(gamma) X(lambda) X(clip) X(policy_lr_start) \
-  X(policy_lr_end) X(value_lr_start) X(value_lr_end) X(lr_anneal_steps) X(sigma_start) X(sigma_end)                 \
-  X(sigma_anneal_steps) X(max_grad_norm) X(normalize_observations) X(normalize_advantages) X(reward_scale)
+#define PODIUM_PPO_FIELDS(X) \
+  X(hidden)                  \
+  X(activation)              \
+  X(rollout_steps)           \
+  X(epochs)                  \
+  X(minibatch_size)          \
+  X(gamma)                   \
+  X(lambda)                  \
+  X(clip)                    \
+  X(policy_lr_start)         \
+  X(policy_lr_end)           \
+  X(value_lr_start)          \
+  X(value_lr_end)            \
+  X(lr_anneal_steps)         \
+  X(sigma_start)             \
+  X(sigma_end)               \
+  X(sigma_anneal_steps)      \
+  X(max_grad_norm)           \
+  X(normalize_observations)  \
+  X(normalize_advantages)    \
+  X(reward_scale)
 
 PODIUM_CONFIG_JSON(PpoConfig, PODIUM_PPO_FIELDS, "ppo config")
 
@@ -60,7 +77,12 @@ struct Ppo::Impl {
   std::int64_t iteration = 0;
 
   Impl(const PpoConfig& c, const BoxSpace& obs, const BoxSpace& act, std::uint64_t seed)
-      : config(c), observation_space(obs), action_space(act), n_obs(obs.size()), n_act(act.size()), rng(seed),
+      : config(c),
+        observation_space(obs),
+        action_space(act),
+        n_obs(obs.size()),
+        n_act(act.size()),
+        rng(seed),
         normalizer(obs.size()),
         policy(int(obs.size()), c.hidden, int(act.size()), detail::parse_activation(c.activation, "ppo config: activation")),
         value(int(obs.size()), c.hidden, 1, detail::parse_activation(c.activation, "ppo config: activation")) {
@@ -119,7 +141,8 @@ struct Ppo::Impl {
     detail::set_adam_lr(*value_opt, schedule(config.value_lr_start, config.value_lr_end, env_steps, config.lr_anneal_steps));
 
     std::vector<torch::Tensor> obs_t, act_t, logp_t;
-    std::vector<float> values(static_cast<std::size_t>(T * K)), rewards(static_cast<std::size_t>(T * K)), dones(static_cast<std::size_t>(T * K));
+    std::vector<float> values(static_cast<std::size_t>(T * K)), rewards(static_cast<std::size_t>(T * K)),
+        dones(static_cast<std::size_t>(T * K));
     std::vector<double> env_actions(static_cast<std::size_t>(K * A));
     {
       torch::NoGradGuard no_grad;
@@ -139,7 +162,8 @@ struct Ppo::Impl {
         for (std::int64_t i = 0; i < K; ++i) {
           const double scale = checked_scale(envs.action_scale(static_cast<std::size_t>(i)));
           for (std::int64_t j = 0; j < A; ++j)
-            env_actions[static_cast<std::size_t>(i * A + j)] = center[j] + half[j] * scale * std::clamp<double>(ap[i][j], -1.0, 1.0);
+            env_actions[static_cast<std::size_t>(i * A + j)] =
+                center[j] + half[j] * scale * std::clamp<double>(ap[i][j], -1.0, 1.0);
         }
         envs.step(env_actions);
         std::vector<std::int64_t> truncated;
@@ -197,7 +221,8 @@ struct Ppo::Impl {
     std::vector<std::int64_t> perm(static_cast<std::size_t>(N));
     for (int epoch = 0; epoch < config.epochs; ++epoch) {
       std::iota(perm.begin(), perm.end(), 0);
-      for (std::int64_t i = N - 1; i > 0; --i) std::swap(perm[static_cast<std::size_t>(i)], perm[static_cast<std::size_t>(rng.integer(0, i))]);
+      for (std::int64_t i = N - 1; i > 0; --i)
+        std::swap(perm[static_cast<std::size_t>(i)], perm[static_cast<std::size_t>(rng.integer(0, i))]);
       for (std::int64_t s = 0; s < N; s += config.minibatch_size) {
         const std::int64_t e = std::min(N, s + config.minibatch_size);
         auto idx = torch::from_blob(perm.data() + s, {e - s}, torch::kInt64);
@@ -226,9 +251,8 @@ struct Ppo::Impl {
   }
 
   base::Json state_json(const VecEnv& envs, const base::Json& user_state) const {
-    return {{"config", config.to_json()}, {"env_steps", env_steps}, {"iteration", iteration},
-            {"rng", rng.save()}, {"normalizer", normalizer.save()}, {"envs", envs.save_state()},
-            {"policy", record()}, {"user_state", user_state}};
+    return {{"config", config.to_json()},      {"env_steps", env_steps},    {"iteration", iteration}, {"rng", rng.save()},
+            {"normalizer", normalizer.save()}, {"envs", envs.save_state()}, {"policy", record()},     {"user_state", user_state}};
   }
 };
 
@@ -242,8 +266,8 @@ double Ppo::sigma() const { return impl_->sigma(); }
 void Ppo::train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCallback& callback) {
   if (envs.observation_space().size() != impl_->n_obs || envs.action_space().size() != impl_->n_act)
     throw base::UserError("ppo: the VecEnv's spaces do not match the learner's (observation " +
-                          std::to_string(envs.observation_space().size()) + " vs " + std::to_string(impl_->n_obs) +
-                          ", action " + std::to_string(envs.action_space().size()) + " vs " + std::to_string(impl_->n_act) + ")");
+                          std::to_string(envs.observation_space().size()) + " vs " + std::to_string(impl_->n_obs) + ", action " +
+                          std::to_string(envs.action_space().size()) + " vs " + std::to_string(impl_->n_act) + ")");
   while (impl_->env_steps < total_env_steps) {
     TrainStats stats;
     impl_->iterate(envs, stats);
@@ -261,7 +285,8 @@ void Ppo::act(std::span<const double> observation, std::span<double> action, boo
   auto& m = *impl_;
   PODIUM_CHECK(observation.size() == m.n_obs && action.size() == m.n_act, "ppo act: observation/action sizes");
   m.checked_scale(action_scale);
-  if (deterministic) return detail::deterministic_action(m.policy, m.used_normalizer(), m.head(), observation, action, action_scale);
+  if (deterministic)
+    return detail::deterministic_action(m.policy, m.used_normalizer(), m.head(), observation, action, action_scale);
   torch::NoGradGuard no_grad;
   auto mu = m.policy->forward(m.batch(std::vector<double>(observation.begin(), observation.end()), 1));
   mu = mu + m.sigma() * detail::normal_tensor(m.rng, {1, std::int64_t(m.n_act)});
@@ -289,8 +314,7 @@ base::Json Ppo::load_checkpoint(const std::filesystem::path& path, VecEnv& envs)
   archive.load_from(path.string());
   const base::Json state = detail::read_json(archive, "state");
   if (state.at("config") != impl_->config.to_json())
-    throw base::UserError("ppo: checkpoint " + path.string() + " was written with another config: " +
-                          state.at("config").dump());
+    throw base::UserError("ppo: checkpoint " + path.string() + " was written with another config: " + state.at("config").dump());
   archive.read("policy", policy);
   archive.read("value", value);
   archive.read("policy_opt", policy_opt);

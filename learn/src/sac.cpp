@@ -15,8 +15,8 @@
 
 #include "config_json.h"
 #include "nets.h"
-#include "policy_file.h"
 #include "podium/base/error.h"
+#include "policy_file.h"
 
 namespace podium::learn {
 
@@ -43,17 +43,33 @@ SacConfig SacConfig::paper() {
   return c;
 }
 
-#define PODIUM_SAC_FIELDS(X)                                                                                            \
-  X(hidden) X(activation) X(actor_lr) X(critic_lr) X(alpha_lr) X(initial_alpha) X(log_std_min) X(log_std_max) X(tau)   \
-  X(gamma) X(batch_size) X(updates_per_step) X(warmup_steps) X(buffer_capacity) X(reward_scale) X(max_grad_norm)       \
-  X(normalize_observations) X(target_entropy) X(action_bound) X(log_interval_steps)
+#define PODIUM_SAC_FIELDS(X) \
+  X(hidden)                  \
+  X(activation)              \
+  X(actor_lr)                \
+  X(critic_lr)               \
+  X(alpha_lr)                \
+  X(initial_alpha)           \
+  X(log_std_min)             \
+  X(log_std_max)             \
+  X(tau)                     \
+  X(gamma)                   \
+  X(batch_size)              \
+  X(updates_per_step)        \
+  X(warmup_steps)            \
+  X(buffer_capacity)         \
+  X(reward_scale)            \
+  X(max_grad_norm)           \
+  X(normalize_observations)  \
+  X(target_entropy)          \
+  X(action_bound)            \
+  X(log_interval_steps)
 
 PODIUM_CONFIG_JSON(SacConfig, PODIUM_SAC_FIELDS, "sac config")
 
 namespace {
 void check_bound(double beta) {
-  if (!(beta > 0.0 && beta <= 1.0))
-    throw base::UserError("sac: action bound β = " + std::to_string(beta) + " is not in (0, 1]");
+  if (!(beta > 0.0 && beta <= 1.0)) throw base::UserError("sac: action bound β = " + std::to_string(beta) + " is not in (0, 1]");
 }
 // CPU time of the calling thread (the update's): unlike wall time, not inflated by other
 // processes sharing the cores.
@@ -100,7 +116,7 @@ struct Sac::Impl {
   double target_entropy;
   std::int64_t env_steps = 0, updates = 0;
   std::int64_t skipped_updates = 0;  // updates whose loss was not finite: no step taken
-  std::int64_t update_steps = 0;  // env steps taken since updates began; updates = ⌊update_steps · ratio⌋
+  std::int64_t update_steps = 0;     // env steps taken since updates began; updates = ⌊update_steps · ratio⌋
   // Replay buffer: observations in float64 (normalised when sampled), the rest float32;
   // buf_scale holds the copy's action_scale() s when it acted (its bound is then β·s).
   torch::Tensor buf_obs, buf_next_obs, buf_act, buf_rew, buf_term, buf_scale;
@@ -108,19 +124,27 @@ struct Sac::Impl {
   SacUpdateTimes times;
 
   Impl(const SacConfig& c, const BoxSpace& obs, const BoxSpace& act, std::uint64_t seed)
-      : config(c), observation_space(obs), action_space(act), n_obs(std::int64_t(obs.size())),
-        n_act(std::int64_t(act.size())), rng(seed), normalizer(obs.size()),
+      : config(c),
+        observation_space(obs),
+        action_space(act),
+        n_obs(std::int64_t(obs.size())),
+        n_act(std::int64_t(act.size())),
+        rng(seed),
+        normalizer(obs.size()),
         actor(int(n_obs), c.hidden, int(2 * n_act), detail::parse_activation(c.activation, "sac config: activation")),
-        q1(int(n_obs + n_act), c.hidden, 1, actor->activation), q2(int(n_obs + n_act), c.hidden, 1, actor->activation),
+        q1(int(n_obs + n_act), c.hidden, 1, actor->activation),
+        q2(int(n_obs + n_act), c.hidden, 1, actor->activation),
         q1_target(int(n_obs + n_act), c.hidden, 1, actor->activation),
-        q2_target(int(n_obs + n_act), c.hidden, 1, actor->activation), bound(c.action_bound),
+        q2_target(int(n_obs + n_act), c.hidden, 1, actor->activation),
+        bound(c.action_bound),
         target_entropy(c.target_entropy != 0.0 ? c.target_entropy : -double(act.size())) {
     check_bound(bound);
     if (c.batch_size < 1 || c.buffer_capacity < c.batch_size)
       throw base::UserError("sac config: need batch_size ≥ 1 and buffer_capacity ≥ batch_size");
     if (!(c.updates_per_step >= 0.0 && std::isfinite(c.updates_per_step)))
       throw base::UserError("sac config: updates_per_step " + std::to_string(c.updates_per_step) + " is not a finite number ≥ 0");
-    if (!(c.initial_alpha > 0)) throw base::UserError("sac config: initial_alpha " + std::to_string(c.initial_alpha) + " is not > 0");
+    if (!(c.initial_alpha > 0))
+      throw base::UserError("sac config: initial_alpha " + std::to_string(c.initial_alpha) + " is not > 0");
     for (std::size_t j = 0; j < act.size(); ++j) {
       if (!(act.high[j] > act.low[j]) || !std::isfinite(act.high[j] - act.low[j]))
         throw base::UserError("sac: action_space[" + std::to_string(j) + "] is not a finite, non-empty interval");
@@ -154,8 +178,8 @@ struct Sac::Impl {
     log_alpha = torch::full({1}, std::log(config.initial_alpha), torch::kFloat32).set_requires_grad(true);
     actor_opt = std::make_unique<torch::optim::Adam>(actor->parameters(), torch::optim::AdamOptions(config.actor_lr));
     critic_opt = std::make_unique<torch::optim::Adam>(critic_params, torch::optim::AdamOptions(config.critic_lr));
-    alpha_opt = std::make_unique<torch::optim::Adam>(std::vector<torch::Tensor>{log_alpha},
-                                                     torch::optim::AdamOptions(config.alpha_lr));
+    alpha_opt =
+        std::make_unique<torch::optim::Adam>(std::vector<torch::Tensor>{log_alpha}, torch::optim::AdamOptions(config.alpha_lr));
   }
   const RunningNormalizer* used_normalizer() const { return config.normalize_observations ? &normalizer : nullptr; }
   detail::PolicyHead head() const { return {int(n_act), true, bound, action_space.low, action_space.high}; }
@@ -220,7 +244,8 @@ struct Sac::Impl {
     }
     lap(times.target);
     auto x = torch::cat({o, a}, 1);
-    auto critic_loss = 0.5 * ((q1->forward(x).reshape({-1}) - y).pow(2).mean() + (q2->forward(x).reshape({-1}) - y).pow(2).mean());
+    auto critic_loss =
+        0.5 * ((q1->forward(x).reshape({-1}) - y).pow(2).mean() + (q2->forward(x).reshape({-1}) - y).pow(2).mean());
     // A non-finite loss would turn Adam's moments, and then every weight, into NaN for good: skip
     // the update (it still counts, so the update schedule goes on) and report it.
     if (!std::isfinite(critic_loss.item<double>())) {
@@ -377,7 +402,8 @@ void Sac::act(std::span<const double> observation, std::span<double> action, boo
   if (deterministic)
     return detail::deterministic_action(m.actor, m.used_normalizer(), m.head(), observation, action, action_scale);
   torch::NoGradGuard no_grad;
-  auto o = m.normalize(torch::tensor(std::vector<double>(observation.begin(), observation.end()), torch::kFloat64).reshape({1, m.n_obs}));
+  auto o = m.normalize(
+      torch::tensor(std::vector<double>(observation.begin(), observation.end()), torch::kFloat64).reshape({1, m.n_obs}));
   auto a = m.sample(o, m.bound * torch::full({1, 1}, float(action_scale))).first;
   auto p = a.accessor<float, 2>();
   for (std::int64_t j = 0; j < m.n_act; ++j)
@@ -408,10 +434,19 @@ void Sac::save_checkpoint(const std::filesystem::path& path, const VecEnv& envs,
   archive.write("buf_term", m.buf_term.slice(0, 0, m.buf_size));
   archive.write("buf_scale", m.buf_scale.slice(0, 0, m.buf_size));
   detail::write_json(archive, "state",
-                     {{"config", m.config.to_json()}, {"env_steps", m.env_steps}, {"updates", m.updates}, {"skipped_updates", m.skipped_updates},
-                      {"update_steps", m.update_steps}, {"bound", m.bound}, {"buf_size", m.buf_size},
-                      {"buf_pos", m.buf_pos}, {"rng", m.rng.save()}, {"normalizer", m.normalizer.save()},
-                      {"envs", envs.save_state()}, {"policy", m.record()}, {"user_state", user_state}});
+                     {{"config", m.config.to_json()},
+                      {"env_steps", m.env_steps},
+                      {"updates", m.updates},
+                      {"skipped_updates", m.skipped_updates},
+                      {"update_steps", m.update_steps},
+                      {"bound", m.bound},
+                      {"buf_size", m.buf_size},
+                      {"buf_pos", m.buf_pos},
+                      {"rng", m.rng.save()},
+                      {"normalizer", m.normalizer.save()},
+                      {"envs", envs.save_state()},
+                      {"policy", m.record()},
+                      {"user_state", user_state}});
   archive.save_to(path.string());
 }
 
@@ -442,8 +477,12 @@ base::Json Sac::load_checkpoint(const std::filesystem::path& path, VecEnv& envs)
     archive.read("log_alpha", alpha);
     m.log_alpha.copy_(alpha);
     m.buf_size = state.at("buf_size").get<std::int64_t>();
-    for (auto [key, buf] : {std::pair{"buf_obs", &m.buf_obs}, {"buf_next_obs", &m.buf_next_obs}, {"buf_act", &m.buf_act},
-                            {"buf_rew", &m.buf_rew}, {"buf_term", &m.buf_term}, {"buf_scale", &m.buf_scale}}) {
+    for (auto [key, buf] : {std::pair{"buf_obs", &m.buf_obs},
+                            {"buf_next_obs", &m.buf_next_obs},
+                            {"buf_act", &m.buf_act},
+                            {"buf_rew", &m.buf_rew},
+                            {"buf_term", &m.buf_term},
+                            {"buf_scale", &m.buf_scale}}) {
       torch::Tensor t;
       archive.read(key, t);
       buf->slice(0, 0, m.buf_size).copy_(t);

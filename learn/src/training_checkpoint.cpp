@@ -61,7 +61,8 @@ std::optional<base::Json> TrainingCheckpoint::resume(Learner& learner, VecEnv& e
   if (const base::Json format = saved.value("format", base::Json()); format != kFormatVersion)
     throw base::UserError("learn: " + file_.string() + " is a training checkpoint of format " +
                           (format.is_null() ? std::string("1 (no version)") : format.dump()) + " but this build reads format " +
-                          std::to_string(kFormatVersion) + ": delete it to train the trial from scratch, or finish it with the build that wrote it");
+                          std::to_string(kFormatVersion) +
+                          ": delete it to train the trial from scratch, or finish it with the build that wrote it");
   updates_ = saved.at("updates").get<std::int64_t>();
   metrics_.clear();
   for (const auto& [name, saved_series] : saved.at("metrics").items()) {
@@ -93,7 +94,8 @@ bool TrainingCheckpoint::on_update(const Learner& learner, const VecEnv& envs, c
   temp += ".tmp";
   base::Json metrics = base::Json::object();
   for (const auto& [name, series] : metrics_) metrics[name] = {{"steps", series.steps}, {"values", series.values}};
-  learner.save_checkpoint(temp, envs, {{"format", kFormatVersion}, {"updates", updates_}, {"metrics", metrics}, {"extra", extra}});
+  learner.save_checkpoint(temp, envs,
+                          {{"format", kFormatVersion}, {"updates", updates_}, {"metrics", metrics}, {"extra", extra}});
   sync_path(temp, false);
   std::filesystem::rename(temp, file_);
   sync_path(file_.parent_path().empty() ? "." : file_.parent_path(), true);

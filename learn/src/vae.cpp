@@ -30,7 +30,13 @@ VaeConfig VaeConfig::conditional() {
   return c;
 }
 
-#define PODIUM_VAE_FIELDS(X) X(latent_size) X(hidden) X(beta) X(learning_rate) X(batch_size) X(epochs)
+#define PODIUM_VAE_FIELDS(X) \
+  X(latent_size)             \
+  X(hidden)                  \
+  X(beta)                    \
+  X(learning_rate)           \
+  X(batch_size)              \
+  X(epochs)
 
 PODIUM_CONFIG_JSON(VaeConfig, PODIUM_VAE_FIELDS, "vae config")
 
@@ -45,8 +51,13 @@ struct PoseVae::Impl {
   std::unique_ptr<torch::optim::Adam> opt;
 
   Impl(const VaeConfig& c, std::vector<double> lo, std::vector<double> hi, std::size_t cond, std::uint64_t seed)
-      : config(c), lower(std::move(lo)), upper(std::move(hi)), n_pose(std::int64_t(lower.size())),
-        n_latent(c.latent_size), n_cond(std::int64_t(cond)), rng(seed),
+      : config(c),
+        lower(std::move(lo)),
+        upper(std::move(hi)),
+        n_pose(std::int64_t(lower.size())),
+        n_latent(c.latent_size),
+        n_cond(std::int64_t(cond)),
+        rng(seed),
         encoder(int(n_pose + n_cond), c.hidden, int(2 * n_latent), detail::Activation::tanh),
         decoder(int(n_latent + n_cond), c.hidden, int(n_pose), detail::Activation::tanh) {
     if (lower.size() != upper.size() || lower.empty())
@@ -93,8 +104,8 @@ struct PoseVae::Impl {
     auto p = t.data_ptr<float>();
     for (std::size_t i = 0; i < data.size(); ++i) {
       if (std::int64_t(data[i].size()) != width)
-        throw base::UserError(std::string("vae: ") + what + "[" + std::to_string(i) + "] has " +
-                              std::to_string(data[i].size()) + " values, expected " + std::to_string(width));
+        throw base::UserError(std::string("vae: ") + what + "[" + std::to_string(i) + "] has " + std::to_string(data[i].size()) +
+                              " values, expected " + std::to_string(width));
       std::copy(data[i].begin(), data[i].end(), p + std::int64_t(i) * width);
     }
     return t;
@@ -102,8 +113,8 @@ struct PoseVae::Impl {
   torch::Tensor conditions(const PoseDataset& d) const {
     if (n_cond == 0) return torch::zeros({std::int64_t(d.size()), 0});
     if (d.conditions.size() != d.poses.size())
-      throw base::UserError("vae: this C-VAE needs one condition per pose (" + std::to_string(d.conditions.size()) +
-                            " for " + std::to_string(d.poses.size()) + ")");
+      throw base::UserError("vae: this C-VAE needs one condition per pose (" + std::to_string(d.conditions.size()) + " for " +
+                            std::to_string(d.poses.size()) + ")");
     return rows(d.conditions, n_cond, "conditions");
   }
   torch::Tensor vec(std::span<const double> v, std::int64_t width, const char* what) const {
@@ -258,15 +269,13 @@ std::unique_ptr<PoseVae> PoseVae::from_file(const std::filesystem::path& path) {
   }
 }
 
-std::vector<double> pose_action_to_target(const PoseVae& vae, std::span<const double> action,
-                                          std::span<const double> condition) {
+std::vector<double> pose_action_to_target(const PoseVae& vae, std::span<const double> action, std::span<const double> condition) {
   const std::size_t nz = vae.latent_size(), nq = vae.pose_size();
   if (action.size() != nz + nq)
-    throw base::UserError("pose action has " + std::to_string(action.size()) + " values, expected latent " +
-                          std::to_string(nz) + " + offsets " + std::to_string(nq));
+    throw base::UserError("pose action has " + std::to_string(action.size()) + " values, expected latent " + std::to_string(nz) +
+                          " + offsets " + std::to_string(nq));
   auto target = vae.decode(action.subspan(0, nz), condition);
-  for (std::size_t k = 0; k < nq; ++k)
-    target[k] = std::clamp(target[k] + action[nz + k], vae.lower()[k], vae.upper()[k]);
+  for (std::size_t k = 0; k < nq; ++k) target[k] = std::clamp(target[k] + action[nz + k], vae.lower()[k], vae.upper()[k]);
   return target;
 }
 

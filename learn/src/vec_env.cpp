@@ -107,7 +107,9 @@ base::Json VecEnv::save_state() const {
     const auto s = e->save_state();
     envs.push_back(s ? *s : base::Json());
   }
-  return {{"envs", envs}, {"observations", observations_}, {"running_returns", running_returns_},
+  return {{"envs", envs},
+          {"observations", observations_},
+          {"running_returns", running_returns_},
           {"finished_returns", finished_returns_}};
 }
 

@@ -25,9 +25,13 @@ void WallBudget::add_round(double seconds) {
 
 void WallBudget::start_round() { round_start_ = std::chrono::steady_clock::now(); }
 
-void WallBudget::end_round() { add_round(std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start_).count()); }
+void WallBudget::end_round() {
+  add_round(std::chrono::duration<double>(std::chrono::steady_clock::now() - round_start_).count());
+}
 
-std::string WallBudget::stopped_by(std::int64_t steps, std::int64_t total_steps) { return steps < total_steps ? "time" : "steps"; }
+std::string WallBudget::stopped_by(std::int64_t steps, std::int64_t total_steps) {
+  return steps < total_steps ? "time" : "steps";
+}
 
 std::string WallBudget::end_message(std::string_view who, std::int64_t steps, std::int64_t total_steps) const {
   char tail[128];

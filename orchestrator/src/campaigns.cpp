@@ -171,16 +171,14 @@ void control_campaign(store::Store& store, const std::string& id_or_name, const 
   if (action == "pause" && active) next = "paused";
   else if (action == "resume" && state == "paused") next = "queued";
   else if (action == "cancel" && (active || state == "paused")) next = "cancelled";
-  if (next.empty())
-    throw UserError("campaign " + std::to_string(campaign->id) + " is " + state + "; cannot " + action + " it");
+  if (next.empty()) throw UserError("campaign " + std::to_string(campaign->id) + " is " + state + "; cannot " + action + " it");
   store.transaction([&] {
     store.set_campaign_state(campaign->id, next);
     store.add_event(campaign->id, action + "_requested", Json::object());
   });
 }
 
-Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage,
-                          std::int64_t add_trials) {
+Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage, std::int64_t add_trials) {
   Extension out;
   store.transaction([&] {  // read and written under the write lock: no scheduler moves in between
     const auto campaign = store.campaign(find_campaign_id(store, id_or_name));
@@ -206,9 +204,9 @@ Extension extend_campaign(store::Store& store, const std::string& id_or_name, co
                       Json(last.budget_seconds).dump() + " s): no new trial would start");
     const std::int64_t room = kMaxTrials - last.budget_trials;
     if (add_trials < 1 || add_trials > room)
-      throw UserError("--add-trials: " + std::to_string(add_trials) + " is not in [1, " + std::to_string(room) +
-                      "] (stage \"" + last.name + "\" has " + std::to_string(last.budget_trials) + " of at most " +
-                      std::to_string(kMaxTrials) + " trials)");
+      throw UserError("--add-trials: " + std::to_string(add_trials) + " is not in [1, " + std::to_string(room) + "] (stage \"" +
+                      last.name + "\" has " + std::to_string(last.budget_trials) + " of at most " + std::to_string(kMaxTrials) +
+                      " trials)");
     out = {campaign->id, campaign->name, last.name, last.budget_trials, last.budget_trials + add_trials};
     store.set_stage_budget(last.id, out.budget_after);
     store.set_stage_state(last.id, "running");
@@ -274,9 +272,14 @@ std::vector<Ordered> export_rows(const store::Store& store, std::int64_t campaig
     for (const auto& n : objectives) add_unique(columns.objectives, n);
     for (const auto& n : features) add_unique(columns.features, n);
     for (const auto& t : store.trials(st.id)) {
-      Ordered row = {{"campaign", campaign_id}, {"name", trial_name(st.name, t.index)}, {"id", t.id},
-                     {"stage", st.name},        {"trial", t.index},                    {"state", t.state},
-                     {"attempts", t.attempts},  {"seed", t.seed}};
+      Ordered row = {{"campaign", campaign_id},
+                     {"name", trial_name(st.name, t.index)},
+                     {"id", t.id},
+                     {"stage", st.name},
+                     {"trial", t.index},
+                     {"state", t.state},
+                     {"attempts", t.attempts},
+                     {"seed", t.seed}};
       row["params"] = in_order(params, t.params);
       row["objectives"] = in_order(objectives, t.objectives);
       for (const auto& [k, v] : row["objectives"].items()) add_unique(columns.objectives, k);

@@ -75,8 +75,8 @@ struct Command {
 
 // Parses a subcommand's options; returns false (after printing help) when --help was given.
 bool parse(Command& cmd, const std::string& name, const std::string& synopsis, int argc, char** argv) {
-  cmd.options.add_options()("db", po::value<std::string>()->default_value("podium.db"), "database file")(
-      "help,h", "show this help");
+  cmd.options.add_options()("db", po::value<std::string>()->default_value("podium.db"), "database file")("help,h",
+                                                                                                         "show this help");
   po::store(po::command_line_parser(argc, argv).options(cmd.options).positional(cmd.positional).run(), cmd.vm);
   if (cmd.vm.count("help")) {
     std::cout << "usage: podium " << name << " " << synopsis << "\n\n" << cmd.options << "\n";
@@ -134,19 +134,31 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
         if (const auto trial = store.trial(a.trial_id)) index_of[a.trial_id] = trial->index;
       const std::int64_t index = index_of[a.trial_id];
       running.push_back({{"name", podium::orchestrator::trial_name(st.name, index)},
-                         {"trial", index}, {"attempt", a.number}, {"worker", a.worker},
-                         {"host", a.host}, {"job_id", a.job_id}, {"started_at", a.started_at},
+                         {"trial", index},
+                         {"attempt", a.number},
+                         {"worker", a.worker},
+                         {"host", a.host},
+                         {"job_id", a.job_id},
+                         {"started_at", a.started_at},
                          {"interrupted", dead}});
     }
     interrupted = std::min<std::int64_t>(interrupted, sc.running);
     running_total += sc.running - interrupted;
     interrupted_total += interrupted;
-    stages.push_back({{"index", st.index},     {"name", st.name},     {"task", st.task},
-                      {"algorithm", st.algorithm}, {"state", podium::store::shown_stage_state(c.state, st.state)},
+    stages.push_back({{"index", st.index},
+                      {"name", st.name},
+                      {"task", st.task},
+                      {"algorithm", st.algorithm},
+                      {"state", podium::store::shown_stage_state(c.state, st.state)},
                       {"budget_trials", st.budget_trials},
-                      {"done", sc.done},       {"failed", sc.failed}, {"running", sc.running - interrupted},
-                      {"pending", sc.pending + sc.interrupted + interrupted}, {"cancelled", sc.cancelled},
-                      {"elapsed_s", st.elapsed_s}, {"error", st.error}, {"running_attempts", running},
+                      {"done", sc.done},
+                      {"failed", sc.failed},
+                      {"running", sc.running - interrupted},
+                      {"pending", sc.pending + sc.interrupted + interrupted},
+                      {"cancelled", sc.cancelled},
+                      {"elapsed_s", st.elapsed_s},
+                      {"error", st.error},
+                      {"running_attempts", running},
                       {"objectives", podium::orchestrator::objective_entries(st.description)},
                       {"features", podium::orchestrator::feature_entries(st.description)}});
   }
@@ -186,7 +198,7 @@ int cmd_submit(int argc, char** argv) {
     source += " as edited by --set";
   }
   const auto id = podium::orchestrator::submit_campaign(cmd.vm["db"].as<std::string>(), spec, source,
-                                                       fs::absolute(file).parent_path(), worker_binary());
+                                                        fs::absolute(file).parent_path(), worker_binary());
   std::cout << id << "\n";
   // A name already used is not refused, but the older campaign stops answering to it.
   auto store = Store::open(cmd.vm["db"].as<std::string>(), Store::Access::read_only);
@@ -196,8 +208,8 @@ int cmd_submit(int argc, char** argv) {
     if (c.name == name && c.id != id) older += (older.empty() ? "" : ", ") + std::to_string(c.id);
   if (!older.empty())
     std::cerr << "podium: note: campaign " << id << " has the name \"" << name << "\" of campaign " << older
-              << "; a CAMPAIGN name means the newest campaign of that name, so \"" << name << "\" is now campaign "
-              << id << " (the older stay reachable by id)\n";
+              << "; a CAMPAIGN name means the newest campaign of that name, so \"" << name << "\" is now campaign " << id
+              << " (the older stay reachable by id)\n";
   return 0;
 }
 
@@ -248,8 +260,8 @@ int cmd_run(int argc, char** argv) {
     if (options.log_json) continue;
     if (c.state == "failed") std::cerr << "campaign " << c.id << " (" << c.name << ") failed: " << c.error << "\n";
     if (c.state != "done") continue;
-    std::cerr << "campaign " << c.id << " (" << c.name << ") done; results in " << store->path().string()
-              << ", trial folders in " << podium::store::campaign_run_dir(options.database, c).string() << "\n";
+    std::cerr << "campaign " << c.id << " (" << c.name << ") done; results in " << store->path().string() << ", trial folders in "
+              << podium::store::campaign_run_dir(options.database, c).string() << "\n";
   }
   return code;
 }
@@ -289,7 +301,8 @@ int cmd_status(int argc, char** argv) {
       std::printf("  stage %d %-16s %-10s task=%s search=%s %ld/%ld done, %ld failed, %ld running, %.1f s\n",
                   s["index"].get<int>(), s["name"].get<std::string>().c_str(), shown_state(s["state"], c).c_str(),
                   s["task"].get<std::string>().c_str(), s["algorithm"].get<std::string>().c_str(), s["done"].get<long>(),
-                  s["budget_trials"].get<long>(), s["failed"].get<long>(), s["running"].get<long>(), s["elapsed_s"].get<double>());
+                  s["budget_trials"].get<long>(), s["failed"].get<long>(), s["running"].get<long>(),
+                  s["elapsed_s"].get<double>());
       std::string names;
       for (const auto& o : s["objectives"]) names += (names.empty() ? "    objectives: " : ", ") + named_column(o);
       for (std::size_t i = 0; i < s["features"].size(); ++i)
@@ -378,7 +391,8 @@ std::pair<podium::store::StageRecord, std::int64_t> find_trial(const Store& stor
                                                                const std::string& name) {
   const auto slash = name.rfind('/');
   const std::string index = slash == std::string::npos ? "" : name.substr(slash + 1);
-  const bool digits = !index.empty() && index.size() < 10 && std::all_of(index.begin(), index.end(), [](unsigned char ch) { return std::isdigit(ch) != 0; });
+  const bool digits = !index.empty() && index.size() < 10 &&
+                      std::all_of(index.begin(), index.end(), [](unsigned char ch) { return std::isdigit(ch) != 0; });
   if (digits) {
     const std::string stage = name.substr(0, slash);
     const std::int64_t wanted = std::stoll(index);
@@ -388,8 +402,7 @@ std::pair<podium::store::StageRecord, std::int64_t> find_trial(const Store& stor
           if (t.index == wanted) return {st, t.index};
   }
   throw podium::base::UserError("campaign " + std::to_string(c.id) + " (" + c.name + ") has no trial \"" + name +
-                                "\" (trial names are <stage>/<index>, as podium trials " + std::to_string(c.id) +
-                                " shows them)");
+                                "\" (trial names are <stage>/<index>, as podium trials " + std::to_string(c.id) + " shows them)");
 }
 
 // What a trial's attempts wrote to stderr (its trial.log), whole or its last N lines; --path
@@ -417,7 +430,8 @@ int cmd_log(int argc, char** argv) {
   if (!in) throw std::runtime_error(log.string() + ": no log (the trial has not started, or its folder was removed)");
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(std::move(line));
-  const std::size_t from = cmd.vm.count("tail") ? lines.size() - std::min<std::size_t>(lines.size(), cmd.vm["tail"].as<int>()) : 0;
+  const std::size_t from =
+      cmd.vm.count("tail") ? lines.size() - std::min<std::size_t>(lines.size(), cmd.vm["tail"].as<int>()) : 0;
   for (std::size_t i = from; i < lines.size(); ++i) std::cout << lines[i] << "\n";
   return 0;
 }
@@ -433,10 +447,9 @@ int cmd_control(const std::string& action, int argc, char** argv) {
   const std::string& name = cmd.vm["campaign"].as<std::string>();
   podium::orchestrator::control_campaign(*store, name, action);
   const auto c = store->find_campaign(name);
-  const std::map<std::string, std::string> what = {
-      {"pause", "paused: no new trials start, running ones finish"},
-      {"resume", "queued again: podium run continues it"},
-      {"cancel", "cancelled: running trials are stopped, no new ones start"}};
+  const std::map<std::string, std::string> what = {{"pause", "paused: no new trials start, running ones finish"},
+                                                   {"resume", "queued again: podium run continues it"},
+                                                   {"cancel", "cancelled: running trials are stopped, no new ones start"}};
   std::cout << "campaign " << c->id << " (" << c->name << ") " << what.at(action) << "\n";
   return 0;
 }
@@ -454,8 +467,8 @@ int cmd_extend(int argc, char** argv) {
   const auto e = podium::orchestrator::extend_campaign(*store, cmd.vm["campaign"].as<std::string>(),
                                                        cmd.vm.count("stage") ? cmd.vm["stage"].as<std::string>() : "",
                                                        cmd.vm["add-trials"].as<std::int64_t>());
-  std::cout << "campaign " << e.campaign_id << " (" << e.campaign_name << ") stage \"" << e.stage
-            << "\": budget raised from " << e.budget_before << " to " << e.budget_after
+  std::cout << "campaign " << e.campaign_id << " (" << e.campaign_name << ") stage \"" << e.stage << "\": budget raised from "
+            << e.budget_before << " to " << e.budget_after
             << " trials; queued again: podium run continues its search where it stopped\n";
   return 0;
 }
@@ -463,8 +476,8 @@ int cmd_extend(int argc, char** argv) {
 int cmd_export(int argc, char** argv) {
   Command cmd;
   cmd.options.add_options()("campaign", po::value<std::string>()->required(), "campaign id or name")(
-      "format", po::value<std::string>()->default_value("csv"), "csv or json")(
-      "metrics", "with each trial's metric series (JSON only)");
+      "format", po::value<std::string>()->default_value("csv"), "csv or json")("metrics",
+                                                                               "with each trial's metric series (JSON only)");
   cmd.positional.add("campaign", 1);
   if (!parse(cmd, "export", "CAMPAIGN --format csv|json [--metrics] [--db PATH]", argc, argv)) return 0;
   auto store = open_read(cmd);
@@ -475,8 +488,8 @@ int cmd_export(int argc, char** argv) {
 
 int cmd_summary(int argc, char** argv) {
   Command cmd;
-  cmd.options.add_options()("campaign", po::value<std::vector<std::string>>()->required(), "campaign ids or names")(
-      "json", "print JSON");
+  cmd.options.add_options()("campaign", po::value<std::vector<std::string>>()->required(), "campaign ids or names")("json",
+                                                                                                                    "print JSON");
   cmd.positional.add("campaign", -1);
   if (!parse(cmd, "summary", "CAMPAIGN... [--json] [--db PATH]", argc, argv)) return 0;
   auto store = open_read(cmd);
@@ -495,8 +508,8 @@ int cmd_summary(int argc, char** argv) {
 
 int cmd_tasks(int argc, char** argv) {
   Command cmd;
-  cmd.options.add_options()("task", po::value<std::string>(), "task name (default: every installed task)")(
-      "json", "print JSON")("all", "also the test plugins the build makes for podium's own tests");
+  cmd.options.add_options()("task", po::value<std::string>(), "task name (default: every installed task)")("json", "print JSON")(
+      "all", "also the test plugins the build makes for podium's own tests");
   cmd.positional.add("task", 1);
   if (!parse(cmd, "tasks", "[NAME] [--json] [--all]", argc, argv)) return 0;
   const Json tasks = podium::orchestrator::list_tasks(
@@ -539,8 +552,8 @@ int dispatch(const std::string& command, int argc, char** argv) {
   if (command == "trial" && argc == 3 && std::string(argv[1]) == "--batch")
     return podium::orchestrator::run_batch_trial(argv[2]);  // inside a Slurm job
   if (command == "version" || command == "--version") {
-    std::cout << "podium " << podium::base::version() << " (" << podium::base::compiler_id() << ", "
-              << podium::base::build_type() << ")\n";
+    std::cout << "podium " << podium::base::version() << " (" << podium::base::compiler_id() << ", " << podium::base::build_type()
+              << ")\n";
     return 0;
   }
   if (command == "--help" || command == "-h" || command == "help") {

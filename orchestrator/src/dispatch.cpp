@@ -17,8 +17,7 @@ std::string invalid_result(const Json& r, const StageRun& s) {
   const auto& objectives = r.at("objectives");
   const auto& features = r.at("features");
   if (features.size() != s.feature_names.size())
-    return "task returned " + std::to_string(features.size()) + " features, declared " +
-           std::to_string(s.feature_names.size());
+    return "task returned " + std::to_string(features.size()) + " features, declared " + std::to_string(s.feature_names.size());
   for (std::size_t i = 0; i < features.size(); ++i)
     if (!features[i].is_number() || !std::isfinite(features[i].get<double>()))
       return "non-finite feature " + s.feature_names[i] + " = " + features[i].dump();

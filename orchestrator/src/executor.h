@@ -18,20 +18,27 @@ struct AttemptOrder {
   std::int64_t key = 0;
   std::string task;
   Json config, params, context;
-  Json inputs = Json::array();       ///< the trial's hand-over (search.h: SearchSetup::inputs' form)
-  Json previous_attempt = nullptr;   ///< {"number", "state", "error"} from the second attempt on
+  Json inputs = Json::array();      ///< the trial's hand-over (search.h: SearchSetup::inputs' form)
+  Json previous_attempt = nullptr;  ///< {"number", "state", "error"} from the second attempt on
   std::uint64_t seed = 0, trial_index = 0;
   int attempt = 1;
-  std::filesystem::path work_dir;    ///< absolute; kept across attempts
+  std::filesystem::path work_dir;  ///< absolute; kept across attempts
   double timeout_s = 3600.0;
 };
 
 /// The order as the JSON a worker or a batch job reads (trial_runner.h: run_attempt).
 inline Json to_json(const AttemptOrder& o) {
-  return {{"key", o.key},         {"task", o.task},   {"config", o.config},
-          {"params", o.params},   {"context", o.context}, {"inputs", o.inputs},
-          {"previous_attempt", o.previous_attempt}, {"seed", o.seed},
-          {"trial_index", o.trial_index}, {"attempt", o.attempt}, {"work_dir", o.work_dir.string()}};
+  return {{"key", o.key},
+          {"task", o.task},
+          {"config", o.config},
+          {"params", o.params},
+          {"context", o.context},
+          {"inputs", o.inputs},
+          {"previous_attempt", o.previous_attempt},
+          {"seed", o.seed},
+          {"trial_index", o.trial_index},
+          {"attempt", o.attempt},
+          {"work_dir", o.work_dir.string()}};
 }
 
 /// What comes back. Every submitted order ends with exactly one `finished` event.

@@ -18,8 +18,7 @@ double objective(const store::TrialRecord& t) { return t.objectives[0].get<doubl
 
 Json input_trial(const store::StageRecord& stage, const store::TrialRecord& t, const store::Store& store) {
   Json artifacts = Json::object();
-  for (const auto& a : store.artifacts(t.id))
-    artifacts[a.name] = std::filesystem::absolute(a.path).lexically_normal().string();
+  for (const auto& a : store.artifacts(t.id)) artifacts[a.name] = std::filesystem::absolute(a.path).lexically_normal().string();
   return {{"stage", stage.name},
           {"stage_index", stage.index},
           {"trial_index", t.index},
@@ -53,8 +52,7 @@ std::vector<store::TrialRecord> select(std::vector<store::TrialRecord> done, con
 
 }  // namespace
 
-Json select_input_trials(const store::Store& store, const std::vector<store::StageRecord>& stages,
-                         const InputsSpec& inputs) {
+Json select_input_trials(const store::Store& store, const std::vector<store::StageRecord>& stages, const InputsSpec& inputs) {
   Json out = Json::array();
   for (const auto& name : inputs.stages) {
     const auto& stage = *std::find_if(stages.begin(), stages.end(), [&](const auto& s) { return s.name == name; });

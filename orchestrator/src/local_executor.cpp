@@ -130,8 +130,10 @@ std::vector<ExecutorEvent> LocalExecutor::poll(double max_wait_s) {
     for (const auto& m : messages) handle_message(slot, m, events);
     const auto now = Clock::now();
     if (!open) end_with_death(slot, events, "failed", "");
-    else if (slot.key >= 0 && now >= slot.deadline) end_with_death(slot, events, "timeout", "trial timeout reached; worker killed");
-    else if (slot.key >= 0 && now >= slot.cancel_deadline) end_with_death(slot, events, "cancelled", "cancelled; worker killed after the grace period");
+    else if (slot.key >= 0 && now >= slot.deadline)
+      end_with_death(slot, events, "timeout", "trial timeout reached; worker killed");
+    else if (slot.key >= 0 && now >= slot.cancel_deadline)
+      end_with_death(slot, events, "cancelled", "cancelled; worker killed after the grace period");
   }
   return events;
 }

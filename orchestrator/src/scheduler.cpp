@@ -121,8 +121,8 @@ void Scheduler::activate(const store::CampaignRecord& rec) {
   c->stages = store_.stages(rec.id);
   c->run_dir = store::campaign_run_dir(options_.database, rec);
   if (c->spec.executor.kind == "slurm") {
-    c->own_executor = std::make_unique<SlurmExecutor>(c->spec.executor, c->run_dir, options_.worker_binary,
-                                                      "podium-" + std::to_string(rec.id));
+    c->own_executor =
+        std::make_unique<SlurmExecutor>(c->spec.executor, c->run_dir, options_.worker_binary, "podium-" + std::to_string(rec.id));
     c->executor = c->own_executor.get();
   } else {
     c->executor = &local_;
@@ -130,8 +130,7 @@ void Scheduler::activate(const store::CampaignRecord& rec) {
   std::size_t current = 0;
   while (current < c->stages.size() && c->stages[current].state == "done") ++current;
   store_.set_campaign_state(rec.id, "running");
-  emit(*c, rec.state == "queued" && rec.started_at == 0 ? "campaign_started" : "campaign_resumed",
-       {{"name", rec.name}}, true);
+  emit(*c, rec.state == "queued" && rec.started_at == 0 ? "campaign_started" : "campaign_resumed", {{"name", rec.name}}, true);
   auto& ref = *c;
   campaigns_[rec.id] = std::move(c);
   if (current < ref.stages.size()) load_stage(ref, current);

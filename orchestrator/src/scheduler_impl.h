@@ -46,8 +46,8 @@ struct StrategyTracker {
 
 struct StageRun {
   store::StageRecord rec;
-  const StageSpec* spec = nullptr;   // into the campaign's parsed spec
-  Json input_trials = Json::array(); // the hand-over, as stored with the stage
+  const StageSpec* spec = nullptr;    // into the campaign's parsed spec
+  Json input_trials = Json::array();  // the hand-over, as stored with the stage
   std::unique_ptr<search::Search> search;
   std::vector<std::string> param_names, feature_names;
   StrategyTracker strategies;
@@ -64,9 +64,7 @@ struct StageRun {
   bool dirty = false;      // search state changed since the last save
   Clock::time_point active_since = Clock::now();
 
-  double elapsed_s() const {
-    return rec.elapsed_s + std::chrono::duration<double>(Clock::now() - active_since).count();
-  }
+  double elapsed_s() const { return rec.elapsed_s + std::chrono::duration<double>(Clock::now() - active_since).count(); }
   bool out_of_time() const { return rec.budget_seconds > 0 && elapsed_s() >= rec.budget_seconds; }
   bool can_ask() const { return !exhausted && !starved && asked < rec.budget_trials && !out_of_time(); }
   // Whether the rule lets the search be asked now: fewer than `workers` trials untold.
@@ -89,8 +87,8 @@ struct CampaignRun {
   std::string control = "running";  // running, paused, cancelled (as last read from the store)
   std::string failure;              // why a stage failed: the campaign ends failed with it
   std::filesystem::path run_dir;
-  Executor* executor = nullptr;              // the shared local pool, or own_executor
-  std::unique_ptr<Executor> own_executor;    // a Slurm executor of this campaign's own
+  Executor* executor = nullptr;            // the shared local pool, or own_executor
+  std::unique_ptr<Executor> own_executor;  // a Slurm executor of this campaign's own
   int in_flight = 0;
   ProgressCounter counter;
 };

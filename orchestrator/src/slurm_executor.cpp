@@ -21,8 +21,7 @@ SlurmExecutor::SlurmExecutor(ExecutorSpec spec, fs::path run_dir, fs::path podiu
 
 void SlurmExecutor::check_cluster(const ExecutorSpec& spec, const std::string& json_path) {
   for (const char* tool : {"sbatch", "squeue", "scancel", "sinfo"})
-    if (!on_path(tool))
-      throw base::UserError(json_path + ".kind: \"slurm\" needs " + tool + ", which is not on PATH");
+    if (!on_path(tool)) throw base::UserError(json_path + ".kind: \"slurm\" needs " + tool + ", which is not on PATH");
   const auto partitions = run_command({"sinfo", "-h", "-o", "%R"});
   if (partitions.exit_code != 0)
     throw base::UserError(json_path + ": sinfo failed: " + partitions.err.substr(0, partitions.err.find('\n')));
@@ -32,8 +31,8 @@ void SlurmExecutor::check_cluster(const ExecutorSpec& spec, const std::string& j
     if (name == spec.partition) return;
     known += (known.empty() ? "" : ", ") + name;
   }
-  throw base::UserError(json_path + ".partition: \"" + spec.partition + "\" is not a partition of this cluster (sinfo lists: " +
-                        known + ")");
+  throw base::UserError(json_path + ".partition: \"" + spec.partition +
+                        "\" is not a partition of this cluster (sinfo lists: " + known + ")");
 }
 
 std::size_t SlurmExecutor::free_slots() const {
@@ -74,16 +73,18 @@ void SlurmExecutor::submit_batch(std::vector<ExecutorEvent>& events) {
     std::ofstream out(batch);
     for (const auto key : unsubmitted_) out << fs::absolute(jobs_.at(key).files.order()).string() << "\n";
   }
-  std::vector<std::string> argv = {"sbatch", "--parsable", "--job-name", job_name_,
-                                   "--array", "0-" + std::to_string(unsubmitted_.size() - 1),
-                                   "--partition", spec_.partition,
+  std::vector<std::string> argv = {"sbatch",          "--parsable",
+                                   "--job-name",      job_name_,
+                                   "--array",         "0-" + std::to_string(unsubmitted_.size() - 1),
+                                   "--partition",     spec_.partition,
                                    "--cpus-per-task", std::to_string(spec_.cpus_per_task),
-                                   "--output", (run_dir_ / "slurm" / "%A_%a.log").string()};
+                                   "--output",        (run_dir_ / "slurm" / "%A_%a.log").string()};
   if (!spec_.account.empty()) argv.insert(argv.end(), {"--account", spec_.account});
   if (!spec_.time.empty()) argv.insert(argv.end(), {"--time", spec_.time});
   if (!spec_.mem.empty()) argv.insert(argv.end(), {"--mem", spec_.mem});
   argv.insert(argv.end(), spec_.extra_sbatch.begin(), spec_.extra_sbatch.end());
-  argv.insert(argv.end(), {"--wrap", "exec '" + fs::absolute(binary_).string() + "' trial --batch '" + fs::absolute(batch).string() + "'"});
+  argv.insert(argv.end(),
+              {"--wrap", "exec '" + fs::absolute(binary_).string() + "' trial --batch '" + fs::absolute(batch).string() + "'"});
   const auto result = run_command(argv);
   const std::string array_id = result.out.substr(0, result.out.find_first_of(";\n"));
   if (result.exit_code != 0 || array_id.empty()) {
@@ -224,7 +225,8 @@ void SlurmExecutor::query_states(std::vector<ExecutorEvent>& events) {
       }
       continue;
     }
-    const std::string why = "slurm job " + job.job_id + " " + state + (reason.empty() || reason == "None" ? "" : " (" + reason + ")");
+    const std::string why =
+        "slurm job " + job.job_id + " " + state + (reason.empty() || reason == "None" ? "" : " (" + reason + ")");
     if (job.cancel_requested) finish(key, "cancelled", why, events);
     else if (job.timed_out) finish(key, "timeout", why + " after the trial timeout", events);
     else if (state == "TIMEOUT" || state == "DEADLINE") finish(key, "timeout", why, events);
@@ -247,8 +249,7 @@ std::vector<ExecutorEvent> SlurmExecutor::poll(double max_wait_s) {
     query_states(events);
     last_query_ = Clock::now();
   }
-  if (events.empty() && max_wait_s > 0)
-    std::this_thread::sleep_for(std::chrono::duration<double>(std::min(max_wait_s, 0.2)));
+  if (events.empty() && max_wait_s > 0) std::this_thread::sleep_for(std::chrono::duration<double>(std::min(max_wait_s, 0.2)));
   return events;
 }
 

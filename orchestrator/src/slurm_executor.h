@@ -17,8 +17,7 @@ namespace podium::orchestrator {
 
 class SlurmExecutor final : public Executor {
  public:
-  SlurmExecutor(ExecutorSpec spec, std::filesystem::path run_dir, std::filesystem::path podium_binary,
-                std::string job_name);
+  SlurmExecutor(ExecutorSpec spec, std::filesystem::path run_dir, std::filesystem::path podium_binary, std::string job_name);
   std::size_t free_slots() const override;
   std::string submit(const AttemptOrder& order) override;
   void cancel(std::int64_t key) override;
@@ -33,8 +32,7 @@ class SlurmExecutor final : public Executor {
  private:
   using Clock = std::chrono::steady_clock;
   struct Job {
-    explicit Job(const AttemptOrder& o)
-        : order(o), files(o.work_dir / ("slurm-attempt-" + std::to_string(o.attempt))) {}
+    explicit Job(const AttemptOrder& o) : order(o), files(o.work_dir / ("slurm-attempt-" + std::to_string(o.attempt))) {}
     AttemptOrder order;
     SlurmAttemptFiles files;
     std::string job_id, node;

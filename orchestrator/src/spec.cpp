@@ -15,9 +15,9 @@ namespace {
 // The ranges of the spec's numbers (README "The campaign spec" and campaign.schema.json list
 // them): wide enough for any real campaign, narrow enough that nothing downstream overflows
 // (a timeout becomes steady_clock nanoseconds, which overflow past 9.2e9 s) or allocates per unit.
-constexpr double kMaxSeconds = 365.0 * 24 * 3600;   // trial_timeout_s, budget.wall_time_s: a year
+constexpr double kMaxSeconds = 365.0 * 24 * 3600;  // trial_timeout_s, budget.wall_time_s: a year
 constexpr std::int64_t kMaxRetries = 100;
-constexpr std::int64_t kMaxPerInput = 1'000'000;    // budget.trials.per_input, inputs.k
+constexpr std::int64_t kMaxPerInput = 1'000'000;  // budget.trials.per_input, inputs.k
 constexpr std::int64_t kMaxCpusPerTask = 1024;
 constexpr std::int64_t kMaxJobsInQueue = 100'000;
 
@@ -25,19 +25,18 @@ constexpr std::int64_t kMaxJobsInQueue = 100'000;
 // is read, so a misspelt key is named as unknown with the whole list (the reader's own check runs
 // last and lists only the keys it read: not the optional objects absent, and after a "missing"
 // error for the required key the misspelling hides).
-const std::vector<std::string> kCampaignKeys = {"name", "seed", "description", "run_dir", "executor",
+const std::vector<std::string> kCampaignKeys = {"name",    "seed",    "description",     "run_dir", "executor",
                                                 "workers", "retries", "trial_timeout_s", "stages"};
-const std::vector<std::string> kStageKeys = {"name", "task", "preset", "config", "search", "strategy_threshold",
+const std::vector<std::string> kStageKeys = {"name",   "task",  "preset", "config", "search", "strategy_threshold",
                                              "inputs", "budget"};
 const std::vector<std::string> kSearchKeys = {"algorithm", "config"};
 const std::vector<std::string> kBudgetKeys = {"trials", "wall_time_s"};
 const std::vector<std::string> kPerInputKeys = {"per_input"};
 const std::vector<std::string> kInputsKeys = {"stage", "select", "k", "per_trial"};
-const std::vector<std::string> kExecutorKeys = {"kind", "partition", "account", "time", "cpus_per_task", "mem",
-                                                "extra_sbatch", "max_jobs_in_queue"};
+const std::vector<std::string> kExecutorKeys = {"kind",          "partition", "account",      "time",
+                                                "cpus_per_task", "mem",       "extra_sbatch", "max_jobs_in_queue"};
 
-void check_keys(const Json& object, const std::vector<std::string>& known, const std::string& path,
-                const std::string& source) {
+void check_keys(const Json& object, const std::vector<std::string>& known, const std::string& path, const std::string& source) {
   if (!object.is_object()) return;  // a wrong type is the reader's to report
   for (const auto& [key, value] : object.items())
     if (std::find(known.begin(), known.end(), key) == known.end())
@@ -171,7 +170,8 @@ CampaignSpec parse_spec(const Json& j, const std::string& source) {
   // Every stage's name first, so inputs naming a later stage can say so.
   std::vector<std::string> names;
   for (const auto& stage : stages)
-    names.push_back(stage.is_object() && stage.contains("name") && stage["name"].is_string() ? stage["name"].get<std::string>() : "");
+    names.push_back(stage.is_object() && stage.contains("name") && stage["name"].is_string() ? stage["name"].get<std::string>()
+                                                                                             : "");
   f.objects("stages", [&](ConfigReader& stage) { spec.stages.push_back(parse_stage(stage, spec.stages, names)); });
   f.finish();
   return spec;

@@ -15,7 +15,9 @@ using base::Json;
 constexpr const char* kForm = "PATH=VALUE, e.g. seed=29 or stages[0].config.total_steps=4000000";
 
 // Every refusal names the edit it refuses.
-base::UserError bad_edit(const std::string& edit, const std::string& why) { return base::UserError("--set " + edit + ": " + why); }
+base::UserError bad_edit(const std::string& edit, const std::string& why) {
+  return base::UserError("--set " + edit + ": " + why);
+}
 
 // One step of a path: an object member, or an array item when `index` ≥ 0.
 struct Step {

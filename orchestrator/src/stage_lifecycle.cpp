@@ -3,9 +3,9 @@
 #include <algorithm>
 
 #include "hand_over.h"
-#include "podium/orchestrator/campaigns.h"
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
+#include "podium/orchestrator/campaigns.h"
 #include "scheduler_impl.h"
 
 namespace podium::orchestrator {
@@ -36,11 +36,11 @@ void Scheduler::load_stage(CampaignRun& c, std::size_t index) {
   else if (s.rec.input_trials) s.input_trials = *s.rec.input_trials;  // resumed: the stored hand-over
   if (const auto& inputs = s.spec->inputs; inputs && s.input_trials.empty()) {
     const std::string why = "selecting \"" + inputs->select + "\" from stage " + stage_names(*inputs) + " gave none";
-    if (inputs->per_trial == "each")
-      return fail_stage(c, s, path + ".inputs: per_trial \"each\" got 0 inputs (" + why + ")");
+    if (inputs->per_trial == "each") return fail_stage(c, s, path + ".inputs: per_trial \"each\" got 0 inputs (" + why + ")");
     if (s.spec->budget_per_input > 0)
-      return fail_stage(c, s, path + ".budget.trials: {\"per_input\": " + std::to_string(s.spec->budget_per_input) +
-                                  "} with 0 inputs gives 0 trials (" + why + ")");
+      return fail_stage(c, s,
+                        path + ".budget.trials: {\"per_input\": " + std::to_string(s.spec->budget_per_input) +
+                            "} with 0 inputs gives 0 trials (" + why + ")");
   }
 
   search::SearchSetup setup;
@@ -153,8 +153,7 @@ void Scheduler::advance() {
     } else if (c.control == "paused" && c.in_flight == 0) {
       release = true;
     } else if (c.control == "running") {
-      if (c.stage && c.stage->in_flight == 0 && !c.stage->can_ask() &&
-          (c.stage->ready.empty() || c.stage->out_of_time()))
+      if (c.stage && c.stage->in_flight == 0 && !c.stage->can_ask() && (c.stage->ready.empty() || c.stage->out_of_time()))
         end_stage(c);
       if (!c.failure.empty()) {
         store_.set_campaign_state(c.rec.id, "failed", c.failure);

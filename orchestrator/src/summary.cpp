@@ -122,9 +122,8 @@ Json stage_tables(const std::string& stage, const std::vector<store::TrialOutcom
         !table["rows"].is_array())
       continue;
     const std::string title = table.value("title", std::string());
-    auto it = std::find_if(tables.begin(), tables.end(), [&](const Json& m) {
-      return m["title"] == title && m["task_columns"] == table["columns"];
-    });
+    auto it = std::find_if(tables.begin(), tables.end(),
+                           [&](const Json& m) { return m["title"] == title && m["task_columns"] == table["columns"]; });
     if (it == tables.end()) {
       Json columns = Json::array({{{"name", "trial"}}});
       for (const auto& c : table["columns"]) columns.push_back(c);
@@ -219,8 +218,7 @@ Json compare_campaigns(const store::Store& store, const std::vector<std::int64_t
         stages.push_back({{"name", st["name"]}, {"curves", Json::array()}});
         it = stages.end() - 1;
       }
-      (*it)["curves"].push_back(
-          {{"campaign", id}, {"campaign_name", s["campaign"]["name"]}, {"discovery", st["discovery"]}});
+      (*it)["curves"].push_back({{"campaign", id}, {"campaign_name", s["campaign"]["name"]}, {"discovery", st["discovery"]}});
     }
     campaigns.push_back(std::move(s));
   }

@@ -17,7 +17,8 @@ using Lines = std::vector<std::string>;
 
 // Display width of UTF-8 text (code points; the tables' κ, β, π are one column each).
 std::size_t columns_of(const std::string& s) {
-  return static_cast<std::size_t>(std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
+  return static_cast<std::size_t>(
+      std::count_if(s.begin(), s.end(), [](char c) { return (static_cast<unsigned char>(c) & 0xC0) != 0x80; }));
 }
 
 std::string readable(double value) {
@@ -153,8 +154,8 @@ std::string format_comparison(const Json& comparison) {
   Lines out;
   std::string names;
   for (const auto& s : comparison["campaigns"])
-    names += (names.empty() ? "" : " | ") + s["campaign"]["id"].dump() + " " + s["campaign"]["name"].get<std::string>() +
-             " (" + s["campaign"]["state"].get<std::string>() + ")";
+    names += (names.empty() ? "" : " | ") + s["campaign"]["id"].dump() + " " + s["campaign"]["name"].get<std::string>() + " (" +
+             s["campaign"]["state"].get<std::string>() + ")";
   out.push_back("campaigns: " + names);
   for (const auto& stage : comparison["stages"]) {
     // Each campaign's block of this stage, side by side.

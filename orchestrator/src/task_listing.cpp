@@ -38,8 +38,7 @@ std::string rule_text(const Json& key) {
     return out;
   }
   const bool lo = key.contains("min"), hi = key.contains("max"), open = key.value("exclusive_min", false);
-  if (lo && hi)
-    return std::string("in ") + (open ? "(" : "[") + number_text(key["min"]) + ", " + number_text(key["max"]) + "]";
+  if (lo && hi) return std::string("in ") + (open ? "(" : "[") + number_text(key["min"]) + ", " + number_text(key["max"]) + "]";
   if (lo) return (open ? "> " : ">= ") + number_text(key["min"]);
   if (hi) return "<= " + number_text(key["max"]);
   return "";
@@ -50,13 +49,15 @@ void format_keys(std::ostringstream& out, const Json& keys, const std::string& p
     const std::string name = prefix + key.at("key").get<std::string>();
     const std::string type = key.at("type").get<std::string>();
     const Json items = key.value("items", Json::object());
-    const auto kind = [](const Json& k) { return k.value("format", std::string()) == "file" ? "file" : k.value("type", std::string("value")); };
+    const auto kind = [](const Json& k) {
+      return k.value("format", std::string()) == "file" ? "file" : k.value("type", std::string("value"));
+    };
     const std::string shown_type = type == "array" ? "array of " + kind(items) + "s" : kind(key);
     const std::string fallback = key.value("required", false) ? "required" : key.contains("default") ? key["default"].dump() : "";
     std::string rule = rule_text(type == "array" ? items : key);
     if (key.contains("doc")) rule += (rule.empty() ? "" : "; ") + key["doc"].get<std::string>();
-    out << "    " << std::left << std::setw(22) << name << " " << std::setw(18) << shown_type << " " << std::setw(12)
-        << fallback << " " << rule << "\n";
+    out << "    " << std::left << std::setw(22) << name << " " << std::setw(18) << shown_type << " " << std::setw(12) << fallback
+        << " " << rule << "\n";
     if (key.contains("keys")) format_keys(out, key["keys"], name + ".");
     if (items.contains("keys")) format_keys(out, items["keys"], name + "[].");
   }
@@ -117,8 +118,7 @@ std::string format_tasks(const Json& tasks) {
     out << "  objectives: " << (objectives.empty() ? "none" : objectives) << "\n";
     out << "  presets:\n";
     const Json presets = t.value("presets", Json::object());
-    for (const auto& [preset, config] : presets.items())
-      out << "    " << preset << "  " << config.dump() << "\n";
+    for (const auto& [preset, config] : presets.items()) out << "    " << preset << "  " << config.dump() << "\n";
     if (t.contains("config")) {
       out << "  config:\n";
       format_keys(out, t["config"], "");

@@ -10,11 +10,11 @@
 namespace podium::orchestrator {
 
 /// Every task plugin found in the plugin search path (the first file of a name wins; test
-/// plugins only `with_test_plugins`), or only `name`, each described by a fresh worker process (`worker_binary`) with the default config:
+/// plugins only `with_test_plugins`), or only `name`, each described by a fresh worker process (`worker_binary`) with the default
+/// config:
 /// [{"name", "file", description keys... } or {"name", "file", "error"}]. A named task that is
 /// not installed or cannot be described is a base::UserError.
-base::Json list_tasks(const std::filesystem::path& worker_binary, const std::string& name = "",
-                      bool with_test_plugins = false);
+base::Json list_tasks(const std::filesystem::path& worker_binary, const std::string& name = "", bool with_test_plugins = false);
 
 /// The listing as text for people: one block per task.
 std::string format_tasks(const base::Json& tasks);

@@ -40,7 +40,8 @@ void append_output_to(const std::filesystem::path& log, const std::string& heade
     return;
   }
   std::fflush(stdout), std::fflush(stderr);
-  if (::write(fd, header.data(), header.size()) < 0) {}  // a log line lost never fails the trial
+  if (::write(fd, header.data(), header.size()) < 0) {
+  }  // a log line lost never fails the trial
   ::dup2(fd, STDOUT_FILENO), ::dup2(fd, STDERR_FILENO);
   ::close(fd);
 }
@@ -71,8 +72,7 @@ Json run_attempt(TaskCache& tasks, const Json& order, const std::atomic<bool>& c
   request.trial_index = order.at("trial_index").get<std::uint64_t>();
   request.attempt = order.at("attempt").get<int>();
   if (const Json& previous = order.at("previous_attempt"); !previous.is_null())
-    request.previous_attempt = plugins::PreviousAttempt{previous.at("number").get<int>(),
-                                                        previous.at("state").get<std::string>(),
+    request.previous_attempt = plugins::PreviousAttempt{previous.at("number").get<int>(), previous.at("state").get<std::string>(),
                                                         previous.at("error").get<std::string>()};
   for (const auto& in : order.at("inputs")) request.inputs.push_back(input_trial(in));
   request.work_dir = order.at("work_dir").get<std::string>();
@@ -86,12 +86,8 @@ Json run_attempt(TaskCache& tasks, const Json& order, const std::atomic<bool>& c
                          {"sha256", sha256_file(a.path)},
                          {"size", std::filesystem::file_size(a.path)}});
   // nlohmann writes NaN as null; the scheduler rejects null features as non-finite.
-  return {{"type", "result"},
-          {"key", order.at("key")},
-          {"objectives", result.objectives},
-          {"features", result.features},
-          {"artifacts", artifacts},
-          {"info", result.info}};
+  return {{"type", "result"},       {"key", order.at("key")}, {"objectives", result.objectives}, {"features", result.features},
+          {"artifacts", artifacts}, {"info", result.info}};
 }
 
 namespace {

@@ -27,8 +27,7 @@ class TaskCache {
 /// created if missing, never emptied) and returns the result message
 /// {"type":"result", "key", "objectives", "features", "artifacts":[{name,path,sha256,size}], "info"}.
 /// Throws whatever the task throws.
-base::Json run_attempt(TaskCache& tasks, const base::Json& order, const std::atomic<bool>& cancel,
-                       plugins::Sink& sink);
+base::Json run_attempt(TaskCache& tasks, const base::Json& order, const std::atomic<bool>& cancel, plugins::Sink& sink);
 
 /// The error message for an attempt that threw `e`: {"type":"error", "key", "message"}, with
 /// config_path and problem for a base::ConfigError (so submit can name the value inside the spec)

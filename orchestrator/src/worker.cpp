@@ -119,8 +119,8 @@ int run_worker() {
     const std::int64_t key = m.value("key", std::int64_t{-1});
     try {
       if (type == "describe") {
-        channel.send({{"type", "description"},
-                      {"description", tasks.get(m.at("task").get<std::string>()).describe(m.at("config"))}});
+        channel.send(
+            {{"type", "description"}, {"description", tasks.get(m.at("task").get<std::string>()).describe(m.at("config"))}});
       } else if (type == "run") {
         inbox.cancel = false;
         inbox.running_key = key;

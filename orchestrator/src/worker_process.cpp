@@ -164,8 +164,8 @@ Json describe_task_isolated(const std::filesystem::path& binary, const std::stri
       std::optional<int> code, sig;
       worker.wait_exit(code, sig);
       throw base::UserError("plugin \"" + task + "\": worker died while describing the task (" +
-                            (sig ? "signal " + std::to_string(*sig) : "exit code " + std::to_string(code.value_or(-1))) +
-                            ")" + (worker.stderr_tail().empty() ? "" : ": " + worker.stderr_tail()));
+                            (sig ? "signal " + std::to_string(*sig) : "exit code " + std::to_string(code.value_or(-1))) + ")" +
+                            (worker.stderr_tail().empty() ? "" : ": " + worker.stderr_tail()));
     }
   }
 }

@@ -49,7 +49,6 @@ class WorkerProcess {
 /// Runs a one-off describe request in a fresh worker process, so a crashing plugin cannot take
 /// the caller down. Throws base::UserError with the plugin's message on failure, and
 /// base::ConfigError (path inside `config`, problem) when the task rejected a config value.
-base::Json describe_task_isolated(const std::filesystem::path& binary, const std::string& task,
-                                  const base::Json& config);
+base::Json describe_task_isolated(const std::filesystem::path& binary, const std::string& task, const base::Json& config);
 
 }  // namespace podium::orchestrator

@@ -1,9 +1,9 @@
 #include "podium/plugins/loader.h"
 
+#include <algorithm>
 #include <boost/dll/library_info.hpp>
 #include <boost/dll/runtime_symbol_info.hpp>
 #include <boost/dll/shared_library.hpp>
-#include <algorithm>
 #include <cstdlib>
 #include <sstream>
 
@@ -69,8 +69,7 @@ std::shared_ptr<Task> load_task(const std::string& task_name) {
   for (const auto& [name, file] : installed_plugins())
     if (!is_test_plugin(file)) installed.push_back(name);
   throw UserError("plugin \"" + task_name + "\": no file " + file_name_for(task_name) + " in " + searched +
-                  " (set PODIUM_PLUGIN_PATH); installed tasks: " + name_list(installed) +
-                  did_you_mean(task_name, installed));
+                  " (set PODIUM_PLUGIN_PATH); installed tasks: " + name_list(installed) + did_you_mean(task_name, installed));
 }
 
 std::shared_ptr<Task> load_task_file(const fs::path& file, const std::string& task_name) {
@@ -79,18 +78,15 @@ std::shared_ptr<Task> load_task_file(const fs::path& file, const std::string& ta
   library->load(file.string(), boost::dll::load_mode::rtld_lazy | boost::dll::load_mode::rtld_local, ec);
   if (ec) throw UserError(file.string() + ": cannot load plugin: " + ec.message());
   for (const char* symbol : {"podium_task_descriptor", "podium_create_task", "podium_destroy_task"})
-    if (!library->has(symbol))
-      throw UserError(file.string() + ": not a Podium task plugin (missing symbol " + symbol + ")");
+    if (!library->has(symbol)) throw UserError(file.string() + ": not a Podium task plugin (missing symbol " + symbol + ")");
 
   const auto& descriptor = library->get_alias<const TaskDescriptor>("podium_task_descriptor");
   if (descriptor.abi_version != kAbiVersion)
-    throw UserError(file.string() + ": plugin ABI version " + std::to_string(descriptor.abi_version) +
-                    " (built with Podium " + descriptor.podium_version + ", " + descriptor.compiler +
-                    ") but this host accepts ABI version " + std::to_string(kAbiVersion) +
-                    " (Podium " + base::version() + "); rebuild the plugin");
+    throw UserError(file.string() + ": plugin ABI version " + std::to_string(descriptor.abi_version) + " (built with Podium " +
+                    descriptor.podium_version + ", " + descriptor.compiler + ") but this host accepts ABI version " +
+                    std::to_string(kAbiVersion) + " (Podium " + base::version() + "); rebuild the plugin");
   if (task_name != descriptor.task_name)
-    throw UserError(file.string() + ": plugin declares task \"" + descriptor.task_name + "\", expected \"" +
-                    task_name + "\"");
+    throw UserError(file.string() + ": plugin declares task \"" + descriptor.task_name + "\", expected \"" + task_name + "\"");
 
   auto& create = library->get_alias<CreateTaskFn>("podium_create_task");
   auto& destroy = library->get_alias<DestroyTaskFn>("podium_destroy_task");

@@ -54,8 +54,8 @@ BayesianDiversitySearch::BayesianDiversitySearch(const SearchSetup& setup, const
   if (features_.empty()) throw base::UserError(json_path + ": bds needs the task to declare at least one feature");
   for (const auto& f : features_)
     if (!(f.low < f.high))
-      throw base::UserError(json_path + ": feature \"" + f.name + "\" has an empty range [" + std::to_string(f.low) +
-                            ", " + std::to_string(f.high) + "]; bds scales features by it");
+      throw base::UserError(json_path + ": feature \"" + f.name + "\" has an empty range [" + std::to_string(f.low) + ", " +
+                            std::to_string(f.high) + "]; bds scales features by it");
   acquisition_ = params_.acquisition;
   if (acquisition_ == "auto")
     acquisition_ = std::all_of(features_.begin(), features_.end(), [](const Feature& f) { return f.quantised; })
@@ -172,8 +172,7 @@ void BayesianDiversitySearch::fit_if_needed() {
   fitted_on_ = ok.size();
 }
 
-std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(
-    std::vector<std::vector<double>>& believer_features) const {
+std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(std::vector<std::vector<double>>& believer_features) const {
   const int d = static_cast<int>(space_.dim());
   std::vector<VectorXd> xs, believers;
   for (const auto& t : told_) (t.ok ? xs : believers).push_back(t.u);
@@ -290,10 +289,10 @@ struct DiversityContext {
   double ucb_beta;
   // eq. 3.7 (both acquisitions: "new_combination" breaks its ties with it):
   const std::vector<std::vector<double>>* targets;
-  const MatrixXd* eps;  // mc_samples × features: common random numbers for every x
+  const MatrixXd* eps;     // mc_samples × features: common random numbers for every x
   double tie_scale = 0.0;  // "new_combination": eq. 3.7's weight (10⁻³ / the feature box's diagonal)
   // "new_combination":
-  std::vector<Levels> levels = {};          // per feature
+  std::vector<Levels> levels = {};                    // per feature
   std::vector<std::vector<std::size_t>> tuples = {};  // distinct observed strategies as level indices
 };
 
@@ -526,8 +525,8 @@ Json BayesianDiversitySearch::save() const {
   for (const auto& t : told_)
     told.push_back({{"id", t.id}, {"u", vector_json(t.u)}, {"ok", t.ok}, {"features", t.features}, {"success", t.success}});
   for (const auto& t : theta_) theta.push_back(vector_json(t));
-  return {{"rng", rng_.save()},   {"next_id", next_id_}, {"stalled", stalled_}, {"fallback_left", fallback_left_},
-          {"fitted_on", fitted_on_}, {"theta", theta},     {"pending", pending}, {"told", told},
+  return {{"rng", rng_.save()},      {"next_id", next_id_}, {"stalled", stalled_}, {"fallback_left", fallback_left_},
+          {"fitted_on", fitted_on_}, {"theta", theta},      {"pending", pending},  {"told", told},
           {"gp_steps", gp_steps_}};
 }
 

@@ -51,7 +51,7 @@ namespace podium::search {
 /// Other acquisitions, short-range plateau snapping, plateau believers and between-candidates
 /// measured no better there and were removed; that README says where they live in history.
 struct BdsParams {
-  int initial_samples = 4;       ///< random proposals before the GP is used (Algorithm 1 line 2)
+  int initial_samples = 4;  ///< random proposals before the GP is used (Algorithm 1 line 2)
   /// How the initial samples are drawn: "random" (uniform) or "maximin" (the farthest from all
   /// earlier proposals of `explore_candidates` uniform points: random, but spread out). Default
   /// "maximin", or "random" under the thesis schedule.
@@ -96,7 +96,7 @@ struct BdsParams {
   /// gave no more.
   double length_scale_min = 0.1;
   double length_scale_max = 0.5;
-  double noise_min = 1e-3;         ///< lower bound of the GP noise variance η² (features scaled to [0,1])
+  double noise_min = 1e-3;  ///< lower bound of the GP noise variance η² (features scaled to [0,1])
   static BdsParams from_json(const Json& config, const std::string& path);
 };
 
@@ -128,10 +128,10 @@ class BayesianDiversitySearch final : public Search {
   };
   struct Told {
     std::uint64_t id;
-    Eigen::VectorXd u;               // parameters scaled to [0,1]^d
+    Eigen::VectorXd u;  // parameters scaled to [0,1]^d
     bool ok;
-    std::vector<double> features;   // raw feature values (empty when failed)
-    bool success = true;            // the task's success rule (a strategy only if true)
+    std::vector<double> features;  // raw feature values (empty when failed)
+    bool success = true;           // the task's success rule (a strategy only if true)
   };
   Eigen::VectorXd propose(std::string& step);
   Eigen::VectorXd initial_point();
@@ -147,16 +147,16 @@ class BayesianDiversitySearch final : public Search {
   Space space_;
   std::vector<Feature> features_;
   BdsParams params_;
-  std::string acquisition_;    // params_.acquisition with "auto" resolved
-  double threshold_ = 0.0;     // the strategy threshold, in feature units
+  std::string acquisition_;  // params_.acquisition with "auto" resolved
+  double threshold_ = 0.0;   // the strategy threshold, in feature units
   GpBounds bounds_;
   base::Rng rng_;
   std::uint64_t next_id_ = 0;
-  std::size_t fitted_on_ = 0;          // successful observations the hyperparameters were fitted on
-  std::vector<Eigen::VectorXd> theta_; // per feature GP hyperparameters
-  int stalled_ = 0;                    // consecutive told diversity steps without a new strategy
-  int fallback_left_ = 0;              // exploration steps left since the diversity steps stalled
-  std::uint64_t gp_steps_ = 0;         // proposals after the initial ones (the thesis schedule's t)
+  std::size_t fitted_on_ = 0;           // successful observations the hyperparameters were fitted on
+  std::vector<Eigen::VectorXd> theta_;  // per feature GP hyperparameters
+  int stalled_ = 0;                     // consecutive told diversity steps without a new strategy
+  int fallback_left_ = 0;               // exploration steps left since the diversity steps stalled
+  std::uint64_t gp_steps_ = 0;          // proposals after the initial ones (the thesis schedule's t)
   std::map<std::uint64_t, Pending> pending_;
   std::vector<Told> told_;
 };

@@ -147,9 +147,17 @@ Json Cmaes::save() const {
   for (const auto& s : samples_) samples.push_back(vector_json(s));
   // Failed trials' +inf is not JSON: store null.
   for (const auto& [id, f] : fitness_) fitness.push_back({id, std::isfinite(f) ? Json(f) : Json(nullptr)});
-  return {{"rng", rng_.save()}, {"mean", vector_json(mean_)}, {"p_sigma", vector_json(p_sigma_)},
-          {"p_c", vector_json(p_c_)}, {"cov", cov}, {"sigma", sigma_}, {"generation", generation_},
-          {"next_id", next_id_}, {"first_id", first_id_}, {"samples", samples}, {"asked", asked_},
+  return {{"rng", rng_.save()},
+          {"mean", vector_json(mean_)},
+          {"p_sigma", vector_json(p_sigma_)},
+          {"p_c", vector_json(p_c_)},
+          {"cov", cov},
+          {"sigma", sigma_},
+          {"generation", generation_},
+          {"next_id", next_id_},
+          {"first_id", first_id_},
+          {"samples", samples},
+          {"asked", asked_},
           {"fitness", fitness}};
 }
 

@@ -17,10 +17,10 @@
 namespace podium::search {
 
 struct CmaesParams {
-  int population = 0;          ///< λ; 0 = 4 + ⌊3 ln d⌋ (Hansen's default)
-  double sigma0 = 0.3;         ///< initial step size as a fraction of each parameter's range
-  std::vector<double> x0;      ///< initial mean in parameter units; empty = the centre of the box
-  bool maximize = true;        ///< objectives[0] is maximised ("direction": "maximize"), or minimised
+  int population = 0;      ///< λ; 0 = 4 + ⌊3 ln d⌋ (Hansen's default)
+  double sigma0 = 0.3;     ///< initial step size as a fraction of each parameter's range
+  std::vector<double> x0;  ///< initial mean in parameter units; empty = the centre of the box
+  bool maximize = true;    ///< objectives[0] is maximised ("direction": "maximize"), or minimised
   static CmaesParams from_json(const Json& config, const Space& space, const std::string& path);
 };
 
@@ -51,9 +51,9 @@ class Cmaes final : public Search {
   Eigen::MatrixXd cov_;
   double sigma_ = 0;
   std::uint64_t generation_ = 0, next_id_ = 0, first_id_ = 0;  // first_id_: id of sample 0 of this generation
-  std::vector<Eigen::VectorXd> samples_;                      // unit-box points of this generation
+  std::vector<Eigen::VectorXd> samples_;                       // unit-box points of this generation
   std::size_t asked_ = 0;
-  std::map<std::uint64_t, double> fitness_;                   // told ids of this generation → fitness to minimise
+  std::map<std::uint64_t, double> fitness_;  // told ids of this generation → fitness to minimise
 };
 
 }  // namespace podium::search

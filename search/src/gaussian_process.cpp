@@ -61,8 +61,8 @@ void GaussianProcess::set(const MatrixXd& x, const VectorXd& y, const VectorXd& 
   alpha_ = llt_.solve((y_.array() - prior_mean_).matrix());
 }
 
-double GaussianProcess::log_marginal_likelihood(const MatrixXd& x, const VectorXd& y, double prior_mean,
-                                                const VectorXd& theta, VectorXd* grad) {
+double GaussianProcess::log_marginal_likelihood(const MatrixXd& x, const VectorXd& y, double prior_mean, const VectorXd& theta,
+                                                VectorXd* grad) {
   const int n = static_cast<int>(x.rows());
   const int d = static_cast<int>(x.cols());
   MatrixXd k, dfactor;
@@ -122,7 +122,8 @@ double GaussianProcess::fit(base::Rng& rng, int extra_starts, const GpBounds& bo
       std::fill(g.begin(), g.end(), 0.0);
       return -1e300;
     }
-    if (!g.empty()) for (std::size_t i = 0; i < g.size(); ++i) g[i] = grad[static_cast<Eigen::Index>(i)];
+    if (!g.empty())
+      for (std::size_t i = 0; i < g.size(); ++i) g[i] = grad[static_cast<Eigen::Index>(i)];
     if (v > c->best_value) {
       c->best_value = v;
       c->best = theta;
@@ -178,7 +179,8 @@ void GaussianProcess::predict(const VectorXd& x, double& mean, double& var, Vect
     const double r = std::sqrt((delta.array().square() * inv_len2.array()).sum());
     const double e = std::exp(-kSqrt5 * r);
     kx[i] = s2 * (1.0 + kSqrt5 * r + 5.0 / 3.0 * r * r) * e;
-    if (dk.size()) dk.row(i) = (-s2 * 5.0 / 3.0 * (1.0 + kSqrt5 * r) * e) * (delta.array() * inv_len2.array()).matrix().transpose();
+    if (dk.size())
+      dk.row(i) = (-s2 * 5.0 / 3.0 * (1.0 + kSqrt5 * r) * e) * (delta.array() * inv_len2.array()).matrix().transpose();
   }
   mean = prior_mean_ + kx.dot(alpha_);
   const VectorXd v = llt_.matrixL().solve(kx);

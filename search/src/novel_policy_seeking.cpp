@@ -59,8 +59,7 @@ std::vector<Proposal> NovelPolicySeeking::ask(std::size_t n) {
     Proposal p;
     p.id = next_id_++;
     p.x = in.x;
-    p.context = {{"novelty", {{"features", in.found}, {"d_threshold", params_.d_threshold}}},
-                 {"warm_start", in.warm_start}};
+    p.context = {{"novelty", {{"features", in.found}, {"d_threshold", params_.d_threshold}}}, {"warm_start", in.warm_start}};
     p.info = {{"source_trial", in.source_trial}, {"iteration", in.asked}};
     p.input = i;
     ++in.asked;

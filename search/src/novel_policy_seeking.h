@@ -18,9 +18,9 @@
 namespace podium::search {
 
 struct NovelPolicyParams {
-  int trials_per_input = 5;                      ///< K: the thesis's 5 iterations per initial state
-  double d_threshold = 1.5707963267948966;       ///< eq. 3.12's d_threshold (thesis: π/2)
-  std::string warm_start_artifact = "policy";    ///< which input artifact to warm-start from
+  int trials_per_input = 5;                    ///< K: the thesis's 5 iterations per initial state
+  double d_threshold = 1.5707963267948966;     ///< eq. 3.12's d_threshold (thesis: π/2)
+  std::string warm_start_artifact = "policy";  ///< which input artifact to warm-start from
   static NovelPolicyParams from_json(const Json& config, const std::string& path);
 };
 
@@ -36,11 +36,11 @@ class NovelPolicySeeking final : public Search {
  private:
   struct Input {
     std::vector<double> x;
-    Json warm_start;                          // artifact path or null
+    Json warm_start;  // artifact path or null
     std::uint64_t source_trial = 0;
-    std::vector<std::vector<double>> found;   // features of the policies found so far (saved)
-    int asked = 0;                            // trials proposed so far (saved)
-    bool busy = false;                        // a trial is running (saved)
+    std::vector<std::vector<double>> found;  // features of the policies found so far (saved)
+    int asked = 0;                           // trials proposed so far (saved)
+    bool busy = false;                       // a trial is running (saved)
   };
   Space space_;
   std::vector<Feature> features_;

@@ -72,7 +72,8 @@ std::vector<Proposal> NoveltySearch::ask(std::size_t n) {
         const double width = param.high - param.low;
         double v = xs_[parent][i] + rng_.normal(0.0, params_.mutation * width);
         // Reflect into the box (repeatedly for large steps), then guard round-off.
-        for (int r = 0; r < 8 && (v < param.low || v > param.high); ++r) v = v < param.low ? 2 * param.low - v : 2 * param.high - v;
+        for (int r = 0; r < 8 && (v < param.low || v > param.high); ++r)
+          v = v < param.low ? 2 * param.low - v : 2 * param.high - v;
         p.x.push_back(std::clamp(v, param.low, param.high));
       }
       p.info = {{"step", "mutate"}, {"parent_sparseness", best}};
@@ -106,8 +107,8 @@ void NoveltySearch::tell(const std::vector<Observation>& observations) {
 Json NoveltySearch::save() const {
   Json asked = Json::array();
   for (const auto& [id, x] : asked_x_) asked.push_back({{"id", id}, {"x", x}});
-  return {{"rng", rng_.save()}, {"next_id", next_id_}, {"pending", pending_to_json(pending_)}, {"asked", asked},
-          {"xs", xs_},          {"fs", fs_},           {"archive", archive_}};
+  return {{"rng", rng_.save()}, {"next_id", next_id_}, {"pending", pending_to_json(pending_)}, {"asked", asked}, {"xs", xs_},
+          {"fs", fs_},          {"archive", archive_}};
 }
 
 void NoveltySearch::load(const Json& state) {

@@ -14,11 +14,11 @@
 namespace podium::search {
 
 struct NoveltyParams {
-  int initial_samples = 4;          ///< random proposals before mutation starts
-  int k = 3;                        ///< nearest neighbours in the sparseness
-  double archive_threshold = 0.0;   ///< feature-distance units; 0 = 5% of the feature box diagonal
-  double mutation = 0.3;            ///< Gaussian mutation σ as a fraction of each parameter's range
-  int tournament = 3;               ///< archive members drawn per parent selection
+  int initial_samples = 4;         ///< random proposals before mutation starts
+  int k = 3;                       ///< nearest neighbours in the sparseness
+  double archive_threshold = 0.0;  ///< feature-distance units; 0 = 5% of the feature box diagonal
+  double mutation = 0.3;           ///< Gaussian mutation σ as a fraction of each parameter's range
+  int tournament = 3;              ///< archive members drawn per parent selection
   static NoveltyParams from_json(const Json& config, const std::vector<Feature>& features, const std::string& path);
 };
 
@@ -41,8 +41,8 @@ class NoveltySearch final : public Search {
   std::uint64_t next_id_ = 0;
   std::set<std::uint64_t> pending_;
   std::map<std::uint64_t, std::vector<double>> asked_x_;  // pending id → parameters
-  std::vector<std::vector<double>> xs_, fs_;  // successful trials, in tell order
-  std::vector<std::size_t> archive_;         // indices into xs_/fs_
+  std::vector<std::vector<double>> xs_, fs_;              // successful trials, in tell order
+  std::vector<std::size_t> archive_;                      // indices into xs_/fs_
 };
 
 }  // namespace podium::search

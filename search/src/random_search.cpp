@@ -6,8 +6,7 @@
 
 namespace podium::search {
 
-RandomSearch::RandomSearch(const SearchSetup& setup, const std::string& json_path)
-    : space_(setup.space), rng_(setup.seed) {
+RandomSearch::RandomSearch(const SearchSetup& setup, const std::string& json_path) : space_(setup.space), rng_(setup.seed) {
   if (!setup.config.is_object() || !setup.config.empty())
     throw base::UserError(json_path + ".config: random search takes no options, got " + setup.config.dump());
 }
@@ -32,9 +31,7 @@ void RandomSearch::tell(const std::vector<Observation>& observations) {
   for (const auto& o : observations) take_pending(pending_, o.id, name());
 }
 
-Json RandomSearch::save() const {
-  return {{"rng", rng_.save()}, {"next_id", next_id_}, {"pending", pending_to_json(pending_)}};
-}
+Json RandomSearch::save() const { return {{"rng", rng_.save()}, {"next_id", next_id_}, {"pending", pending_to_json(pending_)}}; }
 
 void RandomSearch::load(const Json& state) {
   rng_.load(state.at("rng").get<std::string>());

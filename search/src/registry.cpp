@@ -1,18 +1,17 @@
 // The one place that maps an algorithm name in a campaign spec to its implementation.
-#include "podium/base/error.h"
-#include "podium/search/search.h"
 #include "bds.h"
 #include "cmaes.h"
 #include "novel_policy_seeking.h"
 #include "novelty_search.h"
+#include "podium/base/error.h"
+#include "podium/search/search.h"
 #include "random_search.h"
 
 namespace podium::search {
 
 std::vector<std::string> algorithm_names() { return {"random", "bds", "novelty", "novel_policy", "cmaes"}; }
 
-std::unique_ptr<Search> make_search(const std::string& algorithm, const SearchSetup& setup,
-                                    const std::string& json_path) {
+std::unique_ptr<Search> make_search(const std::string& algorithm, const SearchSetup& setup, const std::string& json_path) {
   if (algorithm == "random") return std::make_unique<RandomSearch>(setup, json_path);
   if (algorithm == "novelty") return std::make_unique<NoveltySearch>(setup, json_path);
   if (algorithm == "novel_policy") return std::make_unique<NovelPolicySeeking>(setup, json_path);
@@ -32,7 +31,8 @@ void check_search(const std::string& algorithm, const SearchSetup& setup, bool h
   }
   NovelPolicyParams::from_json(setup.config, json_path + ".config");
   if (!has_inputs)
-    throw base::UserError(json_path + ".algorithm: \"novel_policy\" seeks novel policies for an earlier stage's "
+    throw base::UserError(json_path +
+                          ".algorithm: \"novel_policy\" seeks novel policies for an earlier stage's "
                           "trials, but the stage has no \"inputs\"");
 }
 

@@ -41,8 +41,7 @@ Space Space::from_json(const Json& j, const std::string& json_path) {
     p.low = number_at(j[i], "low", path);
     p.high = number_at(j[i], "high", path);
     p.integer = j[i].value("integer", false);
-    if (!(p.low < p.high))
-      throw UserError(path + ": low " + j[i]["low"].dump() + " is not below high " + j[i]["high"].dump());
+    if (!(p.low < p.high)) throw UserError(path + ": low " + j[i]["low"].dump() + " is not below high " + j[i]["high"].dump());
     space.params.push_back(p);
   }
   return space;
@@ -73,8 +72,7 @@ std::vector<Feature> Feature::list_from_json(const Json& j, const std::string& j
     f.quantised = j[i].value("quantised", false);
     const std::string metric = j[i].value("metric", "euclidean");
     if (metric == "angular") f.metric = FeatureMetric::angular;
-    else if (metric != "euclidean")
-      throw UserError(path + ".metric: \"" + metric + "\" is not one of euclidean, angular");
+    else if (metric != "euclidean") throw UserError(path + ".metric: \"" + metric + "\" is not one of euclidean, angular");
     out.push_back(f);
   }
   return out;
@@ -82,8 +80,7 @@ std::vector<Feature> Feature::list_from_json(const Json& j, const std::string& j
 
 Json Feature::list_to_json(const std::vector<Feature>& features) {
   Json out = Json::array();
-  for (const auto& f : features)
-  {
+  for (const auto& f : features) {
     Json entry = {{"name", f.name},
                   {"low", f.low},
                   {"high", f.high},

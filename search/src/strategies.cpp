@@ -37,8 +37,7 @@ std::int64_t cell_of(const Feature& f, std::int64_t n, double v) {
 }
 }  // namespace
 
-double feature_distance(const std::vector<Feature>& features, const std::vector<double>& a,
-                        const std::vector<double>& b) {
+double feature_distance(const std::vector<Feature>& features, const std::vector<double>& a, const std::vector<double>& b) {
   PODIUM_CHECK(a.size() == features.size() && b.size() == features.size(), "feature_distance: size mismatch");
   double sum = 0.0;
   for (std::size_t i = 0; i < a.size(); ++i) {
@@ -73,8 +72,8 @@ std::int64_t strategy_id(const std::vector<Feature>& features, const std::vector
   return id;
 }
 
-std::vector<std::int64_t> strategy_ids(const std::vector<Feature>& features,
-                                       const std::vector<std::vector<double>>& vectors, double threshold) {
+std::vector<std::int64_t> strategy_ids(const std::vector<Feature>& features, const std::vector<std::vector<double>>& vectors,
+                                       double threshold) {
   if (!features.empty()) check_threshold(threshold);
   std::vector<std::int64_t> ids;
   ids.reserve(vectors.size());
@@ -87,8 +86,8 @@ std::vector<std::int64_t> strategy_ids(const std::vector<Feature>& features,
   return ids;
 }
 
-int count_strategies(const std::vector<Feature>& features, const std::vector<std::vector<double>>& vectors,
-                     double threshold, const std::vector<bool>* success) {
+int count_strategies(const std::vector<Feature>& features, const std::vector<std::vector<double>>& vectors, double threshold,
+                     const std::vector<bool>* success) {
   PODIUM_CHECK(!success || success->size() == vectors.size(), "count_strategies: success flags and vectors differ in size");
   const auto ids = strategy_ids(features, vectors, threshold);
   std::set<std::int64_t> cells;
@@ -117,8 +116,8 @@ int strategy_ceiling(const std::vector<Feature>& features, double threshold, con
   return static_cast<int>(std::min(cells, 1e9));
 }
 
-double expected_random_count(const std::vector<Feature>& features, double threshold, const Space& space,
-                             const Outcome& outcome, int samples, int draws, std::uint64_t seed) {
+double expected_random_count(const std::vector<Feature>& features, double threshold, const Space& space, const Outcome& outcome,
+                             int samples, int draws, std::uint64_t seed) {
   PODIUM_CHECK(draws > 0 && samples >= 0, "expected_random_count: draws must be > 0");
   base::Rng rng(seed);
   double total = 0.0;

@@ -100,7 +100,8 @@ void BulletCharacter::get_state(Eigen::VectorXd& q, Eigen::VectorXd& qd) const {
       qd(l.v_index) = body_->getJointVel(b);
     } else {
       const btScalar* p = body_->getJointPosMultiDof(b);
-      const Eigen::Quaterniond qf = (principal_[i] * Eigen::Quaterniond(p[3], p[0], p[1], p[2]) * principal_[i].conjugate()).normalized();
+      const Eigen::Quaterniond qf =
+          (principal_[i] * Eigen::Quaterniond(p[3], p[0], p[1], p[2]) * principal_[i].conjugate()).normalized();
       q.segment<4>(l.q_index) << qf.w(), qf.x(), qf.y(), qf.z();
       const btScalar* v = body_->getJointVelMultiDof(b);
       qd.segment<3>(l.v_index) = principal_[i] * Eigen::Vector3d(v[0], v[1], v[2]);
@@ -125,7 +126,8 @@ void BulletCharacter::add_joint_torques(const Eigen::VectorXd& tau) {
 void BulletCharacter::add_gravity(const Eigen::Vector3d& g) {
   const auto& links = model_.links();
   body_->addBaseForce(to_bt(Eigen::Vector3d(links[0].mass * g)));
-  for (std::size_t i = 1; i < links.size(); ++i) body_->addLinkForce(static_cast<int>(i) - 1, to_bt(Eigen::Vector3d(links[i].mass * g)));
+  for (std::size_t i = 1; i < links.size(); ++i)
+    body_->addLinkForce(static_cast<int>(i) - 1, to_bt(Eigen::Vector3d(links[i].mass * g)));
 }
 
 void BulletCharacter::forward_dynamics(Eigen::VectorXd& qdd) {

@@ -20,10 +20,12 @@ namespace {
 constexpr double kWarmMatchM = 0.02;
 }  // namespace
 
-ContactSolver::ContactSolver(const CharacterModel& model, const btMultiBody& body, const Terrain& terrain, const ContactSolverConfig& config)
+ContactSolver::ContactSolver(const CharacterModel& model, const btMultiBody& body, const Terrain& terrain,
+                             const ContactSolverConfig& config)
     : model_(model), body_(body), terrain_(terrain), config_(config) {
   int points = 0;
-  internal::for_each_plane_point(model, CharacterData(model), Eigen::Vector3d::UnitZ(), [&](int, const Geom&, int, const Eigen::Vector3d&, double) { ++points; });
+  internal::for_each_plane_point(model, CharacterData(model), Eigen::Vector3d::UnitZ(),
+                                 [&](int, const Geom&, int, const Eigen::Vector3d&, double) { ++points; });
   warm_.ground.assign(points, {0.0, 0.0, 0.0});
   warm_.limits.assign(2 * model.nv(), 0.0);
   warm_.locks.assign(model.nv(), 0.0);
@@ -81,7 +83,8 @@ void ContactSolver::add_ground_contacts() {
     auto& warm = warm_.ground[k];
     // Touching, or reaching the plane within this step at the current velocity (speculative);
     // inside a terrain region the plane is not there (the region's boxes are Bullet's).
-    if ((distance > config_.touching_m && distance + dt_ * n.dot(point_velocity(link, p)) > config_.touching_m) || terrain_.region_at(p.x(), p.y()) >= 0) {
+    if ((distance > config_.touching_m && distance + dt_ * n.dot(point_velocity(link, p)) > config_.touching_m) ||
+        terrain_.region_at(p.x(), p.y()) >= 0) {
       warm = {0.0, 0.0, 0.0};
       return;
     }
@@ -119,7 +122,9 @@ void ContactSolver::add_manifold_contacts(btDispatcher* dispatcher) {
   std::size_t first = 0;
   for (ManifoldContact& c : found_) {
     auto same_pair = [&](const ManifoldContact& o) { return std::equal(o.key.begin(), o.key.begin() + 4, c.key.begin()); };
-    auto before = [&](const ManifoldContact& o) { return std::lexicographical_compare(o.key.begin(), o.key.begin() + 4, c.key.begin(), c.key.begin() + 4); };
+    auto before = [&](const ManifoldContact& o) {
+      return std::lexicographical_compare(o.key.begin(), o.key.begin() + 4, c.key.begin(), c.key.begin() + 4);
+    };
     while (first < last.size() && before(last[first])) ++first;
     double best = kWarmMatchM * kWarmMatchM;
     for (std::size_t k = first; k < last.size() && same_pair(last[k]); ++k) {
@@ -200,8 +205,9 @@ void ContactSolver::add_locks(const Link& l) {
   }
 }
 
-void ContactSolver::add_contact(int link_a, const Eigen::Vector3d& point_a, int link_b, const Eigen::Vector3d& point_b, const Eigen::Vector3d& normal,
-                                double distance, double friction, const std::array<double*, 3>& warm) {
+void ContactSolver::add_contact(int link_a, const Eigen::Vector3d& point_a, int link_b, const Eigen::Vector3d& point_b,
+                                const Eigen::Vector3d& normal, double distance, double friction,
+                                const std::array<double*, 3>& warm) {
   const double inf = std::numeric_limits<double>::infinity();
   // Separated by `distance` > 0: the gap may close within the step, no more (speculative);
   // penetrating: push apart by erp of the depth per step (Baumgarte).
@@ -230,7 +236,8 @@ int ContactSolver::add_row(double target, double lo, double hi, int normal_row, 
 }
 
 // Row += sign · ∂(direction · velocity of the world point fixed to `link`)/∂q̇.
-void ContactSolver::add_point_jacobian(int row, int link, const Eigen::Vector3d& point, const Eigen::Vector3d& direction, double sign) {
+void ContactSolver::add_point_jacobian(int row, int link, const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
+                                       double sign) {
   internal::add_point_force(model_, *data_, link, point, sign * direction, jt_.col(row));
 }
 

@@ -86,8 +86,8 @@ class ContactSolver {
   // A one-sided limit row on a joint's DoFs: gap ≥ 0 inside the range, `row` its rate ∂gap/∂q̇.
   void add_limit_row(double gap, int v_index, const Eigen::Vector3d& row, int dofs, double& warm);
   // A contact's normal and two friction rows; links −1 are static; the normal points from b to a.
-  void add_contact(int link_a, const Eigen::Vector3d& point_a, int link_b, const Eigen::Vector3d& point_b, const Eigen::Vector3d& normal,
-                   double distance, double friction, const std::array<double*, 3>& warm);
+  void add_contact(int link_a, const Eigen::Vector3d& point_a, int link_b, const Eigen::Vector3d& point_b,
+                   const Eigen::Vector3d& normal, double distance, double friction, const std::array<double*, 3>& warm);
   int add_row(double target, double lo, double hi, int normal_row, double* warm);
   void add_point_jacobian(int row, int link, const Eigen::Vector3d& point, const Eigen::Vector3d& direction, double sign);
   Eigen::Vector3d point_velocity(int link, const Eigen::Vector3d& point) const;

@@ -23,8 +23,10 @@ double field(const Json& obj, const char* key, const std::string& where) {
 }
 
 double torque_field(const Json& j, const char* key, const std::string& where) {
-  if (!j.contains(key)) throw UserError(where + "." + key + ": missing (N·m; a moving joint needs TorqueLim, or TorqueLimX/Y/Z if spherical)");
-  if (!j[key].is_number() || !(j[key].get<double>() > 0)) throw UserError(where + "." + key + ": " + j[key].dump() + " is not a number > 0 (N·m)");
+  if (!j.contains(key))
+    throw UserError(where + "." + key + ": missing (N·m; a moving joint needs TorqueLim, or TorqueLimX/Y/Z if spherical)");
+  if (!j[key].is_number() || !(j[key].get<double>() > 0))
+    throw UserError(where + "." + key + ": " + j[key].dump() + " is not a number > 0 (N·m)");
   return j[key].get<double>();
 }
 
@@ -34,7 +36,8 @@ double torque_field(const Json& j, const char* key, const std::string& where) {
 // z-up turn, DeepMimic's x, y, z axes are our x, z, −y, so [X, Y, Z] becomes [X, Z, Y].
 Json torque_limit(const Json& j, bool spherical, const std::string& where) {
   if (spherical && (j.contains("TorqueLimX") || j.contains("TorqueLimY") || j.contains("TorqueLimZ"))) {
-    const double x = torque_field(j, "TorqueLimX", where), y = torque_field(j, "TorqueLimY", where), z = torque_field(j, "TorqueLimZ", where);
+    const double x = torque_field(j, "TorqueLimX", where), y = torque_field(j, "TorqueLimY", where),
+                 z = torque_field(j, "TorqueLimZ", where);
     return Json{x, z, y};
   }
   return torque_field(j, "TorqueLim", where);
@@ -53,7 +56,8 @@ ModelPtr load_deepmimic(const std::filesystem::path& character, const std::files
   std::map<std::string, std::pair<double, double>> gains;
   if (!controller.empty()) {
     const Json ctrl = base::read_json_file(controller);
-    for (const Json& c : ctrl.value("PDControllers", Json::array())) gains[c.value("Name", "")] = {c.value("Kp", 0.0), c.value("Kd", 0.0)};
+    for (const Json& c : ctrl.value("PDControllers", Json::array()))
+      gains[c.value("Name", "")] = {c.value("Kp", 0.0), c.value("Kd", 0.0)};
   }
 
   Json bodies = Json::array();
@@ -67,7 +71,8 @@ ModelPtr load_deepmimic(const std::filesystem::path& character, const std::files
     const int parent = j.value("Parent", -1);
     Json body = {{"name", name}};
     if (parent >= 0) {
-      if (parent >= static_cast<int>(names.size())) throw UserError(jw + ".Parent: " + std::to_string(parent) + " is not an earlier joint");
+      if (parent >= static_cast<int>(names.size()))
+        throw UserError(jw + ".Parent: " + std::to_string(parent) + " is not an earlier joint");
       body["parent"] = names[parent];
       body["pos"] = zup(field(j, "AttachX", jw), field(j, "AttachY", jw), field(j, "AttachZ", jw));
       Json joint = {{"name", name}};

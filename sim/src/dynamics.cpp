@@ -3,10 +3,9 @@
 // library builds from our model format. Spatial conventions in spatial.h.
 #include "podium/sim/dynamics.h"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Eigenvalues>
 
 #include "internal.h"
 #include "spatial.h"
@@ -48,7 +47,9 @@ CharacterData::CharacterData(const CharacterModel& model)
 }
 
 namespace {
-Eigen::Quaterniond quat_at(const Eigen::VectorXd& q, int i) { return Eigen::Quaterniond(q(i), q(i + 1), q(i + 2), q(i + 3)).normalized(); }
+Eigen::Quaterniond quat_at(const Eigen::VectorXd& q, int i) {
+  return Eigen::Quaterniond(q(i), q(i + 1), q(i + 2), q(i + 3)).normalized();
+}
 
 }  // namespace
 
@@ -91,9 +92,15 @@ void forward_kinematics(const CharacterModel& model, CharacterData& data) {
     LinkData& d = data.links[i];
     Eigen::Matrix3d Rj = Eigen::Matrix3d::Identity();
     switch (l.joint) {
-      case JointType::free: Rj = quat_at(data.q, l.q_index + 3).toRotationMatrix(); break;
-      case JointType::spherical: Rj = quat_at(data.q, l.q_index).toRotationMatrix(); break;
-      case JointType::revolute: Rj = Eigen::AngleAxisd(data.q(l.q_index), l.axis).toRotationMatrix(); break;
+      case JointType::free:
+        Rj = quat_at(data.q, l.q_index + 3).toRotationMatrix();
+        break;
+      case JointType::spherical:
+        Rj = quat_at(data.q, l.q_index).toRotationMatrix();
+        break;
+      case JointType::revolute:
+        Rj = Eigen::AngleAxisd(data.q(l.q_index), l.axis).toRotationMatrix();
+        break;
     }
     d.E = Rj.transpose();
     if (l.parent < 0) {
@@ -170,7 +177,8 @@ void forward_dynamics_dense(const CharacterModel& model, CharacterData& data, co
 void integrate(const CharacterModel& model, Eigen::VectorXd& q, Eigen::VectorXd& qd, double dt_s) {
   auto rotate = [&](int qi, const Eigen::Vector3d& omega_body) {
     const double angle = omega_body.norm() * dt_s;
-    const Eigen::Quaterniond step = angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega_body.normalized())) : Eigen::Quaterniond::Identity();
+    const Eigen::Quaterniond step =
+        angle > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega_body.normalized())) : Eigen::Quaterniond::Identity();
     const Eigen::Quaterniond r = (quat_at(q, qi) * step).normalized();
     q.segment<4>(qi) << r.w(), r.x(), r.y(), r.z();
   };
@@ -178,7 +186,9 @@ void integrate(const CharacterModel& model, Eigen::VectorXd& q, Eigen::VectorXd&
     switch (l.joint) {
       case JointType::free: {
         // ω is unchanged in the rotated frame (a rotation about ω leaves it fixed).
-        const Eigen::Vector3d w = qd.segment<3>(l.v_index), com_vel = quat_at(q, l.q_index + 3) * Eigen::Vector3d(qd.segment<3>(l.v_index + 3) + w.cross(l.com));
+        const Eigen::Vector3d w = qd.segment<3>(l.v_index),
+                              com_vel =
+                                  quat_at(q, l.q_index + 3) * Eigen::Vector3d(qd.segment<3>(l.v_index + 3) + w.cross(l.com));
         const Eigen::Vector3d com = q.head<3>() + quat_at(q, l.q_index + 3) * l.com + dt_s * com_vel;
         rotate(l.q_index + 3, w);
         const Eigen::Quaterniond R1 = quat_at(q, l.q_index + 3);
@@ -186,8 +196,12 @@ void integrate(const CharacterModel& model, Eigen::VectorXd& q, Eigen::VectorXd&
         qd.segment<3>(l.v_index + 3) = R1.conjugate() * com_vel - w.cross(l.com);
         break;
       }
-      case JointType::spherical: rotate(l.q_index, qd.segment<3>(l.v_index)); break;
-      case JointType::revolute: q(l.q_index) += dt_s * qd(l.v_index); break;
+      case JointType::spherical:
+        rotate(l.q_index, qd.segment<3>(l.v_index));
+        break;
+      case JointType::revolute:
+        q(l.q_index) += dt_s * qd(l.v_index);
+        break;
     }
   }
 }
@@ -215,26 +229,26 @@ void center_of_mass(const CharacterModel& model, CharacterData& data, Eigen::Vec
 
 double lowest_geom_point(const CharacterModel& model, const CharacterData& data) {
   double z = 1e9;
-  internal::for_each_plane_point(model, data, Eigen::Vector3d::UnitZ(), [&](int, const Geom&, int, const Eigen::Vector3d&, double height) {
-    z = std::min(z, height);
-  });
+  internal::for_each_plane_point(model, data, Eigen::Vector3d::UnitZ(),
+                                 [&](int, const Geom&, int, const Eigen::Vector3d&, double height) { z = std::min(z, height); });
   return z;
 }
 
 // For each joint on the path to the root, column s = [ω; v] of S in that link's frame moves the
 // point by R v + (R ω) × (p − o), so its entry is (Rᵀ f)·v + (Rᵀ((p − o) × f))·ω.
-void internal::add_point_force(const CharacterModel& model, const CharacterData& data, int link, const Eigen::Vector3d& point, const Eigen::Vector3d& force,
-                               Eigen::Ref<Eigen::VectorXd> tau) {
+void internal::add_point_force(const CharacterModel& model, const CharacterData& data, int link, const Eigen::Vector3d& point,
+                               const Eigen::Vector3d& force, Eigen::Ref<Eigen::VectorXd> tau) {
   const auto& links = model.links();
   for (int k = link; k >= 0; k = links[k].parent) {
     const LinkData& d = data.links[k];
     const Eigen::Vector3d lin = d.R.transpose() * force, ang = d.R.transpose() * (point - d.p).cross(force);
-    for (int j = 0; j < links[k].nv; ++j) tau(links[k].v_index + j) += d.S.col(j).head<3>().dot(ang) + d.S.col(j).tail<3>().dot(lin);
+    for (int j = 0; j < links[k].nv; ++j)
+      tau(links[k].v_index + j) += d.S.col(j).head<3>().dot(ang) + d.S.col(j).tail<3>().dot(lin);
   }
 }
 
 void internal::for_each_plane_point(const CharacterModel& model, const CharacterData& data, const Eigen::Vector3d& normal,
-                          const std::function<void(int, const Geom&, int, const Eigen::Vector3d&, double)>& visit) {
+                                    const std::function<void(int, const Geom&, int, const Eigen::Vector3d&, double)>& visit) {
   int k = 0;
   const auto& links = model.links();
   for (std::size_t i = 0; i < links.size(); ++i) {
@@ -247,7 +261,9 @@ void internal::for_each_plane_point(const CharacterModel& model, const Character
         visit(link, g, k++, centre - radius * normal, normal.dot(centre) - radius);
       };
       switch (g.type) {
-        case ShapeType::sphere: rounded(c, g.radius); break;
+        case ShapeType::sphere:
+          rounded(c, g.radius);
+          break;
         case ShapeType::capsule:
           rounded(c + g.half_length * R.col(2), g.radius);
           rounded(c - g.half_length * R.col(2), g.radius);
@@ -262,6 +278,5 @@ void internal::for_each_plane_point(const CharacterModel& model, const Character
     }
   }
 }
-
 
 }  // namespace podium::sim

@@ -4,9 +4,9 @@
 #include "podium/sim/model.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <algorithm>
 #include <map>
 #include <numbers>
 #include <set>
@@ -38,7 +38,8 @@ double number(const Json& obj, const char* key, double fallback, const std::stri
 
 double positive(const Json& obj, const char* key, const std::string& where) {
   const double v = number(obj, key, -1.0, where);
-  if (!(v > 0.0)) throw UserError(base::json_path_join(where, key) + ": " + (obj.contains(key) ? show(obj[key]) : "missing") + " is not > 0");
+  if (!(v > 0.0))
+    throw UserError(base::json_path_join(where, key) + ": " + (obj.contains(key) ? show(obj[key]) : "missing") + " is not > 0");
   return v;
 }
 
@@ -63,7 +64,8 @@ Geom parse_geom(const Json& g, const std::string& where) {
   } else if (type == "box") {
     geom.type = ShapeType::box;
     geom.half_extents = vec3(g.value("half_extents", Json()), where + ".half_extents");
-    if (geom.half_extents.minCoeff() <= 0) throw UserError(where + ".half_extents: " + show(g["half_extents"]) + " has an entry ≤ 0");
+    if (geom.half_extents.minCoeff() <= 0)
+      throw UserError(where + ".half_extents: " + show(g["half_extents"]) + " has an entry ≤ 0");
     if (g.contains("pos")) geom.pos = vec3(g["pos"], where + ".pos");
     if (g.contains("quat")) {
       const Json& q = g["quat"];
@@ -79,12 +81,15 @@ Geom parse_geom(const Json& g, const std::string& where) {
 // "torque_limit": N·m for every DoF of the joint, or for a spherical joint [x, y, z] about the
 // link's axes (the thesis's jumper has hips 500/500/50 N·m, §3.6.2; DeepMimic's TorqueLimX/Y/Z).
 Eigen::Vector3d parse_torque_limit(const Json& j, JointType type, const std::string& where) {
-  if (!j.contains("torque_limit") || j["torque_limit"].is_number()) return Eigen::Vector3d::Constant(positive(j, "torque_limit", where));
+  if (!j.contains("torque_limit") || j["torque_limit"].is_number())
+    return Eigen::Vector3d::Constant(positive(j, "torque_limit", where));
   const Json& t = j["torque_limit"];
   const std::string w = base::json_path_join(where, "torque_limit");
   if (type != JointType::spherical)
-    throw UserError(w + ": " + show(t) + " is not a number > 0 (N·m" + (t.is_array() ? "; per-axis limits are for spherical joints)" : ")"));
-  if (!t.is_array() || t.size() != 3 || !std::all_of(t.begin(), t.end(), [](const Json& x) { return x.is_number() && x.get<double>() > 0; }))
+    throw UserError(w + ": " + show(t) + " is not a number > 0 (N·m" +
+                    (t.is_array() ? "; per-axis limits are for spherical joints)" : ")"));
+  if (!t.is_array() || t.size() != 3 ||
+      !std::all_of(t.begin(), t.end(), [](const Json& x) { return x.is_number() && x.get<double>() > 0; }))
     throw UserError(w + ": " + show(t) + " is not a number > 0 or [x, y, z] of numbers > 0 (N·m about the link's axes)");
   return {t[0].get<double>(), t[1].get<double>(), t[2].get<double>()};
 }
@@ -108,7 +113,8 @@ void parse_spherical_limits(const Json& j, const std::string& where, Link& link)
     if (!t.is_array() || t.size() != 2) throw UserError(where + ".twist: " + show(t) + " is not [lower, upper] (radians)");
     link.twist_lower = angle_in(t[0], -std::numbers::pi, std::numbers::pi, where + ".twist[0]");
     link.twist_upper = angle_in(t[1], -std::numbers::pi, std::numbers::pi, where + ".twist[1]");
-    if (!(link.twist_lower < link.twist_upper)) throw UserError(where + ".twist: " + show(t) + " is not [lower, upper] with lower < upper");
+    if (!(link.twist_lower < link.twist_upper))
+      throw UserError(where + ".twist: " + show(t) + " is not [lower, upper] with lower < upper");
   }
 }
 
@@ -140,11 +146,13 @@ std::set<std::string> removed_bodies(const Json& json, const std::string& where)
   for (std::size_t i = 0; i < r.size(); ++i) {
     if (!r[i].is_string() || !names.count(r[i].get<std::string>()))
       throw UserError(where + ": " + base::json_path_index("remove", i) + ": " + show(r[i]) + " is not a body");
-    if (r[i].get<std::string>() == json["bodies"][0].value("name", "")) throw UserError(where + ": " + base::json_path_index("remove", i) + ": the root cannot be removed");
+    if (r[i].get<std::string>() == json["bodies"][0].value("name", ""))
+      throw UserError(where + ": " + base::json_path_index("remove", i) + ": the root cannot be removed");
     removed.insert(r[i].get<std::string>());
   }
   for (const Json& b : json["bodies"])
-    if (b.contains("parent") && b["parent"].is_string() && removed.count(b["parent"].get<std::string>())) removed.insert(b.value("name", ""));
+    if (b.contains("parent") && b["parent"].is_string() && removed.count(b["parent"].get<std::string>()))
+      removed.insert(b.value("name", ""));
   return removed;
 }
 
@@ -296,18 +304,21 @@ void ModelBuilder::add_body(std::size_t bi) {
   if (body_index_.count(name)) throw UserError(bw + ".name: \"" + name + "\" is used by an earlier body");
   int parent_body = -1;
   if (bi == 0) {
-    if (b.contains("parent") && !b["parent"].is_null()) throw UserError(bw + ".parent: the first body is the root and has no parent");
+    if (b.contains("parent") && !b["parent"].is_null())
+      throw UserError(bw + ".parent: the first body is the root and has no parent");
   } else {
     const std::string parent = b.value("parent", "");
     auto it = body_index_.find(parent);
-    if (it == body_index_.end()) throw UserError(bw + ".parent: \"" + parent + "\" is not an earlier body (list parents before children)");
+    if (it == body_index_.end())
+      throw UserError(bw + ".parent: \"" + parent + "\" is not an earlier body (list parents before children)");
     parent_body = it->second;
   }
   const Eigen::Vector3d pos = b.contains("pos") ? vec3(b["pos"], bw + ".pos") : Eigen::Vector3d::Zero();
 
   std::vector<Geom> geoms;
   if (b.contains("geoms")) {
-    for (std::size_t gi = 0; gi < b["geoms"].size(); ++gi) geoms.push_back(parse_geom(b["geoms"][gi], bw + "." + base::json_path_index("geoms", gi)));
+    for (std::size_t gi = 0; gi < b["geoms"].size(); ++gi)
+      geoms.push_back(parse_geom(b["geoms"][gi], bw + "." + base::json_path_index("geoms", gi)));
   }
   const double density = number(b, "density", 1000.0, bw);
   const double mass = number(b, "mass", -1.0, bw);
@@ -319,8 +330,10 @@ void ModelBuilder::add_body(std::size_t bi) {
   body_index_[name] = body_id;
 
   std::vector<Json> joints;
-  if (b.contains("joints")) for (const Json& j : b["joints"]) joints.push_back(j);
-  if (bi == 0 && !joints.empty()) throw UserError(bw + ".joints: the root body moves by its free joint and takes no other joints");
+  if (b.contains("joints"))
+    for (const Json& j : b["joints"]) joints.push_back(j);
+  if (bi == 0 && !joints.empty())
+    throw UserError(bw + ".joints: the root body moves by its free joint and takes no other joints");
 
   Carrier carrier;
   if (bi == 0) {
@@ -521,7 +534,8 @@ ModelPtr edit_model(const ModelPtr& model, const ModelEdits& edits) {
   if (!remove.is_array()) remove = Json::array();
   for (const std::string& name : edits.remove) remove.push_back(name);
   for (const auto& [joint, keys] : edits.joints) {
-    if (!keys.is_object()) throw UserError("sim: edits of joint \"" + joint + "\": " + show(keys) + " is not an object of model-file keys");
+    if (!keys.is_object())
+      throw UserError("sim: edits of joint \"" + joint + "\": " + show(keys) + " is not an object of model-file keys");
     bool found = false;
     for (Json& body : json["bodies"]) {
       if (!body.contains("joints")) continue;
@@ -542,7 +556,8 @@ ModelPtr load_model(const std::filesystem::path& path) {
 
 ModelPtr load_shipped_model(const std::string& name) {
   const auto path = shipped_models_dir() / (name + ".json");
-  if (!std::filesystem::exists(path)) throw UserError("sim: model \"" + name + "\" is not shipped (looked for " + path.string() + ")");
+  if (!std::filesystem::exists(path))
+    throw UserError("sim: model \"" + name + "\" is not shipped (looked for " + path.string() + ")");
   return load_model(path);
 }
 

@@ -18,11 +18,23 @@ namespace {
 double r5(double x) { return std::round(x * 1e5) / 1e5; }
 
 Json shape_json(const Geom& g) {
-  Json j = {{"body", g.body}, {"pos", {r5(g.pos.x()), r5(g.pos.y()), r5(g.pos.z())}}, {"quat", {r5(g.rot.w()), r5(g.rot.x()), r5(g.rot.y()), r5(g.rot.z())}}};
+  Json j = {{"body", g.body},
+            {"pos", {r5(g.pos.x()), r5(g.pos.y()), r5(g.pos.z())}},
+            {"quat", {r5(g.rot.w()), r5(g.rot.x()), r5(g.rot.y()), r5(g.rot.z())}}};
   switch (g.type) {
-    case ShapeType::capsule: j["type"] = "capsule"; j["radius"] = g.radius; j["half_length"] = g.half_length; break;
-    case ShapeType::sphere: j["type"] = "sphere"; j["radius"] = g.radius; break;
-    case ShapeType::box: j["type"] = "box"; j["half_extents"] = {g.half_extents.x(), g.half_extents.y(), g.half_extents.z()}; break;
+    case ShapeType::capsule:
+      j["type"] = "capsule";
+      j["radius"] = g.radius;
+      j["half_length"] = g.half_length;
+      break;
+    case ShapeType::sphere:
+      j["type"] = "sphere";
+      j["radius"] = g.radius;
+      break;
+    case ShapeType::box:
+      j["type"] = "box";
+      j["half_extents"] = {g.half_extents.x(), g.half_extents.y(), g.half_extents.z()};
+      break;
   }
   return j;
 }
@@ -34,8 +46,13 @@ Json quat_json(const Eigen::Quaterniond& q) { return {r5(q.w()), r5(q.x()), r5(q
 Json props_json(const TerrainConfig& config) {
   Json props = Json::array();
   for (const BoxProp& b : config.boxes)
-    props.push_back({{"name", b.name}, {"type", "box"}, {"kind", b.kind.empty() ? "box" : b.kind}, {"pos", vec_json(b.center)},
-                     {"quat", quat_json(b.rotation.normalized())}, {"half_extents", vec_json(b.half_extents)}, {"friction", b.friction}});
+    props.push_back({{"name", b.name},
+                     {"type", "box"},
+                     {"kind", b.kind.empty() ? "box" : b.kind},
+                     {"pos", vec_json(b.center)},
+                     {"quat", quat_json(b.rotation.normalized())},
+                     {"half_extents", vec_json(b.half_extents)},
+                     {"friction", b.friction}});
   return props;
 }
 
@@ -44,9 +61,14 @@ Json terrain_json(const TerrainConfig& config) {
   const Terrain terrain(config);
   Json regions = Json::array(), pieces = Json::array();
   for (const TerrainRegion& r : config.regions)
-    regions.push_back({{"kind", kinds[static_cast<int>(r.kind)]}, {"min", {r.min.x(), r.min.y()}}, {"max", {r.max.x(), r.max.y()}}});
+    regions.push_back(
+        {{"kind", kinds[static_cast<int>(r.kind)]}, {"min", {r.min.x(), r.min.y()}}, {"max", {r.max.x(), r.max.y()}}});
   for (const TerrainPiece& p : terrain.pieces())
-    pieces.push_back({{"region", p.region}, {"type", "box"}, {"pos", vec_json(p.center)}, {"quat", quat_json(p.rotation)}, {"half_extents", vec_json(p.half_extents)}});
+    pieces.push_back({{"region", p.region},
+                      {"type", "box"},
+                      {"pos", vec_json(p.center)},
+                      {"quat", quat_json(p.rotation)},
+                      {"half_extents", vec_json(p.half_extents)}});
   return {{"regions", regions}, {"pieces", pieces}};
 }
 
@@ -99,10 +121,19 @@ void write_trajectory(const Recorder& recorder, const std::filesystem::path& pat
   Json joints = Json::array();
   for (const Link& l : m.links())
     joints.push_back({{"name", l.name},
-                      {"type", l.joint == JointType::free ? "free" : l.joint == JointType::revolute ? "revolute" : "spherical"},
+                      {"type", l.joint == JointType::free       ? "free"
+                               : l.joint == JointType::revolute ? "revolute"
+                                                                : "spherical"},
                       {"q_index", l.q_index}});
-  out << Json{{"format", "podium-trajectory"}, {"version", 2}, {"model", m.name()}, {"links", links}, {"bodies", bodies}, {"joints", joints},
-              {"ground", true}, {"props", props_json(recorder.terrain())}, {"terrain", terrain_json(recorder.terrain())}}
+  out << Json{{"format", "podium-trajectory"},
+              {"version", 2},
+              {"model", m.name()},
+              {"links", links},
+              {"bodies", bodies},
+              {"joints", joints},
+              {"ground", true},
+              {"props", props_json(recorder.terrain())},
+              {"terrain", terrain_json(recorder.terrain())}}
              .dump()
       << '\n';
   for (const Frame& f : recorder.frames()) {
@@ -112,8 +143,13 @@ void write_trajectory(const Recorder& recorder, const std::filesystem::path& pat
     for (const auto& p : f.links) poses.push_back({r5(p(0)), r5(p(1)), r5(p(2)), r5(p(3)), r5(p(4)), r5(p(5)), r5(p(6))});
     for (std::size_t b = 0; b < f.body_contacts.size(); ++b)
       if (f.body_contacts[b]) contacts.push_back(b);
-    out << Json{{"t", r5(f.time_s)}, {"root", {q[0], q[1], q[2], q[3], q[4], q[5], q[6]}}, {"q", q}, {"qd", qd}, {"links", poses},
-                {"com", {r5(f.com.x()), r5(f.com.y()), r5(f.com.z())}}, {"contacts", contacts}}
+    out << Json{{"t", r5(f.time_s)},
+                {"root", {q[0], q[1], q[2], q[3], q[4], q[5], q[6]}},
+                {"q", q},
+                {"qd", qd},
+                {"links", poses},
+                {"com", {r5(f.com.x()), r5(f.com.y()), r5(f.com.z())}},
+                {"contacts", contacts}}
                .dump()
         << '\n';
   }

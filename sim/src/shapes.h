@@ -10,9 +10,12 @@ namespace podium::sim {
 inline double geom_volume(const Geom& g) {
   const double pi = std::numbers::pi;
   switch (g.type) {
-    case ShapeType::sphere: return 4.0 / 3.0 * pi * g.radius * g.radius * g.radius;
-    case ShapeType::capsule: return pi * g.radius * g.radius * (2.0 * g.half_length) + 4.0 / 3.0 * pi * g.radius * g.radius * g.radius;
-    case ShapeType::box: return 8.0 * g.half_extents.prod();
+    case ShapeType::sphere:
+      return 4.0 / 3.0 * pi * g.radius * g.radius * g.radius;
+    case ShapeType::capsule:
+      return pi * g.radius * g.radius * (2.0 * g.half_length) + 4.0 / 3.0 * pi * g.radius * g.radius * g.radius;
+    case ShapeType::box:
+      return 8.0 * g.half_extents.prod();
   }
   return 0.0;
 }
@@ -21,10 +24,13 @@ inline double geom_volume(const Geom& g) {
 inline Eigen::Matrix3d geom_unit_inertia(const Geom& g) {
   const double r = g.radius;
   switch (g.type) {
-    case ShapeType::sphere: return Eigen::Matrix3d::Identity() * (0.4 * r * r);
+    case ShapeType::sphere:
+      return Eigen::Matrix3d::Identity() * (0.4 * r * r);
     case ShapeType::box: {
       const Eigen::Vector3d e = 2.0 * g.half_extents;
-      return Eigen::Vector3d(e.y() * e.y() + e.z() * e.z(), e.x() * e.x() + e.z() * e.z(), e.x() * e.x() + e.y() * e.y()).asDiagonal() * (1.0 / 12.0);
+      return Eigen::Vector3d(e.y() * e.y() + e.z() * e.z(), e.x() * e.x() + e.z() * e.z(), e.x() * e.x() + e.y() * e.y())
+                 .asDiagonal() *
+             (1.0 / 12.0);
     }
     case ShapeType::capsule: {
       // Cylinder of length h plus two hemispheres, mass split by volume.

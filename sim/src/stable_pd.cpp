@@ -26,8 +26,8 @@ Eigen::Vector3d rotation_error(const Eigen::VectorXd& q, const Eigen::VectorXd& 
 
 }  // namespace
 
-void internal::spd_spring_term(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target,
-                               double dt_s) {
+void internal::spd_spring_term(const CharacterModel& model, CharacterData& data, const Gains& gains,
+                               const Eigen::VectorXd& target, double dt_s) {
   for (const Link& l : model.links()) {
     if (l.joint == JointType::free) {
       // Optional "hand-of-God" root servo (thesis §2.4.1): errors and velocity in the root frame.
@@ -38,7 +38,8 @@ void internal::spd_spring_term(const CharacterModel& model, CharacterData& data,
       const Eigen::Vector3d w = data.qd.head<3>(), v = data.qd.segment<3>(3);
       const Eigen::Matrix3d R = Eigen::Quaterniond(data.q(3), data.q(4), data.q(5), data.q(6)).normalized().toRotationMatrix();
       const Eigen::Vector3d e_pos = R.transpose() * (data.q.head<3>() - target.head<3>());
-      data.Q.head<3>() = -gains.kp.head<3>().cwiseProduct(rotation_error(data.q, target, 3) + dt_s * w) - gains.kd.head<3>().cwiseProduct(w);
+      data.Q.head<3>() =
+          -gains.kp.head<3>().cwiseProduct(rotation_error(data.q, target, 3) + dt_s * w) - gains.kd.head<3>().cwiseProduct(w);
       data.Q.segment<3>(3) = -gains.kp.segment<3>(3).cwiseProduct(e_pos + dt_s * v) - gains.kd.segment<3>(3).cwiseProduct(v);
     } else if (l.joint == JointType::revolute) {
       const double qd = data.qd(l.v_index);
@@ -46,8 +47,9 @@ void internal::spd_spring_term(const CharacterModel& model, CharacterData& data,
       data.Q(l.v_index) = -gains.kp(l.v_index) * (data.q(l.q_index) + dt_s * qd - target(l.q_index)) - gains.kd(l.v_index) * qd;
     } else {
       const Eigen::Vector3d w = data.qd.segment<3>(l.v_index);
-      data.Q.segment<3>(l.v_index) = -gains.kp.segment<3>(l.v_index).cwiseProduct(rotation_error(data.q, target, l.q_index) + dt_s * w) -
-                                     gains.kd.segment<3>(l.v_index).cwiseProduct(w);
+      data.Q.segment<3>(l.v_index) =
+          -gains.kp.segment<3>(l.v_index).cwiseProduct(rotation_error(data.q, target, l.q_index) + dt_s * w) -
+          gains.kd.segment<3>(l.v_index).cwiseProduct(w);
     }
   }
 }
@@ -134,7 +136,8 @@ void maba_pass2(const Link& l, CharacterData& data, const Gains& gains, double d
   const MatS S = d.S_world.template leftCols<N>();
   const MatS U = d.I * S;
   MatD D = S.transpose() * U;
-  D.diagonal() += gains.kd.template segment<N>(l.v_index) * dt_s;  // thesis eq. 2.19: K_i = Kd,i Δt (the root's: its servo damper)
+  D.diagonal() +=
+      gains.kd.template segment<N>(l.v_index) * dt_s;  // thesis eq. 2.19: K_i = Kd,i Δt (the root's: its servo damper)
   const MatD L_inv = inverse_cholesky_factor<N>(D);
   const MatD D_inv = L_inv.transpose() * L_inv;
   const Eigen::Matrix<double, N, 1> u = data.Q.template segment<N>(l.v_index) - S.transpose() * d.f;
@@ -171,7 +174,8 @@ void maba_pass3(const Link& l, CharacterData& data, const Gains& gains, double d
   data.qdd.template segment<N>(l.v_index) = qdd;
   d.a = a_in + S * qdd;
   // thesis eq. 2.17: τ_i = Q_i − Kd,i Δt q̈_i
-  data.tau.template segment<N>(l.v_index) = data.Q.template segment<N>(l.v_index) - (gains.kd.template segment<N>(l.v_index) * dt_s).cwiseProduct(qdd);
+  data.tau.template segment<N>(l.v_index) =
+      data.Q.template segment<N>(l.v_index) - (gains.kd.template segment<N>(l.v_index) * dt_s).cwiseProduct(qdd);
 }
 
 // The free root without servo damping (K = 0, the default): its S (world) is invertible, so eq.
@@ -190,7 +194,8 @@ void maba_root_undamped(CharacterData& data, LinkData& d) {
 
 }  // namespace
 
-void stable_pd_dense(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s) {
+void stable_pd_dense(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target,
+                     double dt_s) {
   mass_matrix(model, data);
   bias_forces(model, data);
   internal::spd_spring_term(model, data, gains, target, dt_s);
@@ -204,12 +209,14 @@ void stable_pd_dense(const CharacterModel& model, CharacterData& data, const Gai
   data.tau = data.Q - (gains.kd * dt_s).cwiseProduct(data.qdd);
 }
 
-void stable_pd_maba(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s) {
+void stable_pd_maba(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target,
+                    double dt_s) {
   forward_kinematics(model, data);
   internal::stable_pd_maba_posed(model, data, gains, target, dt_s);
 }
 
-void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s) {
+void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& data, const Gains& gains,
+                                    const Eigen::VectorXd& target, double dt_s) {
   internal::spd_spring_term(model, data, gains, target, dt_s);
   const auto& links = model.links();
   const int n = static_cast<int>(links.size());
@@ -218,9 +225,15 @@ void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& 
   // in world coordinates.
   for (int i = 0; i < n; ++i) {
     switch (links[i].nv) {
-      case 1: maba_pass1<1>(links[i], data, data.links[i]); break;
-      case 3: maba_pass1<3>(links[i], data, data.links[i]); break;
-      default: maba_pass1<6>(links[i], data, data.links[i]); break;
+      case 1:
+        maba_pass1<1>(links[i], data, data.links[i]);
+        break;
+      case 3:
+        maba_pass1<3>(links[i], data, data.links[i]);
+        break;
+      default:
+        maba_pass1<6>(links[i], data, data.links[i]);
+        break;
     }
   }
   // Pass 2 (leaves → root): articulated inertias and bias forces with the SPD term, with
@@ -228,8 +241,12 @@ void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& 
   const bool root_undamped = gains.kd.head<6>().isZero();
   for (int i = n - 1; i >= 0; --i) {
     switch (links[i].nv) {
-      case 1: maba_pass2<1>(links[i], data, gains, dt_s, data.links[i]); break;
-      case 3: maba_pass2<3>(links[i], data, gains, dt_s, data.links[i]); break;
+      case 1:
+        maba_pass2<1>(links[i], data, gains, dt_s, data.links[i]);
+        break;
+      case 3:
+        maba_pass2<3>(links[i], data, gains, dt_s, data.links[i]);
+        break;
       default:
         if (!root_undamped) maba_pass2<6>(links[i], data, gains, dt_s, data.links[i]);
         break;
@@ -238,8 +255,12 @@ void internal::stable_pd_maba_posed(const CharacterModel& model, CharacterData& 
   // Pass 3 (root → leaves): thesis eq. 2.18 for q̈_i, eq. 2.13 for a_i.
   for (int i = 0; i < n; ++i) {
     switch (links[i].nv) {
-      case 1: maba_pass3<1>(links[i], data, gains, dt_s, data.links[i]); break;
-      case 3: maba_pass3<3>(links[i], data, gains, dt_s, data.links[i]); break;
+      case 1:
+        maba_pass3<1>(links[i], data, gains, dt_s, data.links[i]);
+        break;
+      case 3:
+        maba_pass3<3>(links[i], data, gains, dt_s, data.links[i]);
+        break;
       default:
         if (root_undamped) maba_root_undamped(data, data.links[i]);
         else maba_pass3<6>(links[i], data, gains, dt_s, data.links[i]);

@@ -17,7 +17,8 @@ Eigen::VectorXd random_pose(const CharacterModel& model, base::Rng& rng, double 
     if (l.joint == JointType::free) {
       const double u1 = rng.uniform(), u2 = rng.uniform(0, 2 * std::numbers::pi), u3 = rng.uniform(0, 2 * std::numbers::pi);
       const double a = std::sqrt(1 - u1), b = std::sqrt(u1);
-      r = Eigen::Quaterniond(a * std::sin(u2), a * std::cos(u2), b * std::sin(u3), b * std::cos(u3));  // Shoemake's uniform rotation
+      r = Eigen::Quaterniond(a * std::sin(u2), a * std::cos(u2), b * std::sin(u3),
+                             b * std::cos(u3));  // Shoemake's uniform rotation
       q.head<3>() << 0.0, 0.0, root_height_m;
     } else {
       const Eigen::Vector3d axis(rng.normal(), rng.normal(), rng.normal());
@@ -38,12 +39,14 @@ StepReport ragdoll_start(World& world, base::Rng& rng, const RagdollStart& optio
     // Standing, the torso's front is +x; pitching it by ∓90° about y puts the front up (supine)
     // or down (prone), with a little random tilt so that falls differ.
     const double pitch = (options.lying == RagdollStart::Lying::supine ? -0.5 : 0.5) * std::numbers::pi + rng.uniform(-0.2, 0.2);
-    const Eigen::Quaterniond r = Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(rng.uniform(-0.2, 0.2), Eigen::Vector3d::UnitX());
+    const Eigen::Quaterniond r =
+        Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(rng.uniform(-0.2, 0.2), Eigen::Vector3d::UnitX());
     q.segment<4>(3) << r.w(), r.x(), r.y(), r.z();
   }
   const double yaw = options.random_yaw ? rng.uniform(-std::numbers::pi, std::numbers::pi) : options.yaw_rad;
   if (yaw != 0.0) {
-    const Eigen::Quaterniond r = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized();
+    const Eigen::Quaterniond r =
+        Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized();
     q.segment<4>(3) << r.w(), r.x(), r.y(), r.z();
   }
   q(0) = options.x_m, q(1) = options.y_m;

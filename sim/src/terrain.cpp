@@ -14,7 +14,8 @@ namespace {
 
 // Top of a box along the vertical line through (x, y), or −∞ when the line misses it: the line
 // z ↦ (x, y, z) in box coordinates is o + z·d, clipped against the three slabs (Kay–Kajiya).
-double box_top(const Eigen::Vector3d& center, const Eigen::Vector3d& half, const Eigen::Quaterniond& rotation, double x, double y) {
+double box_top(const Eigen::Vector3d& center, const Eigen::Vector3d& half, const Eigen::Quaterniond& rotation, double x,
+               double y) {
   const Eigen::Matrix3d Rt = rotation.toRotationMatrix().transpose();
   const Eigen::Vector3d o = Rt * (Eigen::Vector3d(x, y, 0.0) - center), d = Rt.col(2);
   double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
@@ -62,14 +63,17 @@ Terrain::Terrain(TerrainConfig config) : config_(std::move(config)) {
     std::vector<double> heights;
     std::array<int, 2> counts{0, 0};
     if (g.kind == TerrainRegion::Kind::flat) {
-      pieces_.push_back({static_cast<int>(r), Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 0), Eigen::Quaterniond::Identity()});
+      pieces_.push_back(
+          {static_cast<int>(r), Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 0), Eigen::Quaterniond::Identity()});
       const double bottom = std::min(g.height_m, 0.0) - kPieceDepthM;
       pieces_.back().center << 0.5 * (g.min + g.max), 0.5 * (g.height_m + bottom);
       pieces_.back().half_extents << 0.5 * size, 0.5 * (g.height_m - bottom);
     } else if (g.kind == TerrainRegion::Kind::rough) {
       if (!(g.tile_size_m > 0)) throw base::UserError(where + ".tile_size_m: " + std::to_string(g.tile_size_m) + " is not > 0");
-      if (g.min_tile_height_m > g.max_tile_height_m) throw base::UserError(where + ": min_tile_height_m is above max_tile_height_m");
-      counts = {static_cast<int>(std::ceil(size.x() / g.tile_size_m - 1e-9)), static_cast<int>(std::ceil(size.y() / g.tile_size_m - 1e-9))};
+      if (g.min_tile_height_m > g.max_tile_height_m)
+        throw base::UserError(where + ": min_tile_height_m is above max_tile_height_m");
+      counts = {static_cast<int>(std::ceil(size.x() / g.tile_size_m - 1e-9)),
+                static_cast<int>(std::ceil(size.y() / g.tile_size_m - 1e-9))};
       base::Rng rng(g.seed);
       heights.resize(static_cast<std::size_t>(counts[0]) * counts[1]);
       for (double& h : heights) h = rng.uniform(g.min_tile_height_m, g.max_tile_height_m);
@@ -89,16 +93,19 @@ Terrain::Terrain(TerrainConfig config) : config_(std::move(config)) {
       // An inclined box whose top face spans the region: low edge at x = min.x, height height_m.
       const double c = std::cos(g.slope_rad), s = std::sin(g.slope_rad), half_len = 0.5 * size.x() / c;
       const Eigen::Quaterniond rot(Eigen::AngleAxisd(-g.slope_rad, Eigen::Vector3d::UnitY()));  // +x tilts up
-      const Eigen::Vector3d top_centre(0.5 * (g.min.x() + g.max.x()), 0.5 * (g.min.y() + g.max.y()), g.height_m + 0.5 * size.x() * std::tan(g.slope_rad));
+      const Eigen::Vector3d top_centre(0.5 * (g.min.x() + g.max.x()), 0.5 * (g.min.y() + g.max.y()),
+                                       g.height_m + 0.5 * size.x() * std::tan(g.slope_rad));
       const Eigen::Vector3d normal(-s, 0.0, c);
-      pieces_.push_back({static_cast<int>(r), top_centre - 0.5 * kPieceDepthM * normal, Eigen::Vector3d(half_len, 0.5 * size.y(), 0.5 * kPieceDepthM), rot});
+      pieces_.push_back({static_cast<int>(r), top_centre - 0.5 * kPieceDepthM * normal,
+                         Eigen::Vector3d(half_len, 0.5 * size.y(), 0.5 * kPieceDepthM), rot});
     }
     tiles_.push_back(std::move(heights));
     tile_counts_.push_back(counts);
   }
   for (std::size_t b = 0; b < config_.boxes.size(); ++b)
     if ((config_.boxes[b].half_extents.array() <= 0).any())
-      throw base::UserError("sim: terrain.boxes[" + std::to_string(b) + "] (\"" + config_.boxes[b].name + "\").half_extents: an entry is ≤ 0");
+      throw base::UserError("sim: terrain.boxes[" + std::to_string(b) + "] (\"" + config_.boxes[b].name +
+                            "\").half_extents: an entry is ≤ 0");
 }
 
 double Terrain::tile_height(int r, int i, int j) const { return tiles_[r][static_cast<std::size_t>(i) * tile_counts_[r][1] + j]; }
@@ -116,8 +123,12 @@ double Terrain::height(double x, double y) const {
   if (const int r = region_at(x, y); r >= 0) {
     const TerrainRegion& g = config_.regions[r];
     switch (g.kind) {
-      case TerrainRegion::Kind::flat: h = g.height_m; break;
-      case TerrainRegion::Kind::slope: h = g.height_m + (x - g.min.x()) * std::tan(g.slope_rad); break;
+      case TerrainRegion::Kind::flat:
+        h = g.height_m;
+        break;
+      case TerrainRegion::Kind::slope:
+        h = g.height_m + (x - g.min.x()) * std::tan(g.slope_rad);
+        break;
       case TerrainRegion::Kind::rough: {
         const int i = std::min(static_cast<int>((x - g.min.x()) / g.tile_size_m), tile_counts_[r][0] - 1);
         const int j = std::min(static_cast<int>((y - g.min.y()) / g.tile_size_m), tile_counts_[r][1] - 1);

@@ -26,9 +26,12 @@ constexpr double kBlownUpSpeed = 1e3;  // m/s or rad/s
 
 std::unique_ptr<btConvexShape> make_shape(const Geom& g) {
   switch (g.type) {
-    case ShapeType::sphere: return std::make_unique<btSphereShape>(g.radius);
-    case ShapeType::capsule: return std::make_unique<btCapsuleShapeZ>(g.radius, 2.0 * g.half_length);
-    case ShapeType::box: return std::make_unique<btBoxShape>(to_bt(g.half_extents));
+    case ShapeType::sphere:
+      return std::make_unique<btSphereShape>(g.radius);
+    case ShapeType::capsule:
+      return std::make_unique<btCapsuleShapeZ>(g.radius, 2.0 * g.half_length);
+    case ShapeType::box:
+      return std::make_unique<btBoxShape>(to_bt(g.half_extents));
   }
   return nullptr;
 }
@@ -59,12 +62,16 @@ double contact_erp(double dt_s) {
 }  // namespace
 
 World::World(const ModelPtr& model, const WorldConfig& config)
-    : model_(edit_model(model, config.edits)), config_(config), terrain_(config.terrain), data_(*model_), gains_(Gains::from_model(*model_)),
+    : model_(edit_model(model, config.edits)),
+      config_(config),
+      terrain_(config.terrain),
+      data_(*model_),
+      gains_(Gains::from_model(*model_)),
       limits_(model_->nv()) {
   const double ratio = config_.sim_hz / config_.control_hz;
   if (!(config_.sim_hz > 0) || !(config_.control_hz > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 || ratio < 1)
-    throw base::UserError("sim: control_hz " + std::to_string(config_.control_hz) + " does not divide sim_hz " + std::to_string(config_.sim_hz) +
-                          " (need sim_hz = k · control_hz, k ≥ 1)");
+    throw base::UserError("sim: control_hz " + std::to_string(config_.control_hz) + " does not divide sim_hz " +
+                          std::to_string(config_.sim_hz) + " (need sim_hz = k · control_hz, k ≥ 1)");
   substeps_ = static_cast<int>(std::lround(ratio));
   data_.gravity = config_.gravity;
   forces_.assign(model_->bodies().size(), Eigen::Vector3d::Zero());
@@ -72,7 +79,8 @@ World::World(const ModelPtr& model, const WorldConfig& config)
   if (config_.passive_joints)
     for (std::size_t i = 0; i < model_->links().size(); ++i) {
       const Link& l = model_->links()[i];
-      if (l.joint == JointType::revolute && !l.locked && (l.damping > 0 || l.stiffness > 0)) passive_links_.push_back(static_cast<int>(i));
+      if (l.joint == JointType::revolute && !l.locked && (l.damping > 0 || l.stiffness > 0))
+        passive_links_.push_back(static_cast<int>(i));
     }
   // Body centroids: volume-weighted geom centres in the carrying link's frame (else the body origin).
   centroids_.resize(model_->bodies().size());
@@ -121,7 +129,8 @@ void World::build_bullet() {
     const Eigen::Quaterniond P = b.character->principal(static_cast<int>(i));
     // Geom poses in Bullet's link frame (at the COM, along principal axes).
     auto local = [&](const Geom& g) {
-      return btTransform(to_bt(Eigen::Quaterniond(P.conjugate() * g.rot)), to_bt(Eigen::Vector3d(P.conjugate() * (g.pos - l.com))));
+      return btTransform(to_bt(Eigen::Quaterniond(P.conjugate() * g.rot)),
+                         to_bt(Eigen::Vector3d(P.conjugate() * (g.pos - l.com))));
     };
     std::unique_ptr<btCollisionShape> shape = l.geoms.size() == 1 ? make_direct_shape(l.geoms[0], local(l.geoms[0])) : nullptr;
     if (!shape) {
@@ -141,18 +150,21 @@ void World::build_bullet() {
     if (i == 0) body.setBaseCollider(collider.get());
     else body.getLink(static_cast<int>(i) - 1).m_collider = collider.get();
     b.shapes.push_back(std::move(shape));
-    b.add_object(std::move(collider), {ObjectInfo::Kind::link, static_cast<int>(i)}, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+    b.add_object(std::move(collider), {ObjectInfo::Kind::link, static_cast<int>(i)}, btBroadphaseProxy::DefaultFilter,
+                 btBroadphaseProxy::AllFilter);
   }
 
   // Terrain regions (boxes), then props.
   const auto& pieces = terrain_.pieces();
   for (std::size_t k = 0; k < pieces.size(); ++k)
-    b.add_static(std::make_unique<btBoxShape>(to_bt(pieces[k].half_extents)), btTransform(to_bt(pieces[k].rotation), to_bt(pieces[k].center)), 1.0,
+    b.add_static(std::make_unique<btBoxShape>(to_bt(pieces[k].half_extents)),
+                 btTransform(to_bt(pieces[k].rotation), to_bt(pieces[k].center)), 1.0,
                  {ObjectInfo::Kind::piece, static_cast<int>(k)});
   const auto& boxes = terrain_.config().boxes;
   for (std::size_t k = 0; k < boxes.size(); ++k)
-    b.add_static(std::make_unique<btBoxShape>(to_bt(boxes[k].half_extents)), btTransform(to_bt(boxes[k].rotation.normalized()), to_bt(boxes[k].center)),
-                 boxes[k].friction, {ObjectInfo::Kind::prop, static_cast<int>(k)});
+    b.add_static(std::make_unique<btBoxShape>(to_bt(boxes[k].half_extents)),
+                 btTransform(to_bt(boxes[k].rotation.normalized()), to_bt(boxes[k].center)), boxes[k].friction,
+                 {ObjectInfo::Kind::prop, static_cast<int>(k)});
 }
 
 void World::rebuild_keeping_state() {
@@ -188,10 +200,12 @@ WorldSnapshot World::snapshot() const {
 void World::restore(const WorldSnapshot& s) {
   // The same model: the same object, or one built from the same file and edits.
   if (s.model != model_ && s.model->source() != model_->source())
-    throw base::UserError("sim: restore: the snapshot is of another model (" + s.model->name() + ") than this World's (" + model_->name() + ")");
+    throw base::UserError("sim: restore: the snapshot is of another model (" + s.model->name() + ") than this World's (" +
+                          model_->name() + ")");
   if (s.config.sim_hz != config_.sim_hz || s.config.control_hz != config_.control_hz)
-    throw base::UserError("sim: restore: the snapshot steps at " + std::to_string(s.config.sim_hz) + " / " + std::to_string(s.config.control_hz) +
-                          " Hz, this World at " + std::to_string(config_.sim_hz) + " / " + std::to_string(config_.control_hz) + " Hz");
+    throw base::UserError("sim: restore: the snapshot steps at " + std::to_string(s.config.sim_hz) + " / " +
+                          std::to_string(s.config.control_hz) + " Hz, this World at " + std::to_string(config_.sim_hz) + " / " +
+                          std::to_string(config_.control_hz) + " Hz");
   terrain_ = Terrain(s.config.terrain);
   config_ = s.config;
   data_ = s.data;
@@ -211,8 +225,9 @@ void World::reset(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
 
 void World::set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
   if (q.size() != model_->nq() || qd.size() != model_->nv())
-    throw base::UserError("sim: set_state: q has " + std::to_string(q.size()) + " entries and qd " + std::to_string(qd.size()) + " but model " +
-                          model_->name() + " has nq " + std::to_string(model_->nq()) + " and nv " + std::to_string(model_->nv()));
+    throw base::UserError("sim: set_state: q has " + std::to_string(q.size()) + " entries and qd " + std::to_string(qd.size()) +
+                          " but model " + model_->name() + " has nq " + std::to_string(model_->nq()) + " and nv " +
+                          std::to_string(model_->nv()));
   bullet_->character->set_state(q, qd);
   bullet_->character->body().updateCollisionObjectWorldTransforms(bullet_->scratch_q, bullet_->scratch_m);
   bullet_->character->get_state(data_.q, data_.qd);
@@ -220,11 +235,11 @@ void World::set_state(const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
   failure_ = StepReport{};
 }
 
-void World::set_state_world(const Eigen::VectorXd& q, const Eigen::Vector3d& root_omega_world, const Eigen::Vector3d& root_vel_world,
-                            const Eigen::VectorXd& joint_qd) {
+void World::set_state_world(const Eigen::VectorXd& q, const Eigen::Vector3d& root_omega_world,
+                            const Eigen::Vector3d& root_vel_world, const Eigen::VectorXd& joint_qd) {
   if (joint_qd.size() != model_->nv() - 6)
-    throw base::UserError("sim: set_state_world: joint_qd has " + std::to_string(joint_qd.size()) + " entries, model needs nv − 6 = " +
-                          std::to_string(model_->nv() - 6));
+    throw base::UserError("sim: set_state_world: joint_qd has " + std::to_string(joint_qd.size()) +
+                          " entries, model needs nv − 6 = " + std::to_string(model_->nv() - 6));
   const Eigen::Matrix3d R = Eigen::Quaterniond(q(3), q(4), q(5), q(6)).normalized().toRotationMatrix();
   Eigen::VectorXd qd(model_->nv());
   qd.head<3>() = R.transpose() * root_omega_world;
@@ -235,8 +250,8 @@ void World::set_state_world(const Eigen::VectorXd& q, const Eigen::Vector3d& roo
 
 void World::set_gains(const Gains& gains) {
   if (gains.kp.size() != model_->nv() || gains.kd.size() != model_->nv())
-    throw base::UserError("sim: gains: kp has " + std::to_string(gains.kp.size()) + " entries and kd " + std::to_string(gains.kd.size()) +
-                          " but model nv is " + std::to_string(model_->nv()));
+    throw base::UserError("sim: gains: kp has " + std::to_string(gains.kp.size()) + " entries and kd " +
+                          std::to_string(gains.kd.size()) + " but model nv is " + std::to_string(model_->nv()));
   gains_ = gains;
 }
 
@@ -245,13 +260,22 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
   const int expected = mode == Control::torque ? model_->nv() : model_->nq();
   if (command.size() != expected)
     throw base::UserError("sim: command has " + std::to_string(command.size()) + " entries but " +
-                          (mode == Control::torque ? "torque control needs nv = " : "PD control needs nq = ") + std::to_string(expected));
+                          (mode == Control::torque ? "torque control needs nv = " : "PD control needs nq = ") +
+                          std::to_string(expected));
   switch (mode) {
-    case Control::torque: data_.tau = command; break;
-    case Control::pd: pd_torques(*model_, data_, gains_, command); break;
-    case Control::spd_dense: stable_pd_dense(*model_, data_, gains_, command, dt_s()); break;
+    case Control::torque:
+      data_.tau = command;
+      break;
+    case Control::pd:
+      pd_torques(*model_, data_, gains_, command);
+      break;
+    case Control::spd_dense:
+      stable_pd_dense(*model_, data_, gains_, command, dt_s());
+      break;
     // data_ is posed: set_state and every step end with forward_kinematics.
-    case Control::spd_maba: internal::stable_pd_maba_posed(*model_, data_, gains_, command, dt_s()); break;
+    case Control::spd_maba:
+      internal::stable_pd_maba_posed(*model_, data_, gains_, command, dt_s());
+      break;
   }
   if (mode == Control::torque) data_.tau.head<6>().setZero();
   if (config_.torque_limits) {
@@ -267,7 +291,9 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
       tau_external_(l.v_index) = -l.damping * data_.qd(l.v_index) - l.stiffness * data_.q(l.q_index);
     }
     for (std::size_t k = 0; k < forces_.size(); ++k)
-      if (!forces_[k].isZero(0.0)) internal::add_point_force(*model_, data_, model_->bodies()[k].link, body_centroid(static_cast<int>(k)), forces_[k], tau_external_);
+      if (!forces_[k].isZero(0.0))
+        internal::add_point_force(*model_, data_, model_->bodies()[k].link, body_centroid(static_cast<int>(k)), forces_[k],
+                                  tau_external_);
   }
   Bullet& b = *bullet_;
   b.detect_contacts();  // at the pose the step starts from
@@ -304,7 +330,8 @@ double World::kinetic_energy() {
   double e = 0.0;
   Eigen::Vector3d com, com_vel;
   center_of_mass(*model_, data_, com, com_vel);  // fills link velocities
-  for (std::size_t i = 0; i < model_->links().size(); ++i) e += 0.5 * data_.links[i].v.dot(data_.links[i].I_body * data_.links[i].v);
+  for (std::size_t i = 0; i < model_->links().size(); ++i)
+    e += 0.5 * data_.links[i].v.dot(data_.links[i].I_body * data_.links[i].v);
   return e;
 }
 

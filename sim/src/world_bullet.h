@@ -26,10 +26,12 @@ struct SelfCollisionFilter : btOverlapFilterCallback {
   const CharacterModel* model = nullptr;
   bool self_collision = true;
   bool needBroadphaseCollision(btBroadphaseProxy* a, btBroadphaseProxy* b) const override {
-    if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) || !(b->m_collisionFilterGroup & a->m_collisionFilterMask)) return false;
+    if (!(a->m_collisionFilterGroup & b->m_collisionFilterMask) || !(b->m_collisionFilterGroup & a->m_collisionFilterMask))
+      return false;
     auto* ca = btMultiBodyLinkCollider::upcast(static_cast<btCollisionObject*>(a->m_clientObject));
     auto* cb = btMultiBodyLinkCollider::upcast(static_cast<btCollisionObject*>(b->m_clientObject));
-    if (ca && cb && ca->m_multiBody == cb->m_multiBody) return self_collision && model->links_collide(ca->m_link + 1, cb->m_link + 1);
+    if (ca && cb && ca->m_multiBody == cb->m_multiBody)
+      return self_collision && model->links_collide(ca->m_link + 1, cb->m_link + 1);
     return true;
   }
 };
@@ -62,10 +64,10 @@ struct World::Bullet {
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btCollisionObject>> objects;  // colliders, terrain pieces, props
   std::vector<ObjectInfo> info;                             // per object
-  std::vector<std::vector<int>> child_body;  // per link: body of each compound child
+  std::vector<std::vector<int>> child_body;                 // per link: body of each compound child
   std::vector<std::unique_ptr<btConvexShape>> geom_shapes;  // per geom in model order (distance queries)
   std::vector<const btConvexShape*> prop_shapes;            // per prop
-  btAlignedObjectArray<btQuaternion> scratch_q;  // for updateCollisionObjectWorldTransforms
+  btAlignedObjectArray<btQuaternion> scratch_q;             // for updateCollisionObjectWorldTransforms
   btAlignedObjectArray<btVector3> scratch_m;
 
   ~Bullet() {
@@ -86,7 +88,8 @@ struct World::Bullet {
     obj->setFriction(friction);
     obj->setRestitution(0.0);
     if (what.kind == ObjectInfo::Kind::prop) prop_shapes.push_back(shape.get());
-    add_object(std::move(obj), what, btBroadphaseProxy::StaticFilter, btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
+    add_object(std::move(obj), what, btBroadphaseProxy::StaticFilter,
+               btBroadphaseProxy::AllFilter ^ btBroadphaseProxy::StaticFilter);
     shapes.push_back(std::move(shape));
   }
 

@@ -1,6 +1,4 @@
 // What the character touches (observe's contacts by partner) and its distance to a prop.
-#include "podium/sim/world.h"
-
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
@@ -13,6 +11,7 @@
 
 #include "internal.h"
 #include "podium/base/error.h"
+#include "podium/sim/world.h"
 #include "world_bullet.h"
 
 namespace podium::sim {
@@ -20,7 +19,8 @@ namespace podium::sim {
 double World::prop_distance(int body, int prop) const {
   const Bullet& b = *bullet_;
   if (prop < 0 || prop >= static_cast<int>(b.prop_shapes.size()))
-    throw base::UserError("sim: prop " + std::to_string(prop) + " does not exist (the terrain has " + std::to_string(b.prop_shapes.size()) + " props)");
+    throw base::UserError("sim: prop " + std::to_string(prop) + " does not exist (the terrain has " +
+                          std::to_string(b.prop_shapes.size()) + " props)");
   const BoxProp& box = terrain_.config().boxes[prop];
   const btTransform prop_pose(to_bt(box.rotation.normalized()), to_bt(box.center));
   double best = std::numeric_limits<double>::infinity();
@@ -34,7 +34,8 @@ double World::prop_distance(int body, int prop) const {
       btGjkEpaPenetrationDepthSolver epa;
       btGjkPairDetector gjk(shape, b.prop_shapes[prop], &simplex, &epa);
       btDiscreteCollisionDetectorInterface::ClosestPointInput input;
-      input.m_transformA = btTransform(to_bt(Eigen::Quaterniond(d.R * g.rot.toRotationMatrix())), to_bt(Eigen::Vector3d(d.p + d.R * g.pos)));
+      input.m_transformA =
+          btTransform(to_bt(Eigen::Quaterniond(d.R * g.rot.toRotationMatrix())), to_bt(Eigen::Vector3d(d.p + d.R * g.pos)));
       input.m_transformB = prop_pose;
       btPointCollector out;
       gjk.getClosestPoints(input, out, nullptr);
@@ -54,7 +55,8 @@ Observation World::observe() {
   o.torso_up = Rt.row(2).transpose();
   o.root_quat = data_.q.segment<4>(3);
   const LinkData& root = data_.links[0];
-  for (int e : m.end_effector_bodies()) o.end_effectors.push_back(root.R.transpose() * (body_point(m, data_, e, Eigen::Vector3d::Zero()) - root.p));
+  for (int e : m.end_effector_bodies())
+    o.end_effectors.push_back(root.R.transpose() * (body_point(m, data_, e, Eigen::Vector3d::Zero()) - root.p));
   // Ground contacts from the geoms (the plane outside regions); the rest from a fresh detection,
   // mapped through compound child indices to bodies.
   o.body_contacts.assign(m.bodies().size(), 0);
@@ -63,9 +65,11 @@ Observation World::observe() {
     const Contact c{body, partner, index};
     if (std::find(o.contacts.begin(), o.contacts.end(), c) == o.contacts.end()) o.contacts.push_back(c);
   };
-  internal::for_each_plane_point(m, data_, Eigen::Vector3d::UnitZ(), [&](int, const Geom& g, int, const Eigen::Vector3d& p, double distance) {
-    if (distance <= kTouchingM && terrain_.region_at(p.x(), p.y()) < 0) add(g.body, Contact::Partner::ground, -1);
-  });
+  internal::for_each_plane_point(m, data_, Eigen::Vector3d::UnitZ(),
+                                 [&](int, const Geom& g, int, const Eigen::Vector3d& p, double distance) {
+                                   if (distance <= kTouchingM && terrain_.region_at(p.x(), p.y()) < 0)
+                                     add(g.body, Contact::Partner::ground, -1);
+                                 });
   Bullet& b = *bullet_;
   b.detect_contacts();
   // The body a manifold point is on (-1: not the character), or the partner it stands for.
@@ -100,7 +104,8 @@ Observation World::observe() {
 }
 
 bool Observation::touches(int body, Contact::Partner partner, int index) const {
-  return std::any_of(contacts.begin(), contacts.end(), [&](const Contact& c) { return c.body == body && c.partner == partner && (index < 0 || c.index == index); });
+  return std::any_of(contacts.begin(), contacts.end(),
+                     [&](const Contact& c) { return c.body == body && c.partner == partner && (index < 0 || c.index == index); });
 }
 
 }  // namespace podium::sim

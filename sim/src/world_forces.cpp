@@ -1,6 +1,4 @@
 // World's external forces: per-body forces at the body centroids and wind drag.
-#include "podium/sim/world.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -8,12 +6,14 @@
 
 #include "internal.h"
 #include "podium/base/error.h"
+#include "podium/sim/world.h"
 
 namespace podium::sim {
 
 void World::set_external_force(int body, const Eigen::Vector3d& force_world) {
   if (body < 0 || body >= static_cast<int>(forces_.size()))
-    throw base::UserError("sim: external force on body " + std::to_string(body) + ": model " + model_->name() + " has " + std::to_string(forces_.size()) + " bodies");
+    throw base::UserError("sim: external force on body " + std::to_string(body) + ": model " + model_->name() + " has " +
+                          std::to_string(forces_.size()) + " bodies");
   forces_[body] = force_world;
   has_forces_ = std::any_of(forces_.begin(), forces_.end(), [](const Eigen::Vector3d& f) { return !f.isZero(0.0); });
 }
@@ -44,8 +44,12 @@ Eigen::Vector3d World::wind_force(int body, const Wind& wind) {
     const Eigen::Matrix3d Rg = R * g.rot.toRotationMatrix();
     const double disc = std::numbers::pi * g.radius * g.radius;
     switch (g.type) {
-      case ShapeType::sphere: area += disc; break;
-      case ShapeType::capsule: area += 4.0 * g.radius * g.half_length * u.cross(Rg.col(2)).norm() + disc; break;
+      case ShapeType::sphere:
+        area += disc;
+        break;
+      case ShapeType::capsule:
+        area += 4.0 * g.radius * g.half_length * u.cross(Rg.col(2)).norm() + disc;
+        break;
       case ShapeType::box: {
         const Eigen::Vector3d& e = g.half_extents;
         const Eigen::Vector3d faces(4 * e.y() * e.z(), 4 * e.x() * e.z(), 4 * e.x() * e.y());

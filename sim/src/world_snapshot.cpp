@@ -46,13 +46,16 @@ Json numbers(const V& v) {
 }
 
 const Json& field(const Json& j, const std::string& key, const std::string& where) {
-  if (!j.is_object() || !j.contains(key)) throw base::UserError("sim: snapshot JSON: " + base::json_path_join(where, key) + ": missing");
+  if (!j.is_object() || !j.contains(key))
+    throw base::UserError("sim: snapshot JSON: " + base::json_path_join(where, key) + ": missing");
   return j[key];
 }
 
 const Json& array_field(const Json& j, const std::string& key, const std::string& where) {
   const Json& a = field(j, key, where);
-  if (!a.is_array()) throw base::UserError("sim: snapshot JSON: " + base::json_path_join(where, key) + ": " + a.type_name() + ", expected an array");
+  if (!a.is_array())
+    throw base::UserError("sim: snapshot JSON: " + base::json_path_join(where, key) + ": " + a.type_name() +
+                          ", expected an array");
   return a;
 }
 
@@ -61,8 +64,9 @@ std::vector<double> read_numbers(const Json& j, const std::string& key, const st
   const Json& a = field(j, key, where);
   const std::string path = base::json_path_join(where, key);
   if (!a.is_array() || (size >= 0 && static_cast<long>(a.size()) != size))
-    throw base::UserError("sim: snapshot JSON: " + path + ": expected an array of " + (size >= 0 ? std::to_string(size) : std::string("any number of")) +
-                          " numbers, got " + (a.is_array() ? std::to_string(a.size()) + " entries" : a.type_name()));
+    throw base::UserError("sim: snapshot JSON: " + path + ": expected an array of " +
+                          (size >= 0 ? std::to_string(size) : std::string("any number of")) + " numbers, got " +
+                          (a.is_array() ? std::to_string(a.size()) + " entries" : a.type_name()));
   std::vector<double> out;
   for (std::size_t i = 0; i < a.size(); ++i) out.push_back(read_number(a[i], base::json_path_index(path, i)));
   return out;
@@ -73,7 +77,9 @@ Eigen::VectorXd read_vector(const Json& j, const std::string& key, const std::st
   return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
 }
 
-Eigen::Vector3d read_vector3(const Json& j, const std::string& key, const std::string& where) { return read_vector(j, key, where, 3); }
+Eigen::Vector3d read_vector3(const Json& j, const std::string& key, const std::string& where) {
+  return read_vector(j, key, where, 3);
+}
 
 template <class T>
 T read(const Json& j, const std::string& key, const std::string& where) {
@@ -101,9 +107,12 @@ std::string fingerprint(const CharacterModel& model) {
 
 const char* kind_name(TerrainRegion::Kind k) {
   switch (k) {
-    case TerrainRegion::Kind::flat: return "flat";
-    case TerrainRegion::Kind::rough: return "rough";
-    case TerrainRegion::Kind::slope: return "slope";
+    case TerrainRegion::Kind::flat:
+      return "flat";
+    case TerrainRegion::Kind::rough:
+      return "rough";
+    case TerrainRegion::Kind::slope:
+      return "slope";
   }
   return "flat";
 }
@@ -111,12 +120,21 @@ const char* kind_name(TerrainRegion::Kind k) {
 Json terrain_json(const TerrainConfig& t) {
   Json regions = Json::array(), boxes = Json::array();
   for (const TerrainRegion& r : t.regions)
-    regions.push_back({{"kind", kind_name(r.kind)}, {"min", numbers(r.min)}, {"max", numbers(r.max)}, {"height_m", number(r.height_m)},
-                       {"tile_size_m", number(r.tile_size_m)}, {"min_tile_height_m", number(r.min_tile_height_m)},
-                       {"max_tile_height_m", number(r.max_tile_height_m)}, {"seed", r.seed}, {"slope_rad", number(r.slope_rad)}});
+    regions.push_back({{"kind", kind_name(r.kind)},
+                       {"min", numbers(r.min)},
+                       {"max", numbers(r.max)},
+                       {"height_m", number(r.height_m)},
+                       {"tile_size_m", number(r.tile_size_m)},
+                       {"min_tile_height_m", number(r.min_tile_height_m)},
+                       {"max_tile_height_m", number(r.max_tile_height_m)},
+                       {"seed", r.seed},
+                       {"slope_rad", number(r.slope_rad)}});
   for (const BoxProp& b : t.boxes) {
-    boxes.push_back({{"name", b.name}, {"center", numbers(b.center)}, {"half_extents", numbers(b.half_extents)},
-                     {"rotation", quaternion(b.rotation)}, {"friction", number(b.friction)}});
+    boxes.push_back({{"name", b.name},
+                     {"center", numbers(b.center)},
+                     {"half_extents", numbers(b.half_extents)},
+                     {"rotation", quaternion(b.rotation)},
+                     {"friction", number(b.friction)}});
     if (!b.kind.empty()) boxes.back()["kind"] = b.kind;  // absent from snapshots written before kinds
   }
   return {{"regions", regions}, {"boxes", boxes}};
@@ -163,16 +181,11 @@ TerrainConfig read_terrain(const Json& j, const std::string& where) {
 Json config_json(const WorldConfig& c) {
   Json joints = Json::array();
   for (const auto& [name, keys] : c.edits.joints) joints.push_back({name, keys});
-  return {{"sim_hz", number(c.sim_hz)},
-          {"control_hz", number(c.control_hz)},
-          {"friction", number(c.friction)},
-          {"self_collision", c.self_collision},
-          {"joint_limits", c.joint_limits},
-          {"torque_limits", c.torque_limits},
-          {"strength", number(c.strength)},
-          {"gravity", numbers(c.gravity)},
-          {"terrain", terrain_json(c.terrain)},
-          {"edits", {{"remove", c.edits.remove}, {"joints", joints}}}};
+  return {{"sim_hz", number(c.sim_hz)},         {"control_hz", number(c.control_hz)},
+          {"friction", number(c.friction)},     {"self_collision", c.self_collision},
+          {"joint_limits", c.joint_limits},     {"torque_limits", c.torque_limits},
+          {"strength", number(c.strength)},     {"gravity", numbers(c.gravity)},
+          {"terrain", terrain_json(c.terrain)}, {"edits", {{"remove", c.edits.remove}, {"joints", joints}}}};
 }
 
 WorldConfig read_config(const Json& j, const std::string& where) {
@@ -191,7 +204,8 @@ WorldConfig read_config(const Json& j, const std::string& where) {
   const Json& edits = field(j, "edits", where);
   c.edits.remove = read<std::vector<std::string>>(edits, "remove", ew);
   for (const Json& e : array_field(edits, "joints", ew)) {
-    if (!e.is_array() || e.size() != 2 || !e[0].is_string()) throw base::UserError("sim: snapshot JSON: " + ew + ".joints: expected [name, keys] pairs");
+    if (!e.is_array() || e.size() != 2 || !e[0].is_string())
+      throw base::UserError("sim: snapshot JSON: " + ew + ".joints: expected [name, keys] pairs");
     c.edits.joints.emplace_back(e[0].get<std::string>(), e[1]);
   }
   return c;
@@ -219,7 +233,8 @@ WarmStarts read_warm(const Json& j, const std::string& where) {
   const Json& ground = array_field(j, "ground", where);
   for (std::size_t i = 0; i < ground.size(); ++i) {
     const std::string gw = base::json_path_index(base::json_path_join(where, "ground"), i);
-    if (!ground[i].is_array() || ground[i].size() != 3) throw base::UserError("sim: snapshot JSON: " + gw + ": expected 3 numbers");
+    if (!ground[i].is_array() || ground[i].size() != 3)
+      throw base::UserError("sim: snapshot JSON: " + gw + ": expected 3 numbers");
     w.ground.push_back({read_number(ground[i][0], gw), read_number(ground[i][1], gw), read_number(ground[i][2], gw)});
   }
   w.limits = read_numbers(j, "limits", where, -1);
@@ -271,7 +286,8 @@ WorldSnapshot WorldSnapshot::from_json(const Json& json, const ModelPtr& model) 
     throw base::UserError("sim: snapshot JSON: version " + json["version"].dump() + " is not " + std::to_string(kVersion));
   const std::string name = read<std::string>(json, "model", "");
   if (name != model->name() || read<std::string>(json, "model_fingerprint", "") != fingerprint(*model))
-    throw base::UserError("sim: snapshot JSON: model: the snapshot is of another model (" + name + ", or other edits) than " + model->name());
+    throw base::UserError("sim: snapshot JSON: model: the snapshot is of another model (" + name + ", or other edits) than " +
+                          model->name());
   CharacterData data(*model);
   const long nq = model->nq(), nv = model->nv();
   data.q = read_vector(json, "q", "", nq);
@@ -287,13 +303,15 @@ WorldSnapshot WorldSnapshot::from_json(const Json& json, const ModelPtr& model) 
   s.gains.kd = read_vector(json, "kd", "", nv);
   s.step_count = read<long long>(json, "step_count", "");
   const Json& failure = field(json, "failure", "");
-  s.failure = StepReport{read<bool>(failure, "ok", "failure"), read<int>(failure, "bad_dof", "failure"), read<long long>(failure, "bad_step", "failure")};
+  s.failure = StepReport{read<bool>(failure, "ok", "failure"), read<int>(failure, "bad_dof", "failure"),
+                         read<long long>(failure, "bad_step", "failure")};
   const Json& forces = array_field(json, "forces", "");
   if (forces.size() != model->bodies().size())
     throw base::UserError("sim: snapshot JSON: forces: expected one per body (" + std::to_string(model->bodies().size()) + ")");
   for (std::size_t k = 0; k < forces.size(); ++k) {
     const std::string fw = base::json_path_index("forces", k);
-    if (!forces[k].is_array() || forces[k].size() != 3) throw base::UserError("sim: snapshot JSON: " + fw + ": expected 3 numbers");
+    if (!forces[k].is_array() || forces[k].size() != 3)
+      throw base::UserError("sim: snapshot JSON: " + fw + ": expected 3 numbers");
     s.forces.emplace_back(read_number(forces[k][0], fw), read_number(forces[k][1], fw), read_number(forces[k][2], fw));
   }
   s.warm = std::make_shared<const WarmStarts>(read_warm(field(json, "warm", ""), "warm"));

@@ -72,11 +72,10 @@ void bind_stage_filter(Statement& s, std::int64_t stage_id, const TrialFilter& f
 
 // Trials matching the filter: from the v3 counts unless both state and strategy are filtered.
 std::int64_t count_matching(sqlite3* db, const std::vector<StageRef>& stages, const TrialFilter& f) {
-  const std::string sql =
-      !f.strategy ? (f.state ? "SELECT trials FROM stage_state_counts WHERE stage_id = ?1 AND state = ?2"
-                             : "SELECT sum(trials) FROM stage_state_counts WHERE stage_id = ?1")
-      : !f.state  ? "SELECT trials FROM stage_strategy_counts WHERE stage_id = ?1 AND strategy = ?3"
-                  : "SELECT count(*) FROM trials " + stage_where(f);
+  const std::string sql = !f.strategy ? (f.state ? "SELECT trials FROM stage_state_counts WHERE stage_id = ?1 AND state = ?2"
+                                                 : "SELECT sum(trials) FROM stage_state_counts WHERE stage_id = ?1")
+                          : !f.state  ? "SELECT trials FROM stage_strategy_counts WHERE stage_id = ?1 AND strategy = ?3"
+                                      : "SELECT count(*) FROM trials " + stage_where(f);
   Statement s(db, sql.c_str());
   std::int64_t total = 0;
   for (const auto& st : stages) {
@@ -91,9 +90,7 @@ struct Ranked {
   std::int64_t group = 0;
   double key = 0;
   std::int64_t tie = 0, id = 0;
-  bool operator<(const Ranked& o) const {
-    return std::tie(group, key, tie) < std::tie(o.group, o.key, o.tie);
-  }
+  bool operator<(const Ranked& o) const { return std::tie(group, key, tie) < std::tie(o.group, o.key, o.tie); }
 };
 
 // One walk of one stage: its first `cap` matching trials in page order, read from an index of
@@ -112,14 +109,20 @@ std::vector<Walk> walks(const TrialFilter& f) {
   const std::string where = stage_where(f), dir = f.descending ? " DESC" : "";
   switch (f.order) {
     case TrialFilter::Order::objective:  // trials without an objective last, by id
-      return {{"SELECT id, objective FROM trials " + where + " AND objective IS NOT NULL ORDER BY objective" + dir +
-                   ", id" + dir + " LIMIT ?4",
-               [=](const Statement& s, std::int64_t) { return Ranked{0, sign * s.real(1), isign * s.int64(0), s.int64(0)}; }},
+      return {{"SELECT id, objective FROM trials " + where + " AND objective IS NOT NULL ORDER BY objective" + dir + ", id" +
+                   dir + " LIMIT ?4",
+               [=](const Statement& s, std::int64_t) {
+                 return Ranked{0, sign * s.real(1), isign * s.int64(0), s.int64(0)};
+               }},
               {"SELECT id FROM trials " + where + " AND objective IS NULL ORDER BY id LIMIT ?4",
-               [](const Statement& s, std::int64_t) { return Ranked{1, 0, s.int64(0), s.int64(0)}; }}};
+               [](const Statement& s, std::int64_t) {
+                 return Ranked{1, 0, s.int64(0), s.int64(0)};
+               }}};
     case TrialFilter::Order::finished:
       return {{"SELECT id, finished_at FROM trials " + where + " ORDER BY finished_at" + dir + ", id" + dir + " LIMIT ?4",
-               [=](const Statement& s, std::int64_t) { return Ranked{0, sign * s.real(1), isign * s.int64(0), s.int64(0)}; }}};
+               [=](const Statement& s, std::int64_t) {
+                 return Ranked{0, sign * s.real(1), isign * s.int64(0), s.int64(0)};
+               }}};
     case TrialFilter::Order::index:
       break;
   }
@@ -134,12 +137,9 @@ std::optional<double> optional_real(const Statement& s, int column) {
   return s.real(column);
 }
 
-
-
 }  // namespace
 
-Queries::Queries(std::unique_ptr<Store> store, std::unique_ptr<Impl> impl)
-    : store_(std::move(store)), impl_(std::move(impl)) {}
+Queries::Queries(std::unique_ptr<Store> store, std::unique_ptr<Impl> impl) : store_(std::move(store)), impl_(std::move(impl)) {}
 Queries::~Queries() = default;
 
 std::unique_ptr<Queries> Queries::open(const std::filesystem::path& path) {
@@ -148,7 +148,8 @@ std::unique_ptr<Queries> Queries::open(const std::filesystem::path& path) {
   impl->db = open_for_reading(path);  // also on a read-only filesystem
   sqlite3_busy_timeout(impl->db, 10000);
   // Scans of 100,000-trial campaigns: memory-mapped reads and a page cache that holds the trials.
-  check_sqlite(impl->db, sqlite3_exec(impl->db, "PRAGMA mmap_size = 268435456; PRAGMA cache_size = -32768", nullptr, nullptr, nullptr),
+  check_sqlite(impl->db,
+               sqlite3_exec(impl->db, "PRAGMA mmap_size = 268435456; PRAGMA cache_size = -32768", nullptr, nullptr, nullptr),
                "PRAGMA");
   return std::unique_ptr<Queries>(new Queries(std::move(store), std::move(impl)));
 }
@@ -177,7 +178,6 @@ std::optional<std::int64_t> Queries::trial_campaign(std::int64_t trial_id) const
   return s.int64(0);
 }
 
-
 std::optional<std::int64_t> Queries::trial_id(std::int64_t stage_id, std::int64_t index) const {
   Statement s(impl_->db, "SELECT id FROM trials WHERE stage_id = ? AND idx = ?");
   s.bind(1, stage_id).bind(2, index);
@@ -195,8 +195,7 @@ std::vector<TrialPoint> Queries::points(std::int64_t campaign_id, std::int64_t m
   // the features of every stride-th one only. Strided per stage: the dashboard shows one stage at
   // a time, and a small stage keeps its points beside a large one.
   Statement done_ids(impl_->db, "SELECT id FROM trials WHERE stage_id = ? AND state = 'done' ORDER BY idx");
-  Statement row(impl_->db,
-                "SELECT idx, objective, strategy, json_extract(info, '$.step'), finished_at FROM trials WHERE id = ?");
+  Statement row(impl_->db, "SELECT idx, objective, strategy, json_extract(info, '$.step'), finished_at FROM trials WHERE id = ?");
   Statement features(impl_->db, kTrialFeatures);
   std::vector<TrialPoint> out;
   for (const auto& st : stages) {

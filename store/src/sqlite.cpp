@@ -27,8 +27,7 @@ Statement& Statement::bind(int index, double value) {
   return *this;
 }
 Statement& Statement::bind(int index, const std::string& value) {
-  check_sqlite(db_, sqlite3_bind_text(stmt_, index, value.data(), static_cast<int>(value.size()), SQLITE_TRANSIENT),
-               "bind");
+  check_sqlite(db_, sqlite3_bind_text(stmt_, index, value.data(), static_cast<int>(value.size()), SQLITE_TRANSIENT), "bind");
   return *this;
 }
 Statement& Statement::bind_null(int index) {
@@ -102,8 +101,7 @@ sqlite3* open_for_reading(const std::filesystem::path& path) {
   std::error_code ignored;
   if (rc == SQLITE_CANTOPEN && !std::filesystem::exists(wal, ignored))
     rc = try_open(file_uri(path) + "?immutable=1", SQLITE_OPEN_URI, &db);
-  if (rc != SQLITE_OK)
-    throw base::RuntimeError(path.string() + ": cannot open database: " + sqlite3_errstr(rc));
+  if (rc != SQLITE_OK) throw base::RuntimeError(path.string() + ": cannot open database: " + sqlite3_errstr(rc));
   return db;
 }
 

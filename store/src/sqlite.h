@@ -21,9 +21,7 @@ class Statement {
   Statement& bind(int index, double value);
   Statement& bind(int index, const std::string& value);
   Statement& bind_null(int index);
-  Statement& bind(int index, const std::optional<std::string>& value) {
-    return value ? bind(index, *value) : bind_null(index);
-  }
+  Statement& bind(int index, const std::optional<std::string>& value) { return value ? bind(index, *value) : bind_null(index); }
   /// Advances; true while a row is available.
   bool step();
   /// Runs a statement that returns no rows, then resets it for reuse.

@@ -16,9 +16,7 @@ namespace podium::store {
 
 using base::RuntimeError;
 
-double now_unix_s() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
+double now_unix_s() { return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count(); }
 
 struct Store::Impl {
   sqlite3* db = nullptr;
@@ -121,8 +119,7 @@ std::unique_ptr<Store> Store::open(const std::filesystem::path& path, Access acc
     const int flags = SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX;
     const int rc = sqlite3_open_v2(path.c_str(), &impl->db, flags, nullptr);
     if (rc != SQLITE_OK)
-      throw RuntimeError(path.string() + ": cannot open database: " +
-                         (impl->db ? sqlite3_errmsg(impl->db) : sqlite3_errstr(rc)));
+      throw RuntimeError(path.string() + ": cannot open database: " + (impl->db ? sqlite3_errmsg(impl->db) : sqlite3_errstr(rc)));
   }
   sqlite3_busy_timeout(impl->db, 10000);
   impl->exec("PRAGMA foreign_keys = ON");
@@ -147,8 +144,8 @@ std::unique_ptr<Store> Store::open(const std::filesystem::path& path, Access acc
                        "); use a newer podium");
   if (read_only) {
     if (impl->version < latest_schema_version())
-      throw RuntimeError(path.string() + ": database schema version " + std::to_string(impl->version) +
-                         " is older than " + std::to_string(latest_schema_version()) +
+      throw RuntimeError(path.string() + ": database schema version " + std::to_string(impl->version) + " is older than " +
+                         std::to_string(latest_schema_version()) +
                          "; run any writing podium command (e.g. podium run) to migrate it");
     return std::unique_ptr<Store>(new Store(std::move(impl)));
   }
@@ -177,8 +174,8 @@ void Store::begin() { impl_->exec("BEGIN IMMEDIATE"); }
 void Store::commit() { impl_->exec("COMMIT"); }
 void Store::rollback() { sqlite3_exec(impl_->db, "ROLLBACK", nullptr, nullptr, nullptr); }
 
-std::int64_t Store::add_campaign(const std::string& name, const Json& spec, std::uint64_t seed,
-                                 const std::string& run_dir, const std::vector<NewStage>& stages) {
+std::int64_t Store::add_campaign(const std::string& name, const Json& spec, std::uint64_t seed, const std::string& run_dir,
+                                 const std::vector<NewStage>& stages) {
   std::int64_t id = 0;
   transaction([&] {
     Statement c(impl_->db,
@@ -285,15 +282,27 @@ void Store::set_stage_budget(std::int64_t stage_id, std::int64_t budget_trials) 
 
 void Store::save_search_state(std::int64_t stage_id, const Json& state, double elapsed_s, std::int64_t told) {
   impl_->cached("UPDATE stages SET search_state = ?, elapsed_s = ?, told = ? WHERE id = ?")
-      .bind(1, dump(state)).bind(2, elapsed_s).bind(3, told).bind(4, stage_id).run();
+      .bind(1, dump(state))
+      .bind(2, elapsed_s)
+      .bind(3, told)
+      .bind(4, stage_id)
+      .run();
 }
 
 std::int64_t Store::add_trial(std::int64_t stage_id, std::int64_t index, const Json& params, const Json& context,
                               const Json& info, std::uint64_t seed) {
-  impl_->cached("INSERT INTO trials (stage_id, idx, params, context, info, seed, state, created_at) "
-                "VALUES (?, ?, ?, ?, ?, ?, 'pending', ?)")
-      .bind(1, stage_id).bind(2, index).bind(3, dump(params)).bind(4, dump(context)).bind(5, dump(info))
-      .bind(6, static_cast<std::int64_t>(seed)).bind(7, now_unix_s()).run();
+  impl_
+      ->cached(
+          "INSERT INTO trials (stage_id, idx, params, context, info, seed, state, created_at) "
+          "VALUES (?, ?, ?, ?, ?, ?, 'pending', ?)")
+      .bind(1, stage_id)
+      .bind(2, index)
+      .bind(3, dump(params))
+      .bind(4, dump(context))
+      .bind(5, dump(info))
+      .bind(6, static_cast<std::int64_t>(seed))
+      .bind(7, now_unix_s())
+      .run();
   return sqlite3_last_insert_rowid(impl_->db);
 }
 
@@ -316,9 +325,9 @@ std::vector<TrialRecord> Store::trials(std::int64_t stage_id) const {
 }
 
 std::vector<TrialRecord> Store::campaign_trials(std::int64_t campaign_id) const {
-  Statement s(impl_->db, (std::string(kTrialSelect) +
-                          "JOIN stages st ON st.id = t.stage_id WHERE st.campaign_id = ? ORDER BY st.idx, t.idx")
-                             .c_str());
+  Statement s(impl_->db,
+              (std::string(kTrialSelect) + "JOIN stages st ON st.id = t.stage_id WHERE st.campaign_id = ? ORDER BY st.idx, t.idx")
+                  .c_str());
   s.bind(1, campaign_id);
   return read_trials(impl_->db, s);
 }
@@ -368,23 +377,34 @@ TrialCounts Store::stage_trial_counts(std::int64_t stage_id) const {
   return read_counts(s);
 }
 
-std::int64_t Store::start_attempt(std::int64_t trial_id, int number, const std::string& worker,
-                                  const std::string& host, const std::string& job_id) {
+std::int64_t Store::start_attempt(std::int64_t trial_id, int number, const std::string& worker, const std::string& host,
+                                  const std::string& job_id) {
   const double now = now_unix_s();
-  impl_->cached("INSERT INTO attempts (trial_id, number, state, worker, host, job_id, started_at) "
-                "VALUES (?, ?, 'running', ?, ?, ?, ?)")
-      .bind(1, trial_id).bind(2, static_cast<std::int64_t>(number)).bind(3, worker).bind(4, host).bind(5, job_id)
-      .bind(6, now).run();
+  impl_
+      ->cached(
+          "INSERT INTO attempts (trial_id, number, state, worker, host, job_id, started_at) "
+          "VALUES (?, ?, 'running', ?, ?, ?, ?)")
+      .bind(1, trial_id)
+      .bind(2, static_cast<std::int64_t>(number))
+      .bind(3, worker)
+      .bind(4, host)
+      .bind(5, job_id)
+      .bind(6, now)
+      .run();
   const std::int64_t id = sqlite3_last_insert_rowid(impl_->db);
   impl_->cached("UPDATE trials SET state = 'running', attempts = ?, started_at = ? WHERE id = ?")
-      .bind(1, static_cast<std::int64_t>(number)).bind(2, now).bind(3, trial_id).run();
+      .bind(1, static_cast<std::int64_t>(number))
+      .bind(2, now)
+      .bind(3, trial_id)
+      .run();
   return id;
 }
 
 void Store::finish_attempt(std::int64_t attempt_id, const std::string& state, const std::string& error,
                            std::optional<int> exit_code, std::optional<int> signal) {
-  auto& s = impl_->cached("UPDATE attempts SET state = ?, error = ?, exit_code = ?, signal = ?, finished_at = ? "
-                          "WHERE id = ?");
+  auto& s = impl_->cached(
+      "UPDATE attempts SET state = ?, error = ?, exit_code = ?, signal = ?, finished_at = ? "
+      "WHERE id = ?");
   s.bind(1, state).bind(2, error);
   exit_code ? s.bind(3, static_cast<std::int64_t>(*exit_code)) : s.bind_null(3);
   signal ? s.bind(4, static_cast<std::int64_t>(*signal)) : s.bind_null(4);
@@ -412,10 +432,16 @@ void Store::complete_trial(std::int64_t trial_id, const std::vector<double>& obj
 
 void Store::set_trial_state(std::int64_t trial_id, const std::string& state, const std::string& error) {
   const bool final_state = state == "failed" || state == "cancelled";
-  impl_->cached("UPDATE trials SET state = ?, error = ?, finished_at = CASE WHEN ? THEN ? ELSE finished_at END "
-                "WHERE id = ?")
-      .bind(1, state).bind(2, error).bind(3, static_cast<std::int64_t>(final_state)).bind(4, now_unix_s())
-      .bind(5, trial_id).run();
+  impl_
+      ->cached(
+          "UPDATE trials SET state = ?, error = ?, finished_at = CASE WHEN ? THEN ? ELSE finished_at END "
+          "WHERE id = ?")
+      .bind(1, state)
+      .bind(2, error)
+      .bind(3, static_cast<std::int64_t>(final_state))
+      .bind(4, now_unix_s())
+      .bind(5, trial_id)
+      .run();
 }
 
 void Store::set_trial_strategy(std::int64_t trial_id, std::int64_t strategy) {
@@ -423,9 +449,17 @@ void Store::set_trial_strategy(std::int64_t trial_id, std::int64_t strategy) {
 }
 
 void Store::set_attempt_placement(std::int64_t attempt_id, const std::string& job_id, const std::string& host) {
-  impl_->cached("UPDATE attempts SET job_id = ?, host = CASE WHEN ? = '' THEN host ELSE ? END, "
-                "worker = CASE WHEN ? = '' THEN worker ELSE 'slurm job ' || ? END WHERE id = ?")
-      .bind(1, job_id).bind(2, host).bind(3, host).bind(4, job_id).bind(5, job_id).bind(6, attempt_id).run();
+  impl_
+      ->cached(
+          "UPDATE attempts SET job_id = ?, host = CASE WHEN ? = '' THEN host ELSE ? END, "
+          "worker = CASE WHEN ? = '' THEN worker ELSE 'slurm job ' || ? END WHERE id = ?")
+      .bind(1, job_id)
+      .bind(2, host)
+      .bind(3, host)
+      .bind(4, job_id)
+      .bind(5, job_id)
+      .bind(6, attempt_id)
+      .run();
 }
 
 namespace {
@@ -462,10 +496,10 @@ std::vector<AttemptRecord> Store::attempts(std::int64_t trial_id) const {
 }
 
 std::vector<AttemptRecord> Store::running_attempts(std::int64_t stage_id) const {
-  Statement s(impl_->db, (std::string(kAttemptColumns) +
-                          "JOIN trials t ON t.id = a.trial_id WHERE t.stage_id = ? AND a.state = 'running' "
-                          "ORDER BY t.idx")
-                             .c_str());
+  Statement s(impl_->db,
+              (std::string(kAttemptColumns) + "JOIN trials t ON t.id = a.trial_id WHERE t.stage_id = ? AND a.state = 'running' "
+                                              "ORDER BY t.idx")
+                  .c_str());
   s.bind(1, stage_id);
   return read_attempts(s);
 }
@@ -491,18 +525,20 @@ void Store::add_metrics(std::int64_t trial_id, const std::vector<MetricPoint>& p
 }
 
 std::vector<MetricPoint> Store::metrics(std::int64_t trial_id) const {
-  Statement s(impl_->db,
-              "SELECT name, step, value, attempt FROM metrics WHERE trial_id = ? ORDER BY name, attempt, step");
+  Statement s(impl_->db, "SELECT name, step, value, attempt FROM metrics WHERE trial_id = ? ORDER BY name, attempt, step");
   s.bind(1, trial_id);
   std::vector<MetricPoint> out;
-  while (s.step())
-    out.push_back({s.text(0), s.real(1), s.is_null(2) ? std::nan("") : s.real(2), static_cast<int>(s.int64(3))});
+  while (s.step()) out.push_back({s.text(0), s.real(1), s.is_null(2) ? std::nan("") : s.real(2), static_cast<int>(s.int64(3))});
   return out;
 }
 
 void Store::add_event(std::int64_t campaign_id, const std::string& kind, const Json& payload) {
   impl_->cached("INSERT INTO events (campaign_id, time, kind, payload) VALUES (?, ?, ?, ?)")
-      .bind(1, campaign_id).bind(2, now_unix_s()).bind(3, kind).bind(4, dump(payload)).run();
+      .bind(1, campaign_id)
+      .bind(2, now_unix_s())
+      .bind(3, kind)
+      .bind(4, dump(payload))
+      .run();
 }
 
 std::vector<Json> Store::events(std::int64_t campaign_id) const {

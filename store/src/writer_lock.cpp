@@ -32,8 +32,7 @@ struct flock lock_request(short type) {
 
 WriterLock::WriterLock(const std::filesystem::path& database) {
   fd_ = ::open(database.c_str(), O_RDWR | O_CLOEXEC);
-  if (fd_ < 0)
-    throw base::RuntimeError(database.string() + ": cannot open for the scheduler lock: " + std::strerror(errno));
+  if (fd_ < 0) throw base::RuntimeError(database.string() + ": cannot open for the scheduler lock: " + std::strerror(errno));
   struct flock l = lock_request(F_WRLCK);
   if (::fcntl(fd_, F_OFD_SETLK, &l) != 0) {
     const int error = errno;

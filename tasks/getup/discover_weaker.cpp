@@ -28,17 +28,19 @@ Settings read_settings(base::ConfigReader& r) {
   e.sim_hz = r.number("sim_hz", e.sim_hz, {.min = 1.0}, "physics steps per second (App. D: 800)");
   e.control_hz = r.number("control_hz", e.control_hz, {.min = 1.0}, "policy steps per second (App. D: 40); divides sim_hz");
   const double substeps = e.sim_hz / e.control_hz;
-  if (std::abs(substeps - std::round(substeps)) > 1e-9) r.fail("control_hz", "does not divide sim_hz " + std::to_string(e.sim_hz));
+  if (std::abs(substeps - std::round(substeps)) > 1e-9)
+    r.fail("control_hz", "does not divide sim_hz " + std::to_string(e.sim_hz));
   e.episode_steps = r.integer<int>("episode_steps", e.episode_steps, {1, 100000}, "control steps per episode (§7: 250)");
   e.fall.drop_height_m = r.number("fall_height_m", e.fall.drop_height_m, {.min = 0.0, .max = 10.0, .exclusive_min = true},
                                   "root height at the ragdoll's release (§7: 1.5)");
   e.fall.control_steps = r.integer<int>("fall_steps", e.fall.control_steps, {0, 10000}, "control steps of the fall (§7: 80)");
   e.fall.action_sigma = r.number("fall_sigma", e.fall.action_sigma, {.min = 0.0, .max = 10.0},
                                  "σ of the fall's random actions, in torque limits (§7: 0.1)");
-  e.strength_sigma = r.number("strength_sigma", e.strength_sigma, {.min = 0.0, .max = 1.0},
-                              "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
-  e.passive_joints = r.boolean("passive_joints", e.passive_joints,
-                               "the model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo humanoid's)");
+  e.strength_sigma =
+      r.number("strength_sigma", e.strength_sigma, {.min = 0.0, .max = 1.0}, "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
+  e.passive_joints =
+      r.boolean("passive_joints", e.passive_joints,
+                "the model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo humanoid's)");
   e.min_strength = r.number("min_strength", e.min_strength, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "lower clip of β̂");
 
   s.algorithm = r.choice("algorithm", s.algorithm, {"sac", "ppo"},
@@ -62,10 +64,12 @@ Settings read_settings(base::ConfigReader& r) {
     r.fail("ppo", error.what());
   }
 
-  s.total_steps = r.integer<std::int64_t>("total_steps", s.total_steps, {1}, "environment steps at most; a multiple of eval_every");
-  s.train_minutes = r.number("train_minutes", s.train_minutes, {.min = 0.0},
-                             "wall-clock minutes of training and tests at most (0: no limit): a preset that fits a slot on any machine; "
-                             "info.stopped_by says which limit ended the trial");
+  s.total_steps =
+      r.integer<std::int64_t>("total_steps", s.total_steps, {1}, "environment steps at most; a multiple of eval_every");
+  s.train_minutes =
+      r.number("train_minutes", s.train_minutes, {.min = 0.0},
+               "wall-clock minutes of training and tests at most (0: no limit): a preset that fits a slot on any machine; "
+               "info.stopped_by says which limit ended the trial");
   s.eval_every = r.integer<std::int64_t>("eval_every", s.eval_every, {1}, "environment steps between tests (App. D: 20000)");
   s.eval_starts = r.integer<int>("eval_starts", s.eval_starts, {1, 1000}, "fixed starts per test (App. D: 10)");
   s.eval_seed = r.integer<std::uint64_t>("eval_seed", s.eval_seed, {}, "picks the fixed starts (not the trial's seed)");
@@ -73,12 +77,15 @@ Settings read_settings(base::ConfigReader& r) {
   // 2 s: no leap of the shipped π_weak kept the head top above 1.2 m for the last 2 s of an episode
   // (RESULTS.md: 1 of 80 for 1.5 s), and π_slow's 100-step standing phase (§6) is longer, so a
   // slowed get-up that stands counts.
-  s.stand_steps = r.integer<int>("stand_steps", s.stand_steps, {1, 100000},
-                                 "control steps the head top must stay above success_height_m to the episode's end to count as stood (not a leap's flight)");
-  s.curriculum.threshold = r.number("threshold", s.curriculum.threshold, {}, "ω: a minimum test return (over the fixed starts) above it advances (App. D: 60)");
+  s.stand_steps = r.integer<int>(
+      "stand_steps", s.stand_steps, {1, 100000},
+      "control steps the head top must stay above success_height_m to the episode's end to count as stood (not a leap's flight)");
+  s.curriculum.threshold = r.number("threshold", s.curriculum.threshold, {},
+                                    "ω: a minimum test return (over the fixed starts) above it advances (App. D: 60)");
   s.curriculum.factor = r.number("strength_factor", s.curriculum.factor, {.min = 0.0, .max = 0.999, .exclusive_min = true},
                                  "β^{i+1} = factor·β^i (App. D: 0.95)");
-  s.budget.factor = r.number("budget_factor", s.budget.factor, {.min = 0.0, .exclusive_min = true}, "M_i = clip(factor·N_{i−1}, ...) (§5: 1.5)");
+  s.budget.factor = r.number("budget_factor", s.budget.factor, {.min = 0.0, .exclusive_min = true},
+                             "M_i = clip(factor·N_{i−1}, ...) (§5: 1.5)");
   s.budget.min_steps = r.integer<std::int64_t>("min_steps", s.budget.min_steps, {1}, "N_min (App. D: 3e5)");
   s.budget.max_steps = r.integer<std::int64_t>("max_steps", s.budget.max_steps, {1}, "N_max (App. D: 8e5)");
   if (s.budget.min_steps > s.budget.max_steps) r.fail("min_steps", "is above max_steps " + std::to_string(s.budget.max_steps));
@@ -86,15 +93,17 @@ Settings read_settings(base::ConfigReader& r) {
   s.threads = r.integer<int>("threads", s.threads, {1, 64}, "threads stepping the copies");
   if (s.threads > s.copies) r.fail("threads", "is above copies " + std::to_string(s.copies));
   s.checkpoint_every = r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1000000}, "tests between training checkpoints");
-  s.warm_start = r.file("warm_start", s.warm_start,
-                          "a Weaker trial's training.ckpt to train on from (same config but for the limits; its steps count towards total_steps)");
+  s.warm_start = r.file(
+      "warm_start", s.warm_start,
+      "a Weaker trial's training.ckpt to train on from (same config but for the limits; its steps count towards total_steps)");
   if (!s.warm_start.empty() && !fs::is_regular_file(s.warm_start)) r.fail("warm_start", "is not a file: " + s.warm_start);
   s.hold_strength = r.number("hold_strength", s.hold_strength, {.min = 0.0, .max = 1.0},
                              "> 0: no curriculum, train and test at this strength β (e.g. on from a warm_start); 0: Algorithm 1");
   // Tests and checkpoints on episode boundaries: every copy then stands at an episode's start,
   // whose saved state replays bitwise (GetupEnv::save_state), so a resumed trial is exact.
   if (s.eval_every % (std::int64_t{s.copies} * e.episode_steps) != 0)
-    r.fail("eval_every", "is not a multiple of copies × episode_steps = " + std::to_string(std::int64_t{s.copies} * e.episode_steps));
+    r.fail("eval_every",
+           "is not a multiple of copies × episode_steps = " + std::to_string(std::int64_t{s.copies} * e.episode_steps));
   if (s.total_steps % s.eval_every != 0) r.fail("total_steps", "is not a multiple of eval_every " + std::to_string(s.eval_every));
   return s;
 }
@@ -143,9 +152,9 @@ bool exports_over(const character::Figures& tested, const character::Figures& ex
 }
 
 Json TrialOutcome::to_json() const {
-  return {{"policy_strength", policy_strength}, {"passed", passed},         {"success_rate", success_rate},
-          {"test_return", test_return},         {"final_strength", final_strength}, {"levels", levels},
-          {"env_steps", env_steps},             {"stopped_by", stopped_by},         {"features", features.as_vector()}};
+  return {{"policy_strength", policy_strength}, {"passed", passed}, {"success_rate", success_rate}, {"test_return", test_return},
+          {"final_strength", final_strength},   {"levels", levels}, {"env_steps", env_steps},       {"stopped_by", stopped_by},
+          {"features", features.as_vector()}};
 }
 
 std::vector<std::uint64_t> test_starts(const Settings& s) {
@@ -171,8 +180,13 @@ character::EvaluationConfig test_config(const Settings& s) {
 class WeakerStage final : public character::TrainingStage {
  public:
   WeakerStage(const Settings& s, std::uint64_t seed)
-      : s_(s), seed_(seed), beta_(std::make_shared<double>(s.curriculum.initial)), schedule_(s.curriculum, s.budget),
-        tests_(test_config(s)), heads_(tests_.start_seeds.size()), on_back_(tests_.start_seeds.size(), 0) {
+      : s_(s),
+        seed_(seed),
+        beta_(std::make_shared<double>(s.curriculum.initial)),
+        schedule_(s.curriculum, s.budget),
+        tests_(test_config(s)),
+        heads_(tests_.start_seeds.size()),
+        on_back_(tests_.start_seeds.size(), 0) {
     // How each fixed start's head top crossed success_height_m after the test's first action: a
     // start that rose and fell again fails bar (a) differently from one that never rose, and drops
     // tell a get-up that stands from a leap loop.
@@ -200,9 +214,11 @@ class WeakerStage final : public character::TrainingStage {
 
   character::Figures test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) override;
 
-  std::optional<character::ExportReason> export_rule(const character::ExportRecord& tested, const character::ExportRecord* exported) override {
+  std::optional<character::ExportReason> export_rule(const character::ExportRecord& tested,
+                                                     const character::ExportRecord* exported) override {
     using Reason = character::ExportReason;
-    if (decision_ == WeakerSchedule::Decision::advance) return Reason::passed;  // π passed at β^i: π_weak until a weaker one passes
+    if (decision_ == WeakerSchedule::Decision::advance)
+      return Reason::passed;                             // π passed at β^i: π_weak until a weaker one passes
     if (exported && exported->reason == Reason::passed)  // after the curriculum's end: tested at the last strength passed
       return ended_before_ && exports_over(tested.figures, exported->figures) ? std::optional(Reason::passed) : std::nullopt;
     // Until a test passes, the best policy is kept (the seed repository's best_model, what its
@@ -218,13 +234,14 @@ class WeakerStage final : public character::TrainingStage {
     character::EvaluationConfig record = tests_;
     record.record = {0};
     record.record_dir = r.rollouts;
-    std::vector<StrategyRecorder> strategies(record.start_seeds.size(),
-                                             StrategyRecorder(test_env_->model(), test_env_->readings().head_top_m, s_.success_height_m));
+    std::vector<StrategyRecorder> strategies(
+        record.start_seeds.size(), StrategyRecorder(test_env_->model(), test_env_->readings().head_top_m, s_.success_height_m));
     record.each_step = [&](std::size_t start, const character::CharacterEnv& env) {
       if (env.step_index() > 0) strategies[start].observe(env);  // the rise begins after the fall
     };
     const auto recorded = character::evaluate(
-        *test_env_, [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a, test_env_->action_scale()); }, record);
+        *test_env_, [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a, test_env_->action_scale()); },
+        record);
     trajectory_ = recorded.trajectories.at(0);
     std::vector<StrategyFeatures> per_start;
     for (const auto& recorder : strategies) per_start.push_back(recorder.features());
@@ -258,12 +275,14 @@ class WeakerStage final : public character::TrainingStage {
   StrategyFeatures features_;
 };
 
-character::Figures WeakerStage::test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) {
+character::Figures WeakerStage::test(const character::TestRound& round, learn::Learner& learner,
+                                     const character::MetricFn& send) {
   const auto steps = static_cast<double>(round.env_steps);
   const double tested_at = schedule_.strength();
   std::fill(heads_.begin(), heads_.end(), HeadWatch{.height_m = s_.success_height_m});
   const auto result = character::evaluate(
-      *test_env_, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true, test_env_->action_scale()); }, tests_);
+      *test_env_, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true, test_env_->action_scale()); },
+      tests_);
   // R_test is the minimum return over the fixed starts (§5: "the accumulated minimum test reward";
   // the seed repository's default): β falls only once every start gets up.
   const double min_return = *std::min_element(result.returns.begin(), result.returns.end());
@@ -271,9 +290,11 @@ character::Figures WeakerStage::test(const character::TestRound& round, learn::L
   const std::string update_count = sac ? " (" + std::to_string(sac->updates() - updates_) + ")" : "";
   updates_ = sac_updates(learner);
   char line[256];  // the wall times are also metrics (time/)
-  std::snprintf(line, sizeof line, "getup: step %.0f: test return %.2f (min %.2f) at β %.4f; %.0f env steps/s in rollouts (%.1f s), updates %.1f s%s, test %.1f s",
-                steps, result.mean_return, min_return, tested_at, static_cast<double>(s_.eval_every) / round.training.rollout_s, round.training.rollout_s,
-                round.training.update_s, update_count.c_str(), round.seconds());
+  std::snprintf(line, sizeof line,
+                "getup: step %.0f: test return %.2f (min %.2f) at β %.4f; %.0f env steps/s in rollouts (%.1f s), updates %.1f "
+                "s%s, test %.1f s",
+                steps, result.mean_return, min_return, tested_at, static_cast<double>(s_.eval_every) / round.training.rollout_s,
+                round.training.rollout_s, round.training.update_s, update_count.c_str(), round.seconds());
   base::log_info(line);
   send("test_return", steps, result.mean_return);
   send("test_return_min", steps, min_return);
@@ -299,20 +320,27 @@ character::Figures WeakerStage::test(const character::TestRound& round, learn::L
   decision_ = schedule_.on_test(round.env_steps, min_return);
   *beta_ = schedule_.strength();
   send("curriculum/strength", steps, *beta_);
-  return {{"strength", tested_at}, {"test_return", result.mean_return}, {"test_return_min", min_return},
-          {"success_rate", result.success_rate}, {"stood_rate", stood_rate}};
+  return {{"strength", tested_at},
+          {"test_return", result.mean_return},
+          {"test_return_min", min_return},
+          {"success_rate", result.success_rate},
+          {"stood_rate", stood_rate}};
 }
 
 }  // namespace
 
 TrialOutcome run_discover_weaker(const Settings& s, const character::StageRun& run) {
   WeakerStage stage(s, run.seed);
-  const character::StageOutcome done = character::run_training_stage(
-      stage,
-      {.name = "getup", .total_steps = s.total_steps, .steps_per_iteration = s.eval_every, .checkpoint_every = s.checkpoint_every,
-       .train_minutes = s.train_minutes, .warm_start = s.warm_start},
-      run);
-  if (done.exported.reason == character::ExportReason::last) throw std::logic_error("getup: training ended before its first test");
+  const character::StageOutcome done = character::run_training_stage(stage,
+                                                                     {.name = "getup",
+                                                                      .total_steps = s.total_steps,
+                                                                      .steps_per_iteration = s.eval_every,
+                                                                      .checkpoint_every = s.checkpoint_every,
+                                                                      .train_minutes = s.train_minutes,
+                                                                      .warm_start = s.warm_start},
+                                                                     run);
+  if (done.exported.reason == character::ExportReason::last)
+    throw std::logic_error("getup: training ended before its first test");
   TrialOutcome out;
   out.policy = done.policy;
   out.trajectory = stage.trajectory();

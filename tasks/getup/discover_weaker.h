@@ -10,35 +10,35 @@
 #include <vector>
 
 #include "getup_env.h"
-#include "strategy_features.h"
 #include "podium/base/config.h"
 #include "podium/base/json.h"
 #include "podium/character/curriculum.h"
 #include "podium/character/training_stage.h"
+#include "strategy_features.h"
 
 namespace podium::tasks::getup {
 
 /// The task config (defaults: the seed's settings, the `paper` preset; presets in getup_task.cpp).
 struct Settings {
   EnvSettings env;
-  std::string algorithm = "sac";                        ///< the seed's learner; "ppo" for a preset that measures it faster
-  std::string sac_preset = "paper";                     ///< learn's SacConfig::paper() (Table 1)
-  base::Json sac = base::Json::object();                ///< SacConfig fields over the preset
-  base::Json ppo = base::Json::object();                ///< PpoConfig fields over its defaults
-  std::int64_t total_steps = 10'000'000;                ///< environment steps at most (10⁷: the seed repository's)
-  double train_minutes = 0.0;                           ///< wall-clock limit on training and tests; 0: none (learn::WallBudget)
-  std::int64_t eval_every = 20'000;                     ///< App. D: every 20 000 simulation steps
-  int eval_starts = 10;                                 ///< App. D: 10 fixed initial states
-  std::uint64_t eval_seed = 1;                          ///< picks those starts (the same for every trial)
-  double success_height_m = 1.2;                        ///< head top above this at the end: got up (§7)
-  int stand_steps = 80;                                 ///< ... and above it for the last 80 control steps (2 s): stood (head_watch.h)
-  character::ThresholdCurriculum::Config curriculum;    ///< App. D: β = 0.95, ω = 60
-  character::StepBudget::Config budget;                 ///< §5 and App. D: M_i rule, 3·10⁵, 8·10⁵
-  int copies = 1;                                       ///< environment copies stepped together
-  int threads = 1;                                      ///< threads stepping them (≤ copies)
-  int checkpoint_every = 5;                             ///< evaluations between training checkpoints
-  std::string warm_start;                               ///< a Weaker trial's training.ckpt to train on from ("": from scratch)
-  double hold_strength = 0.0;                           ///< > 0: no curriculum, train and test at this β (0: Algorithm 1)
+  std::string algorithm = "sac";          ///< the seed's learner; "ppo" for a preset that measures it faster
+  std::string sac_preset = "paper";       ///< learn's SacConfig::paper() (Table 1)
+  base::Json sac = base::Json::object();  ///< SacConfig fields over the preset
+  base::Json ppo = base::Json::object();  ///< PpoConfig fields over its defaults
+  std::int64_t total_steps = 10'000'000;  ///< environment steps at most (10⁷: the seed repository's)
+  double train_minutes = 0.0;             ///< wall-clock limit on training and tests; 0: none (learn::WallBudget)
+  std::int64_t eval_every = 20'000;       ///< App. D: every 20 000 simulation steps
+  int eval_starts = 10;                   ///< App. D: 10 fixed initial states
+  std::uint64_t eval_seed = 1;            ///< picks those starts (the same for every trial)
+  double success_height_m = 1.2;          ///< head top above this at the end: got up (§7)
+  int stand_steps = 80;                   ///< ... and above it for the last 80 control steps (2 s): stood (head_watch.h)
+  character::ThresholdCurriculum::Config curriculum;  ///< App. D: β = 0.95, ω = 60
+  character::StepBudget::Config budget;               ///< §5 and App. D: M_i rule, 3·10⁵, 8·10⁵
+  int copies = 1;                                     ///< environment copies stepped together
+  int threads = 1;                                    ///< threads stepping them (≤ copies)
+  int checkpoint_every = 5;                           ///< evaluations between training checkpoints
+  std::string warm_start;                             ///< a Weaker trial's training.ckpt to train on from ("": from scratch)
+  double hold_strength = 0.0;                         ///< > 0: no curriculum, train and test at this β (0: Algorithm 1)
 };
 
 /// Reads (and on a describing reader describes) the config; every check of describe() is here.
@@ -96,8 +96,9 @@ struct TrialOutcome {
   double final_strength = 1.0;       ///< β when the trial ended (after the curriculum's end: the last passed)
   int levels = 0;                    ///< curriculum advances
   std::int64_t env_steps = 0;
-  std::string stopped_by = "steps";  ///< what ended training: "steps" (total_steps) or "time" (train_minutes; time/wall_s has the seconds)
-  StrategyFeatures features;         ///< of the exported policy over the fixed starts
+  std::string stopped_by =
+      "steps";  ///< what ended training: "steps" (total_steps) or "time" (train_minutes; time/wall_s has the seconds)
+  StrategyFeatures features;  ///< of the exported policy over the fixed starts
   base::Json to_json() const;
 };
 

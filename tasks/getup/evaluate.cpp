@@ -16,22 +16,37 @@ namespace fs = std::filesystem;
 EvaluateConfig read_evaluate(base::ConfigReader& r) {
   EvaluateConfig c;
   c.falls = r.integer<int>("eval_falls", c.falls, {1, 10000}, "Evaluate: falls per speed");
-  c.falls_seed = r.integer<std::uint64_t>("eval_falls_seed", c.falls_seed, {}, "Evaluate: picks the falls (not eval_seed: unseen in training)");
-  c.kappas = r.numbers("eval_kappas", c.kappas, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Evaluate: the speeds κ besides fast");
+  c.falls_seed = r.integer<std::uint64_t>("eval_falls_seed", c.falls_seed, {},
+                                          "Evaluate: picks the falls (not eval_seed: unseen in training)");
+  c.kappas =
+      r.numbers("eval_kappas", c.kappas, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Evaluate: the speeds κ besides fast");
   c.pause_at = r.number("pause_at", c.pause_at, {.min = 0.0, .max = 1.0}, "Evaluate: §8.3's held frame, as a fraction of τ_fast");
-  c.pause_steps = r.integer<int>("pause_steps", c.pause_steps, {0, 100000}, "Evaluate: control steps of τ_fast the frame is held");
-  c.pause_kappa = r.number("pause_kappa", c.pause_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Evaluate: κ of the paused motion");
+  c.pause_steps =
+      r.integer<int>("pause_steps", c.pause_steps, {0, 100000}, "Evaluate: control steps of τ_fast the frame is held");
+  c.pause_kappa = r.number("pause_kappa", c.pause_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true},
+                           "Evaluate: κ of the paused motion");
   c.strengths = r.numbers("eval_strengths", c.strengths, {.min = 0.0, .max = 1.0, .exclusive_min = true},
                           "Evaluate: further strengths β for π_weak's fast runs (its own is always run)");
   return c;
 }
 
 Json SpeedResult::to_json() const {
-  return {{"name", name},   {"kappa", kappa},         {"strength", strength},
-          {"success_rate", success_rate}, {"rise_time_s", rise_time_s},
-          {"risen", risen}, {"stood", stood},
-          {"on_back", on_back}, {"risen_on_back", risen_on_back}, {"stood_on_back", stood_on_back}, {"drops", drops}, {"peak_head_m", peak_head_m},
-          {"com_error_m", com_error_m}, {"tracked_fraction", tracked_fraction}, {"end_com_gap_m", end_com_gap_m}, {"fast_rise_time_s", fast_rise_time_s}};
+  return {{"name", name},
+          {"kappa", kappa},
+          {"strength", strength},
+          {"success_rate", success_rate},
+          {"rise_time_s", rise_time_s},
+          {"risen", risen},
+          {"stood", stood},
+          {"on_back", on_back},
+          {"risen_on_back", risen_on_back},
+          {"stood_on_back", stood_on_back},
+          {"drops", drops},
+          {"peak_head_m", peak_head_m},
+          {"com_error_m", com_error_m},
+          {"tracked_fraction", tracked_fraction},
+          {"end_com_gap_m", end_com_gap_m},
+          {"fast_rise_time_s", fast_rise_time_s}};
 }
 
 Json EvaluateOutcome::to_json() const {
@@ -118,7 +133,9 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     character::EvaluationConfig e;
     for (std::uint64_t f : falls) e.start_seeds.push_back(base::Rng(f).next());
     const double rise_m = slower.env.rise_height_m;
-    e.success = [rise_m](const character::CharacterEnv& env) { return static_cast<const GetupEnv&>(env).weak().head_height_m > rise_m; };
+    e.success = [rise_m](const character::CharacterEnv& env) {
+      return static_cast<const GetupEnv&>(env).weak().head_height_m > rise_m;
+    };
     FallWatch watch(falls.size(), rise_m);
     std::vector<StrategyRecorder> strategies(falls.size(), StrategyRecorder(env.model(), env.readings().head_top_m, rise_m));
     e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
@@ -132,7 +149,8 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
     r.strength = strengths[b];
     record_falls(e, b == 0 ? std::nullopt : std::optional(shown), work_dir / "rollouts" / r.name);
     check_cancel();
-    auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
+    auto report = character::evaluate(
+        env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
     if (b == 0) {
       shown = shown_episode(watch.heads, s.stand_steps);
       for (std::size_t i = 0; i < report.trajectories.size(); ++i)
@@ -177,7 +195,8 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
       watch.observe(fall, ce, static_cast<const SlowerEnv&>(ce).weak().head_height_m);
     };
     record_falls(e, shown, work_dir / "rollouts" / run.name);
-    const auto report = character::evaluate(env, [&](std::span<const double> o, std::span<double> a) { pi_slow.act(o, a); }, e);
+    const auto report = character::evaluate(
+        env, [&](std::span<const double> o, std::span<double> a) { pi_slow.act(o, a); }, e);
     SpeedResult r;
     r.name = run.name;
     r.kappa = run.kappa;

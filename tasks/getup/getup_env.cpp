@@ -48,9 +48,10 @@ void add_weak_observation(std::vector<std::unique_ptr<character::ObservationPart
 
 void check_policy_fits(const learn::FrozenPolicy& policy, const learn::Env& env, const std::string& who) {
   if (policy.observation_size() == env.observation_space().size() && policy.action_size() == env.action_space().size()) return;
-  throw base::UserError(who + " takes " + std::to_string(policy.observation_size()) + " observations and gives " + std::to_string(policy.action_size()) +
-                        " actions; the env of this config has " + std::to_string(env.observation_space().size()) + " and " +
-                        std::to_string(env.action_space().size()) + " (a policy trained for another variant or model?)");
+  throw base::UserError(who + " takes " + std::to_string(policy.observation_size()) + " observations and gives " +
+                        std::to_string(policy.action_size()) + " actions; the env of this config has " +
+                        std::to_string(env.observation_space().size()) + " and " + std::to_string(env.action_space().size()) +
+                        " (a policy trained for another variant or model?)");
 }
 
 sim::ModelEdits variant_edits(const std::string& variant) {
@@ -70,9 +71,13 @@ GetupEnv::GetupEnv(const EnvSettings& settings, std::shared_ptr<const double> cu
     : GetupEnv(settings, sim::edit_model(sim::load_shipped_model(settings.model), variant_edits(settings.variant)),
                std::move(curriculum), sample_strength) {}
 
-GetupEnv::GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std::shared_ptr<const double> curriculum, bool sample_strength)
-    : CharacterEnv(parts_for(settings, model)), curriculum_(std::move(curriculum)), sample_(sample_strength),
-      settings_(settings), readings_(BodyReadings::of(*model)) {
+GetupEnv::GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std::shared_ptr<const double> curriculum,
+                   bool sample_strength)
+    : CharacterEnv(parts_for(settings, model)),
+      curriculum_(std::move(curriculum)),
+      sample_(sample_strength),
+      settings_(settings),
+      readings_(BodyReadings::of(*model)) {
   if (!curriculum_) throw base::UserError("getup env: no curriculum strength");
 }
 

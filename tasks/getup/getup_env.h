@@ -23,12 +23,12 @@ struct EnvSettings {
   /// §7's variants: "none", "casts" (left elbow and right knee locked straight) or "missing_arm"
   /// (the seed does not say which arm; the left one, from the upper arm down, is removed).
   std::string variant = "none";
-  double sim_hz = 800.0;           ///< App. D
-  double control_hz = 40.0;        ///< App. D
-  int episode_steps = 250;         ///< §7
-  sim::RagdollStart fall;          ///< §7: 1.5 m, 80 control steps of a ~ N(0, 0.1)
-  double strength_sigma = 0.04;    ///< ε of §5
-  double min_strength = 0.05;      ///< lower clip of β̂ (SAC needs a bound in (0, 1])
+  double sim_hz = 800.0;         ///< App. D
+  double control_hz = 40.0;      ///< App. D
+  int episode_steps = 250;       ///< §7
+  sim::RagdollStart fall;        ///< §7: 1.5 m, 80 control steps of a ~ N(0, 0.1)
+  double strength_sigma = 0.04;  ///< ε of §5
+  double min_strength = 0.05;    ///< lower clip of β̂ (SAC needs a bound in (0, 1])
   /// The model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo
   /// humanoid's) act on every joint; off: undamped joints (the `quick` preset's choice).
   bool passive_joints = false;
@@ -72,14 +72,15 @@ class GetupEnv final : public character::CharacterEnv {
   void load_state(const base::Json& state) override;
 
  private:
-  GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std::shared_ptr<const double> curriculum, bool sample_strength);
+  GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std::shared_ptr<const double> curriculum,
+           bool sample_strength);
 
   std::shared_ptr<const double> curriculum_;
   bool sample_;
   EnvSettings settings_;
   BodyReadings readings_;
   double strength_ = 1.0;
-  std::string start_rng_;   // the generator as the start (the fall) began
+  std::string start_rng_;  // the generator as the start (the fall) began
   bool replaying_ = false;
 };
 

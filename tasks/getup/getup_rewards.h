@@ -18,31 +18,31 @@ namespace podium::tasks::getup {
 
 /// What R_weak reads (seed §7, App. B.1).
 struct WeakState {
-  double head_height_m = 0.0;        ///< head top above the ground
-  double com_height_m = 0.0;         ///< h_com
+  double head_height_m = 0.0;                                 ///< head top above the ground
+  double com_height_m = 0.0;                                  ///< h_com
   Eigen::Vector2d com_velocity_xy = Eigen::Vector2d::Zero();  ///< v_com^xy, world, m/s
-  double torso_up_z = 0.0;           ///< z_torso^up, vertical component of the torso's up axis
-  double feet_distance_m = 0.0;      ///< d_feet, feet distance projected on the ground plane
+  double torso_up_z = 0.0;                                    ///< z_torso^up, vertical component of the torso's up axis
+  double feet_distance_m = 0.0;                               ///< d_feet, feet distance projected on the ground plane
 };
 
-double r_head(double head_height_m);                         ///< eq. 5
-double r_straight(double torso_up_z, double com_height_m);   ///< eq. 6
+double r_head(double head_height_m);                        ///< eq. 5
+double r_straight(double torso_up_z, double com_height_m);  ///< eq. 6
 /// eq. 7 with bounds ±`bound` (App. B.3's standing variant: bound 0).
 double r_vcom(const Eigen::Vector2d& com_velocity_xy, double bound = 0.3);
-double r_feet(double feet_distance_m);                       ///< eq. 8
+double r_feet(double feet_distance_m);  ///< eq. 8
 /// eq. 2: R_weak = r_h · r_straight · r_vcom · r_feet.
 double reward_weak(const WeakState& s);
 
 /// What R_slow reads (§7 "Slow Get-up Motions", App. B.2): differences to the reference τ_slow.
 struct SlowState {
-  double com_height_error_m = 0.0;                         ///< Δh_com = h_com − h'_com
-  Eigen::Vector3d torso_up_error = Eigen::Vector3d::Zero();  ///< Δo = o_torso − o'_torso
+  double com_height_error_m = 0.0;                               ///< Δh_com = h_com − h'_com
+  Eigen::Vector3d torso_up_error = Eigen::Vector3d::Zero();      ///< Δo = o_torso − o'_torso
   Eigen::Vector2d hip_velocity_error = Eigen::Vector2d::Zero();  ///< v_hip − v'_hip (both hips' y joints), rad/s
 };
 
-double r_com(double com_height_error_m);                     ///< eq. 9
-double r_ori(const Eigen::Vector3d& torso_up_error);         ///< eq. 10
-double r_hip(const Eigen::Vector2d& hip_velocity_error);     ///< eq. 11 (its second "b" is v)
+double r_com(double com_height_error_m);                  ///< eq. 9
+double r_ori(const Eigen::Vector3d& torso_up_error);      ///< eq. 10
+double r_hip(const Eigen::Vector2d& hip_velocity_error);  ///< eq. 11 (its second "b" is v)
 /// eq. 3: R_slow = r_com · r_ori · (r_hip + 2)/3.
 double reward_slow(const SlowState& s);
 
@@ -51,8 +51,8 @@ struct BalanceState {
   Eigen::Vector2d com_velocity_xy = Eigen::Vector2d::Zero();
   double torso_up_z = 0.0;
   double com_height_m = 0.0;
-  double com_height_error_m = 0.0;      ///< to the standing pose's h_com
-  double pose_squared_error = 0.0;      ///< Σ_j ‖q_j − q̂_j‖² over the free joints, rad²
+  double com_height_error_m = 0.0;  ///< to the standing pose's h_com
+  double pose_squared_error = 0.0;  ///< Σ_j ‖q_j − q̂_j‖² over the free joints, rad²
 };
 
 /// eq. 12: r_pose = exp(−¼ Σ ‖q_j − q̂_j‖²).

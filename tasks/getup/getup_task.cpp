@@ -36,10 +36,11 @@ struct TaskConfig {
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice("stage", c.stage, {"weaker", "slower", "evaluate"},
-                     "weaker: Discover + Weaker (Algorithm 1); slower: imitation of π_weak retimed (Algorithm 2), one input "
-                     "from a weaker stage or a `shipped` π_weak; evaluate: unseen falls at several speeds, one input from a slower "
-                     "stage or `shipped` policies");
+  c.stage =
+      r.choice("stage", c.stage, {"weaker", "slower", "evaluate"},
+               "weaker: Discover + Weaker (Algorithm 1); slower: imitation of π_weak retimed (Algorithm 2), one input "
+               "from a weaker stage or a `shipped` π_weak; evaluate: unseen falls at several speeds, one input from a slower "
+               "stage or `shipped` policies");
   c.settings = read_settings(r);
   c.slower = read_slower(r);
   c.evaluate = read_evaluate(r);
@@ -48,7 +49,8 @@ TaskConfig read_task_config(base::ConfigReader& r) {
       [](base::ConfigReader& p) {
         ShippedPolicy s;
         s.weak_policy = p.file("weak_policy", base::required, "π_weak's TorchScript file");
-        s.weak_strength = p.number("weak_strength", base::required, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "the β π_weak passed at");
+        s.weak_strength =
+            p.number("weak_strength", base::required, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "the β π_weak passed at");
         s.slow_policy = p.file("slow_policy", "", "π_slow's TorchScript file (none: fast runs only)");
         return s;
       },
@@ -58,13 +60,16 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   if (c.stage == "slower")
     for (std::size_t i = 0; i < c.shipped.size(); ++i)
       if (!c.shipped[i].slow_policy.empty())
-        r.fail("shipped", "entry " + std::to_string(i) + " has a slow_policy, but a slower stage trains π_slow (give weak_policy alone)");
+        r.fail("shipped",
+               "entry " + std::to_string(i) + " has a slow_policy, but a slower stage trains π_slow (give weak_policy alone)");
   return c;
 }
 
 TaskConfig config_from(const Json& config) { return base::ConfigReader::parse(config, "getup config", read_task_config); }
 
-Json accepted_config() { return base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); }); }
+Json accepted_config() {
+  return base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); });
+}
 
 // smoke: seconds (short episodes, tiny networks, ω below any return so the curriculum advances at
 // every test; Slower's τ_fast end at 0.1 m ends τ_fast at its first step, so the smoke campaign
@@ -76,24 +81,48 @@ Json accepted_config() { return base::ConfigReader::describe([](base::ConfigRead
 // 1.26M steps, where without them both rose within 440k).
 Json presets() {
   return {{"smoke",
-           {{"episode_steps", 50}, {"fall_steps", 20}, {"total_steps", 400}, {"eval_every", 100}, {"eval_starts", 2},
-            {"threshold", -1.0}, {"min_steps", 100}, {"max_steps", 200}, {"checkpoint_every", 1}, {"sac_preset", "quick"},
+           {{"episode_steps", 50},
+            {"fall_steps", 20},
+            {"total_steps", 400},
+            {"eval_every", 100},
+            {"eval_starts", 2},
+            {"threshold", -1.0},
+            {"min_steps", 100},
+            {"max_steps", 200},
+            {"checkpoint_every", 1},
+            {"sac_preset", "quick"},
             {"sac", {{"hidden", {16, 16}}, {"batch_size", 32}, {"warmup_steps", 100}, {"buffer_capacity", 10000}}},
-            {"rise_height_m", 0.1}, {"reference_end_height_m", 0.1}, {"max_rise_steps", 50}, {"balance_steps", 10}, {"slow_total_steps", 200}, {"slow_eval_every", 100},
-            {"eval_falls", 2}, {"eval_kappas", {0.5}}, {"pause_steps", 2}, {"stand_steps", 5}}},
+            {"rise_height_m", 0.1},
+            {"reference_end_height_m", 0.1},
+            {"max_rise_steps", 50},
+            {"balance_steps", 10},
+            {"slow_total_steps", 200},
+            {"slow_eval_every", 100},
+            {"eval_falls", 2},
+            {"eval_kappas", {0.5}},
+            {"pause_steps", 2},
+            {"stand_steps", 5}}},
           {"quick",
-           {{"total_steps", 2'000'000}, {"train_minutes", 100}, {"sac_preset", "paper"},
+           {{"total_steps", 2'000'000},
+            {"train_minutes", 100},
+            {"sac_preset", "paper"},
             {"sac",
              {{"hidden", {128, 128}}, {"batch_size", 256}, {"updates_per_step", 0.5}, {"actor_lr", 3e-4}, {"critic_lr", 3e-4}}},
-            {"slow_total_steps", 200'000}, {"slow_train_minutes", 12}}},
+            {"slow_total_steps", 200'000},
+            {"slow_train_minutes", 12}}},
           {"paper",
-           {{"total_steps", 10'000'000}, {"sac_preset", "paper"}, {"sac", Json::object()}, {"slow_total_steps", 2'000'000}, {"passive_joints", true}}}};
+           {{"total_steps", 10'000'000},
+            {"sac_preset", "paper"},
+            {"sac", Json::object()},
+            {"slow_total_steps", 2'000'000},
+            {"passive_joints", true}}}};
 }
 
 // The strategy features (strategy_features.h) with what each means.
 Json described_features() {
   const std::map<std::string, std::string> meaning = {
-      {"chest_up_at_half_height", "torso front axis z when the head top first passes half the rise height (+1: rising from the back, −1: from the front)"},
+      {"chest_up_at_half_height",
+       "torso front axis z when the head top first passes half the rise height (+1: rising from the back, −1: from the front)"},
       {"side_lean", "mean torso left axis z over the rise (+: turning over the right side, −: over the left)"},
       {"hand_support", "fraction of the rise with a hand or forearm on the ground"},
       {"knee_support", "fraction of the rise with a shin on the ground (kneeling)"}};
@@ -107,70 +136,110 @@ Json stage_description(const std::string& stage) {
   // The metrics' plots: training curves over environment steps; the evaluation's points over κ
   // (1 = fast: π_weak itself) or over π_weak's strength β.
   const plugins::MetricShape steps{.x = {"environment steps", ""}}, steps_rate{.x = {"environment steps", ""}, .rate = true};
-  const plugins::MetricShape kappa{.x = {"κ", ""}, .evaluation = true}, kappa_rate{.x = {"κ", ""}, .evaluation = true, .rate = true};
+  const plugins::MetricShape kappa{.x = {"κ", ""}, .evaluation = true},
+      kappa_rate{.x = {"κ", ""}, .evaluation = true, .rate = true};
   const plugins::MetricShape strength_rate{.x = {"strength β", ""}, .evaluation = true, .rate = true};
   if (stage == "slower")
-    return {{"features", Json::array()},
-            {"metrics",
-             {plugins::metric_entry("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa", steps),
-              plugins::metric_entry("slow/com_error_m", "m", "mean |h_com − h'_com| over the tracked part of the rise on those starts", steps),
-              plugins::metric_entry("slow/tracked_fraction", "", "mean share of the rise tracked before a 0.5 m COM deviation ended the episode", steps_rate),
-              plugins::metric_entry("slow/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step reached (positive: below the reference)", steps),
-              plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end", steps_rate)}},
-            {"objectives", {"success_rate", "neg_com_error_m"}},
-            {"objective_info",
-             Json::array({plugins::objective_entry("success_rate", "", "fraction of the fixed starts π_slow stands at the end of, at slow_test_kappa"),
-                          plugins::objective_entry("neg_com_error_m", "m", "minus π_slow's mean COM-height tracking error on those starts")})}};
+    return {
+        {"features", Json::array()},
+        {"metrics",
+         {plugins::metric_entry("slow/test_return", "", "mean return of π_slow on the fixed starts at slow_test_kappa", steps),
+          plugins::metric_entry("slow/com_error_m", "m",
+                                "mean |h_com − h'_com| over the tracked part of the rise on those starts", steps),
+          plugins::metric_entry("slow/tracked_fraction", "",
+                                "mean share of the rise tracked before a 0.5 m COM deviation ended the episode", steps_rate),
+          plugins::metric_entry("slow/end_com_gap_m", "m",
+                                "mean h'_com − h_com at the last rise step reached (positive: below the reference)", steps),
+          plugins::metric_entry("slow/success_rate", "", "fraction of those starts standing at the end", steps_rate)}},
+        {"objectives", {"success_rate", "neg_com_error_m"}},
+        {"objective_info",
+         Json::array({plugins::objective_entry("success_rate", "",
+                                               "fraction of the fixed starts π_slow stands at the end of, at slow_test_kappa"),
+                      plugins::objective_entry("neg_com_error_m", "m",
+                                               "minus π_slow's mean COM-height tracking error on those starts")})}};
   const Json features = {{"features", described_features()}, {"strategy_threshold", 0.3}};
   if (stage == "evaluate") {
     Json d = features;
-    d["metrics"] = {plugins::metric_entry("eval/success_rate", "", "success over the unseen falls (κ = 1: fast, π_weak itself)", kappa_rate),
-                    plugins::metric_entry("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m", kappa),
-                    plugins::metric_entry("eval/stood_rate", "", "fraction of the unseen falls whose head top stayed above rise_height_m for the last stand_steps", kappa_rate),
-                    plugins::metric_entry("eval/head_drops", "", "mean times the head top fell back below rise_height_m, over the falls that rose (standing: 0; a leap loop: 2–4)", kappa),
-                    plugins::metric_entry("eval/com_error_m", "m", "mean COM-height tracking error of π_slow over the tracked part of the rise", kappa),
-                    plugins::metric_entry("eval/tracked_fraction", "", "mean share of the rise π_slow tracked before a 0.5 m COM deviation ended it", kappa_rate),
-                    plugins::metric_entry("eval/end_com_gap_m", "m", "mean h'_com − h_com at the last rise step π_slow reached (positive: below the reference)", kappa),
-                    plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls", strength_rate)};
+    d["metrics"] = {
+        plugins::metric_entry("eval/success_rate", "", "success over the unseen falls (κ = 1: fast, π_weak itself)", kappa_rate),
+        plugins::metric_entry("eval/rise_time_s", "s", "mean time from the fall's end to the head top above rise_height_m",
+                              kappa),
+        plugins::metric_entry("eval/stood_rate", "",
+                              "fraction of the unseen falls whose head top stayed above rise_height_m for the last stand_steps",
+                              kappa_rate),
+        plugins::metric_entry(
+            "eval/head_drops", "",
+            "mean times the head top fell back below rise_height_m, over the falls that rose (standing: 0; a leap loop: 2–4)",
+            kappa),
+        plugins::metric_entry("eval/com_error_m", "m",
+                              "mean COM-height tracking error of π_slow over the tracked part of the rise", kappa),
+        plugins::metric_entry("eval/tracked_fraction", "",
+                              "mean share of the rise π_slow tracked before a 0.5 m COM deviation ended it", kappa_rate),
+        plugins::metric_entry("eval/end_com_gap_m", "m",
+                              "mean h'_com − h_com at the last rise step π_slow reached (positive: below the reference)", kappa),
+        plugins::metric_entry("eval/strength_success_rate", "", "π_weak's success over the unseen falls", strength_rate)};
     plugins::set_objectives(
-        d, Json::array({plugins::objective_entry("slow_success_rate", "", "mean slowed success: π_slow's success over the unseen falls, averaged over the speeds κ < 1 (π_weak's fast success when there is no π_slow)"),
-            plugins::objective_entry("fast_success_rate", "", "fast success: π_weak's success over the unseen falls at its own strength")}));
+        d, Json::array({plugins::objective_entry("slow_success_rate", "",
+                                                 "mean slowed success: π_slow's success over the unseen falls, averaged over the "
+                                                 "speeds κ < 1 (π_weak's fast success when there is no π_slow)"),
+                        plugins::objective_entry("fast_success_rate", "",
+                                                 "fast success: π_weak's success over the unseen falls at its own strength")}));
     return d;
   }
   Json d = features;
-  d["metrics"] = {plugins::metric_entry("test_return", "", "mean R_weak return on the fixed starts at β^i", steps),
-                  plugins::metric_entry("test_return_min", "", "the lowest of those returns: R_test, which advances β above ω (§5)", steps),
-                  plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes", steps),
-                  plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m", steps_rate),
-                  plugins::metric_entry("risen_rate", "", "fraction of the fixed starts whose head top passed success_height_m at some step (risen − success: rose and fell again)", steps_rate),
-                  plugins::metric_entry("risen_on_back_rate", "", "risen_rate over the fixed starts that lie on the back (the torso's front axis up); absent when none does", steps_rate),
-                  plugins::metric_entry("stood_on_back_rate", "", "stood_rate over those starts", steps_rate),
-                  plugins::metric_entry("stood_rate", "", "fraction of the fixed starts whose head top stayed above success_height_m for the last stand_steps control steps (a get-up that stands; a leap's flight is shorter)", steps_rate),
-                  plugins::metric_entry("head_drops", "", "mean times the head top fell back below success_height_m, over the fixed starts whose head passed it (a get-up that stands: 0; a leap loop: 2–4 per 250 steps)", steps),
-                  plugins::metric_entry("head_peak_m", "m", "mean highest head top over those starts (standing humanoid21: 1.56 m; above it: the character leaps)", steps),
-                  plugins::metric_entry("curriculum/strength", "", "β^i, the torque multiplier trained at after the test", steps),
-                  plugins::metric_entry("train_return", "", "mean return of the training episodes since the last test", steps),
-                  plugins::metric_entry("sac/alpha", "", "SAC's temperature α", steps),
-                  plugins::metric_entry("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far", steps)};
+  d["metrics"] = {
+      plugins::metric_entry("test_return", "", "mean R_weak return on the fixed starts at β^i", steps),
+      plugins::metric_entry("test_return_min", "", "the lowest of those returns: R_test, which advances β above ω (§5)", steps),
+      plugins::metric_entry("head_height_m", "m", "mean head-top height at the end of the test episodes", steps),
+      plugins::metric_entry("success_rate", "", "fraction of the fixed starts ending with the head top above success_height_m",
+                            steps_rate),
+      plugins::metric_entry("risen_rate", "",
+                            "fraction of the fixed starts whose head top passed success_height_m at some step (risen − success: "
+                            "rose and fell again)",
+                            steps_rate),
+      plugins::metric_entry(
+          "risen_on_back_rate", "",
+          "risen_rate over the fixed starts that lie on the back (the torso's front axis up); absent when none does", steps_rate),
+      plugins::metric_entry("stood_on_back_rate", "", "stood_rate over those starts", steps_rate),
+      plugins::metric_entry("stood_rate", "",
+                            "fraction of the fixed starts whose head top stayed above success_height_m for the last stand_steps "
+                            "control steps (a get-up that stands; a leap's flight is shorter)",
+                            steps_rate),
+      plugins::metric_entry("head_drops", "",
+                            "mean times the head top fell back below success_height_m, over the fixed starts whose head passed "
+                            "it (a get-up that stands: 0; a leap loop: 2–4 per 250 steps)",
+                            steps),
+      plugins::metric_entry(
+          "head_peak_m", "m",
+          "mean highest head top over those starts (standing humanoid21: 1.56 m; above it: the character leaps)", steps),
+      plugins::metric_entry("curriculum/strength", "", "β^i, the torque multiplier trained at after the test", steps),
+      plugins::metric_entry("train_return", "", "mean return of the training episodes since the last test", steps),
+      plugins::metric_entry("sac/alpha", "", "SAC's temperature α", steps),
+      plugins::metric_entry("sac/skipped_updates", "", "SAC updates skipped for a non-finite loss (a diverging critic), so far",
+                            steps)};
   plugins::set_objectives(
-      d, Json::array({plugins::objective_entry("success_rate", "", "fraction of the fixed starts the exported policy gets up from, at the strength it passed at"),
-          plugins::objective_entry("weakness", "", "1 − β^i, the torque multiplier the exported policy passed at (0: full strength)")}));
+      d, Json::array({plugins::objective_entry(
+                          "success_rate", "",
+                          "fraction of the fixed starts the exported policy gets up from, at the strength it passed at"),
+                      plugins::objective_entry(
+                          "weakness", "", "1 − β^i, the torque multiplier the exported policy passed at (0: full strength)")}));
   return d;
 }
 
-const plugins::InputTrial& one_input(const plugins::RunRequest& request, const std::string& stage, const std::vector<std::string>& artifacts,
-                                     const std::string& info_key, const std::string& from) {
+const plugins::InputTrial& one_input(const plugins::RunRequest& request, const std::string& stage,
+                                     const std::vector<std::string>& artifacts, const std::string& info_key,
+                                     const std::string& from) {
   if (request.inputs.size() != 1)
-    throw base::UserError("getup " + stage + ": needs exactly one input trial from a " + from + " stage (inputs with \"per_trial\": \"each\"), got " +
-                          std::to_string(request.inputs.size()));
+    throw base::UserError("getup " + stage + ": needs exactly one input trial from a " + from +
+                          " stage (inputs with \"per_trial\": \"each\"), got " + std::to_string(request.inputs.size()));
   const plugins::InputTrial& in = request.inputs.front();
   for (const auto& a : artifacts)
     if (!in.artifacts.count(a))
-      throw base::UserError("getup " + stage + ": input trial " + in.stage + "/" + std::to_string(in.trial_index) + " has no artifact " + a +
-                            " (is it a " + from + " trial?)");
+      throw base::UserError("getup " + stage + ": input trial " + in.stage + "/" + std::to_string(in.trial_index) +
+                            " has no artifact " + a + " (is it a " + from + " trial?)");
   if (!in.info.contains(info_key) || !in.info[info_key].is_number())
-    throw base::UserError("getup " + stage + ": input trial " + in.stage + "/" + std::to_string(in.trial_index) + " has no info." + info_key +
-                          " (is it a " + from + " trial?)");
+    throw base::UserError("getup " + stage + ": input trial " + in.stage + "/" + std::to_string(in.trial_index) +
+                          " has no info." + info_key + " (is it a " + from + " trial?)");
   return in;
 }
 
@@ -292,15 +361,17 @@ class GetupTask final : public plugins::Task {
     Json rows = Json::array();
     for (const auto& s : out.speeds) {
       const bool fast = s.kappa == 0;
-      const std::string speed = fast ? "fast β " + format_cell(s.strength) : s.name == "pause" ? "paused κ " + format_cell(s.kappa)
-                                                                                             : "κ " + format_cell(s.kappa);
+      const std::string speed = fast                ? "fast β " + format_cell(s.strength)
+                                : s.name == "pause" ? "paused κ " + format_cell(s.kappa)
+                                                    : "κ " + format_cell(s.kappa);
       rows.push_back(Json::array({speed, s.risen, s.stood, s.risen > 0 ? Json(s.rise_time_s) : Json(nullptr),
                                   fast ? Json(nullptr) : Json(s.com_error_m)}));
     }
-    return plugins::result_table("evaluation over " + std::to_string(falls) + " unseen falls",
-                                 Json::array({plugins::table_column("speed"), plugins::table_column("rose"), plugins::table_column("stood"),
-                                              plugins::table_column("rise time", "s"), plugins::table_column("COM error", "m")}),
-                                 rows);
+    return plugins::result_table(
+        "evaluation over " + std::to_string(falls) + " unseen falls",
+        Json::array({plugins::table_column("speed"), plugins::table_column("rose"), plugins::table_column("stood"),
+                     plugins::table_column("rise time", "s"), plugins::table_column("COM error", "m")}),
+        rows);
   }
 
   static std::string format_cell(double value) {

@@ -30,36 +30,50 @@ bool same_bytes(const fs::path& a, const fs::path& b) {
 SlowerConfig read_slower(base::ConfigReader& r) {
   SlowerConfig c;
   SlowerSettings& e = c.env;
-  e.kappa_low = r.number("kappa_low", e.kappa_low, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ ~ U(kappa_low, kappa_high) (App. D: 0.2)");
-  e.kappa_high = r.number("kappa_high", e.kappa_high, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: upper κ (App. D: 0.8)");
+  e.kappa_low = r.number("kappa_low", e.kappa_low, {.min = 0.0, .max = 10.0, .exclusive_min = true},
+                         "Slower: κ ~ U(kappa_low, kappa_high) (App. D: 0.2)");
+  e.kappa_high =
+      r.number("kappa_high", e.kappa_high, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: upper κ (App. D: 0.8)");
   if (e.kappa_high < e.kappa_low) r.fail("kappa_high", "is below kappa_low " + std::to_string(e.kappa_low));
   e.rsi_epsilon = r.number("rsi_epsilon", e.rsi_epsilon, {.min = 0.0, .max = 1.0},
                            "Slower: ε-RSI, probability of starting at the fall's end (§6; the seed repository: 0.2)");
   e.residual_bound_rad = r.number("residual_bound_rad", e.residual_bound_rad, {.min = 0.0, .max = 3.2, .exclusive_min = true},
                                   "Slower: residual PD target bound per joint, rad (the seed repository: 1)");
-  e.balance_steps = r.integer<int>("balance_steps", e.balance_steps, {0, 100000}, "Slower: standing-phase control steps (§6: 100)");
+  e.balance_steps =
+      r.integer<int>("balance_steps", e.balance_steps, {0, 100000}, "Slower: standing-phase control steps (§6: 100)");
   e.rise_height_m = r.number("rise_height_m", e.rise_height_m, {.min = 0.0, .exclusive_min = true},
                              "Slower and Evaluate: standing success is the head top above it at the end, m (§6: 1.2)");
-  e.reference_end_m = r.number("reference_end_height_m", e.reference_end_m, {.min = 0.0, .exclusive_min = true},
-                               "Slower: τ_fast ends at its first frame with the head top above it, m (§6: 1.2; the seed repository: 1.49)");
+  e.reference_end_m =
+      r.number("reference_end_height_m", e.reference_end_m, {.min = 0.0, .exclusive_min = true},
+               "Slower: τ_fast ends at its first frame with the head top above it, m (§6: 1.2; the seed repository: 1.49)");
   e.max_rise_steps = r.integer<int>("max_rise_steps", e.max_rise_steps, {1, 100000}, "Slower: τ_fast's cap in control steps");
-  e.rise_attempts = r.integer<int>("rise_attempts", e.rise_attempts, {1, 1000}, "Slower: falls tried in a row for a τ_fast before the trial fails (every episode needs a rise)");
-  c.total_steps = r.integer<std::int64_t>("slow_total_steps", c.total_steps, {1}, "Slower: environment steps; a multiple of slow_eval_every");
+  e.rise_attempts =
+      r.integer<int>("rise_attempts", e.rise_attempts, {1, 1000},
+                     "Slower: falls tried in a row for a τ_fast before the trial fails (every episode needs a rise)");
+  c.total_steps =
+      r.integer<std::int64_t>("slow_total_steps", c.total_steps, {1}, "Slower: environment steps; a multiple of slow_eval_every");
   c.train_minutes = r.number("slow_train_minutes", c.train_minutes, {.min = 0.0},
                              "Slower: wall-clock minutes of training and tests at most (0: no limit), as Weaker's train_minutes");
   c.eval_every = r.integer<std::int64_t>("slow_eval_every", c.eval_every, {1}, "Slower: environment steps between tests");
-  if (c.total_steps % c.eval_every != 0) r.fail("slow_total_steps", "is not a multiple of slow_eval_every " + std::to_string(c.eval_every));
+  if (c.total_steps % c.eval_every != 0)
+    r.fail("slow_total_steps", "is not a multiple of slow_eval_every " + std::to_string(c.eval_every));
   c.gamma = r.number("slow_gamma", c.gamma, {.min = 0.0, .max = 1.0},
                      "Slower: SAC's discount for π_slow (Table 1: 0.95); `sac.gamma` sets Weaker's");
-  c.warm_start = r.file("slow_warm_start", c.warm_start,
-                          "Slower: a Slower trial's training.ckpt to train on from (its π_weak must be this trial's); \"\": from scratch");
+  c.warm_start =
+      r.file("slow_warm_start", c.warm_start,
+             "Slower: a Slower trial's training.ckpt to train on from (its π_weak must be this trial's); \"\": from scratch");
   if (!c.warm_start.empty() && !fs::is_regular_file(c.warm_start)) r.fail("slow_warm_start", "is not a file: " + c.warm_start);
-  c.test_kappa = r.number("slow_test_kappa", c.test_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ of the tests");
+  c.test_kappa =
+      r.number("slow_test_kappa", c.test_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ of the tests");
   return c;
 }
 
 Json SlowerOutcome::to_json() const {
-  return {{"success_rate", success_rate}, {"com_error_m", com_error_m}, {"test_return", test_return}, {"env_steps", env_steps}, {"stopped_by", stopped_by}};
+  return {{"success_rate", success_rate},
+          {"com_error_m", com_error_m},
+          {"test_return", test_return},
+          {"env_steps", env_steps},
+          {"stopped_by", stopped_by}};
 }
 
 Json slower_learner_spec(const Settings& s, const SlowerConfig& c) {
@@ -72,16 +86,16 @@ character::EvaluationConfig slower_test(const SlowerSettings& s, std::vector<std
   character::EvaluationConfig c;
   c.start_seeds = std::move(start_seeds);
   const auto slower = [](const character::CharacterEnv& env) -> const SlowerEnv& { return static_cast<const SlowerEnv&>(env); };
-  c.measures = {{"com_error_m", [slower](const character::CharacterEnv& env) { return slower(env).mean_com_error_m(); }},
-                {"tracked_fraction", [slower](const character::CharacterEnv& env) { return slower(env).tracked_fraction(); }},
-                {"end_com_gap_m", [slower](const character::CharacterEnv& env) { return slower(env).end_com_gap_m(); }},
-                {"final_head_height_m", [slower](const character::CharacterEnv& env) { return slower(env).weak().head_height_m; }}};
+  c.measures = {
+      {"com_error_m", [slower](const character::CharacterEnv& env) { return slower(env).mean_com_error_m(); }},
+      {"tracked_fraction", [slower](const character::CharacterEnv& env) { return slower(env).tracked_fraction(); }},
+      {"end_com_gap_m", [slower](const character::CharacterEnv& env) { return slower(env).end_com_gap_m(); }},
+      {"final_head_height_m", [slower](const character::CharacterEnv& env) { return slower(env).weak().head_height_m; }}};
   c.success = [slower, h = s.rise_height_m](const character::CharacterEnv& env) {
     return slower(env).standing_phase() && slower(env).weak().head_height_m > h;
   };
   return c;
 }
-
 
 namespace {
 
@@ -90,12 +104,17 @@ namespace {
 class SlowerStage final : public character::TrainingStage {
  public:
   SlowerStage(const Settings& s, const SlowerConfig& c, const WeakPolicy& weak, const fs::path& teacher, std::uint64_t seed)
-      : s_(s), c_(c), strength_(weak.strength), teacher_(std::make_shared<const learn::FrozenPolicy>(teacher)), seed_(seed),
+      : s_(s),
+        c_(c),
+        strength_(weak.strength),
+        teacher_(std::make_shared<const learn::FrozenPolicy>(teacher)),
+        seed_(seed),
         tests_(slower_test(c.env, test_starts(s))) {}
 
   void build(const Json&) override {
     std::vector<std::unique_ptr<learn::Env>> copies;
-    for (int i = 0; i < s_.copies; ++i) copies.push_back(std::make_unique<SlowerEnv>(s_.env, c_.env, teacher_, strength_, std::nullopt));
+    for (int i = 0; i < s_.copies; ++i)
+      copies.push_back(std::make_unique<SlowerEnv>(s_.env, c_.env, teacher_, strength_, std::nullopt));
     envs_ = std::make_unique<learn::VecEnv>(std::move(copies), s_.threads, base::derive_seed(seed_, 1));
     test_env_ = std::make_unique<SlowerEnv>(s_.env, c_.env, teacher_, strength_, c_.test_kappa);
   }
@@ -104,14 +123,16 @@ class SlowerStage final : public character::TrainingStage {
 
   character::Figures test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) override {
     const auto steps = static_cast<double>(round.env_steps);
-    const auto result =
-        character::evaluate(*test_env_, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true, 1.0); }, tests_);
+    const auto result = character::evaluate(
+        *test_env_, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true, 1.0); }, tests_);
     const double com_error_m = result.mean("com_error_m");
     const double tracked = result.mean("tracked_fraction"), end_gap = result.mean("end_com_gap_m");
     char line[280];
     std::snprintf(line, sizeof line,
-                  "getup slower: step %.0f: test return %.2f, COM error %.3f m over %.0f%% of the rise, %.3f m below at its end, success %.2f at κ %.2f (test %.1f s)",
-                  steps, result.mean_return, com_error_m, 100 * tracked, end_gap, result.success_rate, c_.test_kappa, round.seconds());
+                  "getup slower: step %.0f: test return %.2f, COM error %.3f m over %.0f%% of the rise, %.3f m below at its end, "
+                  "success %.2f at κ %.2f (test %.1f s)",
+                  steps, result.mean_return, com_error_m, 100 * tracked, end_gap, result.success_rate, c_.test_kappa,
+                  round.seconds());
     base::log_info(line);
     send("slow/test_return", steps, result.mean_return);
     send("slow/com_error_m", steps, com_error_m);
@@ -127,7 +148,8 @@ class SlowerStage final : public character::TrainingStage {
     record.start_seeds.resize(1);
     record.record = {0};
     record.record_dir = r.rollouts;
-    trajectory_ = character::evaluate(*test_env_, [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a); }, record)
+    trajectory_ = character::evaluate(
+                      *test_env_, [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a); }, record)
                       .trajectories.at(0);
   }
 
@@ -157,15 +179,18 @@ SlowerOutcome run_slower(const Settings& s, const SlowerConfig& c, const WeakPol
     // on from them under another teacher would mix two imitation targets.
     const fs::path source_teacher = fs::path(c.warm_start).parent_path() / "weak_policy.pt";
     if (!same_bytes(source_teacher, out.weak_policy))
-      throw base::UserError("getup slower: slow_warm_start " + c.warm_start + " imitated another π_weak (" + source_teacher.string() +
-                            " is missing or differs from " + weak.policy.string() + ")");
+      throw base::UserError("getup slower: slow_warm_start " + c.warm_start + " imitated another π_weak (" +
+                            source_teacher.string() + " is missing or differs from " + weak.policy.string() + ")");
   }
   SlowerStage stage(s, c, weak, out.weak_policy, run.seed);
-  const character::StageOutcome done = character::run_training_stage(
-      stage,
-      {.name = "getup slower", .total_steps = c.total_steps, .steps_per_iteration = c.eval_every,
-       .checkpoint_every = s.checkpoint_every, .train_minutes = c.train_minutes, .warm_start = c.warm_start},
-      run);
+  const character::StageOutcome done = character::run_training_stage(stage,
+                                                                     {.name = "getup slower",
+                                                                      .total_steps = c.total_steps,
+                                                                      .steps_per_iteration = c.eval_every,
+                                                                      .checkpoint_every = s.checkpoint_every,
+                                                                      .train_minutes = c.train_minutes,
+                                                                      .warm_start = c.warm_start},
+                                                                     run);
   out.policy = done.policy;
   out.trajectory = stage.trajectory();
   out.test_return = character::figure(done.exported.figures, "test_return");

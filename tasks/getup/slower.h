@@ -31,8 +31,8 @@ struct WeakPolicy {
 
 struct SlowerOutcome {
   std::filesystem::path policy, trajectory, weak_policy;  ///< π_slow; its test rollout; π_weak's copy
-  double success_rate = 0.0;     ///< last test: standing (head top above rise_height_m) at the end
-  double com_error_m = 0.0;      ///< last test: mean |h_com − h'_com| over the rise
+  double success_rate = 0.0;                              ///< last test: standing (head top above rise_height_m) at the end
+  double com_error_m = 0.0;                               ///< last test: mean |h_com − h'_com| over the rise
   double test_return = 0.0;
   std::int64_t env_steps = 0;
   std::string stopped_by = "steps";  ///< what ended training: "steps" or "time" (slow_train_minutes)

@@ -14,7 +14,9 @@ using base::Json;
 namespace {
 
 std::vector<double> to_vector(const Eigen::VectorXd& v) { return {v.data(), v.data() + v.size()}; }
-Eigen::VectorXd to_eigen(const std::vector<double>& v) { return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())); }
+Eigen::VectorXd to_eigen(const std::vector<double>& v) {
+  return Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size()));
+}
 
 template <class V>
 V lerp(const std::vector<V>& frames, double index) {
@@ -46,19 +48,20 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
   add_weak_observation(p.observation, model);
   const auto bridge = std::make_shared<PoseBridge>(model);
   const std::size_t frame = bridge->size() + 4;
-  p.observation.push_back(std::make_unique<TaskScalars>(2 * frame, [bridge, frame](const CharacterEnv& env, std::span<double> out) {
-    const SlowReference& ref = static_cast<const SlowerEnv&>(env).reference_motion();
-    std::size_t at = 0;
-    for (const int ahead : {1, 5}) {
-      const double t = env.reference_time_s() + ahead * env.control_dt_s();
-      const std::vector<double> pose = bridge->pose(ref.clip()->sample(t));
-      std::copy(pose.begin(), pose.end(), out.begin() + static_cast<std::ptrdiff_t>(at));
-      out[at + pose.size()] = ref.com_height_m(t);
-      const Eigen::Vector3d up = ref.torso_up(t);
-      for (int k = 0; k < 3; ++k) out[at + pose.size() + 1 + static_cast<std::size_t>(k)] = up(k);
-      at += frame;
-    }
-  }));
+  p.observation.push_back(
+      std::make_unique<TaskScalars>(2 * frame, [bridge, frame](const CharacterEnv& env, std::span<double> out) {
+        const SlowReference& ref = static_cast<const SlowerEnv&>(env).reference_motion();
+        std::size_t at = 0;
+        for (const int ahead : {1, 5}) {
+          const double t = env.reference_time_s() + ahead * env.control_dt_s();
+          const std::vector<double> pose = bridge->pose(ref.clip()->sample(t));
+          std::copy(pose.begin(), pose.end(), out.begin() + static_cast<std::ptrdiff_t>(at));
+          out[at + pose.size()] = ref.com_height_m(t);
+          const Eigen::Vector3d up = ref.torso_up(t);
+          for (int k = 0; k < 3; ++k) out[at + pose.size() + 1 + static_cast<std::size_t>(k)] = up(k);
+          at += frame;
+        }
+      }));
   p.start = std::make_unique<SlowerStart>();
   p.reward = [](const CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
     static_cast<const SlowerEnv&>(env).score(out);
@@ -84,7 +87,8 @@ FastRollout FastRollout::from_json(const Json& j) {
     for (const auto& v : j.at("q")) f.q.push_back(to_eigen(v.get<std::vector<double>>()));
     for (const auto& v : j.at("qd")) f.qd.push_back(to_eigen(v.get<std::vector<double>>()));
     f.com_height_m = j.at("com_height_m").get<std::vector<double>>();
-    for (const auto& v : j.at("torso_up")) f.torso_up.emplace_back(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
+    for (const auto& v : j.at("torso_up"))
+      f.torso_up.emplace_back(v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>());
   } catch (const Json::exception& e) {
     throw base::UserError(std::string("getup slower: saved τ_fast: ") + e.what());
   }
@@ -141,13 +145,18 @@ SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, std::
     : SlowerEnv(env, slower, sim::edit_model(sim::load_shipped_model(env.model), variant_edits(env.variant)), std::move(weak),
                 weak_strength, fixed_kappa) {}
 
-SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, const sim::ModelPtr& model, std::shared_ptr<const learn::FrozenPolicy> weak,
-                     double weak_strength, std::optional<double> fixed_kappa)
-    : CharacterEnv(slower_parts(env, slower, model)), settings_(slower), weak_(std::move(weak)),
-      teacher_strength_(std::make_shared<double>(weak_strength)), fixed_kappa_(fixed_kappa), readings_(BodyReadings::of(*model)) {
+SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, const sim::ModelPtr& model,
+                     std::shared_ptr<const learn::FrozenPolicy> weak, double weak_strength, std::optional<double> fixed_kappa)
+    : CharacterEnv(slower_parts(env, slower, model)),
+      settings_(slower),
+      weak_(std::move(weak)),
+      teacher_strength_(std::make_shared<double>(weak_strength)),
+      fixed_kappa_(fixed_kappa),
+      readings_(BodyReadings::of(*model)) {
   if (!weak_) throw base::UserError("getup slower: no π_weak");
   if (!(settings_.kappa_low > 0.0) || settings_.kappa_high < settings_.kappa_low)
-    throw base::UserError("getup slower: κ range [" + std::to_string(settings_.kappa_low) + ", " + std::to_string(settings_.kappa_high) + "] is empty or not > 0");
+    throw base::UserError("getup slower: κ range [" + std::to_string(settings_.kappa_low) + ", " +
+                          std::to_string(settings_.kappa_high) + "] is empty or not > 0");
   teacher_ = std::make_unique<GetupEnv>(env, teacher_strength_, false);
   check_policy_fits(*weak_, *teacher_, "getup slower: π_weak");
   // App. D: PD with k_p = the torque limit (per rad), k_d = k_p/10; the full torque limits (the
@@ -189,12 +198,13 @@ FastRollout SlowerEnv::rise(base::Rng& rng) {
   }
   throw base::UserError("getup slower: π_weak never lifted the head top above " + std::to_string(settings_.reference_end_m) +
                         " m within " + std::to_string(settings_.max_rise_steps) + " control steps in " +
-                        std::to_string(settings_.rise_attempts) + " falls in a row (at strength " + std::to_string(*teacher_strength_) +
-                        "): Slower imitates a policy that gets up");
+                        std::to_string(settings_.rise_attempts) + " falls in a row (at strength " +
+                        std::to_string(*teacher_strength_) + "): Slower imitates a policy that gets up");
 }
 
 void SlowerEnv::build_reference(FastRollout fast, double kappa) {
-  reference_ = std::make_unique<SlowReference>(std::move(fast), kappa, control_dt_s(), world().model_ptr(), standing_q_, standing_com_m_);
+  reference_ =
+      std::make_unique<SlowReference>(std::move(fast), kappa, control_dt_s(), world().model_ptr(), standing_q_, standing_com_m_);
   set_reference(reference_->clip());
   com_error_sum_ = 0.0;
   rise_steps_ = 0;
@@ -256,8 +266,11 @@ void SlowerEnv::score(learn::StepResult& out) const {
 std::optional<Json> SlowerEnv::save_state() const {
   Json state = *CharacterEnv::save_state();
   if (reference_)
-    state["slower"] = {{"fast", reference_->fast().to_json()}, {"kappa", reference_->kappa()}, {"com_error_sum", com_error_sum_},
-                       {"rise_steps", rise_steps_}, {"end_com_gap", end_com_gap_m_}};
+    state["slower"] = {{"fast", reference_->fast().to_json()},
+                       {"kappa", reference_->kappa()},
+                       {"com_error_sum", com_error_sum_},
+                       {"rise_steps", rise_steps_},
+                       {"end_com_gap", end_com_gap_m_}};
   return state;
 }
 

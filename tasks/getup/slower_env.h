@@ -29,27 +29,27 @@ struct SlowerSettings {
   double rsi_epsilon = 0.2;
   /// Residual bound, rad per joint (the seed repository adds actions in [−1, 1] to the reference).
   double residual_bound_rad = 1.0;
-  int balance_steps = 100;         ///< §6
-  double rise_height_m = 1.2;      ///< §6: standing means the head top above it
+  int balance_steps = 100;     ///< §6
+  double rise_height_m = 1.2;  ///< §6: standing means the head top above it
   /// τ_fast ends at its first frame with the head top above it (§6's text: 1.2 m; the seed
   /// repository ends one step after its head origin passes 1.4 m: our head top at 1.49 m).
   double reference_end_m = 1.2;
-  int max_rise_steps = 250;        ///< τ_fast's cap (a Weaker episode's length)
+  int max_rise_steps = 250;  ///< τ_fast's cap (a Weaker episode's length)
   /// Falls tried per episode before π_weak is declared unable. Every episode needs a rise, so a
   /// π_weak rising from a share p of falls fails a trial of E episodes with probability about
   /// E·(1 − p)^attempts: at 10, the shipped π_weak (p ≈ 0.4, thousands of episodes) failed every
   /// Slower trial within its first 20,000 steps (measured); at 100 that is ≈ 10⁻¹⁹, and
   /// a π_weak that never rises costs 100 × max_rise_steps control steps before it is refused.
   int rise_attempts = 100;
-  double track_limit_m = 0.5;      ///< §6: |h_com − h'_com| above it ends the episode
-  double fall_limit_m = 0.5;       ///< §6: h_com below it ends the standing phase
+  double track_limit_m = 0.5;  ///< §6: |h_com − h'_com| above it ends the episode
+  double fall_limit_m = 0.5;   ///< §6: h_com below it ends the standing phase
 };
 
 /// τ_fast at the control rate: frame 0 is the fall's end, frame T the first with the head up.
 struct FastRollout {
   std::vector<Eigen::VectorXd> q, qd;
   std::vector<double> com_height_m;
-  std::vector<Eigen::Vector3d> torso_up;  ///< z components of the torso's axes (o_torso)
+  std::vector<Eigen::Vector3d> torso_up;                        ///< z components of the torso's axes (o_torso)
   int steps() const { return static_cast<int>(q.size()) - 1; }  ///< T
   base::Json to_json() const;
   static FastRollout from_json(const base::Json& json);
@@ -59,8 +59,8 @@ struct FastRollout {
 /// q̂ and its values after the rise.
 class SlowReference {
  public:
-  SlowReference(FastRollout fast, double kappa, double control_dt_s, const sim::ModelPtr& model, const Eigen::VectorXd& standing_q,
-                double standing_com_m);
+  SlowReference(FastRollout fast, double kappa, double control_dt_s, const sim::ModelPtr& model,
+                const Eigen::VectorXd& standing_q, double standing_com_m);
   double kappa() const { return kappa_; }
   double rise_s() const { return rise_s_; }  ///< T·dt/κ
   /// Whole control steps in the rise, ⌊T/κ⌋ (ε-RSI draws its start among them; tracked_fraction counts them).
@@ -90,8 +90,8 @@ class SlowerEnv final : public character::CharacterEnv {
  public:
   /// `weak`: π_weak, shared read-only; `weak_strength`: the β it passed at. `fixed_kappa`: tests
   /// at one speed (then every episode starts at the fall's end, ε = 1).
-  SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, std::shared_ptr<const learn::FrozenPolicy> weak, double weak_strength,
-            std::optional<double> fixed_kappa);
+  SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, std::shared_ptr<const learn::FrozenPolicy> weak,
+            double weak_strength, std::optional<double> fixed_kappa);
 
   const SlowReference& reference_motion() const { return *reference_; }
   bool standing_phase() const { return reference_time_s() > reference_->rise_s() + 1e-9; }
@@ -118,8 +118,8 @@ class SlowerEnv final : public character::CharacterEnv {
   void load_state(const base::Json& state) override;
 
  private:
-  SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, const sim::ModelPtr& model, std::shared_ptr<const learn::FrozenPolicy> weak,
-            double weak_strength, std::optional<double> fixed_kappa);
+  SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, const sim::ModelPtr& model,
+            std::shared_ptr<const learn::FrozenPolicy> weak, double weak_strength, std::optional<double> fixed_kappa);
   FastRollout rise(base::Rng& rng);
   void build_reference(FastRollout fast, double kappa);
 
@@ -132,7 +132,7 @@ class SlowerEnv final : public character::CharacterEnv {
   BodyReadings readings_;
   Eigen::VectorXd standing_q_;
   double standing_com_m_ = 0.0;
-  std::vector<int> free_joints_;  // q indices of the hinges r_pose compares (locked ones excluded)
+  std::vector<int> free_joints_;        // q indices of the hinges r_pose compares (locked ones excluded)
   int hip_right_ = -1, hip_left_ = -1;  // q̇ indices of the hips' y joints (r_hip)
   std::unique_ptr<SlowReference> reference_;
   mutable double com_error_sum_ = 0.0;  // the episode's tracking statistics, kept by score()

@@ -13,10 +13,10 @@
 namespace podium::tasks::jump {
 
 struct CapturedTechnique {
-  std::string name;        ///< "Fosbury flop", "straddle", "scissor"
-  std::string file;        ///< the capture's file name
-  double up_angle_rad = 0; ///< Stage 1's feature at the COM peak
-  double peak_com_m = 0;   ///< the COM's height there
+  std::string name;         ///< "Fosbury flop", "straddle", "scissor"
+  std::string file;         ///< the capture's file name
+  double up_angle_rad = 0;  ///< Stage 1's feature at the COM peak
+  double peak_com_m = 0;    ///< the COM's height there
 };
 
 /// The three techniques read from `motions_dir` (the folder holding VC5_high_jump__*.txt) on

@@ -29,8 +29,8 @@ std::vector<std::string> jump_info_names() {
 
 JumpSettings read_jump_settings(base::ConfigReader& r) {
   JumpSettings s;
-  s.kind = parse_jump_kind(r.choice("kind", jump_kind_name(s.kind), {"high_jump", "obstacle"}, "§3.6.1: bar (z = height) or box (z = width)"),
-                           "kind");
+  s.kind = parse_jump_kind(
+      r.choice("kind", jump_kind_name(s.kind), {"high_jump", "obstacle"}, "§3.6.1: bar (z = height) or box (z = width)"), "kind");
   s.model = r.string("model", s.model, "sim/models/<model>.json");
   s.takeoff_foot = r.string("takeoff_foot", s.takeoff_foot, "the body allowed on the ground (§3.6.1)");
   // A config's default is kind-independent (describe lists one), so 0 stands for the kind's z_min.
@@ -39,9 +39,11 @@ JumpSettings read_jump_settings(base::ConfigReader& r) {
   s.sim_hz = r.number("sim_hz", s.sim_hz, {.min = 30.0}, "physics steps per second (§3.6.2: 600)");
   s.takeoff_state = r.file("takeoff_state", s.takeoff_state, "reference take-off state file (.json, .npy, .txt); empty: shipped");
   s.takeoff_features = r.numbers("takeoff_features", s.takeoff_features, {}, "Stage 1's x (take-off features); empty: none");
-  s.layout.approach_angle_rad = r.number("approach_angle_rad", s.layout.approach_angle_rad, {}, "α without features (π/2: bar across the run)");
+  s.layout.approach_angle_rad =
+      r.number("approach_angle_rad", s.layout.approach_angle_rad, {}, "α without features (π/2: bar across the run)");
   s.layout.wall_distance_m = r.number("wall_distance_m", s.layout.wall_distance_m, {.min = 0.0}, "take-off point to the wall");
-  s.layout.obstacle_distance_m = r.number("obstacle_distance_m", s.layout.obstacle_distance_m, {.min = 0.0}, "take-off point to the box");
+  s.layout.obstacle_distance_m =
+      r.number("obstacle_distance_m", s.layout.obstacle_distance_m, {.min = 0.0}, "take-off point to the box");
   s.rules.clearance_m = r.number("clearance_m", s.rules.clearance_m, {.min = 0.0}, "§3.6.1: 0.2");
   s.rules.time_limit_s = r.number("time_limit_s", s.rules.time_limit_s, {.min = 0.0, .exclusive_min = true}, "§3.6.1: 2");
   s.latent_bound = r.number("latent_bound", s.latent_bound, {.min = 0.0, .exclusive_min = true}, "P-VAE latent box");
@@ -49,8 +51,8 @@ JumpSettings read_jump_settings(base::ConfigReader& r) {
   s.novelty_threshold_rad = r.number("novelty_threshold_rad", s.novelty_threshold_rad, {.min = 0.0, .exclusive_min = true},
                                      "eq. 3.12's d_threshold (§3.6.2: π/2)");
   if (!s.takeoff_features.empty() && s.takeoff_features.size() != takeoff_features(s.kind).size())
-    r.fail("takeoff_features", "has " + std::to_string(s.takeoff_features.size()) + " values; " + jump_kind_name(s.kind) + " explores " +
-                                   std::to_string(takeoff_features(s.kind).size()));
+    r.fail("takeoff_features", "has " + std::to_string(s.takeoff_features.size()) + " values; " + jump_kind_name(s.kind) +
+                                   " explores " + std::to_string(takeoff_features(s.kind).size()));
   return s;
 }
 
@@ -69,9 +71,11 @@ JumpEnv::JumpEnv(const JumpSettings& settings, PosePrior prior)
         Parts p;
         const sim::ModelPtr model = sim::load_shipped_model(settings.model);
         p.foot = model->find_body(settings.takeoff_foot);
-        if (p.foot < 0) throw base::UserError("jump env: model " + model->name() + " has no body " + settings.takeoff_foot + " (takeoff_foot)");
+        if (p.foot < 0)
+          throw base::UserError("jump env: model " + model->name() + " has no body " + settings.takeoff_foot + " (takeoff_foot)");
         p.takeoff = reference_takeoff(settings, model, p.foot);
-        if (!settings.takeoff_features.empty()) p.takeoff = apply_takeoff_features(settings.kind, p.takeoff, settings.takeoff_features);
+        if (!settings.takeoff_features.empty())
+          p.takeoff = apply_takeoff_features(settings.kind, p.takeoff, settings.takeoff_features);
         SuiteLayout layout = settings.layout;
         layout.approach_angle_rad = approach_angle(settings.kind, settings.takeoff_features, layout.approach_angle_rad);
         p.suite = make_suite(settings.kind, settings.difficulty_m, layout);
@@ -84,8 +88,8 @@ JumpEnv::JumpEnv(const JumpSettings& settings, PosePrior prior)
         // The last step reaches the time limit, where the rules end the episode (never truncated).
         e.episode_steps = static_cast<int>(std::ceil(settings.rules.time_limit_s * e.world.control_hz - 1e-9));
         if (prior.vae) {
-          e.action = std::make_unique<VaeActions>(prior.vae, PoseBridge(model, prior.frame), sim::Control::spd_maba, settings.latent_bound,
-                                                  settings.offset_bound);
+          e.action = std::make_unique<VaeActions>(prior.vae, PoseBridge(model, prior.frame), sim::Control::spd_maba,
+                                                  settings.latent_bound, settings.offset_bound);
           p.composite = true, p.latent_size = prior.vae->latent_size();
         } else {
           e.action = std::make_unique<TargetActions>(model, sim::Control::spd_maba);
@@ -107,9 +111,17 @@ JumpEnv::JumpEnv(const JumpSettings& settings, PosePrior prior)
       }()) {}
 
 JumpEnv::JumpEnv(const JumpSettings& settings, Parts p)
-    : CharacterEnv(std::move(p.env)), settings_(settings), takeoff_(std::move(p.takeoff)), foot_(p.foot), composite_(p.composite),
-      latent_size_(p.latent_size), z_(settings.difficulty_m), c_offset_(offset_coefficient(difficulty_ratio(settings.kind, z_))),
-      suite_(std::move(p.suite)), referee_(model(), foot_, suite_.obstacle_prop, suite_.block_prop, settings.rules), crossing_(suite_) {}
+    : CharacterEnv(std::move(p.env)),
+      settings_(settings),
+      takeoff_(std::move(p.takeoff)),
+      foot_(p.foot),
+      composite_(p.composite),
+      latent_size_(p.latent_size),
+      z_(settings.difficulty_m),
+      c_offset_(offset_coefficient(difficulty_ratio(settings.kind, z_))),
+      suite_(std::move(p.suite)),
+      referee_(model(), foot_, suite_.obstacle_prop, suite_.block_prop, settings.rules),
+      crossing_(suite_) {}
 
 bool JumpEnv::set_difficulty(double z_m) {
   SuiteLayout layout = settings_.layout;
@@ -151,12 +163,18 @@ void JumpEnv::on_step(std::span<const double> action, learn::StepResult& out) {
     out.terminated = true;
     const bool success = outcome == Outcome::success;
     const Eigen::Vector3d f = crossing_.bar_frame_rotation();
-    const double novelty = success ? novelty_reward(std::span<const double>(f.data(), 3), known_, settings_.novelty_threshold_rad) : 1.0;
+    const double novelty =
+        success ? novelty_reward(std::span<const double>(f.data(), 3), known_, settings_.novelty_threshold_rad) : 1.0;
     terms_ = jump_reward(success, referee_.head_first(), sums_, c_offset_, novelty);
     out.reward = terms_.total();
   }
-  out.info = {outcome == Outcome::success ? 1.0 : 0.0, static_cast<double>(outcome), referee_.head_first() ? 1.0 : 0.0,
-              sums_.mean_root_speed(), sums_.mean_offset_l1(), crossing_.up_angle(), z_};
+  out.info = {outcome == Outcome::success ? 1.0 : 0.0,
+              static_cast<double>(outcome),
+              referee_.head_first() ? 1.0 : 0.0,
+              sums_.mean_root_speed(),
+              sums_.mean_offset_l1(),
+              crossing_.up_angle(),
+              z_};
 }
 
 std::optional<base::Json> JumpEnv::save_state() const {
@@ -179,7 +197,8 @@ void JumpEnv::load_state(const base::Json& state) {
     const base::Json& s = j.at("sums");
     sums_ = EpisodeSums{s.at(0).get<int>(), s.at(1).get<double>(), s.at(2).get<double>()};
     const base::Json& t = j.at("terms");
-    terms_ = RewardTerms{t.at(0).get<double>(), t.at(1).get<double>(), t.at(2).get<double>(), t.at(3).get<double>(), t.at(4).get<double>()};
+    terms_ = RewardTerms{t.at(0).get<double>(), t.at(1).get<double>(), t.at(2).get<double>(), t.at(3).get<double>(),
+                         t.at(4).get<double>()};
   } catch (const base::Json::exception& e) {
     throw base::UserError(std::string("jump env state: ") + e.what());
   }

@@ -47,8 +47,8 @@ struct JumpSettings {
   std::vector<double> takeoff_features;
   SuiteLayout layout;
   RulesConfig rules;
-  double latent_bound = 3.0;  ///< P-VAE latent box ±3σ
-  double offset_bound = 2.0;  ///< per-joint offsets, rad (authors' repository: offset scale 2)
+  double latent_bound = 3.0;                            ///< P-VAE latent box ±3σ
+  double offset_bound = 2.0;                            ///< per-joint offsets, rad (authors' repository: offset scale 2)
   double novelty_threshold_rad = std::numbers::pi / 2;  ///< d_threshold of eq. 3.12 (§3.6.2: π/2)
 };
 

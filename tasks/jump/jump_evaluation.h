@@ -14,16 +14,16 @@
 namespace podium::tasks::jump {
 
 struct EvaluationJumps {
-  int jumps = 5;            ///< ≥ 1; the first is deterministic
-  double sigma = 0.1;       ///< action noise of the others, in half-widths of the action box
-  std::uint64_t seed = 1;   ///< the noise's generator (the same for every trial)
+  int jumps = 5;           ///< ≥ 1; the first is deterministic
+  double sigma = 0.1;      ///< action noise of the others, in half-widths of the action box
+  std::uint64_t seed = 1;  ///< the noise's generator (the same for every trial)
 };
 
 struct JumpEvaluation {
-  double success_rate = 0.0;       ///< over all jumps
+  double success_rate = 0.0;  ///< over all jumps
   bool deterministic_success = false;
-  double return_mean = 0.0;        ///< mean episode reward (eq. 3.16's product, 0 for a failure)
-  double mean_offset_l1 = 0.0;     ///< mean over the jumps of the episode-mean L1 offset, rad
+  double return_mean = 0.0;     ///< mean episode reward (eq. 3.16's product, 0 for a failure)
+  double mean_offset_l1 = 0.0;  ///< mean over the jumps of the episode-mean L1 offset, rad
   /// The deterministic jump's crossing: Stage 1's up-angle (rad), Stage 2's bar-frame rotation.
   double up_angle_rad = 0.0;
   Eigen::Vector3d bar_rotation = Eigen::Vector3d::Zero();

@@ -8,11 +8,16 @@ namespace podium::tasks::jump {
 
 const char* outcome_name(Outcome outcome) {
   switch (outcome) {
-    case Outcome::in_flight: return "in_flight";
-    case Outcome::success: return "success";
-    case Outcome::touched_obstacle: return "touched_obstacle";
-    case Outcome::touched_ground: return "touched_ground";
-    case Outcome::timed_out: return "timed_out";
+    case Outcome::in_flight:
+      return "in_flight";
+    case Outcome::success:
+      return "success";
+    case Outcome::touched_obstacle:
+      return "touched_obstacle";
+    case Outcome::touched_ground:
+      return "touched_ground";
+    case Outcome::timed_out:
+      return "timed_out";
   }
   return "?";
 }
@@ -50,7 +55,8 @@ Outcome JumpReferee::judge(const sim::World& world, const sim::Observation& obs,
   }
   if (on_block) {
     bool clear = true;
-    for (int b = 0; b < static_cast<int>(model_->bodies().size()) && clear; ++b) clear = world.prop_distance(b, obstacle_) >= rules_.clearance_m;
+    for (int b = 0; b < static_cast<int>(model_->bodies().size()) && clear; ++b)
+      clear = world.prop_distance(b, obstacle_) >= rules_.clearance_m;
     if (clear) {
       outcome_ = Outcome::success, head_first_ = head_on_block;
       reason_ = head_first_ ? "landed on the block head first" : "landed on the block";
@@ -71,7 +77,8 @@ base::Json JumpReferee::state() const {
 
 void JumpReferee::load_state(const base::Json& state) {
   const int outcome = state.at("outcome").get<int>();
-  if (outcome < 0 || outcome > static_cast<int>(Outcome::timed_out)) throw base::UserError("jump rules state: outcome " + std::to_string(outcome) + " is unknown");
+  if (outcome < 0 || outcome > static_cast<int>(Outcome::timed_out))
+    throw base::UserError("jump rules state: outcome " + std::to_string(outcome) + " is unknown");
   outcome_ = static_cast<Outcome>(outcome);
   reason_ = state.at("reason").get<std::string>();
   head_first_ = state.at("head_first").get<bool>();

@@ -23,7 +23,7 @@ namespace podium::tasks::jump {
 /// top at clip(h − 0.7, 0.02, 0.75) for a bar (obstacle) height h).
 struct SuiteLayout {
   double approach_angle_rad = std::numbers::pi / 2;  ///< α (high jump only); π/2: the bar across the run
-  double wall_distance_m = 1.2;      ///< take-off point to the wall's near face, along n
+  double wall_distance_m = 1.2;                      ///< take-off point to the wall's near face, along n
   double wall_thickness_m = 0.05;
   double wall_length_m = 20.0;
   double obstacle_distance_m = 1.0;  ///< take-off point to the obstacle's near face

@@ -14,11 +14,13 @@ namespace fs = std::filesystem;
 PosePriorSettings read_pose_prior_settings(base::ConfigReader& r) {
   PosePriorSettings s;
   learn::VaeConfig& v = s.vae;
-  s.pose_set = r.string("pose_set", s.pose_set, "P-VAE training poses: empty: the shipped athlete set; a folder of DeepMimic clips; a pose-set .json");
+  s.pose_set = r.string("pose_set", s.pose_set,
+                        "P-VAE training poses: empty: the shipped athlete set; a folder of DeepMimic clips; a pose-set .json");
   v.epochs = r.integer<int>("vae_epochs", v.epochs, {.min = 1}, "P-VAE epochs (§3.4.2: 80)");
   v.latent_size = r.integer<int>("vae_latent_size", v.latent_size, {.min = 1}, "P-VAE latent dimension (§3.4.2: 13)");
   v.beta = r.number("vae_beta", v.beta, {.min = 0.0}, "P-VAE KL weight per pose (§3.4.2's 1e-5 × the minibatch of 128)");
-  v.learning_rate = r.number("vae_learning_rate", v.learning_rate, {.min = 0.0, .exclusive_min = true}, "P-VAE Adam rate (§3.4.2: 1e-4)");
+  v.learning_rate =
+      r.number("vae_learning_rate", v.learning_rate, {.min = 0.0, .exclusive_min = true}, "P-VAE Adam rate (§3.4.2: 1e-4)");
   v.batch_size = r.integer<int>("vae_batch_size", v.batch_size, {.min = 1}, "P-VAE minibatch (§3.4.2: 128)");
   return s;
 }
@@ -71,7 +73,8 @@ learn::PoseDataset read_pose_prior_set(const std::string& pose_set, const sim::M
   const fs::path path(pose_set);
   if (fs::is_directory(path)) return read_clip_folder(path, bridge, model);
   if (fs::is_regular_file(path) && path.extension() == ".json") return read_pose_file(path, bridge);
-  throw base::UserError("pose_set " + pose_set + ": " + (fs::exists(path) ? "neither a folder of clips nor a pose-set .json" : "no such folder or file"));
+  throw base::UserError("pose_set " + pose_set + ": " +
+                        (fs::exists(path) ? "neither a folder of clips nor a pose-set .json" : "no such folder or file"));
 }
 
 PoseVaeOutcome train_pose_prior(const PosePriorSettings& settings, const fs::path& work_dir, std::uint64_t seed,

@@ -23,7 +23,6 @@
 
 namespace podium::tasks::jump {
 
-
 struct PosePriorSettings {
   /// "" : the shipped set (shipped_pose_set_path()); a folder: every *.txt below it (recursively)
   /// as a DeepMimic-format clip of `model`; a .json file: a pose set in learn's format.

@@ -14,8 +14,8 @@ namespace podium::tasks::jump {
 using character::Termination;
 
 std::vector<std::string> runup_info_names() {
-  return {"imitation", "handed_over", "task_reward", "fell", "deviated", "omega_error_x", "omega_error_y", "omega_error_z",
-          "lateral_speed_error"};
+  return {"imitation",     "handed_over",   "task_reward",        "fell", "deviated", "omega_error_x",
+          "omega_error_y", "omega_error_z", "lateral_speed_error"};
 }
 
 RunupSettings read_runup_settings(base::ConfigReader& r, const RunupSettings& jump) {
@@ -27,14 +27,16 @@ RunupSettings read_runup_settings(base::ConfigReader& r, const RunupSettings& ju
                     "the reference run of the run-up stage (DeepMimic format; §3.6.1: a curved sprint for the high jump, "
                     "arpspoof/Jump's data/motions/beyond/VC5_sprint__curves_03.txt, a straight one for the obstacle jump, "
                     "VC5_Run_jumpToBox_01.txt); \"\": none (the stage then fails with this key's name)");
-  s.control_hz = r.number("runup_control_hz", s.control_hz, {.min = 1.0}, "the run-up's control rate (DeepMimic: 30 Hz); divides sim_hz");
+  s.control_hz =
+      r.number("runup_control_hz", s.control_hz, {.min = 1.0}, "the run-up's control rate (DeepMimic: 30 Hz); divides sim_hz");
   s.takeoff_time_s = r.number("runup_takeoff_time_s", s.takeoff_time_s, {.min = 0.0},
                               "the take-off on the reference's clock; 0: its last single support on takeoff_foot");
   s.handover_window_s = r.number("runup_window_s", s.handover_window_s, {.min = 0.0},
                                  "how early before the take-off time a step on takeoff_foot alone hands over to the jump");
   s.start_noise_rad = r.number("runup_start_noise", s.start_noise_rad, {.min = 0.0}, "RSI joint noise, rad");
-  s.actions = r.choice("runup_actions", s.actions, {"residual", "targets"},
-                       "residual: the reference pose + a per-joint offset (the default); targets: the PD targets themselves (DeepMimic's)");
+  s.actions = r.choice(
+      "runup_actions", s.actions, {"residual", "targets"},
+      "residual: the reference pose + a per-joint offset (the default); targets: the PD targets themselves (DeepMimic's)");
   s.offset_bound_rad = r.number("runup_offset_bound", s.offset_bound_rad, {.min = 0.0, .exclusive_min = true},
                                 "the residual action's per-joint offset bound, rad");
   s.max_com_deviation_m = r.number("runup_max_com_deviation_m", s.max_com_deviation_m, {.min = 0.0, .exclusive_min = true},
@@ -90,19 +92,19 @@ RunupEnv::RunupEnv(const RunupSettings& settings, std::shared_ptr<const characte
                                          ? settings.takeoff_time_s
                                          : reference_takeoff_time(*model, reference->times_s, reference->poses, p.foot, p.other);
         if (p.condition.takeoff_time_s > reference->duration_s() + 1e-9)
-          throw base::UserError("jump runup: runup_takeoff_time_s " + std::to_string(p.condition.takeoff_time_s) + " is after the reference run's end " +
-                                std::to_string(reference->duration_s()) + " s");
+          throw base::UserError("jump runup: runup_takeoff_time_s " + std::to_string(p.condition.takeoff_time_s) +
+                                " is after the reference run's end " + std::to_string(reference->duration_s()) + " s");
         CharacterEnvParts& e = p.env;
         e.model = model;
         e.world.sim_hz = settings.sim_hz;
         e.world.control_hz = settings.control_hz;
         e.episode_steps = static_cast<int>(std::ceil(p.condition.takeoff_time_s * settings.control_hz - 1e-9)) + 1;
-        if (settings.actions == "residual") e.action = std::make_unique<ResidualActions>(model, sim::Control::spd_maba, settings.offset_bound_rad);
+        if (settings.actions == "residual")
+          e.action = std::make_unique<ResidualActions>(model, sim::Control::spd_maba, settings.offset_bound_rad);
         else e.action = std::make_unique<TargetActions>(model, sim::Control::spd_maba);
         e.observation.push_back(std::make_unique<LinkStates>(LinkStates::Blocks{}, LinkStates::Frame::heading));
-        e.observation.push_back(std::make_unique<TaskScalars>(1, [](const CharacterEnv& env, std::span<double> out) {
-          out[0] = env.world().data().q(2);
-        }));
+        e.observation.push_back(std::make_unique<TaskScalars>(
+            1, [](const CharacterEnv& env, std::span<double> out) { out[0] = env.world().data().q(2); }));
         e.observation.push_back(std::make_unique<ReferencePhase>(p.imitation));
         // RSI over the frames before the take-off: a start at or after it would hand over at once.
         const int last = std::max(0, static_cast<int>(std::floor(p.condition.takeoff_time_s * settings.control_hz + 1e-9)) - 1);
@@ -117,8 +119,13 @@ RunupEnv::RunupEnv(const RunupSettings& settings, std::shared_ptr<const characte
       }()) {}
 
 RunupEnv::RunupEnv(const RunupSettings& settings, Parts p)
-    : CharacterEnv(std::move(p.env)), settings_(settings), imitation_(std::move(p.imitation)), condition_(p.condition),
-      target_(runup_target(settings.kind, settings.takeoff_features)), foot_(p.foot), other_(p.other) {
+    : CharacterEnv(std::move(p.env)),
+      settings_(settings),
+      imitation_(std::move(p.imitation)),
+      condition_(p.condition),
+      target_(runup_target(settings.kind, settings.takeoff_features)),
+      foot_(p.foot),
+      other_(p.other) {
   early_.fall_bodies = character::fall_bodies_except(model(), {settings.takeoff_foot, settings.other_foot});
   early_.max_com_deviation_m = settings.max_com_deviation_m;
   full_steps_ = static_cast<int>(std::lround(condition_.takeoff_time_s * settings.control_hz));
@@ -148,16 +155,24 @@ void RunupEnv::on_step(learn::StepResult& out) {
   out.terminated = handed_over_ || termination_ != Termination::none;
   const Eigen::Vector3d dw = handed_over_ ? Eigen::Vector3d(end_.omega - target_.root_omega) : Eigen::Vector3d::Zero();
   const double dv = handed_over_ && settings_.kind == JumpKind::high_jump ? end_.velocity.y() - target_.lateral_speed : 0.0;
-  out.info = {terms.total, handed_over_ ? 1.0 : 0.0, task_reward_, termination_ == Termination::fell ? 1.0 : 0.0,
-              termination_ == Termination::deviated ? 1.0 : 0.0, dw.x(), dw.y(), dw.z(), dv};
+  out.info = {terms.total,
+              handed_over_ ? 1.0 : 0.0,
+              task_reward_,
+              termination_ == Termination::fell ? 1.0 : 0.0,
+              termination_ == Termination::deviated ? 1.0 : 0.0,
+              dw.x(),
+              dw.y(),
+              dw.z(),
+              dv};
 }
 
 std::optional<base::Json> RunupEnv::save_state() const {
   base::Json state = *CharacterEnv::save_state();
-  state["runup"] = {{"handed_over", handed_over_},
-                    {"termination", static_cast<int>(termination_)},
-                    {"end", {end_.omega.x(), end_.omega.y(), end_.omega.z(), end_.velocity.x(), end_.velocity.y(), end_.velocity.z()}},
-                    {"task_reward", task_reward_}};
+  state["runup"] = {
+      {"handed_over", handed_over_},
+      {"termination", static_cast<int>(termination_)},
+      {"end", {end_.omega.x(), end_.omega.y(), end_.omega.z(), end_.velocity.x(), end_.velocity.y(), end_.velocity.z()}},
+      {"task_reward", task_reward_}};
   return state;
 }
 

@@ -32,18 +32,18 @@ struct RunupSettings {
   /// The reference run (DeepMimic format); the config reads it from runup_motions/runup_motion.
   std::string motion;
   double sim_hz = 600.0;
-  double control_hz = 30.0;          ///< DeepMimic's 30 Hz
-  double takeoff_time_s = 0.0;       ///< on the reference's clock; 0: reference_takeoff_time
-  double handover_window_s = 0.2;    ///< TakeoffCondition::window_s
-  double start_noise_rad = 0.02;     ///< RSI joint noise
+  double control_hz = 30.0;        ///< DeepMimic's 30 Hz
+  double takeoff_time_s = 0.0;     ///< on the reference's clock; 0: reference_takeoff_time
+  double handover_window_s = 0.2;  ///< TakeoffCondition::window_s
+  double start_noise_rad = 0.02;   ///< RSI joint noise
   /// The action: "residual" (the reference pose + Δq, |Δq| ≤ offset_bound_rad, as the get-up's
   /// Slower stage: a policy that outputs 0 already follows the run for a while) or "targets"
   /// (DeepMimic's: the PD targets themselves, within the joint limits).
   std::string actions = "residual";
   double offset_bound_rad = 1.0;
   double imitation_weight = 0.7, task_weight = 0.3;  ///< DeepMimic's ω_I, ω_G
-  double max_com_deviation_m = 1.0;  ///< early termination
-  std::vector<double> takeoff_features;  ///< the strategy's (takeoff_features(kind)'s order)
+  double max_com_deviation_m = 1.0;                  ///< early termination
+  std::vector<double> takeoff_features;              ///< the strategy's (takeoff_features(kind)'s order)
 };
 
 /// Reads the run-up keys (runup_motion, runup_control_hz, runup_takeoff_time_s, runup_window_s,

@@ -14,8 +14,8 @@ namespace podium::tasks::jump {
 RunupTarget runup_target(JumpKind kind, std::span<const double> x) {
   const std::size_t n = takeoff_features(kind).size();
   if (x.size() != n)
-    throw base::UserError(std::string("jump run-up: ") + jump_kind_name(kind) + " take-off features are " + std::to_string(n) + " values, got " +
-                          std::to_string(x.size()));
+    throw base::UserError(std::string("jump run-up: ") + jump_kind_name(kind) + " take-off features are " + std::to_string(n) +
+                          " values, got " + std::to_string(x.size()));
   RunupTarget t;
   t.kind = kind;
   if (kind == JumpKind::high_jump) {  // §3.6.1: ω_z fixed at the curved sprint's 3 rad/s (takeoff.h)
@@ -50,8 +50,8 @@ bool takeoff_reached(const TakeoffCondition& c, double t_s, bool takeoff_foot_do
   return t_s >= c.takeoff_time_s - c.window_s - kClockTolerance && takeoff_foot_down && !other_foot_down;
 }
 
-double reference_takeoff_time(const sim::CharacterModel& model, std::span<const double> times_s, std::span<const Eigen::VectorXd> poses,
-                              int takeoff_foot, int other_foot) {
+double reference_takeoff_time(const sim::CharacterModel& model, std::span<const double> times_s,
+                              std::span<const Eigen::VectorXd> poses, int takeoff_foot, int other_foot) {
   sim::CharacterData d(model);
   const auto low_point = [&](int body) {
     double low = std::numeric_limits<double>::infinity();
@@ -79,8 +79,8 @@ double reference_takeoff_time(const sim::CharacterModel& model, std::span<const 
   constexpr double kContact = 0.03;  // m above the clip's lowest foot point
   for (std::size_t f = poses.size(); f-- > 0;)
     if (foot[f] - ground < kContact && other[f] - ground >= kContact) return times_s[f];
-  throw base::UserError("jump run-up: the reference run never has " + model.bodies()[static_cast<std::size_t>(takeoff_foot)].name +
-                        " alone on the ground");
+  throw base::UserError("jump run-up: the reference run never has " +
+                        model.bodies()[static_cast<std::size_t>(takeoff_foot)].name + " alone on the ground");
 }
 
 }  // namespace podium::tasks::jump

@@ -49,7 +49,7 @@ bool takeoff_reached(const TakeoffCondition& condition, double t_s, bool takeoff
 /// The reference run's take-off time: the last frame at which `takeoff_foot` is within 3 cm of
 /// the clip's lowest foot height while the other foot is at least 3 cm above it (single support).
 /// Throws base::UserError when no frame is.
-double reference_takeoff_time(const sim::CharacterModel& model, std::span<const double> times_s, std::span<const Eigen::VectorXd> poses,
-                              int takeoff_foot, int other_foot);
+double reference_takeoff_time(const sim::CharacterModel& model, std::span<const double> times_s,
+                              std::span<const Eigen::VectorXd> poses, int takeoff_foot, int other_foot);
 
 }  // namespace podium::tasks::jump

@@ -29,7 +29,8 @@ JumpEvaluation evaluate_shipped(const ShippedJump& shipped, JumpSettings setting
   if (!shipped.pose_vae.empty()) prior = load_pose_prior(shipped.pose_vae);
   JumpEnv env(settings, prior);
   const learn::FrozenPolicy policy(shipped.policy);
-  return evaluate_jumps(env, [&](std::span<const double> o, std::span<double> a) { policy.act(o, a, 1.0); }, jumps, record_dir);
+  return evaluate_jumps(
+      env, [&](std::span<const double> o, std::span<double> a) { policy.act(o, a, 1.0); }, jumps, record_dir);
 }
 
 }  // namespace podium::tasks::jump

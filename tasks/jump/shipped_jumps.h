@@ -11,10 +11,10 @@
 namespace podium::tasks::jump {
 
 struct ShippedJump {
-  std::string policy;              ///< TorchScript export of a jump trial
-  std::string pose_vae;            ///< the P-VAE it acts through ("" : plain targets)
-  std::vector<double> takeoff;     ///< its take-off features, in takeoff_features(kind)'s order
-  double z_m = 0.0;                ///< the bar (box width) to jump
+  std::string policy;           ///< TorchScript export of a jump trial
+  std::string pose_vae;         ///< the P-VAE it acts through ("" : plain targets)
+  std::vector<double> takeoff;  ///< its take-off features, in takeoff_features(kind)'s order
+  double z_m = 0.0;             ///< the bar (box width) to jump
 };
 
 /// The `shipped` config list (paths relative to the spec file's folder); an entry's `z_m` 0 (or

@@ -46,8 +46,12 @@ Eigen::Quaterniond json_quat(const base::Json& j) {
 }  // namespace
 
 base::Json CrossingRecorder::state() const {
-  return {{"seen", seen_},           {"crossed", crossed_},           {"last_distance", last_distance_},
-          {"closest", closest_},     {"last_root", quat_json(last_root_)}, {"root", quat_json(root_)}};
+  return {{"seen", seen_},
+          {"crossed", crossed_},
+          {"last_distance", last_distance_},
+          {"closest", closest_},
+          {"last_root", quat_json(last_root_)},
+          {"root", quat_json(root_)}};
 }
 
 void CrossingRecorder::load_state(const base::Json& state) {

@@ -81,8 +81,9 @@ std::filesystem::path shipped_takeoff_path() { return std::filesystem::path(PODI
 
 TakeoffState placed_at_takeoff(const sim::CharacterModel& model, TakeoffState s, int takeoff_foot) {
   if (s.q.size() != model.nq() || s.joint_qd.size() != model.nv() - 6)
-    throw base::UserError("jump take-off: a state of " + std::to_string(s.q.size()) + " positions and " + std::to_string(s.joint_qd.size()) +
-                          " joint rates for model " + model.name() + " (nq " + std::to_string(model.nq()) + ", nv − 6 = " + std::to_string(model.nv() - 6) + ")");
+    throw base::UserError("jump take-off: a state of " + std::to_string(s.q.size()) + " positions and " +
+                          std::to_string(s.joint_qd.size()) + " joint rates for model " + model.name() + " (nq " +
+                          std::to_string(model.nq()) + ", nv − 6 = " + std::to_string(model.nv() - 6) + ")");
   const Eigen::Quaterniond root = quat_at(s.q, 3).normalized();
   const Eigen::Quaterniond turn(Eigen::AngleAxisd(-character::heading_yaw(root.toRotationMatrix()), Eigen::Vector3d::UnitZ()));
   set_quat(s.q, 3, turn * root);
@@ -96,8 +97,9 @@ TakeoffState placed_at_takeoff(const sim::CharacterModel& model, TakeoffState s,
   s.q(2) -= low.at(takeoff_foot);
   for (std::size_t b = 0; b < low.size(); ++b)
     if (static_cast<int>(b) != takeoff_foot && low[b] - low[takeoff_foot] < 0.005)
-      throw base::UserError("jump take-off: with " + model.bodies()[takeoff_foot].name + " on the ground, " + model.bodies()[b].name +
-                            " is " + std::to_string(low[b] - low[takeoff_foot]) + " m above it (need ≥ 0.005: one-leg support)");
+      throw base::UserError("jump take-off: with " + model.bodies()[takeoff_foot].name + " on the ground, " +
+                            model.bodies()[b].name + " is " + std::to_string(low[b] - low[takeoff_foot]) +
+                            " m above it (need ≥ 0.005: one-leg support)");
   return s;
 }
 
@@ -109,8 +111,8 @@ TakeoffState read_takeoff_json(const sim::ModelPtr& model, const std::filesystem
   s.joint_qd = Eigen::VectorXd::Zero(model->nv() - 6);
   try {
     if (!j.is_object()) throw base::UserError(where + ": not a JSON object");
-    static const std::array<std::string, 6> known = {"description", "joints", "root_rotation", "root_velocity", "root_angular_velocity",
-                                                     "joint_velocities"};
+    static const std::array<std::string, 6> known = {"description",           "joints",          "root_rotation", "root_velocity",
+                                                     "root_angular_velocity", "joint_velocities"};
     for (const auto& [key, value] : j.items())
       if (std::find(known.begin(), known.end(), key) == known.end()) throw base::UserError(where + ": " + key + ": unknown key");
     set_quat(s.q, 3, exp_map(vec3(j.at("root_rotation"), where + ": root_rotation")));
@@ -148,7 +150,8 @@ TakeoffState read_takeoff_npy(const sim::ModelPtr& model, const std::filesystem:
   const std::vector<double> pose = read_npy_vector(in, where), vel = read_npy_vector(in, where);
   if (static_cast<int>(pose.size()) != model->nq() || pose.size() != vel.size())
     throw base::UserError(where + ": pose of " + std::to_string(pose.size()) + " and velocity of " + std::to_string(vel.size()) +
-                          " values; model " + model->name() + " has nq " + std::to_string(model->nq()) + " (DeepMimic's joint order)");
+                          " values; model " + model->name() + " has nq " + std::to_string(model->nq()) +
+                          " (DeepMimic's joint order)");
   // DeepMimic is y-up: every vector, world or joint-local, changes frame by C (read_deepmimic_clip).
   const Eigen::Quaterniond& C = character::yup_to_zup();
   TakeoffState s;
@@ -194,7 +197,8 @@ TakeoffState takeoff_from_clip(const character::Clip& clip, int takeoff_foot) {
       break;
     }
   if (takeoff > peak)
-    throw base::UserError("jump take-off: in the clip, " + model.bodies()[takeoff_foot].name + " never touches the ground before the peak");
+    throw base::UserError("jump take-off: in the clip, " + model.bodies()[takeoff_foot].name +
+                          " never touches the ground before the peak");
   const Eigen::VectorXd qd = clip.velocities()[takeoff];
   TakeoffState s;
   s.q = clip.poses[takeoff];
@@ -207,7 +211,9 @@ TakeoffState takeoff_from_clip(const character::Clip& clip, int takeoff_foot) {
 
 std::vector<TakeoffFeature> takeoff_features(JumpKind kind) {
   if (kind == JumpKind::high_jump)
-    return {{"approach_angle", "rad", -0.5, 2.5}, {"root_omega_x", "rad/s", -3.0, 3.0}, {"root_omega_y", "rad/s", -3.0, 3.0},
+    return {{"approach_angle", "rad", -0.5, 2.5},
+            {"root_omega_x", "rad/s", -3.0, 3.0},
+            {"root_omega_y", "rad/s", -3.0, 3.0},
             {"lateral_speed", "m/s", 0.0, 2.5}};
   return {{"root_omega_x", "rad/s", -4.0, 4.0}, {"root_omega_y", "rad/s", -4.0, 4.0}, {"root_omega_z", "rad/s", -4.0, 4.0}};
 }
@@ -215,8 +221,8 @@ std::vector<TakeoffFeature> takeoff_features(JumpKind kind) {
 TakeoffState apply_takeoff_features(JumpKind kind, const TakeoffState& reference, std::span<const double> x) {
   const std::size_t n = takeoff_features(kind).size();
   if (x.size() != n)
-    throw base::UserError(std::string("jump take-off: ") + jump_kind_name(kind) + " explores " + std::to_string(n) + " features, got " +
-                          std::to_string(x.size()));
+    throw base::UserError(std::string("jump take-off: ") + jump_kind_name(kind) + " explores " + std::to_string(n) +
+                          " features, got " + std::to_string(x.size()));
   TakeoffState s = reference;
   if (kind == JumpKind::high_jump) {
     s.root_omega = Eigen::Vector3d(x[1], x[2], kHighJumpTurnRate);

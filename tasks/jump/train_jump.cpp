@@ -28,7 +28,8 @@ TrainSettings read_train_settings(base::ConfigReader& r) {
   } catch (const base::UserError& error) {
     r.fail("ppo", error.what());
   }
-  s.copies = r.integer<int>("copies", s.copies, {1, 1024}, "JumpEnv copies stepped together (samples per iteration = copies × ppo.rollout_steps)");
+  s.copies = r.integer<int>("copies", s.copies, {1, 1024},
+                            "JumpEnv copies stepped together (samples per iteration = copies × ppo.rollout_steps)");
   s.threads = r.integer<int>("threads", s.threads, {1, 1024}, "threads stepping the copies");
   if (s.threads > s.copies) r.fail("threads", "is above copies " + std::to_string(s.copies));
   s.total_samples = r.integer<std::int64_t>("total_samples", s.total_samples, {1}, "samples at most (§3.6.2: 12,000 × 4096)");
@@ -38,8 +39,10 @@ TrainSettings read_train_settings(base::ConfigReader& r) {
   s.curriculum = difficulty_curriculum(s.env.kind);
   s.curriculum.initial = s.env.difficulty_m;
   const double step = r.number("z_step_m", 0.0, {.min = 0.0}, "Δz of Table 3.1; 0: the table's (1 cm high jump, 5 cm obstacle)");
-  const double threshold = r.number("reward_threshold", 0.0, {.min = 0.0}, "R_T of Table 3.1; 0: the table's (30 high jump, 50 obstacle)");
-  const double z_max = r.number("z_max_m", 0.0, {.min = 0.0}, "z_max of Table 3.1; 0: the table's (2 m high jump, 2.5 m obstacle)");
+  const double threshold =
+      r.number("reward_threshold", 0.0, {.min = 0.0}, "R_T of Table 3.1; 0: the table's (30 high jump, 50 obstacle)");
+  const double z_max =
+      r.number("z_max_m", 0.0, {.min = 0.0}, "z_max of Table 3.1; 0: the table's (2 m high jump, 2.5 m obstacle)");
   if (step > 0) s.curriculum.increment = step;
   if (threshold > 0) s.curriculum.threshold = threshold;
   if (z_max > 0) s.curriculum.limit = z_max;
@@ -50,10 +53,13 @@ TrainSettings read_train_settings(base::ConfigReader& r) {
 
   s.eval_every = r.integer<int>("eval_every", s.eval_every, {1, 1000000}, "PPO iterations between tests");
   s.eval.jumps = r.integer<int>("eval_jumps", s.eval.jumps, {1, 10000}, "jumps per test (the first deterministic)");
-  s.eval.sigma = r.number("eval_sigma", s.eval.sigma, {.min = 0.0, .max = 1.0}, "action noise of the other test jumps (§3.4.1's final σ)");
+  s.eval.sigma =
+      r.number("eval_sigma", s.eval.sigma, {.min = 0.0, .max = 1.0}, "action noise of the other test jumps (§3.4.1's final σ)");
   s.eval.seed = r.integer<std::uint64_t>("eval_seed", s.eval.seed, {}, "the test noise's seed (the same for every trial)");
-  s.final_jumps = r.integer<int>("final_jumps", s.final_jumps, {1, 10000}, "evaluation jumps at the end, at the starting bar and the final z");
-  s.checkpoint_every = r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1000000}, "PPO iterations between training checkpoints");
+  s.final_jumps = r.integer<int>("final_jumps", s.final_jumps, {1, 10000},
+                                 "evaluation jumps at the end, at the starting bar and the final z");
+  s.checkpoint_every =
+      r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1000000}, "PPO iterations between training checkpoints");
   return s;
 }
 
@@ -68,7 +74,9 @@ double iteration_score(const std::string& score, const learn::TrainStats& stats,
 JumpStage::JumpStage(const TrainSettings& settings, std::uint64_t seed, const TrialInputs& inputs)
     : s_(settings), seed_(seed), prior_(inputs.prior), known_(inputs.known), curriculum_(settings.curriculum) {}
 
-void JumpStage::build(const Json& built) { build_copies(built.is_null() ? s_.curriculum.initial : built.at("z_built_m").get<double>()); }
+void JumpStage::build(const Json& built) {
+  build_copies(built.is_null() ? s_.curriculum.initial : built.at("z_built_m").get<double>());
+}
 
 void JumpStage::build_copies(double z) {
   JumpSettings settings = s_.env;
@@ -133,13 +141,15 @@ void JumpStage::on_iteration(const character::Iteration& it, learn::Learner&, co
 character::Figures JumpStage::test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) {
   const auto samples = static_cast<double>(round.env_steps);
   auto env = test_env(z());
-  const JumpEvaluation e = evaluate_jumps(*env, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, s_.eval);
+  const JumpEvaluation e = evaluate_jumps(
+      *env, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, s_.eval);
   send("eval/success_rate", samples, e.success_rate);
   send("eval/return", samples, e.return_mean);
   send("eval/up_angle_rad", samples, e.up_angle_rad);
   send("eval/mean_offset_l1", samples, e.mean_offset_l1);
   char line[200];  // the wall times are also metrics (time/)
-  std::snprintf(line, sizeof line, "jump: sample %.0f: z %.2f m at %.0f Hz, score %.3f, test success %.2f, %.1f s rollout, %.1f s update", samples,
+  std::snprintf(line, sizeof line,
+                "jump: sample %.0f: z %.2f m at %.0f Hz, score %.3f, test success %.2f, %.1f s rollout, %.1f s update", samples,
                 z(), hz_of_copies(), score_, e.success_rate, last_stats_.rollout_seconds, last_stats_.update_seconds);
   base::log_info(line);
   return {{"success_rate", e.success_rate}, {"return", e.return_mean}, {"z_m", z()}};
@@ -160,8 +170,10 @@ void JumpStage::record(const character::Recording& r) {
 
 Json JumpOutcome::to_json() const {
   const auto evaluation = [](const JumpEvaluation& e) {
-    return Json{{"success_rate", e.success_rate}, {"deterministic_success", e.deterministic_success},
-                {"up_angle_rad", e.up_angle_rad}, {"crossed", e.crossed},
+    return Json{{"success_rate", e.success_rate},
+                {"deterministic_success", e.deterministic_success},
+                {"up_angle_rad", e.up_angle_rad},
+                {"crossed", e.crossed},
                 {"bar_frame_rotation", {e.bar_rotation(0), e.bar_rotation(1), e.bar_rotation(2)}},
                 {"mean_offset_l1", e.mean_offset_l1}};
   };
@@ -177,12 +189,16 @@ Json JumpOutcome::to_json() const {
 
 JumpOutcome run_jump_trial(const TrainSettings& s, const TrialInputs& inputs, const character::StageRun& run) {
   JumpStage stage(s, run.seed, inputs);
-  const character::StageOutcome done = character::run_training_stage(
-      stage,
-      {.name = "jump", .total_steps = s.total_samples, .steps_per_iteration = 1, .test_every = s.eval_every,
-       .checkpoint_every = s.checkpoint_every, .warm_start = inputs.warm_start,
-       .warm_start_kind = character::StageSettings::WarmStart::policy},
-      run);
+  const character::StageOutcome done =
+      character::run_training_stage(stage,
+                                    {.name = "jump",
+                                     .total_steps = s.total_samples,
+                                     .steps_per_iteration = 1,
+                                     .test_every = s.eval_every,
+                                     .checkpoint_every = s.checkpoint_every,
+                                     .warm_start = inputs.warm_start,
+                                     .warm_start_kind = character::StageSettings::WarmStart::policy},
+                                    run);
   JumpOutcome out;
   out.z_reached_m = stage.z();
   out.levels = stage.level();

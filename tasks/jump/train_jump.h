@@ -24,20 +24,20 @@ namespace podium::tasks::jump {
 /// The trial's settings (defaults: the thesis's, the `paper` preset; presets in jump_task.cpp).
 struct TrainSettings {
   JumpSettings env;
-  std::string ppo_preset = "paper";             ///< learn's PpoConfig::paper() = §3.6.2
-  base::Json ppo = base::Json::object();        ///< PpoConfig fields over the preset
-  int copies = 16;                              ///< JumpEnv copies stepped together
-  int threads = 1;                              ///< threads stepping them (≤ copies)
-  std::int64_t total_samples = 12'000LL * 4096;  ///< §3.6.2: 12,000 iterations of 4096 samples
-  double z_freeze_m = 1.0;                      ///< §3.6.1: end at this z (0: never)
+  std::string ppo_preset = "paper";                   ///< learn's PpoConfig::paper() = §3.6.2
+  base::Json ppo = base::Json::object();              ///< PpoConfig fields over the preset
+  int copies = 16;                                    ///< JumpEnv copies stepped together
+  int threads = 1;                                    ///< threads stepping them (≤ copies)
+  std::int64_t total_samples = 12'000LL * 4096;       ///< §3.6.2: 12,000 iterations of 4096 samples
+  double z_freeze_m = 1.0;                            ///< §3.6.1: end at this z (0: never)
   character::ThresholdCurriculum::Config curriculum;  ///< Table 3.1 for the kind, keys override it
   /// What an iteration feeds the curriculum: "per_episode" (Σ rewards / episodes ended in the
   /// iteration, as the authors' runner computes its avg_rwd) or "per_sample" (Σ rewards / samples).
   std::string curriculum_score = "per_episode";
-  int eval_every = 50;                          ///< iterations between tests
-  EvaluationJumps eval;                         ///< the tests' jumps
-  int final_jumps = 20;                         ///< evaluation jumps at the end, at the starting bar and at the z reached
-  int checkpoint_every = 10;                    ///< iterations between training checkpoints
+  int eval_every = 50;        ///< iterations between tests
+  EvaluationJumps eval;       ///< the tests' jumps
+  int final_jumps = 20;       ///< evaluation jumps at the end, at the starting bar and at the z reached
+  int checkpoint_every = 10;  ///< iterations between training checkpoints
 };
 
 /// Reads (and on a describing reader describes) the trial's keys, JumpSettings' among them.
@@ -53,10 +53,10 @@ double iteration_score(const std::string& score, const learn::TrainStats& stats,
 /// What a trial is handed: the P-VAE (both stages, when the campaign trains one) and what Stage 2
 /// brings (§3.5.2).
 struct TrialInputs {
-  PosePrior prior;                             ///< composite PD targets (§3.4.2); none: plain targets
-  std::filesystem::path prior_file;            ///< the file `prior` was loaded from
-  std::filesystem::path warm_start;            ///< a PPO policy file (TorchScript or checkpoint)
-  std::vector<std::vector<double>> known;      ///< bar-frame rotations already found (eq. 3.12)
+  PosePrior prior;                         ///< composite PD targets (§3.4.2); none: plain targets
+  std::filesystem::path prior_file;        ///< the file `prior` was loaded from
+  std::filesystem::path warm_start;        ///< a PPO policy file (TorchScript or checkpoint)
+  std::vector<std::vector<double>> known;  ///< bar-frame rotations already found (eq. 3.12)
 };
 
 /// The jump's part of a training stage (character/training_stage.h): copies of JumpEnv at the
@@ -88,7 +88,7 @@ class JumpStage final : public character::TrainingStage {
   bool feed(double score);
   double z() const { return curriculum_.value(); }
   int level() const { return curriculum_.level(); }
-  double control_hz() const;  ///< f_control(ρ(z)) at the curriculum's z
+  double control_hz() const;                   ///< f_control(ρ(z)) at the curriculum's z
   double z_built() const { return z_built_; }  ///< the z the current copies were built at
   int rebuilds() const { return rebuilds_; }
   bool frozen() const;
@@ -110,21 +110,21 @@ class JumpStage final : public character::TrainingStage {
   int rebuilds_ = 0;
   std::vector<JumpEnv*> copies_;  // owned by envs_
   std::unique_ptr<learn::VecEnv> envs_;
-  double score_ = 0.0;             // the last iteration's, for the log
-  learn::TrainStats last_stats_;   // likewise
+  double score_ = 0.0;            // the last iteration's, for the log
+  learn::TrainStats last_stats_;  // likewise
   JumpEvaluation start_bar_, final_bar_;
 };
 
 struct JumpOutcome {
-  double z_reached_m = 0.0;       ///< curriculum z at the end
-  int levels = 0;                 ///< curriculum advances
+  double z_reached_m = 0.0;  ///< curriculum z at the end
+  int levels = 0;            ///< curriculum advances
   std::int64_t samples = 0;
-  JumpEvaluation start_bar;       ///< final_jumps at the curriculum's first z
-  JumpEvaluation final_bar;       ///< final_jumps at z_reached_m
+  JumpEvaluation start_bar;  ///< final_jumps at the curriculum's first z
+  JumpEvaluation final_bar;  ///< final_jumps at z_reached_m
   /// The jump shown and measured: the deterministic jump at z_reached_m if it succeeds, else the
   /// one at the starting bar.
   const JumpEvaluation& shown() const { return final_bar.deterministic_success ? final_bar : start_bar; }
-  std::filesystem::path policy;   ///< TorchScript export
+  std::filesystem::path policy;  ///< TorchScript export
   base::Json to_json() const;
 };
 

@@ -60,7 +60,8 @@ RunupEvaluation evaluate_runups(RunupEnv& env, const character::PolicyFn& policy
                             const RunupEnv& r = as_runup(e);
                             return std::abs(r.end().omega(axis) - r.target().root_omega(axis));
                           }});
-  const character::EvaluationReport report = character::evaluate(env, [&](auto o, auto a) { noisy(o, a); }, c);
+  const character::EvaluationReport report = character::evaluate(
+      env, [&](auto o, auto a) { noisy(o, a); }, c);
   RunupEvaluation out;
   out.handover_rate = report.success_rate;
   out.return_mean = report.mean_return;
@@ -97,11 +98,13 @@ namespace {
 void move_frame(Json& frame, const Placement& p, double dt) {
   const Eigen::Quaterniond turn(p.rotation);
   const auto point = [&](Json& a, std::size_t at) {
-    const Eigen::Vector3d x = p.rotation * (Eigen::Vector3d(a[at].get<double>(), a[at + 1].get<double>(), a[at + 2].get<double>()) - p.offset);
+    const Eigen::Vector3d x =
+        p.rotation * (Eigen::Vector3d(a[at].get<double>(), a[at + 1].get<double>(), a[at + 2].get<double>()) - p.offset);
     for (int i = 0; i < 3; ++i) a[at + i] = x(i);
   };
   const auto rotation = [&](Json& a, std::size_t at) {
-    const Eigen::Quaterniond r = turn * Eigen::Quaterniond(a[at].get<double>(), a[at + 1].get<double>(), a[at + 2].get<double>(), a[at + 3].get<double>());
+    const Eigen::Quaterniond r =
+        turn * Eigen::Quaterniond(a[at].get<double>(), a[at + 1].get<double>(), a[at + 2].get<double>(), a[at + 3].get<double>());
     a[at] = r.w(), a[at + 1] = r.x(), a[at + 2] = r.y(), a[at + 3] = r.z();
   };
   for (const char* key : {"root", "q"}) point(frame[key], 0), rotation(frame[key], 3);
@@ -141,7 +144,8 @@ void merge_recordings(const fs::path& runup, const fs::path& jump, const Placeme
 
 // Steps `env` with `policy` to the episode's end (reset done), recording every simulation step
 // into `recorder` when given.
-void roll_out(character::CharacterEnv& env, const character::PolicyFn& policy, std::vector<double>& obs, sim::Recorder* recorder) {
+void roll_out(character::CharacterEnv& env, const character::PolicyFn& policy, std::vector<double>& obs,
+              sim::Recorder* recorder) {
   if (recorder) {
     recorder->record(env.world());
     env.world().set_substep_observer([recorder](sim::World& w) { recorder->record(w); });
@@ -158,8 +162,8 @@ void roll_out(character::CharacterEnv& env, const character::PolicyFn& policy, s
 
 }  // namespace
 
-FullJumps full_jumps(RunupEnv& runup, const character::PolicyFn& runup_policy, const JumpPolicy& jump, const EvaluationJumps& config,
-                     const fs::path& record_dir) {
+FullJumps full_jumps(RunupEnv& runup, const character::PolicyFn& runup_policy, const JumpPolicy& jump,
+                     const EvaluationJumps& config, const fs::path& record_dir) {
   const learn::FrozenPolicy jump_policy(jump.policy);
   JumpEnv jump_env(jump.settings, jump.prior);
   NoisyPolicy noisy{runup_policy, runup.action_space(), config.sigma};
@@ -173,14 +177,16 @@ FullJumps full_jumps(RunupEnv& runup, const character::PolicyFn& runup_policy, c
     noisy.begin(k, seed);
     std::vector<double> obs;
     runup.reset(obs);
-    roll_out(runup, [&](auto o, auto a) { noisy(o, a); }, obs, record ? &run_rec : nullptr);
+    roll_out(
+        runup, [&](auto o, auto a) { noisy(o, a); }, obs, record ? &run_rec : nullptr);
     if (!runup.handed_over()) continue;
     const Placement p = place_for_jump(runup.world().data().q);
     jump_env.seed(seed);
     jump_env.reset(obs);
     jump_env.world().reset(p.q, runup.world().data().qd);  // sim's root velocities are in the root frame: unchanged
     jump_env.observe(obs);
-    roll_out(jump_env, [&](auto o, auto a) { jump_policy.act(o, a); }, obs, record ? &jump_rec : nullptr);
+    roll_out(
+        jump_env, [&](auto o, auto a) { jump_policy.act(o, a); }, obs, record ? &jump_rec : nullptr);
     successes += jump_env.outcome() == Outcome::success ? 1 : 0;
     if (record) {
       fs::create_directories(record_dir);
@@ -214,20 +220,22 @@ Json RunupStage::learner_spec() const {
 character::Figures RunupStage::test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) {
   const auto samples = static_cast<double>(round.env_steps);
   RunupEnv env(runup_, reference_, true);
-  const RunupEvaluation e = evaluate_runups(env, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, train_.eval);
+  const RunupEvaluation e = evaluate_runups(
+      env, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, train_.eval);
   send("runup/return", samples, e.return_mean);
   send("runup/handover_rate", samples, e.handover_rate);
   send("runup/task_reward", samples, e.task_reward);
   for (int axis = 0; axis < 3; ++axis) send(std::string("runup/omega_error_") + "xyz"[axis], samples, e.omega_error(axis));
   send("runup/lateral_speed_error", samples, e.lateral_speed_error);
   char line[200];
-  std::snprintf(line, sizeof line, "runup: sample %.0f: return %.2f, hand-over %.2f, r_G %.3f, |Δω| (%.2f, %.2f, %.2f) rad/s", samples,
-                e.return_mean, e.handover_rate, e.task_reward, e.omega_error.x(), e.omega_error.y(), e.omega_error.z());
+  std::snprintf(line, sizeof line, "runup: sample %.0f: return %.2f, hand-over %.2f, r_G %.3f, |Δω| (%.2f, %.2f, %.2f) rad/s",
+                samples, e.return_mean, e.handover_rate, e.task_reward, e.omega_error.x(), e.omega_error.y(), e.omega_error.z());
   base::log_info(line);
   return {{"return", e.return_mean}, {"handover_rate", e.handover_rate}, {"task_reward", e.task_reward}};
 }
 
-std::optional<character::ExportReason> RunupStage::export_rule(const character::ExportRecord& tested, const character::ExportRecord* exported) {
+std::optional<character::ExportReason> RunupStage::export_rule(const character::ExportRecord& tested,
+                                                               const character::ExportRecord* exported) {
   if (!exported || character::figure(tested.figures, "return") > character::figure(exported->figures, "return"))
     return character::ExportReason::best;
   return std::nullopt;
@@ -267,11 +275,13 @@ Json RunupOutcome::to_json() const {
 RunupOutcome run_runup_trial(const TrainSettings& train, const RunupSettings& runup, const std::optional<JumpPolicy>& jump,
                              const character::StageRun& run) {
   RunupStage stage(train, runup, run.seed, jump);
-  const character::StageOutcome done = character::run_training_stage(
-      stage,
-      {.name = "runup", .total_steps = train.total_samples, .steps_per_iteration = 1, .test_every = train.eval_every,
-       .checkpoint_every = train.checkpoint_every},
-      run);
+  const character::StageOutcome done = character::run_training_stage(stage,
+                                                                     {.name = "runup",
+                                                                      .total_steps = train.total_samples,
+                                                                      .steps_per_iteration = 1,
+                                                                      .test_every = train.eval_every,
+                                                                      .checkpoint_every = train.checkpoint_every},
+                                                                     run);
   RunupOutcome out;
   out.runups = stage.final_runups();
   out.full = stage.full();

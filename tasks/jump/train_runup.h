@@ -19,10 +19,10 @@ namespace podium::tasks::jump {
 /// Run-ups of a policy from the reference's first frame: the first deterministic, the others with
 /// Gaussian action noise (EvaluationJumps' σ and seed), as the jumps are tested.
 struct RunupEvaluation {
-  double handover_rate = 0.0;           ///< run-ups that reached the take-off condition
-  double task_reward = 0.0;             ///< mean r_G over those (0 when none did)
+  double handover_rate = 0.0;                             ///< run-ups that reached the take-off condition
+  double task_reward = 0.0;                               ///< mean r_G over those (0 when none did)
   Eigen::Vector3d omega_error = Eigen::Vector3d::Zero();  ///< mean |ω − ω̄| per axis over those, rad/s
-  double lateral_speed_error = 0.0;     ///< mean |v_y − v̄_y| over those (high jump), m/s
+  double lateral_speed_error = 0.0;                       ///< mean |v_y − v̄_y| over those (high jump), m/s
   double return_mean = 0.0;
 };
 RunupEvaluation evaluate_runups(RunupEnv& env, const character::PolicyFn& policy, const EvaluationJumps& config);
@@ -40,11 +40,11 @@ struct JumpPolicy {
 /// to face +x over the take-off point, the suite turned by α as in training). The first is
 /// written to `record_dir`/full_jump.jsonl as one motion (run, take-off, clear, land).
 struct FullJumps {
-  double success_rate = 0.0;   ///< over all run-ups (one that never hands over fails)
+  double success_rate = 0.0;  ///< over all run-ups (one that never hands over fails)
   std::filesystem::path trajectory;
 };
-FullJumps full_jumps(RunupEnv& runup, const character::PolicyFn& runup_policy, const JumpPolicy& jump, const EvaluationJumps& config,
-                     const std::filesystem::path& record_dir);
+FullJumps full_jumps(RunupEnv& runup, const character::PolicyFn& runup_policy, const JumpPolicy& jump,
+                     const EvaluationJumps& config, const std::filesystem::path& record_dir);
 
 /// The state at the hand-over turned about the vertical to face +x with the root over the origin
 /// (what JumpEnv's take-off states are), and the rigid motion that does it: x' = R (x − offset).
@@ -64,7 +64,8 @@ class RunupStage final : public character::TrainingStage {
   base::Json learner_spec() const override;
   character::Figures test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) override;
   /// The best tested return so far.
-  std::optional<character::ExportReason> export_rule(const character::ExportRecord& tested, const character::ExportRecord* exported) override;
+  std::optional<character::ExportReason> export_rule(const character::ExportRecord& tested,
+                                                     const character::ExportRecord* exported) override;
   void record(const character::Recording& recording) override;
 
   const RunupEvaluation& final_runups() const { return final_; }

@@ -36,12 +36,11 @@ LandscapeModel::LandscapeModel(const LandscapeOptions& options) : options_(optio
   } else if (options.family == "voronoi") {
     for (int k = 0; k < options.regions; ++k) {
       centres_.push_back(random_point());
-      weights_.push_back(rng.uniform(0.0, 0.05));   // additive weights make cells unequal
+      weights_.push_back(rng.uniform(0.0, 0.05));  // additive weights make cells unequal
       values_.push_back(random_feature());
     }
   } else if (options.family == "plateaus" || options.family == "plateaus_rough") {
-    const double max_frequency =
-        options.max_frequency > 0.0 ? options.max_frequency : options.family == "plateaus" ? 1.0 : 1.5;
+    const double max_frequency = options.max_frequency > 0.0 ? options.max_frequency : options.family == "plateaus" ? 1.0 : 1.5;
     for (int f = 0; f < kFeatureDim; ++f) {
       std::vector<Cosine> trend;
       for (int c = 0; c < 3; ++c) {
@@ -80,7 +79,10 @@ std::vector<double> LandscapeModel::feature(const std::vector<double>& x) const 
     double best_score = 1e300;
     for (std::size_t k = 0; k < centres_.size(); ++k) {
       const double score = squared_distance(centres_[k]) - weights_[k];
-      if (score < best_score) { best_score = score; best = k; }
+      if (score < best_score) {
+        best_score = score;
+        best = k;
+      }
     }
     return values_[best];
   }

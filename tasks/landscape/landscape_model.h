@@ -27,7 +27,7 @@ struct LandscapeOptions {
   std::string family = "basins";
   int dim = 3;
   std::uint64_t landscape_seed = 1;
-  int regions = 6;       // basins, quantisation levels per feature, or Voronoi cells
+  int regions = 6;  // basins, quantisation levels per feature, or Voronoi cells
   /// Plateau families: bound of the trend's cosine frequencies (cycles per unit per axis); 0 means
   /// the family's own (1.0 for "plateaus", 1.5 for "plateaus_rough"). For smoothness studies.
   double max_frequency = 0.0;
@@ -47,13 +47,16 @@ class LandscapeModel {
   static std::vector<std::string> families() { return {"basins", "plateaus", "plateaus_rough", "voronoi"}; }
 
  private:
-  struct Cosine { std::vector<double> frequency; double phase, amplitude; };
+  struct Cosine {
+    std::vector<double> frequency;
+    double phase, amplitude;
+  };
   LandscapeOptions options_;
-  std::vector<std::vector<double>> centres_;   // basins or Voronoi sites
-  std::vector<double> weights_;                // basin radii or Voronoi weights
-  std::vector<std::vector<double>> values_;    // feature value per basin / cell / level
-  std::vector<double> base_value_;             // "basins": the feature outside every basin
-  std::vector<std::vector<Cosine>> trends_;    // "plateaus": per feature dimension
+  std::vector<std::vector<double>> centres_;     // basins or Voronoi sites
+  std::vector<double> weights_;                  // basin radii or Voronoi weights
+  std::vector<std::vector<double>> values_;      // feature value per basin / cell / level
+  std::vector<double> base_value_;               // "basins": the feature outside every basin
+  std::vector<std::vector<Cosine>> trends_;      // "plateaus": per feature dimension
   std::vector<std::vector<double>> thresholds_;  // "plateaus": level boundaries per dimension
   std::vector<double> optimum_;
 };

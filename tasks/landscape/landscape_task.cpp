@@ -2,8 +2,8 @@
 // with optional noise, sleep and failure injection (throw, segfault, abort, exit, hang, NaN).
 #include <algorithm>
 #include <chrono>
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
 #include <thread>
@@ -94,23 +94,23 @@ class LandscapeTask final : public plugins::Task {
     const TaskConfig c = parse_config(config);
     const Json accepted = base::ConfigReader::describe([](base::ConfigReader& r) { read_config(r); });
     Json params = Json::array();
-    for (int i = 0; i < c.landscape.dim; ++i)
-      params.push_back({{"name", "x" + std::to_string(i)}, {"low", 0.0}, {"high", 1.0}});
+    for (int i = 0; i < c.landscape.dim; ++i) params.push_back({{"name", "x" + std::to_string(i)}, {"low", 0.0}, {"high", 1.0}});
     Json features = Json::array();
     for (int f = 0; f < LandscapeModel::kFeatureDim; ++f)
       features.push_back({{"name", "f" + std::to_string(f)}, {"low", 0.0}, {"high", 1.0}, {"metric", "euclidean"}});
-    return {{"params", params},
-            {"features", features},
-            {"metrics", {plugins::metric_entry("trace", "", "a synthetic learning curve ending at the objective",
-                                                {.x = {"iteration", ""}})}},
-            {"objectives", {"objective"}},
-            {"strategy_threshold", 0.02},  // plateau values are constant: any two strategies differ more
-            {"presets",
-             {{"smoke", {{"dim", 3}, {"metric_points", 5}}},
-              {"quick", {{"dim", 3}, {"metric_points", 50}, {"sleep_s", 0.05}}},
-              {"paper", {{"dim", 4}, {"metric_points", 200}, {"sleep_s", 1.0}}}}},
-            {"config", accepted},
-            {"config_defaults", base::ConfigReader::defaults(accepted)}};
+    return {
+        {"params", params},
+        {"features", features},
+        {"metrics",
+         {plugins::metric_entry("trace", "", "a synthetic learning curve ending at the objective", {.x = {"iteration", ""}})}},
+        {"objectives", {"objective"}},
+        {"strategy_threshold", 0.02},  // plateau values are constant: any two strategies differ more
+        {"presets",
+         {{"smoke", {{"dim", 3}, {"metric_points", 5}}},
+          {"quick", {{"dim", 3}, {"metric_points", 50}, {"sleep_s", 0.05}}},
+          {"paper", {{"dim", 4}, {"metric_points", 200}, {"sleep_s", 1.0}}}}},
+        {"config", accepted},
+        {"config_defaults", base::ConfigReader::defaults(accepted)}};
   }
 
   RunResult run(const RunRequest& request, Sink& sink) override {

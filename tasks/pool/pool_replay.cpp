@@ -81,7 +81,8 @@ ReplayResult replay(const PoolTable& table, const ReplayOptions& o) {
   const auto outcome = table.outcome();
   for (int b : o.budgets) {
     const std::uint64_t seed = base::derive_seed(o.first_seed, kRandomExpectedSalt, static_cast<std::uint64_t>(b));
-    r.random_expected.push_back(search::expected_random_count(table.features, tau, table.space, outcome, b, o.expected_draws, seed));
+    r.random_expected.push_back(
+        search::expected_random_count(table.features, tau, table.space, outcome, b, o.expected_draws, seed));
     r.random_expected_coarse.push_back(
         search::expected_random_count(table.features, 2.0 * tau, table.space, outcome, b, o.expected_draws, seed));
   }

@@ -17,9 +17,9 @@ struct ReplayOptions {
   std::vector<std::string> arms = {"bds", "random", "novelty"};
   std::vector<int> budgets = {5, 10};  ///< ascending
   int reps = 200;
-  std::uint64_t first_seed = 0;        ///< repetition r uses search seed first_seed + r in every arm
+  std::uint64_t first_seed = 0;               ///< repetition r uses search seed first_seed + r in every arm
   std::map<std::string, base::Json> configs;  ///< per arm, its search config (default {})
-  int expected_draws = 20000;          ///< Monte Carlo draws for random's expected count
+  int expected_draws = 20000;                 ///< Monte Carlo draws for random's expected count
 };
 
 /// One arm's runs: [rep][budget] values.
@@ -30,8 +30,8 @@ struct ArmRuns {
 
 struct ReplayResult {
   std::map<std::string, ArmRuns> arms;
-  int ceiling = 0, ceiling_coarse = 0;      ///< at τ and 2τ
-  int occupied = 0, occupied_coarse = 0;    ///< cells the whole pool's successes occupy
+  int ceiling = 0, ceiling_coarse = 0;                          ///< at τ and 2τ
+  int occupied = 0, occupied_coarse = 0;                        ///< cells the whole pool's successes occupy
   std::vector<double> random_expected, random_expected_coarse;  ///< per budget
 };
 

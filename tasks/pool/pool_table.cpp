@@ -18,7 +18,8 @@ const Json& field(const Json& j, const std::string& key, const std::string& path
 }
 
 std::vector<double> numbers(const Json& j, std::size_t size, const std::string& path) {
-  if (!j.is_array() || j.size() != size) throw UserError(path + ": expected " + std::to_string(size) + " numbers, got " + j.dump());
+  if (!j.is_array() || j.size() != size)
+    throw UserError(path + ": expected " + std::to_string(size) + " numbers, got " + j.dump());
   std::vector<double> out;
   for (const auto& v : j) {
     if (!v.is_number() || !std::isfinite(v.get<double>())) throw UserError(path + ": " + v.dump() + " is not a finite number");
@@ -75,8 +76,11 @@ Json PoolTable::to_json() const {
     if (!r.technique.empty()) row["technique"] = r.technique;
     out.push_back(row);
   }
-  return {{"params", space.to_json()}, {"features", search::Feature::list_to_json(features)},
-          {"strategy_threshold", strategy_threshold}, {"source", source}, {"rows", out}};
+  return {{"params", space.to_json()},
+          {"features", search::Feature::list_to_json(features)},
+          {"strategy_threshold", strategy_threshold},
+          {"source", source},
+          {"rows", out}};
 }
 
 std::size_t PoolTable::nearest(const std::vector<double>& x) const {

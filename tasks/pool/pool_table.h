@@ -16,13 +16,13 @@ namespace podium::tasks::pool {
 
 /// One recorded trial.
 struct PoolRow {
-  std::int64_t trial = 0;         ///< its index in the recorded stage
-  std::vector<double> params;     ///< in the table's parameter order
-  bool finished = true;           ///< false: the trial itself failed (no result)
-  bool success = false;           ///< the task's success rule (a jump: it cleared its bar)
-  std::vector<double> features;   ///< empty when not finished
-  double bar_m = 0.0;             ///< the bar the trial reached (0 when not finished)
-  std::string technique;          ///< nearest captured technique ("" when unknown)
+  std::int64_t trial = 0;        ///< its index in the recorded stage
+  std::vector<double> params;    ///< in the table's parameter order
+  bool finished = true;          ///< false: the trial itself failed (no result)
+  bool success = false;          ///< the task's success rule (a jump: it cleared its bar)
+  std::vector<double> features;  ///< empty when not finished
+  double bar_m = 0.0;            ///< the bar the trial reached (0 when not finished)
+  std::string technique;         ///< nearest captured technique ("" when unknown)
 };
 
 struct PoolTable {

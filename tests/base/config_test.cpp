@@ -116,8 +116,7 @@ TEST(ConfigReader, EnumsListWhatIsAllowed) {
 }
 
 TEST(ConfigReader, UnknownKeysAreRejectedWithTheKnownOnes) {
-  EXPECT_EQ(error_of({{"dimm", 3}}),
-            "task config: dimm: unknown key (known: artifact, dim, failures, family, noise, pd, seed)");
+  EXPECT_EQ(error_of({{"dimm", 3}}), "task config: dimm: unknown key (known: artifact, dim, failures, family, noise, pd, seed)");
   EXPECT_EQ(error_of({{"pd", {{"kd", 1}}}}), "task config: pd.kd: unknown key (known: kp)");
 }
 

@@ -9,12 +9,12 @@
 #include <limits>
 #include <numbers>
 
+#include "env_util.h"
 #include "podium/base/error.h"
 #include "podium/character/actions.h"
 #include "podium/character/observations.h"
 #include "podium/character/starts.h"
 #include "podium/learn/vec_env.h"
-#include "env_util.h"
 #include "test_util.h"
 
 namespace podium::character {
@@ -61,10 +61,10 @@ void add_every_part(CharacterEnvParts& parts, std::size_t& expected) {
   parts.observation.push_back(std::make_unique<TorsoAxes>(false));
   parts.observation.push_back(std::make_unique<HeightMap>());
   parts.observation.push_back(std::make_unique<ReferenceFrames>(parts.model, std::vector<int>{1, 5}));
-  parts.observation.push_back(std::make_unique<TaskScalars>(1, [](const CharacterEnv& env, std::span<double> out) {
-    out[0] = env.world().config().strength;
-  }));
-  expected = 2 * joints + 1 + bodies * 15 + bodies * 3 + 3 * m.end_effector_bodies().size() + 4 + 3 + 9 + 25 + 2 * (joints + 9) + 1;
+  parts.observation.push_back(std::make_unique<TaskScalars>(
+      1, [](const CharacterEnv& env, std::span<double> out) { out[0] = env.world().config().strength; }));
+  expected =
+      2 * joints + 1 + bodies * 15 + bodies * 3 + 3 * m.end_effector_bodies().size() + 4 + 3 + 9 + 25 + 2 * (joints + 9) + 1;
 }
 
 CharacterEnvParts parts_with(const char* model_name, std::unique_ptr<ActionMap> action, std::size_t& expected) {
@@ -121,8 +121,8 @@ TEST(CharacterEnv, StepsHumanoid21WithEveryActionMap) {
     }
     EXPECT_TRUE(out.terminated || (out.truncated && steps == 11)) << c.name;
     EXPECT_GT(out.reward, 0.0) << c.name;
-    std::printf("%-9s %zu actions, %zu observations, %d steps, head %.3f m\n", c.name, env.action_space().size(), obs.size(), steps + 1,
-                env.features().head_height_m);
+    std::printf("%-9s %zu actions, %zu observations, %d steps, head %.3f m\n", c.name, env.action_space().size(), obs.size(),
+                steps + 1, env.features().head_height_m);
   }
 }
 
@@ -329,7 +329,9 @@ TEST(CharacterEnv, SavedMidEpisodeReplaysBitwiseInAFreshEnv) {
 // bridge; the reference frames ahead are the clip's poses at t + k·dt.
 TEST(CharacterEnv, ActionMapsAndReferenceFramesReadTheReference) {
   std::size_t expected = 0;
-  CharacterEnvParts parts = parts_with("humanoid34", std::make_unique<ResidualActions>(sim::load_shipped_model("humanoid34"), sim::Control::spd_maba, 0.3), expected);
+  CharacterEnvParts parts =
+      parts_with("humanoid34",
+                 std::make_unique<ResidualActions>(sim::load_shipped_model("humanoid34"), sim::Control::spd_maba, 0.3), expected);
   const auto clip = parts.reference;
   parts.start = std::make_unique<ReferenceStart>(0.0, false, 0.2);
   CharacterEnv env(std::move(parts));
@@ -337,7 +339,8 @@ TEST(CharacterEnv, ActionMapsAndReferenceFramesReadTheReference) {
   env.reset(obs);
   const PoseBridge bridge(env.world().model_ptr());
   Eigen::VectorXd command;
-  ResidualActions(env.world().model_ptr(), sim::Control::spd_maba, 0.3).command(env, std::vector<double>(bridge.size(), 0.0), command);
+  ResidualActions(env.world().model_ptr(), sim::Control::spd_maba, 0.3)
+      .command(env, std::vector<double>(bridge.size(), 0.0), command);
   const Eigen::VectorXd want = bridge.target(bridge.pose(clip->sample(0.2)));
   EXPECT_LE((command - want).cwiseAbs().maxCoeff(), 1e-12);
 
@@ -375,7 +378,8 @@ TEST(CharacterEnv, HeightMapIsTheRootsHeightAboveTheGround) {
   const double h = env.world().data().links[0].p.z();
   ASSERT_EQ(obs.size(), 25u);
   for (int a = 0; a < 5; ++a)
-    for (int b = 0; b < 5; ++b) EXPECT_NEAR(obs[a * 5 + b], (a == 4 && b == 2) ? h - 0.1 : h, 1e-12) << a << " " << b;  // (+0.5, 0): the box
+    for (int b = 0; b < 5; ++b)
+      EXPECT_NEAR(obs[a * 5 + b], (a == 4 && b == 2) ? h - 0.1 : h, 1e-12) << a << " " << b;  // (+0.5, 0): the box
 }
 
 // CharacterEnv inside learn's VecEnv: copies step on worker threads and their rollout state

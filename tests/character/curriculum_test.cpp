@@ -38,7 +38,7 @@ TEST(Curriculum, BarRisesWhenTheAccumulatedRewardPassesItsThreshold) {
   EXPECT_TRUE(bar.at_limit());
   EXPECT_FALSE(bar.observe(1000));
   EXPECT_NEAR(bar.value(), 0.52, 1e-12);
-  EXPECT_THROW(ThresholdCurriculum({0.5, 1.0, 0.0, 30.0, true, 2.0}), base::UserError);   // never moves
+  EXPECT_THROW(ThresholdCurriculum({0.5, 1.0, 0.0, 30.0, true, 2.0}), base::UserError);    // never moves
   EXPECT_THROW(ThresholdCurriculum({0.5, 1.0, -0.01, 30.0, true, 2.0}), base::UserError);  // away from the limit
 }
 
@@ -108,15 +108,23 @@ TEST(Curriculum, ConfigErrorsNameTheKeyAndTheRule) {
     }
     return std::string("(no error)");
   };
-  EXPECT_EQ(error_of([] { ThresholdCurriculum::Config::from_json({{"factr", 0.9}}, "c"); }),
+  EXPECT_EQ(error_of([] {
+              ThresholdCurriculum::Config::from_json({{"factr", 0.9}}, "c");
+            }),
             "c.factr: unknown key (known: accumulate, factor, increment, initial, limit, threshold)");
   EXPECT_EQ(error_of([] { ThresholdCurriculum::Config::from_json({{"factor", 0}}, "c"); }), "c.factor: 0 is not > 0");
-  EXPECT_EQ(error_of([] { StepBudget::Config::from_json({{"min_steps", 9}, {"max_steps", 8}}, "b"); }),
+  EXPECT_EQ(error_of([] {
+              StepBudget::Config::from_json({{"min_steps", 9}, {"max_steps", 8}}, "b");
+            }),
             "b.min_steps: 9 is above max_steps 8");
   EXPECT_EQ(error_of([] { StepBudget::Config::from_json({{"max_steps", 1.5}}, "b"); }), "b.max_steps: 1.5 is not an integer");
-  EXPECT_EQ(error_of([] { UnlockCurriculum::Config::from_json({{"levels", base::Json::array()}}, "u"); }),
+  EXPECT_EQ(error_of([] {
+              UnlockCurriculum::Config::from_json({{"levels", base::Json::array()}}, "u");
+            }),
             "u.levels: [] needs at least one level");
-  EXPECT_EQ(error_of([] { UnlockCurriculum::Config::from_json({{"levels", {"flat"}}, {"successes_to_unlock", 0}}, "u"); }),
+  EXPECT_EQ(error_of([] {
+              UnlockCurriculum::Config::from_json({{"levels", {"flat"}}, {"successes_to_unlock", 0}}, "u");
+            }),
             "u.successes_to_unlock: 0 is not in [1, 2147483647]");
   const auto unlock = UnlockCurriculum::Config::from_json({{"levels", {"flat", "hard"}}}, "u");
   EXPECT_EQ(unlock.levels, (std::vector<std::string>{"flat", "hard"}));

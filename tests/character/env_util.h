@@ -28,7 +28,9 @@ inline CharacterEnvParts getup_like_parts(int episode_steps) {
   parts.observation.push_back(std::make_unique<EndEffectors>());
   parts.observation.push_back(std::make_unique<TorsoAxes>(true));
   parts.start = std::make_unique<RagdollDrop>(short_fall(), RagdollDrop::Lying::any);
-  parts.reward = [](const CharacterEnv& env, std::span<const double>, learn::StepResult& out) { out.reward = env.features().head_height_m; };
+  parts.reward = [](const CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
+    out.reward = env.features().head_height_m;
+  };
   return parts;
 }
 

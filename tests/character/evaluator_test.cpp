@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "podium/base/error.h"
 #include "env_util.h"
+#include "podium/base/error.h"
 
 namespace podium::character {
 namespace {
@@ -120,7 +120,7 @@ TEST(Evaluator, DenseRecordingTakesSimulationStatesAndChangesNothingElse) {
   const std::vector<std::string> few = lines_of(sparse.trajectories.at(0)), many = lines_of(dense.trajectories.at(0));
   ASSERT_EQ(few.size(), 1u + 9u);
   ASSERT_EQ(many.size(), 1u + 8u * 4u + 1u);  // the start, then 4 frames per control step
-  EXPECT_EQ(many[0], few[0]);                  // the same header
+  EXPECT_EQ(many[0], few[0]);                 // the same header
   for (std::size_t f = 0; f < 9; ++f) EXPECT_EQ(many[1 + 4 * f], few[1 + f]) << "control step " << f;
   const double t0 = base::Json::parse(many[1])["t"].get<double>();
   for (std::size_t f = 1; f + 1 < many.size(); ++f)

@@ -37,7 +37,8 @@ TEST(Motion, RetimingByKappaLastsTOverKappaAndPassesThroughTheOriginalFrames) {
     const Clip slow = retime(fast, kappa);
     EXPECT_NEAR(slow.duration_s(), fast.duration_s() / kappa, 1e-12) << kappa;
     for (std::size_t i = 0; i < fast.size(); ++i)
-      EXPECT_LE(config_distance(*model, slow.sample(fast.times_s[i] / kappa), fast.poses[i]), 1e-12) << "κ " << kappa << " frame " << i;
+      EXPECT_LE(config_distance(*model, slow.sample(fast.times_s[i] / kappa), fast.poses[i]), 1e-12)
+          << "κ " << kappa << " frame " << i;
     // Between two original frames it moves on, by slerp, at κ times the speed.
     const Eigen::VectorXd mid_slow = slow.sample(0.5 * (fast.times_s[2] + fast.times_s[3]) / kappa);
     EXPECT_LE(config_distance(*model, mid_slow, fast.sample(0.5 * (fast.times_s[2] + fast.times_s[3]))), 1e-12) << kappa;
@@ -49,7 +50,8 @@ TEST(Motion, RetimingByKappaLastsTOverKappaAndPassesThroughTheOriginalFrames) {
   // κ = 1/4 puts every original frame on the control grid: frame i is resampled frame 4i.
   const Clip quarter = resample(retime(fast, 0.25), dt);
   ASSERT_EQ(quarter.size(), 41u);
-  for (std::size_t i = 0; i < fast.size(); ++i) EXPECT_LE(config_distance(*model, quarter.poses[4 * i], fast.poses[i]), 1e-9) << i;
+  for (std::size_t i = 0; i < fast.size(); ++i)
+    EXPECT_LE(config_distance(*model, quarter.poses[4 * i], fast.poses[i]), 1e-9) << i;
   EXPECT_THROW(retime(fast, 0.0), base::UserError);
 }
 
@@ -84,8 +86,10 @@ TEST(Motion, VelocitiesOfAConstantRateMotion) {
     const Eigen::Quaterniond root = q0 * exp_map(root_omega * t);
     // Root origin moving with root-frame velocity v: p(t) = ∫ R(t) v, here for a rotating root
     // only the forward difference over each step is checked, so build p from those steps.
-    q.head<3>() = clip.poses.empty() ? Eigen::Vector3d(0, 0, 1)
-                                     : Eigen::Vector3d(clip.poses.back().head<3>() + quat_at(clip.poses.back(), 3).toRotationMatrix() * root_v * 0.05);
+    q.head<3>() =
+        clip.poses.empty()
+            ? Eigen::Vector3d(0, 0, 1)
+            : Eigen::Vector3d(clip.poses.back().head<3>() + quat_at(clip.poses.back(), 3).toRotationMatrix() * root_v * 0.05);
     set_quat(q, 3, root);
     q(knee.q_index) = -0.2 - 1.5 * t;
     set_quat(q, chest.q_index, q0 * exp_map(omega * t));
@@ -189,7 +193,9 @@ TEST(Motion, DeepMimicReaderNamesTheFileAndFrame) {
     read_deepmimic_clip(model, path);
     FAIL() << "expected UserError";
   } catch (const base::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find(path.string() + ": Frames[0]: has 4 numbers but model humanoid34 needs"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(path.string() + ": Frames[0]: has 4 numbers but model humanoid34 needs"),
+              std::string::npos)
+        << e.what();
   }
   std::filesystem::remove(path);
 }

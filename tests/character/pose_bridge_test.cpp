@@ -48,7 +48,8 @@ TEST(PoseBridge, RoundTripsEveryFrameOfTheDeepMimicGetUp) {
     const Eigen::Vector3d e = log_map(Eigen::Quaterniond(fr[at], fr[at + 1], fr[at + 2], fr[at + 3]));
     worst_file = std::max(worst_file, (e - Eigen::Vector3d(pose[0], pose[1], pose[2])).cwiseAbs().maxCoeff());
   }
-  std::printf("%zu frames: q → pose → q %.1e, pose → q → pose %.1e, y-up map vs file %.1e\n", clip.size(), worst_q, worst_pose, worst_file);
+  std::printf("%zu frames: q → pose → q %.1e, pose → q → pose %.1e, y-up map vs file %.1e\n", clip.size(), worst_q, worst_pose,
+              worst_file);
   EXPECT_LE(worst_q, 1e-9);
   EXPECT_LE(worst_pose, 1e-9);
   EXPECT_LE(worst_file, 1e-9);

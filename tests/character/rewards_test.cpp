@@ -22,8 +22,8 @@ TEST(Tolerance, OneInsideTheBoundsAndIndicatorWithoutMargin) {
 
 // Every kind is scaled to give value_at_margin at one margin outside the bounds.
 TEST(Tolerance, EveryKindTakesItsValueAtTheMargin) {
-  for (Sigmoid kind : {Sigmoid::gaussian, Sigmoid::hyperbolic, Sigmoid::long_tail, Sigmoid::reciprocal, Sigmoid::cosine, Sigmoid::linear,
-                       Sigmoid::quadratic, Sigmoid::tanh_squared}) {
+  for (Sigmoid kind : {Sigmoid::gaussian, Sigmoid::hyperbolic, Sigmoid::long_tail, Sigmoid::reciprocal, Sigmoid::cosine,
+                       Sigmoid::linear, Sigmoid::quadratic, Sigmoid::tanh_squared}) {
     EXPECT_NEAR(tolerance(2.0, {0.0, 1.0, 1.0, 0.3, kind}), 0.3, kTol) << sigmoid_name(kind);
     EXPECT_NEAR(tolerance(-1.0, {0.0, 1.0, 1.0, 0.3, kind}), 0.3, kTol) << sigmoid_name(kind);
   }
@@ -79,7 +79,8 @@ TEST(Tolerance, RejectsBadBoundsMarginsAndNames) {
     parse_sigmoid("gauss", "rewards.r_h.sigmoid");
     FAIL() << "expected UserError";
   } catch (const base::UserError& e) {
-    EXPECT_EQ(std::string(e.what()).rfind("rewards.r_h.sigmoid: \"gauss\" is not one of gaussian, hyperbolic", 0), 0u) << e.what();
+    EXPECT_EQ(std::string(e.what()).rfind("rewards.r_h.sigmoid: \"gauss\" is not one of gaussian, hyperbolic", 0), 0u)
+        << e.what();
   }
 }
 

@@ -26,11 +26,11 @@ const std::vector<double> kObservation = {0.3, -0.8, 0.5};  // a Pendulum observ
 
 // What the scripted stage does beyond training.
 struct Script {
-  std::vector<double> scores = {1.0};          // test i's score: scores[(i − 1) mod n]
-  bool export_best = false;                    // the export rule: the best score so far
-  std::int64_t cancel_at_iteration = 0;        // sets `cancel` in that iteration's hook
+  std::vector<double> scores = {1.0};    // test i's score: scores[(i − 1) mod n]
+  bool export_best = false;              // the export rule: the best score so far
+  std::int64_t cancel_at_iteration = 0;  // sets `cancel` in that iteration's hook
   std::atomic<bool>* cancel = nullptr;
-  std::int64_t retag_at_iteration = 0;         // from then on its checkpoint file is training_b.ckpt
+  std::int64_t retag_at_iteration = 0;  // from then on its checkpoint file is training_b.ckpt
 };
 
 class ScriptedStage final : public TrainingStage {
@@ -45,7 +45,8 @@ class ScriptedStage final : public TrainingStage {
   }
   learn::VecEnv& envs() override { return *envs_; }
   Json learner_spec() const override {
-    return {{"algorithm", "ppo"}, {"preset", "quick"},
+    return {{"algorithm", "ppo"},
+            {"preset", "quick"},
             {"config", {{"hidden", {8}}, {"rollout_steps", 8}, {"epochs", 1}, {"minibatch_size", 16}}}};
   }
   std::string checkpoint_tag() const override { return tag_; }
@@ -129,8 +130,8 @@ void expect_resume_equals_uninterrupted(std::int64_t retag_at) {
 
   std::atomic<bool> cancel{false};
   Record resumed;
-  EXPECT_THROW(run_stage({.cancel_at_iteration = 5, .cancel = &cancel, .retag_at_iteration = retag_at}, settings(), cut.path(), &cancel,
-                         resumed),
+  EXPECT_THROW(run_stage({.cancel_at_iteration = 5, .cancel = &cancel, .retag_at_iteration = retag_at}, settings(), cut.path(),
+                         &cancel, resumed),
                std::runtime_error);
   resumed.progress.clear();
   run_stage({.retag_at_iteration = retag_at}, settings(), cut.path(), nullptr, resumed);

@@ -61,8 +61,8 @@ int main(int argc, char** argv) {
     checkpoint.resume(*learner, envs);
     std::ofstream stats(stats_file, std::ios::app);
     learner->train_until(envs, steps, [&](const TrainStats& s) {
-      stats << checkpoint.updates() + 1 << ' ' << s.env_steps << ' ' << s.episodes << ' ' << std::hexfloat
-            << s.mean_return << std::defaultfloat << std::endl;  // hexfloat: the exact value
+      stats << checkpoint.updates() + 1 << ' ' << s.env_steps << ' ' << s.episodes << ' ' << std::hexfloat << s.mean_return
+            << std::defaultfloat << std::endl;  // hexfloat: the exact value
       checkpoint.on_update(*learner, envs, nullptr);
     });
   }

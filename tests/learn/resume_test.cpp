@@ -2,6 +2,8 @@
 // uninterrupted run with the same seed (single-threaded). And a run SIGKILLed three times while
 // it trains with a TrainingCheckpoint, restarted each time, ends like the uninterrupted run.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <cstdlib>
@@ -13,9 +15,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace {
 
@@ -92,9 +91,9 @@ bool run_and_kill(const std::vector<std::string>& args, const fs::path& stats, s
 void check_sigkill(const std::string& algo, int total_steps, std::vector<std::size_t> kill_at) {
   const fs::path dir = temp_dir("kill_" + algo);
   auto args = [&](const std::string& name) {
-    return std::vector<std::string>{algo, std::to_string(total_steps), "--checkpoint", (dir / (name + ".ckpt")).string(),
-                                    "--stats", (dir / (name + ".stats")).string(), "--params",
-                                    (dir / (name + ".bin")).string()};
+    return std::vector<std::string>{
+        algo,      std::to_string(total_steps),        "--checkpoint", (dir / (name + ".ckpt")).string(),
+        "--stats", (dir / (name + ".stats")).string(), "--params",     (dir / (name + ".bin")).string()};
   };
   std::string uninterrupted_cmd;
   for (const auto& a : args("a")) uninterrupted_cmd += a + " ";
@@ -122,12 +121,8 @@ void check_sigkill(const std::string& algo, int total_steps, std::vector<std::si
   fs::remove_all(dir);
 }
 
-TEST(Resume, PpoSigkilledThreeTimesEndsWithTheUninterruptedParametersAndStats) {
-  check_sigkill("ppo", 150 * 60, {10, 25, 40});
-}
+TEST(Resume, PpoSigkilledThreeTimesEndsWithTheUninterruptedParametersAndStats) { check_sigkill("ppo", 150 * 60, {10, 25, 40}); }
 
-TEST(Resume, SacSigkilledThreeTimesEndsWithTheUninterruptedParametersAndStats) {
-  check_sigkill("sac", 60 * 30, {5, 11, 17});
-}
+TEST(Resume, SacSigkilledThreeTimesEndsWithTheUninterruptedParametersAndStats) { check_sigkill("sac", 60 * 30, {5, 11, 17}); }
 
 }  // namespace

@@ -5,9 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "podium/base/rng.h"
-
 #include "podium/base/error.h"
+#include "podium/base/rng.h"
 #include "podium/learn/classic_control.h"
 #include "podium/learn/ppo.h"
 
@@ -128,7 +127,7 @@ TEST(Ppo, EachCopyActsWithinItsOwnPerEpisodeScale) {
   for (const auto* e : envs) {
     EXPECT_GE(e->scales_seen_.size(), 2u);
     EXPECT_LE(e->largest_, 1.0 + 1e-6);  // |a| ≤ s·limit in every episode of every copy
-    EXPECT_GT(e->largest_, 0.9);          // and the box is the copy's, not a smaller one
+    EXPECT_GT(e->largest_, 0.9);         // and the box is the copy's, not a smaller one
   }
   WeakenedPendulum eval;  // the deterministic policy acts at the environment's scale too
   eval.seed(9);
@@ -166,8 +165,8 @@ TEST(Sac, SkipsUpdatesWithANonFiniteLossAndKeepsItsWeightsFinite) {
   copies.push_back(std::make_unique<PoisonedPendulum>());
   VecEnv vec(std::move(copies), 1, 3);
   sac.train_until(vec, 400);
-  EXPECT_GT(sac.skipped_updates(), 0);                 // batches with the infinite reward
-  EXPECT_LT(sac.skipped_updates(), sac.updates());     // the others still learn
+  EXPECT_GT(sac.skipped_updates(), 0);              // batches with the infinite reward
+  EXPECT_LT(sac.skipped_updates(), sac.updates());  // the others still learn
   for (float w : sac.parameters()) ASSERT_TRUE(std::isfinite(w));
   std::vector<double> obs{1, 0, 0}, action(1);
   sac.act(obs, action, true, 1.0);

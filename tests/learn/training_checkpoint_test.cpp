@@ -4,14 +4,13 @@
 #include "podium/learn/training_checkpoint.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
-
-#include <unistd.h>
 
 #include "podium/base/error.h"
 #include "podium/learn/classic_control.h"
@@ -247,7 +246,10 @@ TEST(TrainingCheckpoint, AFileOfAnotherFormatVersionIsRefusedWithWhatToDo) {
   learner->train_until(envs, 120);
   learner->save_checkpoint(dir / "old.ckpt", envs, {{"updates", 1}, {"metrics", base::Json::object()}, {"extra", nullptr}});
   learner->save_checkpoint(dir / "next.ckpt", envs,
-                           {{"format", TrainingCheckpoint::kFormatVersion + 1}, {"updates", 1}, {"metrics", base::Json::object()}, {"extra", nullptr}});
+                           {{"format", TrainingCheckpoint::kFormatVersion + 1},
+                            {"updates", 1},
+                            {"metrics", base::Json::object()},
+                            {"extra", nullptr}});
   for (const char* file : {"old.ckpt", "next.ckpt"}) {
     auto fresh = make("ppo");
     auto fresh_envs = pendulums();

@@ -114,8 +114,7 @@ TEST(ConditionalVae, DecodedPosesFollowTheCondition) {
     error += std::abs(pelvis_height(low) - 0.35) + std::abs(pelvis_height(high) - 0.85);
     n += 2;
   }
-  std::printf("C-VAE: mean decoded height change %.3f m for a requested 0.50 m, mean |error| %.3f m\n", change / 20,
-              error / n);
+  std::printf("C-VAE: mean decoded height change %.3f m for a requested 0.50 m, mean |error| %.3f m\n", change / 20, error / n);
   // With the seeds' tiny β (1e-6) the latent carries most of the pose, so the condition moves
   // the decoded pose in the right direction but only part of the way.
   EXPECT_EQ(rises, 20);

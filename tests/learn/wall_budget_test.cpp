@@ -1,10 +1,11 @@
 // The wall-clock limit of a training loop: which rounds it lets run, and its state across a resume.
+#include "podium/learn/wall_budget.h"
+
 #include <gtest/gtest.h>
 
 #include <chrono>
 
 #include "podium/base/error.h"
-#include "podium/learn/wall_budget.h"
 
 namespace podium::learn {
 namespace {
@@ -18,7 +19,7 @@ TEST(WallBudget, WithoutALimitEveryRoundFits) {
 }
 
 TEST(WallBudget, ARoundRunsOnlyIfItEndsInsideTheLimitAtTheLastRoundsLength) {
-  WallBudget clock(1.0);  // 60 s
+  WallBudget clock(1.0);                    // 60 s
   EXPECT_TRUE(clock.another_round_fits());  // the first round always runs
   int rounds = 0;
   while (clock.another_round_fits()) clock.add_round(11.0), ++rounds;

@@ -25,7 +25,6 @@ double first_evaluation(Learner& learner) {
   return evaluate(learner, env, 1).front();
 }
 
-
 // Number of parameters of an MLP in → hidden → out.
 std::size_t mlp_size(std::size_t in, const std::vector<int>& hidden, std::size_t out) {
   std::size_t n = 0, width = in;
@@ -140,8 +139,8 @@ TEST(WarmStart, RejectsAnotherAlgorithmShapeOrFileWithTheReason) {
   PpoConfig raw;
   raw.normalize_observations = false;
   Ppo unnormalised(raw, obs, act, 1);
-  EXPECT_TRUE(std::regex_search(what_of([&] { unnormalised.warm_start(dir / "ppo.pt"); }),
-                                std::regex("normalize_observations differs")));
+  EXPECT_TRUE(
+      std::regex_search(what_of([&] { unnormalised.warm_start(dir / "ppo.pt"); }), std::regex("normalize_observations differs")));
   EXPECT_TRUE(std::regex_search(what_of([&] { ppo.warm_start(dir / "missing.pt"); }), std::regex("missing.pt does not exist")));
   std::ofstream(dir / "junk.pt") << "not a policy";
   EXPECT_TRUE(std::regex_search(what_of([&] { ppo.warm_start(dir / "junk.pt"); }), std::regex("junk.pt is not a torch archive")));

@@ -75,8 +75,8 @@ TEST(CliHonest, AMissingFileFailsAtSubmitNamingThePathAsWrittenAndAsResolved) {
   const auto r = run_podium({"submit", "specs/spec.json"}, dir.path());
   EXPECT_EQ(r.exit_code, 2);
   const std::string resolved = (dir / "specs" / "policies" / "nope.pt").string();
-  EXPECT_TRUE(contains(r.err, "stages[0].config.shipped[0].policy: \"policies/nope.pt\" is not a file (looked for " +
-                                  resolved + "; a relative path is relative to the spec's folder)"))
+  EXPECT_TRUE(contains(r.err, "stages[0].config.shipped[0].policy: \"policies/nope.pt\" is not a file (looked for " + resolved +
+                                  "; a relative path is relative to the spec's folder)"))
       << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_FALSE(fs::exists(dir / "podium.db"));
@@ -90,15 +90,17 @@ TEST(CliHonest, AMisspeltKeyNamesItselfAndListsEveryKnownKey) {
   write_file(dir / "stage.json", spec.dump());
   auto r = run_podium({"submit", "stage.json"}, dir.path());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err, "podium: stage.json: stages[0].budjet: unknown key (known: name, task, preset, config, search, "
-                   "strategy_threshold, inputs, budget) (did you mean budget?)\n");
+  EXPECT_EQ(r.err,
+            "podium: stage.json: stages[0].budjet: unknown key (known: name, task, preset, config, search, "
+            "strategy_threshold, inputs, budget) (did you mean budget?)\n");
   spec = probe_spec(Json::object());
   spec["executer"] = {{"kind", "local"}};
   write_file(dir / "top.json", spec.dump());
   r = run_podium({"submit", "top.json"}, dir.path());
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(r.err, "podium: top.json: executer: unknown key (known: name, seed, description, run_dir, executor, workers, "
-                   "retries, trial_timeout_s, stages) (did you mean executor?)\n");
+  EXPECT_EQ(r.err,
+            "podium: top.json: executer: unknown key (known: name, seed, description, run_dir, executor, workers, "
+            "retries, trial_timeout_s, stages) (did you mean executor?)\n");
 }
 
 TEST(CliHonest, AMissingCampaignOrTaskSuggestsTheNearestNames) {

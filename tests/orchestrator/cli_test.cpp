@@ -10,10 +10,10 @@
 #include <set>
 #include <thread>
 
+#include "campaign_spec.h"
 #include "podium/base/json.h"
 #include "podium/base/rng.h"
 #include "podium/store/store.h"
-#include "campaign_spec.h"
 #include "process.h"
 
 namespace podium::orchestrator {
@@ -238,9 +238,7 @@ TEST(Cli, BadInputIsOneLineAndLeavesTheDatabaseUnchanged) {
   EXPECT_NE(unwritable.err.find("/nonexistent-folder/p.db: cannot open database"), std::string::npos) << unwritable.err;
 
   // A database written by a newer podium is refused by every command and left as it is.
-  {
-    auto store = store::Store::open(dir / "newer.db", store::Store::Access::read_write);
-  }
+  { auto store = store::Store::open(dir / "newer.db", store::Store::Access::read_write); }
   const auto bump = run_podium({"status", "--db", "newer.db"}, dir.path());
   ASSERT_EQ(bump.exit_code, 0);
   std::system(("sqlite3 " + (dir / "newer.db").string() + " 'UPDATE schema_version SET version = 42'").c_str());
@@ -363,8 +361,9 @@ TEST(Cli, CommandsSayWhatTheyDid) {
   EXPECT_EQ(r.out, "campaign " + id + " (test) paused: no new trials start, running ones finish\n");
   r = run_podium({"run"}, dir.path());
   EXPECT_EQ(r.exit_code, 0);
-  EXPECT_EQ(r.err, "nothing to run: no queued or running campaign in podium.db (podium status lists them; podium "
-                   "resume continues a paused one)\n");
+  EXPECT_EQ(r.err,
+            "nothing to run: no queued or running campaign in podium.db (podium status lists them; podium "
+            "resume continues a paused one)\n");
   r = run_podium({"resume", "test"}, dir.path());
   EXPECT_EQ(r.out, "campaign " + id + " (test) queued again: podium run continues it\n");
   r = run_podium({"cancel", id}, dir.path());

@@ -26,8 +26,14 @@ using podium::testing::run_podium;
 using podium::testing::TempDir;
 
 Json one_stage(const std::string& name, const std::string& algorithm, int trials, const Json& config = Json::object()) {
-  return podium::testing::stage_spec({.name = name, .seed = 5, .workers = 1, .retries = 0, .trial_timeout_s = 60,
-                                      .algorithm = algorithm, .config = config, .trials = trials});
+  return podium::testing::stage_spec({.name = name,
+                                      .seed = 5,
+                                      .workers = 1,
+                                      .retries = 0,
+                                      .trial_timeout_s = 60,
+                                      .algorithm = algorithm,
+                                      .config = config,
+                                      .trials = trials});
 }
 
 std::string submit(const TempDir& dir, const Json& spec) { return podium::testing::submit_spec(dir.path(), spec); }

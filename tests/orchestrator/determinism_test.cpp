@@ -20,8 +20,14 @@ using podium::testing::run_podium;
 using podium::testing::TempDir;
 
 Json one_stage(const std::string& algorithm, int trials, const Json& config) {
-  return podium::testing::stage_spec({.name = "same-" + algorithm, .seed = 5, .workers = 2, .retries = 0,
-                                      .trial_timeout_s = 60, .algorithm = algorithm, .config = config, .trials = trials});
+  return podium::testing::stage_spec({.name = "same-" + algorithm,
+                                      .seed = 5,
+                                      .workers = 2,
+                                      .retries = 0,
+                                      .trial_timeout_s = 60,
+                                      .algorithm = algorithm,
+                                      .config = config,
+                                      .trials = trials});
 }
 
 // Every trial of the campaign: stage, index, parameters, objectives, features, state.
@@ -30,8 +36,7 @@ std::vector<std::string> results(const TempDir& dir, const std::string& id) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   std::vector<std::string> out;
   for (const auto& row : Json::parse(r.out))
-    out.push_back(
-        Json{row["stage"], row["trial"], row["params"], row["objectives"], row["features"], row["state"]}.dump());
+    out.push_back(Json{row["stage"], row["trial"], row["params"], row["objectives"], row["features"], row["state"]}.dump());
   return out;
 }
 
@@ -74,9 +79,8 @@ TEST(Determinism, TheTwoStagePipelineGivesTheSameResultsWithOneOrTwoWorkerProces
 
 // Waits (polling the store) until the campaign has `done` finished trials, or `pid` has exited.
 void wait_for_done(const TempDir& dir, std::int64_t id, std::int64_t done, pid_t pid) {
-  podium::testing::wait_until(pid, [&] {
-    return store::Store::open(dir / "podium.db", store::Store::Access::read_only)->trial_counts(id).done >= done;
-  });
+  podium::testing::wait_until(
+      pid, [&] { return store::Store::open(dir / "podium.db", store::Store::Access::read_only)->trial_counts(id).done >= done; });
 }
 
 TEST(Determinism, KillNineAndResumeWithTwoWorkersGivesTheUninterruptedResults) {

@@ -11,9 +11,9 @@
 #include <set>
 #include <thread>
 
+#include "campaign_spec.h"
 #include "podium/base/json.h"
 #include "podium/store/store.h"
-#include "campaign_spec.h"
 #include "process.h"
 
 namespace podium::orchestrator {
@@ -25,8 +25,8 @@ using podium::testing::run_podium;
 using podium::testing::TempDir;
 using store::Store;
 
-Json probe_stage(const std::string& name, const std::string& algorithm, const Json& trials,
-                 const Json& config = Json::object(), const Json& search_config = Json::object()) {
+Json probe_stage(const std::string& name, const std::string& algorithm, const Json& trials, const Json& config = Json::object(),
+                 const Json& search_config = Json::object()) {
   return {{"name", name},
           {"task", "probe"},
           {"config", config},
@@ -56,9 +56,14 @@ std::vector<store::TrialRecord> stage_trials(const Store& s, std::int64_t campai
 Json expected_input(const Store& s, const std::string& stage_name, int stage_index, const store::TrialRecord& t) {
   Json artifacts = Json::object();
   for (const auto& a : s.artifacts(t.id)) artifacts[a.name] = {{"path", a.path}, {"absolute", true}, {"exists", true}};
-  return {{"stage", stage_name},       {"stage_index", stage_index}, {"trial_index", t.index},
-          {"params", t.params},        {"objectives", t.objectives}, {"features", t.features},
-          {"strategy", t.strategy ? Json(*t.strategy) : Json(nullptr)}, {"artifacts", artifacts},
+  return {{"stage", stage_name},
+          {"stage_index", stage_index},
+          {"trial_index", t.index},
+          {"params", t.params},
+          {"objectives", t.objectives},
+          {"features", t.features},
+          {"strategy", t.strategy ? Json(*t.strategy) : Json(nullptr)},
+          {"artifacts", artifacts},
           {"info", t.result_info.is_object() ? t.result_info : Json::object()}};
 }
 
@@ -107,11 +112,12 @@ TEST(HandOver, SelectModesPickTheDocumentedTrials) {
     stage["inputs"] = inputs;
     return stage;
   };
-  const auto id = submit(dir, campaign("select", {probe_stage("explore", "random", 12), probe_stage("other", "random", 3),
-                                                  using_inputs("best", {{"stage", "explore"}, {"select", "best"}}),
-                                                  using_inputs("top", {{"stage", "explore"}, {"select", "top"}, {"k", 3}}),
-                                                  using_inputs("per_strategy", {{"stage", "explore"}, {"select", "best_per_strategy"}}),
-                                                  using_inputs("two", {{"stage", {"other", "explore"}}, {"select", "best"}})}));
+  const auto id =
+      submit(dir, campaign("select", {probe_stage("explore", "random", 12), probe_stage("other", "random", 3),
+                                      using_inputs("best", {{"stage", "explore"}, {"select", "best"}}),
+                                      using_inputs("top", {{"stage", "explore"}, {"select", "top"}, {"k", 3}}),
+                                      using_inputs("per_strategy", {{"stage", "explore"}, {"select", "best_per_strategy"}}),
+                                      using_inputs("two", {{"stage", {"other", "explore"}}, {"select", "best"}})}));
   run(dir);
   auto s = open_store(dir);
   ASSERT_EQ(s->campaign(id)->state, "done");
@@ -136,9 +142,8 @@ TEST(HandOver, SelectModesPickTheDocumentedTrials) {
   ASSERT_GE(per_strategy.size(), 2u) << "the probe's 12 trials should form several strategies";
   EXPECT_EQ(received(4), per_strategy);
   // Several stages: each one's selection, in the order named.
-  const auto best_other = *std::max_element(other.begin(), other.end(), [](const auto& a, const auto& b) {
-    return objective(a) < objective(b);
-  });
+  const auto best_other =
+      *std::max_element(other.begin(), other.end(), [](const auto& a, const auto& b) { return objective(a) < objective(b); });
   const Json two = stage_trials(*s, id, 5).at(0).result_info.at("inputs");
   ASSERT_EQ(two.size(), 2u);
   EXPECT_EQ(two[0]["stage"], "other");
@@ -224,8 +229,9 @@ TEST(HandOver, SpecErrorsNameTheJsonPathAndLeaveTheDatabaseUnchanged) {
   expect_error(two_stages({{"stage", "explore"}, {"per_trial", "some"}}),
                "stages[1].inputs.per_trial: \"some\" is not one of all, each");
   Json no_inputs = campaign("bad", Json::array({probe_stage("explore", "novel_policy", 2)}));
-  expect_error(no_inputs, "stages[0].search.algorithm: \"novel_policy\" seeks novel policies for an earlier stage's trials, "
-                          "but the stage has no \"inputs\"");
+  expect_error(no_inputs,
+               "stages[0].search.algorithm: \"novel_policy\" seeks novel policies for an earlier stage's trials, "
+               "but the stage has no \"inputs\"");
   Json per_input = campaign("bad", Json::array({probe_stage("explore", "random", {{"per_input", 2}})}));
   expect_error(per_input, "stages[0].budget.trials: {\"per_input\":2} needs the stage's \"inputs\"");
   EXPECT_EQ(file_bytes(dir / "podium.db"), before);
@@ -288,7 +294,8 @@ TEST(HandOver, ResumeAfterSigkillHandsOverTheStoredInputs) {
   int kills = 0;
   for (int round = 0; round < 6; ++round) {
     const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
-    podium::testing::wait_until(pid, [&] { return stage_running(dir, id, 1); }, 2.0);
+    podium::testing::wait_until(
+        pid, [&] { return stage_running(dir, id, 1); }, 2.0);
     std::this_thread::sleep_for(std::chrono::milliseconds(150));
     if (::waitpid(pid, nullptr, WNOHANG) != 0) break;  // it exited (-1: wait_until reaped it)
     ::kill(pid, SIGKILL);

@@ -12,10 +12,10 @@
 #include <memory>
 #include <set>
 
+#include "campaign_spec.h"
 #include "podium/base/json.h"
 #include "podium/store/run_folders.h"
 #include "podium/store/store.h"
-#include "campaign_spec.h"
 #include "process.h"
 
 namespace podium::orchestrator {
@@ -32,8 +32,8 @@ constexpr int kExploreTrials = 4;
 Json handover_spec() {
   const Json smoke = {{"updates", 30}, {"checkpoint_every", 3}};
   const auto stage = [&](const std::string& name) {
-    return Json{{"name", name}, {"task", "test_pendulum"}, {"preset", "smoke"}, {"config", smoke},
-                {"search", {{"algorithm", "random"}}}};
+    return Json{
+        {"name", name}, {"task", "test_pendulum"}, {"preset", "smoke"}, {"config", smoke}, {"search", {{"algorithm", "random"}}}};
   };
   Json explore = stage("explore"), refine = stage("refine"), polish = stage("polish");
   explore["budget"] = {{"trials", kExploreTrials}};
@@ -41,8 +41,8 @@ Json handover_spec() {
   refine["inputs"] = {{"stage", "explore"}, {"select", "best_per_strategy"}, {"per_trial", "each"}};
   polish["budget"] = {{"trials", 2}};
   polish["inputs"] = {{"stage", "refine"}, {"select", "best"}};
-  return {{"name", "pendulum_handover"}, {"seed", 16},       {"workers", 2},
-          {"retries", 3},                {"trial_timeout_s", 300}, {"stages", {explore, refine, polish}}};
+  return {{"name", "pendulum_handover"},        {"seed", 16}, {"workers", 2}, {"retries", 3}, {"trial_timeout_s", 300},
+          {"stages", {explore, refine, polish}}};
 }
 
 // Everything a finished campaign's trial leaves that a resumed run must reproduce.
@@ -95,8 +95,7 @@ std::int64_t count(const std::filesystem::path& db, const std::string& sql) {
   if (sqlite3_open_v2(db.c_str(), &handle, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
     sqlite3_busy_timeout(handle, 2000);
     sqlite3_stmt* statement = nullptr;
-    if (sqlite3_prepare_v2(handle, sql.c_str(), -1, &statement, nullptr) == SQLITE_OK &&
-        sqlite3_step(statement) == SQLITE_ROW)
+    if (sqlite3_prepare_v2(handle, sql.c_str(), -1, &statement, nullptr) == SQLITE_OK && sqlite3_step(statement) == SQLITE_ROW)
       n = sqlite3_column_int64(statement, 0);
     sqlite3_finalize(statement);
   }
@@ -157,7 +156,8 @@ TEST(HandoverCampaign, LaterStagesWarmStartFromTheirInputsPolicies) {
       // "each": trial i gets input i mod n of the inputs stored with the stage.
       const Json& inputs = stages[1].input_trials.value_or(Json::array());
       ASSERT_FALSE(inputs.empty()) << "refine has no stored inputs";
-      EXPECT_EQ(inputs[static_cast<std::size_t>(key.second) % inputs.size()]["trial_index"], source) << "refine trial " << key.second;
+      EXPECT_EQ(inputs[static_cast<std::size_t>(key.second) % inputs.size()]["trial_index"], source)
+          << "refine trial " << key.second;
     } else {
       ++polish_trials;
       // polish's input: refine's best trial.
@@ -246,9 +246,9 @@ TEST(HandoverCampaign, SchedulerKilledMidTrainingEndsAsTheUninterruptedRun) {
     for (std::string line; std::getline(log, line);) resumes += line.find("resumes after update") != std::string::npos;
   }
   EXPECT_GE(resumes, 3) << "fewer attempts resumed from a checkpoint than kills hit trials mid-training";
-  EXPECT_EQ(count(dir / "podium.db",
-                  "SELECT COUNT(*) FROM (SELECT 1 FROM metrics GROUP BY trial_id, name, step HAVING COUNT(*) > 1)"),
-            0)
+  EXPECT_EQ(
+      count(dir / "podium.db", "SELECT COUNT(*) FROM (SELECT 1 FROM metrics GROUP BY trial_id, name, step HAVING COUNT(*) > 1)"),
+      0)
       << "a metric point is stored twice";
 }
 

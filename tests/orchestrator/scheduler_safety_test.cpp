@@ -44,9 +44,8 @@ const Json kFirstAttemptsHang = {{"failures", Json::array({{{"mode", "hang"}, {"
 
 // Polls the store until `running` attempts run, or `pid` has exited (then false).
 bool wait_for_running(const fs::path& db, std::int64_t id, std::int64_t running, pid_t pid) {
-  return podium::testing::wait_until(pid, [&] {
-    return fs::exists(db) && Store::open(db, Store::Access::read_only)->trial_counts(id).running >= running;
-  });
+  return podium::testing::wait_until(
+      pid, [&] { return fs::exists(db) && Store::open(db, Store::Access::read_only)->trial_counts(id).running >= running; });
 }
 
 TEST(SingleWriter, ASecondSchedulerThroughASymlinkOrAHardLinkIsRefused) {
@@ -60,8 +59,7 @@ TEST(SingleWriter, ASecondSchedulerThroughASymlinkOrAHardLinkIsRefused) {
   fs::create_symlink(dir / "data/podium.db", dir / "symlink.db");
   const auto through_symlink = run_podium({"run", "--db", "symlink.db"}, dir.path());
   EXPECT_EQ(through_symlink.exit_code, 1);
-  EXPECT_NE(through_symlink.err.find("another `podium run` is using this database"), std::string::npos)
-      << through_symlink.err;
+  EXPECT_NE(through_symlink.err.find("another `podium run` is using this database"), std::string::npos) << through_symlink.err;
   const auto status = Json::parse(run_podium({"status", "1", "--json", "--db", "symlink.db"}, dir.path()).out);
   EXPECT_EQ(status["scheduler"], "alive");
 
@@ -158,13 +156,13 @@ TEST(ReadOnlyFilesystem, StatusTrialsExportAndServeReadADatabaseThere) {
   const std::string db = (dir / "mnt/podium.db").string(), out = (dir / "out").string();
   std::string script;
   for (const std::string& c : {std::string("status"), "trials " + id, "export " + id + " --format csv"})
-    script += podium + " " + c + " --db " + db + " >> " + out + " 2>&1 && echo ok-" + c.substr(0, c.find(' ')) + " >> " +
-              out + "\n";
+    script +=
+        podium + " " + c + " --db " + db + " >> " + out + " 2>&1 && echo ok-" + c.substr(0, c.find(' ')) + " >> " + out + "\n";
   // serve: the dashboard answers from the read-only database, then is stopped.
   script += podium + " serve --port 0 --db " + db + " > " + out + ".url 2>&1 &\nSERVER=$!\n" +
             "for i in $(seq 400); do grep -q http " + out + ".url && break; sleep 0.05; done\n" +
-            "curl -sf \"$(grep -o 'http://[^ ]*' " + out + ".url | head -1)api/campaigns\" >> " + out +
-            " && echo ok-serve >> " + out + "\nkill $SERVER\nwait $SERVER\nexit 0\n";
+            "curl -sf \"$(grep -o 'http://[^ ]*' " + out + ".url | head -1)api/campaigns\" >> " + out + " && echo ok-serve >> " +
+            out + "\nkill $SERVER\nwait $SERVER\nexit 0\n";
   const int rc = with_read_only_mount(dir / "archive", dir / "mnt", script);
   if (rc < 0) GTEST_SKIP() << "unshare -rm (a user and mount namespace) is not available here";
   std::ifstream in(out);

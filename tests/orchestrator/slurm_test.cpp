@@ -14,10 +14,10 @@
 #include <thread>
 #include <vector>
 
+#include "campaign_spec.h"
 #include "podium/base/json.h"
 #include "podium/store/run_folders.h"
 #include "podium/store/store.h"
-#include "campaign_spec.h"
 #include "process.h"
 
 namespace podium::orchestrator {
@@ -61,8 +61,13 @@ Json spec_for(const std::string& executor, int trials, const Json& config, int w
     exec["max_jobs_in_queue"] = workers;
     for (const auto& [k, v] : extra.items()) exec[k] = v;
   }
-  return podium::testing::stage_spec(
-      {.name = "slurm-test", .seed = 5, .workers = workers, .trial_timeout_s = 300, .config = config, .executor = exec, .trials = trials});
+  return podium::testing::stage_spec({.name = "slurm-test",
+                                      .seed = 5,
+                                      .workers = workers,
+                                      .trial_timeout_s = 300,
+                                      .config = config,
+                                      .executor = exec,
+                                      .trials = trials});
 }
 
 std::string submit(const TempDir& dir, const Json& spec) { return podium::testing::submit_spec(dir.path(), spec); }
@@ -122,7 +127,8 @@ TEST_F(Slurm, HandOverAndResumeReachJobsAsTheyReachLocalWorkers) {
       for (std::string line; std::getline(log, line);) log_lines.push_back(line.substr(0, line.find(" started ")));
       EXPECT_GE(log_lines.size(), 2u) << "trial " << t.index << ": no header and probe line in its log";
       Json inputs = Json::array();
-      for (const auto& in : t.result_info["inputs"]) inputs.push_back({in["stage"], in["trial_index"], in["artifacts"]["policy"]["exists"]});
+      for (const auto& in : t.result_info["inputs"])
+        inputs.push_back({in["stage"], in["trial_index"], in["artifacts"]["policy"]["exists"]});
       Json steps = Json::array();
       for (const auto& m : store->metrics(t.id)) steps.push_back({m.step, m.attempt});
       const Json& previous = t.result_info["previous_attempt"];
@@ -211,10 +217,12 @@ TEST_F(Slurm, ScancelAndTimeLimitAreRecordedAndRetried) {
 TEST_F(Slurm, TheShippedGetupCampaignRunsOnSlurmAsEditedBySubmitSet) {
   TempDir dir;
   std::vector<std::string> submit_args = {"submit", std::string(PODIUM_SOURCE_DIR) + "/campaigns/getup.json",
-                                          "--set", R"(executor={"kind": "slurm", "partition": "debug", "max_jobs_in_queue": 4})",
-                                          "--set", "trial_timeout_s=300", "--set", "stages[0].budget.trials=3",
-                                          "--set", "stages[0].config.train_minutes=1e-9"};
-  for (int stage = 0; stage < 3; ++stage) submit_args.insert(submit_args.end(), {"--set", "stages[" + std::to_string(stage) + "].preset=smoke"});
+                                          "--set",  R"(executor={"kind": "slurm", "partition": "debug", "max_jobs_in_queue": 4})",
+                                          "--set",  "trial_timeout_s=300",
+                                          "--set",  "stages[0].budget.trials=3",
+                                          "--set",  "stages[0].config.train_minutes=1e-9"};
+  for (int stage = 0; stage < 3; ++stage)
+    submit_args.insert(submit_args.end(), {"--set", "stages[" + std::to_string(stage) + "].preset=smoke"});
   const auto submitted = run_podium(submit_args, dir.path());
   ASSERT_EQ(submitted.exit_code, 0) << submitted.err;
   const auto run = run_podium({"run"}, dir.path());

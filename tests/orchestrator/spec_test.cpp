@@ -60,7 +60,8 @@ TEST(CampaignSpec, ErrorsNameTheJsonPath) {
 
   j = valid_spec();
   j["stages"][0]["search"]["algoritm"] = "bds";
-  EXPECT_EQ(error_of(j), "spec.json: stages[0].search.algoritm: unknown key (known: algorithm, config) (did you mean algorithm?)");
+  EXPECT_EQ(error_of(j),
+            "spec.json: stages[0].search.algoritm: unknown key (known: algorithm, config) (did you mean algorithm?)");
 
   j = valid_spec();
   j["seed"] = "seven";
@@ -82,7 +83,8 @@ TEST(CampaignSpec, ErrorsNameTheJsonPath) {
 
   j = valid_spec();
   j["stages"][0]["inputs"] = {{"stage", "b"}};
-  EXPECT_EQ(error_of(j), "spec.json: stages[0].inputs.stage: \"b\" is a later stage (stages[1]); inputs come from earlier stages");
+  EXPECT_EQ(error_of(j),
+            "spec.json: stages[0].inputs.stage: \"b\" is a later stage (stages[1]); inputs come from earlier stages");
 
   j = valid_spec();
   j["stages"][1]["inputs"]["stage"] = {"a", "a"};
@@ -141,20 +143,27 @@ TEST(CampaignSpec, EveryNumberIsCheckedAgainstItsDocumentedRange) {
       {[](Json& j) { j["workers"] = 1025; }, "workers: 1025 is not in [1, 1024]"},
       {[](Json& j) { j["retries"] = 4294967296; }, "retries: 4294967296 is not in [0, 100]"},
       {[](Json& j) { j["seed"] = -1; }, "seed: -1 is not >= 0"},
-      {[](Json& j) { j["seed"] = 18446744073709551615u; },
-       "seed: 18446744073709551615 is not in [0, 9223372036854775807]"},
+      {[](Json& j) { j["seed"] = 18446744073709551615u; }, "seed: 18446744073709551615 is not in [0, 9223372036854775807]"},
       {[](Json& j) { j["stages"][0]["budget"]["trials"] = 10000001; },
        "stages[0].budget.trials: 10000001 is not in [1, 10000000]"},
       {[](Json& j) { j["stages"][0]["budget"]["wall_time_s"] = 1e12; },
        "stages[0].budget.wall_time_s: 1000000000000.0 is not in (0, 31536000]"},
-      {[](Json& j) { j["stages"][1]["budget"]["trials"] = {{"per_input", 4294967296}}; },
+      {[](Json& j) {
+         j["stages"][1]["budget"]["trials"] = {{"per_input", 4294967296}};
+       },
        "stages[1].budget.trials.per_input: 4294967296 is not in [1, 1000000]"},
       {[](Json& j) { j["stages"][0]["strategy_threshold"] = -0.5; }, "stages[0].strategy_threshold: -0.5 is not > 0"},
-      {[](Json& j) { j["stages"][1]["inputs"] = {{"stage", "a"}, {"select", "top"}, {"k", 1e6 + 1}}; },
+      {[](Json& j) {
+         j["stages"][1]["inputs"] = {{"stage", "a"}, {"select", "top"}, {"k", 1e6 + 1}};
+       },
        "stages[1].inputs.k: 1000001.0 is not an integer"},
-      {[](Json& j) { j["executor"] = {{"kind", "slurm"}, {"partition", "p"}, {"cpus_per_task", 2000}}; },
+      {[](Json& j) {
+         j["executor"] = {{"kind", "slurm"}, {"partition", "p"}, {"cpus_per_task", 2000}};
+       },
        "executor.cpus_per_task: 2000 is not in [1, 1024]"},
-      {[](Json& j) { j["executor"] = {{"kind", "slurm"}, {"partition", "p"}, {"max_jobs_in_queue", 0}}; },
+      {[](Json& j) {
+         j["executor"] = {{"kind", "slurm"}, {"partition", "p"}, {"max_jobs_in_queue", 0}};
+       },
        "executor.max_jobs_in_queue: 0 is not in [1, 100000]"},
   };
   for (const auto& [edit, error] : cases) {
@@ -179,14 +188,14 @@ TEST(CampaignSpec, EveryNumberIsCheckedAgainstItsDocumentedRange) {
 // (a terminal escape, a NUL that made a campaign unfindable) are refused with the JSON path.
 TEST(CampaignSpec, NamesWithControlCharactersAreRefused) {
   for (const std::string& bad : {std::string("a\0b", 3), std::string("red\x1b[31m"), std::string("two\nlines"),
-                                std::string("del\x7f"), std::string("c1\xc2\x9b")}) {
+                                 std::string("del\x7f"), std::string("c1\xc2\x9b")}) {
     auto j = valid_spec();
     j["name"] = bad;
     EXPECT_EQ(error_of(j), "spec.json: name: " + Json(bad).dump() + " has a control character (names are printed and typed)");
     j = valid_spec();
     j["stages"][0]["name"] = bad;
-    EXPECT_EQ(error_of(j), "spec.json: stages[0].name: " + Json(bad).dump() +
-                               " has a control character (names are printed and typed)");
+    EXPECT_EQ(error_of(j),
+              "spec.json: stages[0].name: " + Json(bad).dump() + " has a control character (names are printed and typed)");
   }
   auto j = valid_spec();
   j["name"] = "démo ✓ 2026";  // printable UTF-8 is a name
@@ -205,8 +214,9 @@ TEST(CampaignSpec, ParsesASlurmExecutorAndNamesItsErrors) {
   EXPECT_EQ(x.max_jobs_in_queue, 100);
 
   j["executor"]["time"] = "1 hour";
-  EXPECT_EQ(error_of(j), "spec.json: executor.time: \"1 hour\" is not a Slurm time limit (minutes, or "
-                         "[days-]hours:minutes:seconds)");
+  EXPECT_EQ(error_of(j),
+            "spec.json: executor.time: \"1 hour\" is not a Slurm time limit (minutes, or "
+            "[days-]hours:minutes:seconds)");
   j["executor"]["time"] = "30";
   j["executor"]["extra_sbatch"] = {"--qos=low", 7};
   EXPECT_EQ(error_of(j), "spec.json: executor.extra_sbatch[1]: 7 is not a string");

@@ -31,12 +31,13 @@ store::NewStage named_stage(const std::string& name) {
   s.name = name;
   s.task = "getup";
   s.algorithm = "random";
-  s.description = {{"params", Json::array({{{"name", "width"}, {"low", 0}, {"high", 1}}, {{"name", "angle"}, {"low", 0}, {"high", 1}}})},
-                   {"features", Json::array({{{"name", "zeta"}, {"low", 0}, {"high", 1}, {"unit", "rad"}, {"description", "z"}},
-                                             {{"name", "alpha"}, {"low", 0}, {"high", 1}}})},
-                   {"objectives", {"slow_success_rate", "fast_success_rate"}},
-                   {"objective_info", Json::array({{{"name", "slow_success_rate"}, {"description", "mean slowed success"}},
-                                                   {{"name", "fast_success_rate"}, {"description", "fast success"}}})}};
+  s.description = {
+      {"params", Json::array({{{"name", "width"}, {"low", 0}, {"high", 1}}, {{"name", "angle"}, {"low", 0}, {"high", 1}}})},
+      {"features", Json::array({{{"name", "zeta"}, {"low", 0}, {"high", 1}, {"unit", "rad"}, {"description", "z"}},
+                                {{"name", "alpha"}, {"low", 0}, {"high", 1}}})},
+      {"objectives", {"slow_success_rate", "fast_success_rate"}},
+      {"objective_info", Json::array({{{"name", "slow_success_rate"}, {"description", "mean slowed success"}},
+                                      {{"name", "fast_success_rate"}, {"description", "fast success"}}})}};
   s.budget_trials = 4;
   return s;
 }
@@ -61,8 +62,8 @@ std::int64_t add_campaign(store::Store& store, const std::string& name, const st
   const auto stage = store.stages(id)[0].id;
   store.transaction([&] {
     for (std::size_t i = 0; i < finished.size(); ++i) {
-      const auto t = store.add_trial(stage, static_cast<std::int64_t>(i), Json{{"angle", 0.25}, {"width", 0.5}},
-                                     Json::object(), Json::object(), i);
+      const auto t = store.add_trial(stage, static_cast<std::int64_t>(i), Json{{"angle", 0.25}, {"width", 0.5}}, Json::object(),
+                                     Json::object(), i);
       if (finished[i].objectives.empty()) {
         store.set_trial_state(t, "failed", "boom");
         continue;
@@ -169,7 +170,8 @@ TEST(Summary, ExportNamesColumnsInTheTasksOrderAtRoundTripPrecision) {
 
   // The trials table and status name them too.
   const auto table = run_podium({"trials", "order", "--db", db_arg(dir)}, dir.path());
-  EXPECT_EQ(table.out.rfind("trial       state  attempts  slow_success_rate  fast_success_rate  strategy  id  zeta(rad)  alpha  error", 0),
+  EXPECT_EQ(table.out.rfind(
+                "trial       state  attempts  slow_success_rate  fast_success_rate  strategy  id  zeta(rad)  alpha  error", 0),
             0u)
       << table.out;
   const auto status = run_podium({"status", "order", "--db", db_arg(dir)}, dir.path());
@@ -215,7 +217,10 @@ TEST(Summary, ReadsADatabaseAnOlderPodiumWrote) {
   EXPECT_EQ(stage["best"]["objectives"][0]["name"], "objective");
   EXPECT_FALSE(stage["strategies"].empty());
   const auto csv = run_podium({"export", "1", "--format", "csv"}, dir.path());
-  EXPECT_EQ(csv.out.rfind("campaign,stage,trial,state,attempts,seed,param.x0,param.x1,param.x2,objective.objective,feature.f0,feature.f1,", 0), 0u)
+  EXPECT_EQ(
+      csv.out.rfind(
+          "campaign,stage,trial,state,attempts,seed,param.x0,param.x1,param.x2,objective.objective,feature.f0,feature.f1,", 0),
+      0u)
       << csv.out;
 }
 
@@ -253,8 +258,9 @@ TEST(Summary, SeveralCampaignsGiveEachItsDiscoveryCurve) {
   std::vector<std::string> ids;
   for (const char* algorithm : {"random", "bds"})
     ids.push_back(podium::testing::submit_spec(
-        dir.path(), podium::testing::stage_spec({.name = std::string("curve-") + algorithm, .seed = 3, .workers = 1,
-                                                 .algorithm = algorithm, .trials = 8})));
+        dir.path(),
+        podium::testing::stage_spec(
+            {.name = std::string("curve-") + algorithm, .seed = 3, .workers = 1, .algorithm = algorithm, .trials = 8})));
   const auto run = run_podium({"run", "--workers", "1"}, dir.path());
   ASSERT_EQ(run.exit_code, 0) << run.err;
   const auto r = run_podium({"summary", ids[0], ids[1], "--json"}, dir.path());

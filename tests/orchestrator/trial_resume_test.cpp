@@ -3,14 +3,13 @@
 // sends again are not stored twice. Real `podium run` with the probe task, which checkpoints in
 // its work folder.
 #include <gtest/gtest.h>
-
 #include <signal.h>
 
 #include <filesystem>
 
+#include "campaign_spec.h"
 #include "podium/base/json.h"
 #include "podium/store/store.h"
-#include "campaign_spec.h"
 #include "process.h"
 
 namespace podium::orchestrator {
@@ -63,7 +62,8 @@ TEST(TrialResume, ARetryResumesInTheSameFolderAndStoresEachMetricStepOnce) {
     }
     EXPECT_TRUE(std::filesystem::exists(s->artifacts(t.id).at(0).path));
     // Both attempts' log lines, in order, in the trial's folder (where the artifact is).
-    const std::string log = podium::testing::file_bytes(std::filesystem::path(s->artifacts(t.id).at(0).path).parent_path() / "trial.log");
+    const std::string log =
+        podium::testing::file_bytes(std::filesystem::path(s->artifacts(t.id).at(0).path).parent_path() / "trial.log");
     std::size_t at = 0;
     for (const char* line : {"podium: attempt 1 started ", "probe: attempt 1 starts at step 0", "podium: attempt 2 started ",
                              "probe: attempt 2 starts at step 4"}) {
@@ -121,7 +121,8 @@ TEST(TrialResume, AnAttemptInterruptedByAStoppedSchedulerDoesNotUseUpARetry) {
   for (int attempt = 1; attempt <= 2; ++attempt) {
     const pid_t pid = podium::testing::spawn_podium({"run"}, dir.path());
     // Killed as soon as the store says the attempt runs: well inside the 3 s before the probe fails it.
-    ASSERT_TRUE(podium::testing::wait_until(pid, [&] { return running_attempt(dir, id) == attempt; }, 20.0));
+    ASSERT_TRUE(podium::testing::wait_until(
+        pid, [&] { return running_attempt(dir, id) == attempt; }, 20.0));
     ::kill(pid, SIGKILL);
     podium::testing::wait_process(pid);
   }

@@ -29,17 +29,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const Json kDefaults = {{"steps", 6},        {"checkpoint_every", 2}, {"sleep_s", 0.0},
-                        {"fail_step", -1},   {"fail_attempts", 1},    {"features", 2},
-                        {"reject", false},   {"data_file", ""},       {"shipped", Json::array()}};
+const Json kDefaults = {{"steps", 6},      {"checkpoint_every", 2}, {"sleep_s", 0.0},
+                        {"fail_step", -1}, {"fail_attempts", 1},    {"features", 2},
+                        {"reject", false}, {"data_file", ""},       {"shipped", Json::array()}};
 
 // The config description (ConfigReader::describe's form) for the keys whose declaration matters
 // to the orchestrator: the files.
-const Json kFileKeys = {{{"key", "data_file"}, {"type", "string"}, {"format", "file"}, {"default", ""}},
-                        {{"key", "shipped"},
-                         {"type", "array"},
-                         {"default", Json::array()},
-                         {"items", {{"type", "object"}, {"keys", {{{"key", "policy"}, {"type", "string"}, {"format", "file"}}}}}}}};
+const Json kFileKeys = {
+    {{"key", "data_file"}, {"type", "string"}, {"format", "file"}, {"default", ""}},
+    {{"key", "shipped"},
+     {"type", "array"},
+     {"default", Json::array()},
+     {"items", {{"type", "object"}, {"keys", {{{"key", "policy"}, {"type", "string"}, {"format", "file"}}}}}}}};
 
 Json file_json(const std::string& path) {
   return {{"path", path}, {"absolute", fs::path(path).is_absolute()}, {"exists", fs::is_regular_file(path)}};
@@ -57,9 +58,14 @@ Json input_json(const plugins::InputTrial& in) {
   Json artifacts = Json::object();
   for (const auto& [name, path] : in.artifacts)
     artifacts[name] = {{"path", path.string()}, {"absolute", path.is_absolute()}, {"exists", fs::exists(path)}};
-  return {{"stage", in.stage},           {"stage_index", in.stage_index}, {"trial_index", in.trial_index},
-          {"params", in.params},         {"objectives", in.objectives},   {"features", in.features},
-          {"strategy", in.strategy ? Json(*in.strategy) : Json(nullptr)}, {"artifacts", artifacts},
+  return {{"stage", in.stage},
+          {"stage_index", in.stage_index},
+          {"trial_index", in.trial_index},
+          {"params", in.params},
+          {"objectives", in.objectives},
+          {"features", in.features},
+          {"strategy", in.strategy ? Json(*in.strategy) : Json(nullptr)},
+          {"artifacts", artifacts},
           {"info", in.info}};
 }
 

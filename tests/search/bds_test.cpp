@@ -1,9 +1,10 @@
+#include "bds.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <numbers>
 
-#include "bds.h"
 #include "landscape_model.h"
 #include "podium/base/rng.h"
 #include "podium/search/search.h"
@@ -80,8 +81,9 @@ TEST(Bds, ExploresUntilTheScheduleSaysThenTakesDiversitySteps) {
 // explores for up to `stall_explore` steps, and goes back to diversity steps as soon as an
 // exploration step finds a new strategy.
 TEST(Bds, StalledDiversityStepsFallBackToExploration) {
-  auto search = make_search("bds", unit_box(3, {{"initial_samples", 2}, {"explore_until", 0}, {"stall", 2},
-                                                {"stall_explore", 2}, {"direct_evals", 200}}));
+  auto search = make_search(
+      "bds",
+      unit_box(3, {{"initial_samples", 2}, {"explore_until", 0}, {"stall", 2}, {"stall_explore", 2}, {"direct_evals", 200}}));
   std::vector<std::string> steps;
   for (int t = 0; t < 12; ++t) {
     const auto p = search->ask(1).at(0);
@@ -92,8 +94,8 @@ TEST(Bds, StalledDiversityStepsFallBackToExploration) {
     const bool fresh = p.info.at("step") == "explore" && explored >= 3;
     search->tell({{p.id, true, {0.0}, fresh ? std::vector<double>{p.x[0], p.x[1]} : std::vector<double>{0.5, 0.5}}});
   }
-  EXPECT_EQ(steps, (std::vector<std::string>{"initial", "initial", "diversity", "diversity", "explore", "explore",
-                                             "diversity", "diversity", "explore", "diversity", "diversity", "explore"}));
+  EXPECT_EQ(steps, (std::vector<std::string>{"initial", "initial", "diversity", "diversity", "explore", "explore", "diversity",
+                                             "diversity", "explore", "diversity", "diversity", "explore"}));
 }
 
 TEST(Bds, MaximinInitialDesignSpreadsTheInitialSamples) {
@@ -105,8 +107,8 @@ TEST(Bds, MaximinInitialDesignSpreadsTheInitialSamples) {
 }
 
 TEST(Bds, ExplorationBonusKeepsDiversityStepsDistinctAndInsideTheBox) {
-  auto search = make_search("bds", unit_box(3, {{"initial_samples", 3}, {"explore_until", 0}, {"stall", 0}, {"ucb_beta", 0.1},
-                                                {"direct_evals", 200}}));
+  auto search = make_search(
+      "bds", unit_box(3, {{"initial_samples", 3}, {"explore_until", 0}, {"stall", 0}, {"ucb_beta", 0.1}, {"direct_evals", 200}}));
   std::vector<Proposal> all;
   for (int t = 0; t < 8; ++t) {
     const auto p = search->ask(1).at(0);
@@ -138,8 +140,8 @@ TEST(Bds, DiversityStepAimsAtTheUnseenCombinationOfObservedLevels) {
     for (double x0 : grid)
       for (double x1 : grid)
         if (x0 < 0.5 || x1 < 0.5)
-          state["told"].push_back({{"id", id++}, {"u", {x0, x1}}, {"ok", true},
-                                   {"features", {x0 > 0.5 ? high0 : low0, x1 > 0.5 ? 0.8 : 0.2}}});
+          state["told"].push_back(
+              {{"id", id++}, {"u", {x0, x1}}, {"ok", true}, {"features", {x0 > 0.5 ? high0 : low0, x1 > 0.5 ? 0.8 : 0.2}}});
     state["next_id"] = id;
     search->load(state);
     const auto p = search->ask(1).at(0);
@@ -190,11 +192,12 @@ TEST(Bds, ExpectedDistanceMatchesTheClosedFormForOneTarget) {
   base::Rng rng(5);
   Eigen::MatrixXd eps(200000, 1);
   for (Eigen::Index s = 0; s < eps.rows(); ++s) eps(s, 0) = rng.normal();
-  for (const auto& [mu, sigma, t] : std::vector<std::tuple<double, double, double>>{{0.3, 0.2, 0.1}, {0.5, 0.05, 0.5}, {0.9, 0.3, 0.2}}) {
+  for (const auto& [mu, sigma, t] :
+       std::vector<std::tuple<double, double, double>>{{0.3, 0.2, 0.1}, {0.5, 0.05, 0.5}, {0.9, 0.3, 0.2}}) {
     const double delta = mu - t;
     const double phi = 0.5 * std::erfc(delta / sigma / std::numbers::sqrt2);  // Φ(−δ/σ)
-    const double exact = sigma * std::sqrt(2.0 / std::numbers::pi) * std::exp(-delta * delta / (2 * sigma * sigma)) +
-                         delta * (1.0 - 2.0 * phi);
+    const double exact =
+        sigma * std::sqrt(2.0 / std::numbers::pi) * std::exp(-delta * delta / (2 * sigma * sigma)) + delta * (1.0 - 2.0 * phi);
     // 200 000 draws: the standard error is below σ/400.
     EXPECT_NEAR(expected_nearest_distance(features, {mu}, {sigma}, {{t}}, eps), exact, sigma / 100) << mu << " " << t;
   }

@@ -50,8 +50,7 @@ TEST(Cmaes, RejectsX0OutsideTheBoxNamingIt) {
     make_search("cmaes", box(2, {{"x0", {{"x0", 0.0}, {"x1", 9.0}}}}), "stages[1].search");
     FAIL();
   } catch (const base::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find("stages[1].search.config.x0.x1: 9.0 is not in [-5, 5]"), std::string::npos)
-        << e.what();
+    EXPECT_NE(std::string(e.what()).find("stages[1].search.config.x0.x1: 9.0 is not in [-5, 5]"), std::string::npos) << e.what();
   }
   try {
     make_search("cmaes", box(2, {{"x0", {{"x0", 0.0}, {"x2", 1.0}}}}), "stages[1].search");

@@ -21,7 +21,8 @@ SearchSetup conformance_setup(const std::string& algorithm) {
                                              {"name": "n", "low": 0, "high": 10, "integer": true}])"),
                              "space");
   s.features = Feature::list_from_json(Json::parse(R"([{"name": "f0", "low": 0, "high": 1},
-                                                        {"name": "f1", "low": 0, "high": 1}])"), "features");
+                                                        {"name": "f1", "low": 0, "high": 1}])"),
+                                       "features");
   s.seed = 42;
   s.inputs = Json::parse(R"([{"trial_index": 3, "params": {"a": 0.5, "b": 0.2, "n": 4}, "objectives": [-0.1],
                                "features": [0.2, 0.7], "artifacts": {"policy": "/runs/3/policy.pt"}, "strategy": 0},

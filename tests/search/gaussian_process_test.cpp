@@ -1,12 +1,13 @@
 // The GP against scikit-learn and its analytic gradients against finite
 // differences. scikit-learn runs as a subprocess on data drawn here, so nothing is hard-coded.
+#include "gaussian_process.h"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "gaussian_process.h"
 #include "podium/base/json.h"
 #include "process.h"
 
@@ -59,9 +60,10 @@ base::Json sklearn_reference(const Problem& p, const GpBounds& b, int restarts, 
                   {"prior_mean", p.prior_mean},
                   {"theta", std::vector<double>(p.theta.data(), p.theta.data() + p.theta.size())},
                   {"x_test", matrix_json(p.x_test)},
-                  {"bounds", {{"signal", {b.log_signal_low, b.log_signal_high}},
-                              {"length", {b.log_length_low, b.log_length_high}},
-                              {"noise", {b.log_noise_low, b.log_noise_high}}}},
+                  {"bounds",
+                   {{"signal", {b.log_signal_low, b.log_signal_high}},
+                    {"length", {b.log_length_low, b.log_length_high}},
+                    {"noise", {b.log_noise_low, b.log_noise_high}}}},
                   {"restarts", restarts}};
   std::ofstream(input) << j.dump();
   const std::string command = std::string(PODIUM_PYTHON) + " " + PODIUM_GP_REFERENCE + " " + input.string();
@@ -111,7 +113,8 @@ TEST(GaussianProcess, LikelihoodGradientMatchesFiniteDifferences) {
     plus[j] += h;
     minus[j] -= h;
     const double fd = (GaussianProcess::log_marginal_likelihood(p.x, p.y, p.prior_mean, plus, nullptr) -
-                       GaussianProcess::log_marginal_likelihood(p.x, p.y, p.prior_mean, minus, nullptr)) / (2 * h);
+                       GaussianProcess::log_marginal_likelihood(p.x, p.y, p.prior_mean, minus, nullptr)) /
+                      (2 * h);
     EXPECT_NEAR(grad[j], fd, 1e-5 * std::max(1.0, std::abs(fd))) << "theta[" << j << "]";
   }
 }

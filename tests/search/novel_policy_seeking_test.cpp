@@ -84,8 +84,9 @@ TEST(NovelPolicySeeking, IsSubmittableBeforeItsInputsExist) {
     check_search("novel_policy", s, false, "stages[1].search");
     FAIL();
   } catch (const base::UserError& e) {
-    EXPECT_EQ(std::string(e.what()), "stages[1].search.algorithm: \"novel_policy\" seeks novel policies for an earlier "
-                                     "stage's trials, but the stage has no \"inputs\"");
+    EXPECT_EQ(std::string(e.what()),
+              "stages[1].search.algorithm: \"novel_policy\" seeks novel policies for an earlier "
+              "stage's trials, but the stage has no \"inputs\"");
   }
   s.config = {{"trials_per_input", 0}};
   EXPECT_THROW(check_search("novel_policy", s, true, "stages[1].search"), base::UserError);

@@ -1,11 +1,12 @@
 // The pool replay (tasks/pool) on a synthetic table: a 1-D take-off x in [0, 1] whose feature is
 // x itself, succeeding below 0.8, recorded on a grid of 101 points.
+#include "pool_replay.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "podium/base/error.h"
-#include "pool_replay.h"
 
 namespace podium::tasks::pool {
 namespace {

@@ -24,9 +24,15 @@ double highest_geom_point(const CharacterModel& model, const CharacterData& data
       const Eigen::Vector3d c = d.p + d.R * g.pos;
       const Eigen::Matrix3d R = d.R * g.rot.toRotationMatrix();
       switch (g.type) {
-        case ShapeType::sphere: top = std::max(top, c.z() + g.radius); break;
-        case ShapeType::capsule: top = std::max(top, c.z() + g.half_length * std::abs(R(2, 2)) + g.radius); break;
-        case ShapeType::box: top = std::max(top, c.z() + R.row(2).cwiseAbs().dot(g.half_extents)); break;
+        case ShapeType::sphere:
+          top = std::max(top, c.z() + g.radius);
+          break;
+        case ShapeType::capsule:
+          top = std::max(top, c.z() + g.half_length * std::abs(R(2, 2)) + g.radius);
+          break;
+        case ShapeType::box:
+          top = std::max(top, c.z() + R.row(2).cwiseAbs().dot(g.half_extents));
+          break;
       }
     }
   }
@@ -61,8 +67,8 @@ Eigen::VectorXd joint_limits(const CharacterModel& m, const std::string& joint) 
 TEST(Athlete, HasTable3_2MassHeightAndJointHeights) {
   const ModelPtr m = load_shipped_model("athlete");
   const Standing s = standing_figures(*m);
-  std::printf("athlete: %.3f kg, head top %.4f m, soles %.4f m, hips %.4f/%.4f m, knees %.4f/%.4f m, nv %d\n", m->total_mass(), s.top, s.sole, s.hip[0],
-              s.hip[1], s.knee[0], s.knee[1], m->nv());
+  std::printf("athlete: %.3f kg, head top %.4f m, soles %.4f m, hips %.4f/%.4f m, knees %.4f/%.4f m, nv %d\n", m->total_mass(),
+              s.top, s.sole, s.hip[0], s.hip[1], s.knee[0], s.knee[1], m->nv());
   EXPECT_EQ(m->nv(), 34);      // §3.6.2: 34 DoFs in total,
   EXPECT_EQ(m->nv() - 6, 28);  // 28 internal
   EXPECT_NEAR(m->total_mass(), 60.0, 0.5);
@@ -94,7 +100,8 @@ TEST(Athlete, LegTorqueLimitsEqualTheJumperFiles) {
   const char* shared = std::getenv("PODIUM_SHARED_DIR");
   const std::filesystem::path file =
       shared ? std::filesystem::path(shared) / "data/jump/data/characters/humanoid3d_jumper60kg.txt" : std::filesystem::path();
-  if (file.empty() || !std::filesystem::exists(file)) GTEST_SKIP() << "PODIUM_SHARED_DIR/data/jump is absent: no jumper file to compare with";
+  if (file.empty() || !std::filesystem::exists(file))
+    GTEST_SKIP() << "PODIUM_SHARED_DIR/data/jump is absent: no jumper file to compare with";
   const ModelPtr athlete = load_shipped_model("athlete"), jumper = load_deepmimic(file);
   for (const char* joint : {"right_hip", "left_hip", "right_knee", "left_knee", "right_ankle", "left_ankle"})
     EXPECT_EQ(joint_limits(*athlete, joint), joint_limits(*jumper, joint)) << joint;
@@ -137,8 +144,8 @@ TEST(Athlete, StandsUnassistedFor2sOnStiffStablePd) {
   gains.kp *= 5.0;
   gains.kd = gains.kp / 100.0;
   const Held h = hold_standing(m, gains);
-  std::printf("athlete unassisted, 2 s: head %.4f m at start, %.4f to %.4f m; COM at the end (%.4f, %.4f, %.4f) m\n", h.start, h.lowest, h.highest,
-              h.end.com.x(), h.end.com.y(), h.end.com.z());
+  std::printf("athlete unassisted, 2 s: head %.4f m at start, %.4f to %.4f m; COM at the end (%.4f, %.4f, %.4f) m\n", h.start,
+              h.lowest, h.highest, h.end.com.x(), h.end.com.y(), h.end.com.z());
   EXPECT_GT(h.lowest, 0.98 * h.start);
   EXPECT_LT(h.highest, 1.02 * h.start);
   EXPECT_GT(h.end.torso_up.z(), 0.99);       // the torso still upright
@@ -162,4 +169,3 @@ TEST(Athlete, ItsOwnPdGainsHoldTheStandingPoseFor2sWithTheRootServo) {
 
 }  // namespace
 }  // namespace podium::sim
-

@@ -30,12 +30,30 @@ std::filesystem::path write_character(const std::string& name, const Json& joint
   Json j = {{"ID", 1}, {"Name", "hip"}, {"Type", "spherical"}, {"Parent", 0}, {"AttachX", 0}, {"AttachY", -0.1}, {"AttachZ", 0}};
   j.update(joint);
   const Json character = {
-      {"Skeleton", {{"Joints", {{{"ID", 0}, {"Name", "root"}, {"Type", "none"}, {"Parent", -1}, {"AttachX", 0}, {"AttachY", 0}, {"AttachZ", 0}}, j}}}},
+      {"Skeleton",
+       {{"Joints",
+         {{{"ID", 0}, {"Name", "root"}, {"Type", "none"}, {"Parent", -1}, {"AttachX", 0}, {"AttachY", 0}, {"AttachZ", 0}}, j}}}},
       {"BodyDefs",
-       {{{"ID", 0}, {"Shape", "sphere"}, {"Mass", 8}, {"AttachX", 0}, {"AttachY", 0}, {"AttachZ", 0}, {"Param0", 0.2}, {"Param1", 0.2}, {"Param2", 0.2}},
-        {{"ID", 1}, {"Shape", "capsule"}, {"Mass", 4}, {"AttachX", 0}, {"AttachY", -0.2}, {"AttachZ", 0}, {"Param0", 0.1}, {"Param1", 0.3}, {"Param2", 0.1}}}}};
+       {{{"ID", 0},
+         {"Shape", "sphere"},
+         {"Mass", 8},
+         {"AttachX", 0},
+         {"AttachY", 0},
+         {"AttachZ", 0},
+         {"Param0", 0.2},
+         {"Param1", 0.2},
+         {"Param2", 0.2}},
+        {{"ID", 1},
+         {"Shape", "capsule"},
+         {"Mass", 4},
+         {"AttachX", 0},
+         {"AttachY", -0.2},
+         {"AttachZ", 0},
+         {"Param0", 0.1},
+         {"Param1", 0.3},
+         {"Param2", 0.1}}}}};
   auto path = std::filesystem::temp_directory_path() /
-                    ("podium_sim_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name);
+              ("podium_sim_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name);
   std::ofstream(path) << character.dump(1);
   return path;
 }
@@ -53,7 +71,8 @@ std::string load_error(const std::filesystem::path& path) {
 
 TEST(DeepMimic, LoadsHumanoidWith34Dofs) {
   const auto dir = deepmimic_dir();
-  if (dir.empty() || !std::filesystem::exists(dir / "characters/humanoid3d.txt")) GTEST_SKIP() << "../shared/data/deepmimic absent (PODIUM_SHARED_DIR)";
+  if (dir.empty() || !std::filesystem::exists(dir / "characters/humanoid3d.txt"))
+    GTEST_SKIP() << "../shared/data/deepmimic absent (PODIUM_SHARED_DIR)";
   const ModelPtr model = load_deepmimic(dir / "characters/humanoid3d.txt", dir / "controllers/humanoid3d_ctrl.txt");
   EXPECT_EQ(model->nv(), 34);
   EXPECT_EQ(model->nq(), 7 + 4 * 8 + 4);  // 8 spherical + 4 revolute
@@ -94,13 +113,16 @@ TEST(DeepMimic, JumperLoadsThePerAxisTorqueLimitsOfItsFile) {
 
 // A malformed limit is one line naming the file, the joint and the field.
 TEST(DeepMimic, MalformedTorqueLimitNamesFileJointAndField) {
-  const std::string not_a_number = load_error(write_character("strong.txt", {{"TorqueLimX", 100}, {"TorqueLimY", "strong"}, {"TorqueLimZ", 100}}));
-  EXPECT_NE(not_a_number.find("strong.txt: joint hip (Skeleton.Joints[1]).TorqueLimY: \"strong\" is not a number > 0 (N·m)"), std::string::npos)
+  const std::string not_a_number =
+      load_error(write_character("strong.txt", {{"TorqueLimX", 100}, {"TorqueLimY", "strong"}, {"TorqueLimZ", 100}}));
+  EXPECT_NE(not_a_number.find("strong.txt: joint hip (Skeleton.Joints[1]).TorqueLimY: \"strong\" is not a number > 0 (N·m)"),
+            std::string::npos)
       << not_a_number;
   const std::string missing = load_error(write_character("missing_z.txt", {{"TorqueLimX", 100}, {"TorqueLimY", 50}}));
   EXPECT_NE(missing.find("missing_z.txt: joint hip (Skeleton.Joints[1]).TorqueLimZ: missing"), std::string::npos) << missing;
   const std::string list = load_error(write_character("list.txt", {{"Type", "revolute"}, {"TorqueLim", {1, 2, 3}}}));
-  EXPECT_NE(list.find("list.txt: joint hip (Skeleton.Joints[1]).TorqueLim: [1,2,3] is not a number > 0 (N·m)"), std::string::npos) << list;
+  EXPECT_NE(list.find("list.txt: joint hip (Skeleton.Joints[1]).TorqueLim: [1,2,3] is not a number > 0 (N·m)"), std::string::npos)
+      << list;
   const std::string none = load_error(write_character("none.txt", Json::object()));
   EXPECT_NE(none.find("none.txt: joint hip (Skeleton.Joints[1]).TorqueLim: missing"), std::string::npos) << none;
   for (const std::string& e : {not_a_number, missing, list, none}) EXPECT_EQ(e.find('\n'), std::string::npos) << e;

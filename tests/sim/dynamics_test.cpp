@@ -1,9 +1,10 @@
 // Our CRBA/RNEA dynamics against Bullet's btMultiBody and against finite differences.
+#include "podium/sim/dynamics.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
-#include "podium/sim/dynamics.h"
 #include "podium/sim/reference.h"
 #include "test_util.h"
 
@@ -23,8 +24,8 @@ void expect_agrees_with_bullet(const ModelPtr& model, std::uint64_t seed) {
     for (int i = 6; i < model->nv(); ++i) tau(i) = rng.normal(0, 10);
     forward_dynamics_dense(*model, data, tau);
     const Eigen::VectorXd ref = bullet_forward_dynamics(*model, data.q, data.qd, tau, data.gravity);
-    EXPECT_LE(relative_error(data.qdd, ref), 1e-6) << model->name() << " trial " << trial << "\nours   " << data.qdd.transpose()
-                                                   << "\nbullet " << ref.transpose();
+    EXPECT_LE(relative_error(data.qdd, ref), 1e-6)
+        << model->name() << " trial " << trial << "\nours   " << data.qdd.transpose() << "\nbullet " << ref.transpose();
     EXPECT_GT(ref.norm(), 1.0);  // a real workload, not a resting state
     worst = std::max(worst, relative_error(data.qdd, ref));
   }

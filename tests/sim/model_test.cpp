@@ -1,8 +1,9 @@
 // Model files: structure of the shipped characters and error messages for bad input.
+#include "podium/sim/model.h"
+
 #include <gtest/gtest.h>
 
 #include "podium/base/error.h"
-#include "podium/sim/model.h"
 
 namespace podium::sim {
 namespace {
@@ -13,12 +14,16 @@ Json two_bodies(const Json& joint) {
   return Json{{"name", "t"},
               {"bodies",
                {{{"name", "a"}, {"geoms", {{{"type", "sphere"}, {"radius", 0.1}}}}},
-                {{"name", "b"}, {"parent", "a"}, {"pos", {0, 0, -0.3}}, {"geoms", {{{"type", "sphere"}, {"radius", 0.1}}}}, {"joints", {joint}}}}}};
+                {{"name", "b"},
+                 {"parent", "a"},
+                 {"pos", {0, 0, -0.3}},
+                 {"geoms", {{{"type", "sphere"}, {"radius", 0.1}}}},
+                 {"joints", {joint}}}}}};
 }
 
 TEST(Model, Humanoid21HasTable2JointsAndMuJoCoLayout) {
   const ModelPtr m = load_shipped_model("humanoid21");
-  EXPECT_EQ(m->links().size(), 22u);  // root + 21 hinges
+  EXPECT_EQ(m->links().size(), 22u);   // root + 21 hinges
   EXPECT_EQ(m->bodies().size(), 16u);  // humanoid.xml bodies
   const Link& knee = m->link("knee_right");
   EXPECT_EQ(knee.torque_limit_nm(0), 80.0);
@@ -62,12 +67,14 @@ TEST(Model, ErrorsNameThePathValueAndRule) {
   Json bad_parent = two_bodies({{"name", "j"}, {"type", "spherical"}, {"torque_limit", 10}});
   bad_parent["bodies"][1]["parent"] = "nope";
   EXPECT_THROW(CharacterModel::from_json(bad_parent, "m"), base::UserError);
-  Json bad_range = two_bodies({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"range", {1, -1}}, {"torque_limit", 10}});
+  Json bad_range =
+      two_bodies({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"range", {1, -1}}, {"torque_limit", 10}});
   try {
     CharacterModel::from_json(bad_range, "m");
     FAIL() << "no error for an inverted range";
   } catch (const base::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find("bodies[1].joints[0].range: [1,-1] is not [lower, upper]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bodies[1].joints[0].range: [1,-1] is not [lower, upper]"), std::string::npos)
+        << e.what();
   }
   EXPECT_THROW(load_shipped_model("humanoid99"), base::UserError);
   try {
@@ -76,8 +83,9 @@ TEST(Model, ErrorsNameThePathValueAndRule) {
   } catch (const base::UserError& e) {
     EXPECT_STREQ(e.what(), "m: bodies[1].joints[0]: damping and stiffness are for revolute joints (this one is spherical)");
   }
-  EXPECT_THROW(CharacterModel::from_json(two_bodies({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"stiffness", -1}}), "m"),
-               base::UserError);
+  EXPECT_THROW(
+      CharacterModel::from_json(two_bodies({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"stiffness", -1}}), "m"),
+      base::UserError);
 }
 
 // The seed repository's MuJoCo humanoid (data/humanoid_high_freq.xml): damping 0.2 and stiffness
@@ -97,7 +105,8 @@ TEST(Model, Humanoid21CarriesTheSeedHumanoidsPassiveJoints) {
 
 // Per-axis limits (the thesis's jumper, §3.6.2): one bound per DoF about the link's x, y, z.
 TEST(Model, SphericalJointsTakePerAxisTorqueLimits) {
-  const ModelPtr m = CharacterModel::from_json(two_bodies({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {100, 300, 50}}}), "m");
+  const ModelPtr m =
+      CharacterModel::from_json(two_bodies({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {100, 300, 50}}}), "m");
   EXPECT_EQ(m->torque_limits().tail<3>(), Eigen::Vector3d(100, 300, 50));
   EXPECT_EQ(m->kp().tail<3>(), Eigen::Vector3d::Constant(300.0));  // default kp: the largest limit
   EXPECT_EQ(m->kd().tail<3>(), Eigen::Vector3d::Constant(30.0));
@@ -111,10 +120,12 @@ TEST(Model, SphericalJointsTakePerAxisTorqueLimits) {
   };
   EXPECT_EQ(error({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"torque_limit", {1, 2, 3}}}),
             "m: bodies[1].joints[0].torque_limit: [1,2,3] is not a number > 0 (N·m; per-axis limits are for spherical joints)");
-  EXPECT_EQ(error({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {1, 2}}}),
-            "m: bodies[1].joints[0].torque_limit: [1,2] is not a number > 0 or [x, y, z] of numbers > 0 (N·m about the link's axes)");
-  EXPECT_EQ(error({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {1, 0, 2}}}),
-            "m: bodies[1].joints[0].torque_limit: [1,0,2] is not a number > 0 or [x, y, z] of numbers > 0 (N·m about the link's axes)");
+  EXPECT_EQ(
+      error({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {1, 2}}}),
+      "m: bodies[1].joints[0].torque_limit: [1,2] is not a number > 0 or [x, y, z] of numbers > 0 (N·m about the link's axes)");
+  EXPECT_EQ(
+      error({{"name", "j"}, {"type", "spherical"}, {"torque_limit", {1, 0, 2}}}),
+      "m: bodies[1].joints[0].torque_limit: [1,0,2] is not a number > 0 or [x, y, z] of numbers > 0 (N·m about the link's axes)");
   EXPECT_EQ(error({{"name", "j"}, {"type", "revolute"}, {"axis", {1, 0, 0}}, {"torque_limit", "strong"}}),
             "m: bodies[1].joints[0].torque_limit: \"strong\" is not a number > 0 (N·m)");
   EXPECT_EQ(error({{"name", "j"}, {"type", "spherical"}}), "m: bodies[1].joints[0].torque_limit: missing is not > 0");

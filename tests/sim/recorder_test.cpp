@@ -1,4 +1,6 @@
 // Trajectory and BVH writers: the files describe the recorded motion exactly enough to replay it.
+#include "podium/sim/recorder.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -6,14 +8,14 @@
 #include <sstream>
 
 #include "podium/base/json.h"
-#include "podium/sim/recorder.h"
 #include "podium/sim/starts.h"
 
 namespace podium::sim {
 namespace {
 
 std::filesystem::path temp_file(const std::string& name) {
-  return std::filesystem::temp_directory_path() / ("podium_sim_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name);
+  return std::filesystem::temp_directory_path() /
+         ("podium_sim_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name);
 }
 
 Recorder record_ragdoll(const ModelPtr& model, int steps, const TerrainConfig& terrain = {}) {
@@ -41,7 +43,8 @@ TEST(Recorder, TrajectoryFileHasHeaderPropsTerrainAndOneLinePerFrame) {
   tiles.min_tile_height_m = -0.05;
   tiles.max_tile_height_m = 0.05;
   terrain.regions.push_back(tiles);
-  terrain.boxes.push_back({"bar", Eigen::Vector3d(0, 1.5, 1.2), Eigen::Vector3d(0.6, 0.02, 0.02), Eigen::Quaterniond::Identity(), 1.0, "crossbar"});
+  terrain.boxes.push_back(
+      {"bar", Eigen::Vector3d(0, 1.5, 1.2), Eigen::Vector3d(0.6, 0.02, 0.02), Eigen::Quaterniond::Identity(), 1.0, "crossbar"});
   const Recorder rec = record_ragdoll(model, 20, terrain);
   const auto path = temp_file("traj.jsonl");
   write_trajectory(rec, path);
@@ -100,9 +103,10 @@ TEST(Recorder, BvhForwardKinematicsReproducesLinkPositions) {
     if (i == 0) values >> pos.x() >> pos.y() >> pos.z();
     double z, x, y;
     values >> z >> x >> y;
-    const Eigen::Matrix3d local = (Eigen::AngleAxisd(z * deg, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(x * deg, Eigen::Vector3d::UnitX()) *
-                                   Eigen::AngleAxisd(y * deg, Eigen::Vector3d::UnitY()))
-                                      .toRotationMatrix();
+    const Eigen::Matrix3d local =
+        (Eigen::AngleAxisd(z * deg, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(x * deg, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(y * deg, Eigen::Vector3d::UnitY()))
+            .toRotationMatrix();
     if (i == 0) {
       R[i] = local;
       p[i] = pos;

@@ -94,7 +94,8 @@ TEST(StablePd, TorquesSatisfyEquationsOfMotionAndSpdLawOnHingesAndBalls) {
   for (const Link& l : model->links()) {
     if (l.joint != JointType::revolute) continue;
     const int v = l.v_index;
-    const double expected = -gains.kp(v) * (data.q(l.q_index) + dt * data.qd(v) - target(l.q_index)) - gains.kd(v) * (data.qd(v) + dt * qdd(v));
+    const double expected =
+        -gains.kp(v) * (data.q(l.q_index) + dt * data.qd(v) - target(l.q_index)) - gains.kd(v) * (data.qd(v) + dt * qdd(v));
     EXPECT_NEAR(tau(v), expected, 1e-9 * std::max(1.0, std::abs(expected)));
   }
   // Ball joints obey it with q − q̄ read as the rotation vector of q̄⁻¹q (shortest arc), here by
@@ -110,7 +111,8 @@ TEST(StablePd, TorquesSatisfyEquationsOfMotionAndSpdLawOnHingesAndBalls) {
     if (d.w() < 0) d.coeffs() = -d.coeffs();
     const Eigen::AngleAxisd aa(d);
     const Eigen::Vector3d w = data.qd.segment<3>(v), wd = qdd.segment<3>(v);
-    const Eigen::Vector3d expected = -gains.kp.segment<3>(v).cwiseProduct(aa.angle() * aa.axis() + dt * w) - gains.kd.segment<3>(v).cwiseProduct(w + dt * wd);
+    const Eigen::Vector3d expected =
+        -gains.kp.segment<3>(v).cwiseProduct(aa.angle() * aa.axis() + dt * w) - gains.kd.segment<3>(v).cwiseProduct(w + dt * wd);
     EXPECT_LE((tau.segment<3>(v) - expected).norm(), 1e-9 * std::max(1.0, expected.norm()));
   }
   EXPECT_EQ(balls, 8);

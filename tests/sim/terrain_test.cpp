@@ -1,10 +1,11 @@
 // Terrain height queries agree with what Bullet collides against.
+#include "podium/sim/terrain.h"
+
 #include <gtest/gtest.h>
 
 #include "podium/base/error.h"
 #include "podium/sim/dynamics.h"
 #include "podium/sim/starts.h"
-#include "podium/sim/terrain.h"
 #include "podium/sim/world.h"
 
 namespace podium::sim {
@@ -34,7 +35,8 @@ TEST(Terrain, HeightMapSeesBoxesAndSlope) {
   slope.max = {5.0, 5.0};
   slope.slope_rad = 0.1;
   config.regions.push_back(slope);
-  config.boxes.push_back(BoxProp{"post", Eigen::Vector3d(2, 0, 0.5), Eigen::Vector3d(0.2, 0.2, 0.5), Eigen::Quaterniond::Identity(), 1.0, ""});
+  config.boxes.push_back(
+      BoxProp{"post", Eigen::Vector3d(2, 0, 0.5), Eigen::Vector3d(0.2, 0.2, 0.5), Eigen::Quaterniond::Identity(), 1.0, ""});
   const Terrain t(config);
   EXPECT_NEAR(t.height(1.0, 3.0), std::tan(0.1), 1e-12);
   EXPECT_NEAR(t.height(-1.0, 3.0), 0.0, 1e-12);  // outside the region: the plane
@@ -75,7 +77,7 @@ TEST(Terrain, RegionsTilesOfEitherSignAndInclinedBoxes) {
   for (int i = 0; i < 8; ++i)
     for (int j = 0; j < 4; ++j) {
       const double h = t.tile_height(0, i, j);
-      negative |= h < 0, positive |= h > 0;
+      negative |= h<0, positive |= h> 0;
       EXPECT_EQ(t.height(0.25 + 0.5 * i, 0.25 + 0.5 * j), h);
     }
   EXPECT_TRUE(negative && positive);

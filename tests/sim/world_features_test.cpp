@@ -44,7 +44,8 @@ StepReport spd_drop(World& world, base::Rng& rng, double seconds) {
   world.reset(q, Eigen::VectorXd::Zero(m.nv()));
   Eigen::VectorXd target = m.standing_pose();
   StepReport r;
-  const int steps = static_cast<int>(seconds * world.config().control_hz), every = static_cast<int>(0.25 * world.config().control_hz);
+  const int steps = static_cast<int>(seconds * world.config().control_hz),
+            every = static_cast<int>(0.25 * world.config().control_hz);
   for (int k = 0; k < steps && r.ok; ++k) {
     if (k % every == 0) target = random_pose(m, rng, 0.0, 0.8);
     r = world.control_step(Control::spd_maba, target);
@@ -94,7 +95,8 @@ TEST(WorldContacts, HandOnABoxReportsTheBoxNotTheGround) {
   world.set_terrain(ahead);
   const Link& head_link = model->links()[model->bodies()[head].link];
   const Geom& skull = head_link.geoms.front();
-  const Eigen::Vector3d c = world.data().links[model->bodies()[head].link].p + world.data().links[model->bodies()[head].link].R * skull.pos;
+  const Eigen::Vector3d c =
+      world.data().links[model->bodies()[head].link].p + world.data().links[model->bodies()[head].link].R * skull.pos;
   EXPECT_NEAR(world.prop_distance(head, 0), 2.5 - c.x() - skull.radius, 1e-6);
   EXPECT_GT(world.prop_distance(head, 1), 0.3);
 }
@@ -289,7 +291,8 @@ TEST(WorldJoints, SphericalJointStopsAtItsConeAndTwistRange) {
     config.gravity.setZero();
     config.self_collision = false;
     config.torque_limits = false;
-    if (limited) config.edits.joints = {{"right_shoulder", base::Json{{"axis", {0, 0, -1}}, {"swing", 0.6}, {"twist", {-0.3, 0.3}}}}};
+    if (limited)
+      config.edits.joints = {{"right_shoulder", base::Json{{"axis", {0, 0, -1}}, {"swing", 0.6}, {"twist", {-0.3, 0.3}}}}};
     World world(model, config);
     Eigen::VectorXd q = world.model().standing_pose();
     q(2) = 3.0;
@@ -307,8 +310,10 @@ TEST(WorldJoints, SphericalJointStopsAtItsConeAndTwistRange) {
   };
   const auto [swing, twist] = drive(true);
   const auto [free_swing, free_twist] = drive(false);
-  std::printf("2 s of shoulder torque: largest swing %.4f rad (cone 0.6; unlimited: past %.2f), twist %.4f rad (range ±0.3; unlimited: past %.2f)\n", swing,
-              free_swing, twist, free_twist);
+  std::printf(
+      "2 s of shoulder torque: largest swing %.4f rad (cone 0.6; unlimited: past %.2f), twist %.4f rad (range ±0.3; unlimited: "
+      "past %.2f)\n",
+      swing, free_swing, twist, free_twist);
   EXPECT_GT(free_swing, 1.2);
   EXPECT_GT(free_twist, 0.6);
   EXPECT_LT(swing, 0.6 + 0.01);
@@ -462,7 +467,8 @@ TEST(WorldJoints, PassiveStiffnessSwingsTheJointAndDampingStopsIt) {
   for (double e : spring.energy) EXPECT_NEAR(e, 0.5 * 4.0 * 0.25, 0.02 * 0.5);
   // With damping the energy only falls, and after 3 s less than 1 % of it is left.
   const Swing damped = swing(sprung_arm(0.5, 4.0), true, 3.0);
-  for (std::size_t i = 1; i < damped.energy.size(); ++i) EXPECT_LE(damped.energy[i], damped.energy[i - 1] + 1e-12) << "control step " << i;
+  for (std::size_t i = 1; i < damped.energy.size(); ++i)
+    EXPECT_LE(damped.energy[i], damped.energy[i - 1] + 1e-12) << "control step " << i;
   EXPECT_LT(damped.energy.back(), 0.01 * 0.5);
   EXPECT_LT(std::abs(damped.q_end), 0.05);
   std::printf("spring: %d zero crossings in 3 s, energy %.4f..%.4f J (released with 0.5 J); damped: %.2e J left, q %.4f rad\n",

@@ -18,15 +18,23 @@ namespace {
 // over all exponents, subnormals, ±0 and the extremes.
 TEST(WorldSnapshotJson, DoublesRoundTripBitwiseThroughNlohmann) {
   base::Rng rng(5);
-  std::vector<double> values = {0.0, -0.0, 0.1, 1.0 / 3.0, std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::min(),
-                                std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(), std::numeric_limits<double>::epsilon()};
+  std::vector<double> values = {0.0,
+                                -0.0,
+                                0.1,
+                                1.0 / 3.0,
+                                std::numeric_limits<double>::denorm_min(),
+                                std::numeric_limits<double>::min(),
+                                std::numeric_limits<double>::max(),
+                                -std::numeric_limits<double>::max(),
+                                std::numeric_limits<double>::epsilon()};
   while (values.size() < 100000) {
     const double x = std::bit_cast<double>(rng.next());
     if (std::isfinite(x)) values.push_back(x);
   }
   const base::Json back = base::Json::parse(base::Json(values).dump());
   for (std::size_t i = 0; i < values.size(); ++i)
-    ASSERT_EQ(std::bit_cast<std::uint64_t>(back[i].get<double>()), std::bit_cast<std::uint64_t>(values[i])) << base::Json(values[i]).dump();
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(back[i].get<double>()), std::bit_cast<std::uint64_t>(values[i]))
+        << base::Json(values[i]).dump();
 }
 
 // humanoid34 on rough tiles beside a mat, with a locked elbow, wind, per-episode friction and

@@ -1,4 +1,6 @@
 // Stepping, control, stability, starts and observations on real Bullet worlds.
+#include "podium/sim/world.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,7 +11,6 @@
 
 #include "podium/base/error.h"
 #include "podium/sim/starts.h"
-#include "podium/sim/world.h"
 
 namespace podium::sim {
 namespace {
@@ -48,8 +49,8 @@ TEST(SpdStability, StablePdHoldsStandingAt60HzWherePlainPdDiverges) {
   World world(model, WorldConfig{});
   const double standing = world.observe().head_height_m;
   const HeadRange spd = hold_standing(Control::spd_maba), pd = hold_standing(Control::pd);
-  std::printf("standing head %.3f m; head over 10 s at 60 Hz: SPD %.3f to %.3f m, PD %.3g to %.3g m\n", standing, spd.lowest, spd.highest, pd.lowest,
-              pd.highest);
+  std::printf("standing head %.3f m; head over 10 s at 60 Hz: SPD %.3f to %.3f m, PD %.3g to %.3g m\n", standing, spd.lowest,
+              spd.highest, pd.lowest, pd.highest);
   EXPECT_GT(spd.lowest, 0.9 * standing);
   EXPECT_LT(spd.highest, 1.1 * standing);
   EXPECT_TRUE(pd.lowest < 0.9 * standing || pd.highest > 1.1 * standing);
@@ -148,8 +149,8 @@ TEST(RagdollStart, Humanoid34StaysFiniteFor30Seeds) {
     EXPECT_LT(energy, model->total_mass() * 9.81 * 1.5) << "seed " << seed;
     worst_head = std::max(worst_head, head), worst_energy = std::max(worst_energy, energy);
   }
-  std::printf("humanoid34: %d of 30 ragdoll starts finite; highest final head %.3f m, largest final kinetic energy %.2f J\n", finite, worst_head,
-              worst_energy);
+  std::printf("humanoid34: %d of 30 ragdoll starts finite; highest final head %.3f m, largest final kinetic energy %.2f J\n",
+              finite, worst_head, worst_energy);
 }
 
 // A fall asked to land supine or prone at a place does, on humanoid34 with its limits.
@@ -197,7 +198,8 @@ Drift tumble(double hz) {
   CharacterData data = world.data();
   center_of_mass(*model, data, com, vel0);
   const double energy0 = world.kinetic_energy();
-  for (int k = 0; k < static_cast<int>(hz); ++k) EXPECT_TRUE(world.sim_step(Control::torque, Eigen::VectorXd::Zero(model->nv())).ok);
+  for (int k = 0; k < static_cast<int>(hz); ++k)
+    EXPECT_TRUE(world.sim_step(Control::torque, Eigen::VectorXd::Zero(model->nv())).ok);
   data = world.data();
   center_of_mass(*model, data, com, vel);
   return {(vel - vel0).norm() / vel0.norm(), std::abs(world.kinetic_energy() - energy0) / energy0};
@@ -208,8 +210,8 @@ Drift tumble(double hz) {
 // links spinning at several rad/s drift visibly at 800 Hz, hence the comparison with 8 kHz.
 TEST(World, FreeTumblingConservesMomentumAndEnergyAsDtShrinks) {
   const Drift coarse = tumble(800.0), fine = tumble(8000.0);
-  std::printf("1 s tumbling, relative drift at 800 Hz / 8 kHz: COM velocity %.2e / %.2e, kinetic energy %.2e / %.2e\n", coarse.velocity, fine.velocity,
-              coarse.energy, fine.energy);
+  std::printf("1 s tumbling, relative drift at 800 Hz / 8 kHz: COM velocity %.2e / %.2e, kinetic energy %.2e / %.2e\n",
+              coarse.velocity, fine.velocity, coarse.energy, fine.energy);
   EXPECT_LT(fine.velocity, 0.01);
   EXPECT_LT(fine.energy, 0.01);
   EXPECT_LT(5 * fine.velocity, coarse.velocity);

@@ -46,8 +46,8 @@ TEST(Store, RefusesNewerSchemaWithoutTouchingTheFile) {
   {
     sqlite3* db = nullptr;
     sqlite3_open(path.c_str(), &db);
-    sqlite3_exec(db, "CREATE TABLE schema_version (version INTEGER); INSERT INTO schema_version VALUES (99);", nullptr,
-                 nullptr, nullptr);
+    sqlite3_exec(db, "CREATE TABLE schema_version (version INTEGER); INSERT INTO schema_version VALUES (99);", nullptr, nullptr,
+                 nullptr);
     sqlite3_close(db);
   }
   const std::string before = file_bytes(path);
@@ -248,8 +248,9 @@ void expect_counts_equal_recount(const std::filesystem::path& path) {
   EXPECT_EQ(rows(path, "SELECT stage_id, state, trials FROM stage_state_counts WHERE trials > 0 ORDER BY 1, 2"),
             rows(path, "SELECT stage_id, state, count(*) FROM trials GROUP BY 1, 2 ORDER BY 1, 2"));
   EXPECT_EQ(rows(path, "SELECT stage_id, strategy, trials FROM stage_strategy_counts WHERE trials > 0 ORDER BY 1, 2"),
-            rows(path, "SELECT stage_id, strategy, count(*) FROM trials WHERE strategy IS NOT NULL GROUP BY 1, 2 "
-                       "ORDER BY 1, 2"));
+            rows(path,
+                 "SELECT stage_id, strategy, count(*) FROM trials WHERE strategy IS NOT NULL GROUP BY 1, 2 "
+                 "ORDER BY 1, 2"));
   EXPECT_EQ(rows(path, "SELECT count(*) FROM stage_state_counts WHERE trials < 0"), "0\n");
   EXPECT_EQ(rows(path, "SELECT count(*) FROM stage_strategy_counts WHERE trials < 0"), "0\n");
 }
@@ -323,9 +324,9 @@ TEST(Store, SearchStateIsSavedWithHowManyTrialsWereTold) {
 
 TEST(StoreMigration, SavedVersion2DatabaseMigratesToLatest) {
   expect_migrates("schema_v2.db", 2, "saved-v2", 11);
-  EXPECT_EQ(rows(std::filesystem::path(PODIUM_STORE_TESTDATA) / "schema_v2.db",
-                 "SELECT state, count(*) FROM trials GROUP BY state"),
-            "done|10\nfailed|1\n");  // the saved file itself is untouched (copied first)
+  EXPECT_EQ(
+      rows(std::filesystem::path(PODIUM_STORE_TESTDATA) / "schema_v2.db", "SELECT state, count(*) FROM trials GROUP BY state"),
+      "done|10\nfailed|1\n");  // the saved file itself is untouched (copied first)
 }
 
 // Every way the scheduler changes trials (retries, failures, cancel, interruption and recovery,
@@ -341,7 +342,8 @@ TEST(StoreCounts, CountRowsEqualARecountThroughTheTrialLifecycle) {
   const auto stages = s->stages(campaign);
   std::vector<std::int64_t> t;
   s->transaction([&] {
-    for (int i = 0; i < 12; ++i) t.push_back(s->add_trial(stages[i / 8].id, i % 8, Json::object(), Json::object(), Json::object(), 1));
+    for (int i = 0; i < 12; ++i)
+      t.push_back(s->add_trial(stages[i / 8].id, i % 8, Json::object(), Json::object(), Json::object(), 1));
   });
   const auto finish = [&](std::int64_t trial, int attempt, const char* outcome) {
     const auto a = s->start_attempt(trial, attempt, "w", "h");
@@ -372,11 +374,11 @@ TEST(StoreCounts, CountRowsEqualARecountThroughTheTrialLifecycle) {
   EXPECT_EQ(s->recover_interrupted(), 2);
   expect_counts_equal_recount(path);
   s->transaction([&] {
-    finish(t[4], 2, "done");                      // interrupted, run again
+    finish(t[4], 2, "done");  // interrupted, run again
     for (int i : {5, 6, 10}) s->set_trial_state(t[i], "cancelled", "campaign cancelled");
     s->set_trial_strategy(t[4], 2);
-    s->set_trial_strategy(t[1], 0);               // regrouped when the stage ends
-    s->set_trial_strategy(t[3], 0);               // strategy 1 is empty now
+    s->set_trial_strategy(t[1], 0);  // regrouped when the stage ends
+    s->set_trial_strategy(t[3], 0);  // strategy 1 is empty now
   });
   expect_counts_equal_recount(path);
   const auto c = s->trial_counts(campaign);

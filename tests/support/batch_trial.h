@@ -1,10 +1,9 @@
 #pragma once
 // Test support: one trial through the real `podium trial --batch` (the Slurm executor's path:
 // order.json in, metrics.jsonl and result.json out), shared by the task tests.
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 

@@ -11,8 +11,11 @@ nlohmann::json stage_spec(const StageSpec& s) {
                           {"search", {{"algorithm", s.algorithm}}},
                           {"budget", {{"trials", s.trials}}}};
   if (!s.config.is_null()) stage["config"] = s.config;
-  nlohmann::json spec = {{"name", s.name},         {"seed", s.seed},         {"workers", s.workers},
-                         {"retries", s.retries},   {"trial_timeout_s", s.trial_timeout_s},
+  nlohmann::json spec = {{"name", s.name},
+                         {"seed", s.seed},
+                         {"workers", s.workers},
+                         {"retries", s.retries},
+                         {"trial_timeout_s", s.trial_timeout_s},
                          {"stages", nlohmann::json::array({stage})}};
   if (!s.executor.is_null()) spec["executor"] = s.executor;
   return spec;

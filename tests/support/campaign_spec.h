@@ -1,10 +1,9 @@
 #pragma once
 // Test support: single-stage campaign specs and `podium submit`, shared by the CLI, Slurm and
 // dashboard tests so they exercise one spec shape.
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "process.h"

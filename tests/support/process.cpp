@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <random>
-#include <thread>
 #include <stdexcept>
+#include <thread>
 
 namespace podium::testing {
 

@@ -11,7 +11,7 @@
 namespace podium::testing {
 
 struct CommandResult {
-  int exit_code = -1;   // -1 if killed by a signal
+  int exit_code = -1;  // -1 if killed by a signal
   int signal = 0;
   std::string out, err;
 };

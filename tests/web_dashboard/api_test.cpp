@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "dashboard_support.h"
@@ -42,8 +42,12 @@ class Api : public ::testing::Test {
   // best trial of each (one each), "broken" the top 2 of refine (all to every trial), and fails.
   static Json handover_spec() {
     const auto stage = [](const char* name, Json config, Json budget) {
-      return Json{{"name", name}, {"task", "landscape"}, {"preset", "smoke"}, {"config", std::move(config)},
-                  {"search", {{"algorithm", "random"}}}, {"budget", {{"trials", std::move(budget)}}}};
+      return Json{{"name", name},
+                  {"task", "landscape"},
+                  {"preset", "smoke"},
+                  {"config", std::move(config)},
+                  {"search", {{"algorithm", "random"}}},
+                  {"budget", {{"trials", std::move(budget)}}}};
     };
     Json discover = stage("discover", {{"artifact", true}, {"regions", 40}}, 40);
     discover["strategy_threshold"] = 0.05;
@@ -51,8 +55,9 @@ class Api : public ::testing::Test {
     refine["inputs"] = {{"stage", "discover"}, {"select", "best_per_strategy"}, {"per_trial", "each"}};
     Json broken = stage("broken", {{"failures", {{{"mode", "throw"}}}}}, 2);
     broken["inputs"] = {{"stage", "refine"}, {"select", "top"}, {"k", 2}};
-    return {{"name", "handover"}, {"seed", 5}, {"workers", 2}, {"retries", 0}, {"trial_timeout_s", 30},
-            {"stages", {discover, refine, broken}}};
+    return {{"name", "handover"},    {"seed", 5},
+            {"workers", 2},          {"retries", 0},
+            {"trial_timeout_s", 30}, {"stages", {discover, refine, broken}}};
   }
   static inline std::int64_t landscape_ = 0, replay_ = 0, handover_ = 0;
 };
@@ -456,10 +461,12 @@ TEST_F(Api, PageTrialsAreTheTrialDocuments) {
 // with retried, failed and cancelled trials they must equal a recount of the trials.
 TEST(ApiRecount, SummaryAndStrategiesEqualARecountAfterRetriesFailuresAndCancel) {
   podium::testing::TempDir dir;
-  Json spec = testing::landscape_spec("faulty", 400, {{"sleep_s", 0.3},
-                                                      {"failures", {{{"mode", "throw"}, {"trials", {1, 4}}, {"attempts", 1}},
-                                                                    {{"mode", "throw"}, {"trials", {2}}},
-                                                                    {{"mode", "hang"}, {"trials", {3}}}}}});
+  Json spec = testing::landscape_spec("faulty", 400,
+                                      {{"sleep_s", 0.3},
+                                       {"failures",
+                                        {{{"mode", "throw"}, {"trials", {1, 4}}, {"attempts", 1}},
+                                         {{"mode", "throw"}, {"trials", {2}}},
+                                         {{"mode", "hang"}, {"trials", {3}}}}}});
   podium::testing::write_file(dir / "spec.json", spec.dump());
   const auto submit = podium::testing::run_podium({"submit", "spec.json"}, dir.path());
   ASSERT_EQ(submit.exit_code, 0) << submit.err;

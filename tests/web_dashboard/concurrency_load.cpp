@@ -23,10 +23,14 @@ using Clock = std::chrono::steady_clock;
 void hammer(int port, const std::atomic<bool>& stop, LoadRun& out) {
   httplib::Client client("127.0.0.1", port);
   client.set_keep_alive(true);
-  const std::vector<std::string> paths = {"/api/version", "/api/campaigns", "/api/campaigns/1",
+  const std::vector<std::string> paths = {"/api/version",
+                                          "/api/campaigns",
+                                          "/api/campaigns/1",
                                           "/api/campaigns/1/trials?limit=100&order=objective&desc=1",
-                                          "/api/campaigns/1/points", "/api/campaigns/1/strategies",
-                                          "/api/trials/1", "/api/trials/1/metrics"};
+                                          "/api/campaigns/1/points",
+                                          "/api/campaigns/1/strategies",
+                                          "/api/trials/1",
+                                          "/api/trials/1/metrics"};
   for (std::size_t i = 0; !stop; ++i) {
     const auto r = client.Get(paths[i % paths.size()].c_str());
     ++out.requests;

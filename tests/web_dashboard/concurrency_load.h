@@ -8,9 +8,9 @@
 namespace podium::web_dashboard::testing {
 
 struct LoadRun {
-  bool ok = false;        ///< the campaign finished with every trial done and no "locked" output
-  std::string problem;    ///< what went wrong, when !ok
-  double trials_per_second = 0.0;  ///< of the scheduler run
+  bool ok = false;                                    ///< the campaign finished with every trial done and no "locked" output
+  std::string problem;                                ///< what went wrong, when !ok
+  double trials_per_second = 0.0;                     ///< of the scheduler run
   std::int64_t requests = 0, errors = 0, locked = 0;  ///< the client's (hammered runs only)
 };
 

@@ -15,8 +15,7 @@ TEST(Concurrency, HammeredApiNeverLocksA2000TrialCampaign) {
   for (int round = 0; round < 2; ++round) {
     const auto run = testing::run_landscape_load(2000, true);
     std::printf("round %d: %.0f trials/s, %lld API requests, %lld errors, %lld 'locked'\n", round, run.trials_per_second,
-                static_cast<long long>(run.requests), static_cast<long long>(run.errors),
-                static_cast<long long>(run.locked));
+                static_cast<long long>(run.requests), static_cast<long long>(run.errors), static_cast<long long>(run.locked));
     EXPECT_TRUE(run.ok) << run.problem;
     EXPECT_EQ(run.locked, 0);
     EXPECT_EQ(run.errors, 0);

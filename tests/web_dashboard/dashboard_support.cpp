@@ -55,8 +55,8 @@ std::int64_t run_campaign(const std::filesystem::path& dir, const Json& spec, in
   const std::string id = podium::testing::submit_spec(dir, spec);
   const auto run = podium::testing::run_podium({"run", "--workers", "2"}, dir);
   if (run.exit_code != exit_code)
-    throw std::runtime_error("podium run exited " + std::to_string(run.exit_code) + ", not " + std::to_string(exit_code) +
-                             ": " + run.err);
+    throw std::runtime_error("podium run exited " + std::to_string(run.exit_code) + ", not " + std::to_string(exit_code) + ": " +
+                             run.err);
   return std::stoll(id);
 }
 
@@ -67,8 +67,13 @@ Json landscape_spec(const std::string& name, int trials, const Json& extra_confi
 }
 
 Json replay_fixture_spec(const std::string& name, int trials) {
-  return podium::testing::stage_spec(
-      {.name = name, .seed = 3, .retries = 0, .task = "web_replay_fixture", .stage = "swing", .config = nullptr, .trials = trials});
+  return podium::testing::stage_spec({.name = name,
+                                      .seed = 3,
+                                      .retries = 0,
+                                      .task = "web_replay_fixture",
+                                      .stage = "swing",
+                                      .config = nullptr,
+                                      .trials = trials});
 }
 
 }  // namespace podium::web_dashboard::testing

@@ -1,5 +1,7 @@
 // The dashboard's read-only store queries: filters, ordering, scatter sampling, strategy
 // summaries, metric downsampling, the change token, and no read transaction left open.
+#include "podium/store/queries.h"
+
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
@@ -8,7 +10,6 @@
 #include <map>
 #include <tuple>
 
-#include "podium/store/queries.h"
 #include "process.h"
 
 namespace podium::store {
@@ -31,7 +32,8 @@ struct Fixture {
     campaign = s->add_campaign("q", Json::object(), 1, "", {a, b});
     const auto stages = s->stages(campaign);
     for (int i = 0; i < 30; ++i) {
-      const auto id = s->add_trial(stages[i / 15].id, i % 15, {{"x", i}}, Json::object(), {{"step", i % 2 ? "explore" : "diversity"}}, 1);
+      const auto id =
+          s->add_trial(stages[i / 15].id, i % 15, {{"x", i}}, Json::object(), {{"step", i % 2 ? "explore" : "diversity"}}, 1);
       trials.push_back(id);
       s->start_attempt(id, 1, "w", "h");
       if (i % 10 == 0) {

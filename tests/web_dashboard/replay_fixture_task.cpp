@@ -49,17 +49,28 @@ class ReplayFixtureTask final : public plugins::Task {
     for (int i = 0; i < 8; ++i) {
       for (int j = 0; j < 8; ++j) {
         const double top = 0.08 * std::sin(1.7 * i + 2.3 * j), bottom = std::min(top, 0.0) - kDepth;
-        pieces.push_back({{"region", 0}, {"type", "box"}, {"pos", {-2 + kTile * (i + 0.5), -2 + kTile * (j + 0.5), (top + bottom) / 2}},
-                          {"quat", {1, 0, 0, 0}}, {"half_extents", {kTile / 2, kTile / 2, (top - bottom) / 2}}});
+        pieces.push_back({{"region", 0},
+                          {"type", "box"},
+                          {"pos", {-2 + kTile * (i + 0.5), -2 + kTile * (j + 0.5), (top + bottom) / 2}},
+                          {"quat", {1, 0, 0, 0}},
+                          {"half_extents", {kTile / 2, kTile / 2, (top - bottom) / 2}}});
       }
     }
     const Json terrain = {{"regions", {{{"kind", "rough"}, {"min", {-2, -2}}, {"max", {2, 2}}}}}, {"pieces", pieces}};
     const double tilt = 0.35;  // an inclined starting block, turned about y
-    const Json props = {{{"name", "bar"}, {"type", "box"}, {"half_extents", {0.05, 0.6, 0.05}}, {"pos", {0.0, 0.0, bar_z}}, {"quat", {1, 0, 0, 0}}},
-                        {{"name", "block"}, {"type", "box"}, {"half_extents", {0.3, 0.25, 0.1}}, {"pos", {0.9, 0.0, 0.2}},
+    const Json props = {{{"name", "bar"},
+                         {"type", "box"},
+                         {"half_extents", {0.05, 0.6, 0.05}},
+                         {"pos", {0.0, 0.0, bar_z}},
+                         {"quat", {1, 0, 0, 0}}},
+                        {{"name", "block"},
+                         {"type", "box"},
+                         {"half_extents", {0.3, 0.25, 0.1}},
+                         {"pos", {0.9, 0.0, 0.2}},
                          {"quat", {std::cos(tilt / 2), 0.0, std::sin(tilt / 2), 0.0}}}};
-    const Json header = {{"format", "podium-trajectory"}, {"version", 2}, {"model", "fixture-chain"}, {"links", links}, {"bodies", names},
-                         {"joints", Json::array()}, {"ground", true}, {"props", props}, {"terrain", terrain}};
+    const Json header = {
+        {"format", "podium-trajectory"}, {"version", 2},   {"model", "fixture-chain"}, {"links", links},    {"bodies", names},
+        {"joints", Json::array()},       {"ground", true}, {"props", props},           {"terrain", terrain}};
     const auto path = request.work_dir / "trajectory.jsonl";
     std::ofstream out(path);
     out << header.dump() << '\n';
@@ -78,8 +89,9 @@ class ReplayFixtureTask final : public plugins::Task {
       poses.push_back({px, 0.0, pz, 1.0, 0.0, 0.0, 0.0});
       tip_z = pz;
       max_tip_z = std::max(max_tip_z, tip_z);
-      out << Json{{"t", t}, {"root", poses[0]}, {"q", Json::array()}, {"qd", Json::array()}, {"links", poses}, {"com", {px / 2, 0.0, pz}},
-                  {"contacts", Json::array()}}.dump()
+      out << Json{{"t", t},         {"root", poses[0]},         {"q", Json::array()},       {"qd", Json::array()},
+                  {"links", poses}, {"com", {px / 2, 0.0, pz}}, {"contacts", Json::array()}}
+                 .dump()
           << '\n';
     }
     out.close();

@@ -1,10 +1,9 @@
 // Security of `podium serve`: traversal in static and artifact routes, hostile API parameters,
 // no write endpoints, loopback-only default bind; and the command's lifecycle.
-#include <gtest/gtest.h>
-#include <signal.h>
-
 #include <arpa/inet.h>
+#include <gtest/gtest.h>
 #include <netinet/in.h>
+#include <signal.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -60,9 +59,9 @@ struct ArtifactFixture {
 TEST(Security, StaticRoutesRefusePathTraversal) {
   ArtifactFixture f;
   RunningServer server(f.db);
-  for (const char* path : {"/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/vendor/../../podium.db",
-                           "/..%2f..%2f..%2fetc%2fpasswd", "/%2e%2e%2f%2e%2e%2fetc/passwd", "//etc/passwd",
-                           "/vendor/%2e%2e/index.html", "/index.html%00.js", "/./index.html"})
+  for (const char* path :
+       {"/../../../../etc/passwd", "/%2e%2e/%2e%2e/%2e%2e/etc/passwd", "/vendor/../../podium.db", "/..%2f..%2f..%2fetc%2fpasswd",
+        "/%2e%2e%2f%2e%2e%2fetc/passwd", "//etc/passwd", "/vendor/%2e%2e/index.html", "/index.html%00.js", "/./index.html"})
     EXPECT_EQ(raw_status(server.port(), std::string("GET ") + path + " HTTP/1.1"), 404) << path;
   EXPECT_EQ(raw_status(server.port(), "GET /index.html HTTP/1.1"), 200);
 }
@@ -156,9 +155,11 @@ TEST(Security, OnlyTheBoundHostNamesAreServed) {
   ArtifactFixture f;
   RunningServer server(f.db);
   const std::string port = std::to_string(server.port());
-  for (const std::string& host : std::vector<std::string>{"evil.example", "evil.example:" + port, "127.0.0.1.evil.example", "", "10.0.0.1"})
+  for (const std::string& host :
+       std::vector<std::string>{"evil.example", "evil.example:" + port, "127.0.0.1.evil.example", "", "10.0.0.1"})
     EXPECT_EQ(raw_status(server.port(), "GET /api/campaigns HTTP/1.1", host), 403) << "Host: " << host;
-  for (const std::string& host : std::vector<std::string>{"127.0.0.1", "127.0.0.1:" + port, "localhost:" + port, "LOCALHOST", "[::1]:" + port})
+  for (const std::string& host :
+       std::vector<std::string>{"127.0.0.1", "127.0.0.1:" + port, "localhost:" + port, "LOCALHOST", "[::1]:" + port})
     EXPECT_EQ(raw_status(server.port(), "GET /api/campaigns HTTP/1.1", host), 200) << "Host: " << host;
 }
 
@@ -242,8 +243,8 @@ TEST(Serve, ATakenPortIsAnError) {
   options.static_dir = PODIUM_TEST_WEB_DIR;
   Server second(options);
   EXPECT_THROW(second.bind(), base::RuntimeError);
-  const auto r = podium::testing::run_podium({"serve", "--db", f.db.string(), "--port", std::to_string(first.port())},
-                                             f.dir.path());
+  const auto r =
+      podium::testing::run_podium({"serve", "--db", f.db.string(), "--port", std::to_string(first.port())}, f.dir.path());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find(std::to_string(first.port())), std::string::npos) << r.err;
 }
@@ -265,13 +266,12 @@ TEST(Security, HostileParametersAreBoundNeverSpliced) {
   EXPECT_EQ(injected.size(), 0u);
   EXPECT_EQ(server.get_json("/api/trials/1/metrics?name=trace").size(), 1u);
   // Typed values are parsed strictly and range-checked.
-  for (const char* bad : {"/api/campaigns/1/trials?limit=-1", "/api/campaigns/1/trials?limit=100000",
-                          "/api/campaigns/1/trials?offset=1%3BDROP", "/api/campaigns/1/trials?stage=0%20OR%201%3D1",
-                          "/api/campaigns/1/trials?state=done%27%20OR%20%271%27%3D%271",
-                          "/api/campaigns/1/trials?order=objective%3B%20DROP%20TABLE%20trials",
-                          "/api/campaigns/1/trials?strategy=99999999999999999999999",
-                          "/api/campaigns/1/points?max_points=0", "/api/trials/1%20OR%201=1", "/api/trials/0x1",
-                          "/api/trials/1/metrics?max_points=abc"})
+  for (const char* bad :
+       {"/api/campaigns/1/trials?limit=-1", "/api/campaigns/1/trials?limit=100000", "/api/campaigns/1/trials?offset=1%3BDROP",
+        "/api/campaigns/1/trials?stage=0%20OR%201%3D1", "/api/campaigns/1/trials?state=done%27%20OR%20%271%27%3D%271",
+        "/api/campaigns/1/trials?order=objective%3B%20DROP%20TABLE%20trials",
+        "/api/campaigns/1/trials?strategy=99999999999999999999999", "/api/campaigns/1/points?max_points=0",
+        "/api/trials/1%20OR%201=1", "/api/trials/0x1", "/api/trials/1/metrics?max_points=abc"})
     EXPECT_EQ(status(bad), 400) << bad;
   const std::string long_name(20000, 'a');
   const int long_status = status("/api/campaigns/" + long_name);

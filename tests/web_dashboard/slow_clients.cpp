@@ -76,9 +76,11 @@ SlowClientRun run_slow_clients(int port, const SlowClientLoad& load) {
       while (!stop && Clock::now() < next + interval) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   });
-  const auto settle_until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(load.settle_s));
+  const auto settle_until =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(load.settle_s));
   while (Clock::now() < settle_until) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  const auto timeout = std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::duration<double>(load.request_timeout_s));
+  const auto timeout =
+      std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::duration<double>(load.request_timeout_s));
   for (int i = 0; i < load.requests; ++i) {
     httplib::Client client("127.0.0.1", port);
     client.set_connection_timeout(timeout);

@@ -13,7 +13,7 @@ struct SlowClientLoad {
   double byte_interval_s = 1.0;  ///< each slow connection sends one header byte this often
   int requests = 20;             ///< ordinary GETs, one after another
   std::string path = "/api/campaigns";
-  double settle_s = 2.0;         ///< the slow connections trickle this long before the first GET
+  double settle_s = 2.0;  ///< the slow connections trickle this long before the first GET
   double request_timeout_s = 20.0;
 };
 

@@ -4,8 +4,8 @@
 #include <charconv>
 #include <cmath>
 #include <map>
-#include <type_traits>
 #include <string_view>
+#include <type_traits>
 
 #include "podium/orchestrator/summary.h"
 #include "podium/store/run_folders.h"
@@ -19,8 +19,9 @@ using store::Queries;
 namespace {
 
 Json counts_json(const store::TrialCounts& c) {
-  return {{"total", c.total},   {"pending", c.pending + c.interrupted}, {"running", c.running},
-          {"done", c.done},     {"failed", c.failed},                   {"cancelled", c.cancelled}};
+  return {{"total", c.total},     {"pending", c.pending + c.interrupted},
+          {"running", c.running}, {"done", c.done},
+          {"failed", c.failed},   {"cancelled", c.cancelled}};
 }
 
 Json optional_number(const std::optional<double>& v) { return v && std::isfinite(*v) ? Json(*v) : Json(nullptr); }
@@ -53,7 +54,9 @@ Json stage_best(const Queries& q, std::int64_t campaign_id, const store::StageRe
   const auto& t = page.trials.front();
   const Json values = Json::parse(t.objectives, nullptr, false);
   const bool has_value = values.is_array() && !values.empty() && values[0].is_number();
-  return {{"id", t.id}, {"name", trial_name(st.name, t.index)}, {"objective", objective},
+  return {{"id", t.id},
+          {"name", trial_name(st.name, t.index)},
+          {"objective", objective},
           {"value", has_value ? values[0] : Json(nullptr)}};
 }
 
@@ -210,7 +213,8 @@ bool has_motion(const std::vector<store::ArtifactRecord>& artifacts) {
 // The nearest captured technique a task named in a trial's result info ({"nearest_technique":
 // {"name"}}, as the jump's explore trials carry it), or null.
 Json nearest_technique(const Json& result_info) {
-  const Json* t = result_info.is_object() && result_info.contains("nearest_technique") ? &result_info["nearest_technique"] : nullptr;
+  const Json* t =
+      result_info.is_object() && result_info.contains("nearest_technique") ? &result_info["nearest_technique"] : nullptr;
   return t && t->is_object() && t->contains("name") && (*t)["name"].is_string() ? (*t)["name"] : Json(nullptr);
 }
 
@@ -220,15 +224,16 @@ Json strategy_json(const Queries& q, const std::vector<store::StrategySummary>& 
   for (const auto& s : list) {
     // Per representative: whether it recorded a motion (no replay link otherwise) and its technique.
     const auto representative = q.trial(s.representative_trial);
-    out.push_back({{"stage", s.stage_index},
-                   {"strategy", s.strategy},
-                   {"trials", s.trials},
-                   {"representative_trial", s.representative_trial},
-                   {"representative_name", trial_name(stages.at(static_cast<std::size_t>(s.stage_index)).name, s.representative_index)},
-                   {"best_objective", optional_number(s.best_objective)},
-                   {"features", s.representative_features},
-                   {"motion", has_motion(q.store().artifacts(s.representative_trial))},
-                   {"technique", representative ? nearest_technique(representative->result_info) : Json(nullptr)}});
+    out.push_back(
+        {{"stage", s.stage_index},
+         {"strategy", s.strategy},
+         {"trials", s.trials},
+         {"representative_trial", s.representative_trial},
+         {"representative_name", trial_name(stages.at(static_cast<std::size_t>(s.stage_index)).name, s.representative_index)},
+         {"best_objective", optional_number(s.best_objective)},
+         {"features", s.representative_features},
+         {"motion", has_motion(q.store().artifacts(s.representative_trial))},
+         {"technique", representative ? nearest_technique(representative->result_info) : Json(nullptr)}});
   }
   return out;
 }
@@ -243,7 +248,8 @@ Json trial_inputs(const Queries& q, const store::StageRecord& stage, const store
   const Json& all = *stage.input_trials;
   std::vector<const Json*> given;
   if (stage.inputs.is_object() && stage.inputs.value("per_trial", "all") == "each") {
-    if (t.info.contains("input") && t.info["input"].get<std::size_t>() < all.size()) given.push_back(&all[t.info["input"].get<std::size_t>()]);
+    if (t.info.contains("input") && t.info["input"].get<std::size_t>() < all.size())
+      given.push_back(&all[t.info["input"].get<std::size_t>()]);
   } else {
     for (const auto& input : all) given.push_back(&input);
   }
@@ -364,9 +370,15 @@ std::string scatter_points(const Queries& q, std::int64_t campaign_id, std::int6
     finished.number(p.finished_at);
   }
   std::string columns, out;
-  ObjectText(columns).raw("id", id.close()).raw("stage", stage.close()).raw("index", index.close())
-      .raw("objective", objective.close()).raw("features", features.close()).raw("strategy", strategy.close())
-      .raw("step", step.close()).raw("finished_at", finished.close());
+  ObjectText(columns)
+      .raw("id", id.close())
+      .raw("stage", stage.close())
+      .raw("index", index.close())
+      .raw("objective", objective.close())
+      .raw("features", features.close())
+      .raw("strategy", strategy.close())
+      .raw("step", step.close())
+      .raw("finished_at", finished.close());
   ObjectText(out).value("total", total).value("returned", points.size()).raw("columns", columns);
   return out;
 }
@@ -375,7 +387,9 @@ Json strategy_table(const Queries& q, std::int64_t campaign_id) {
   return strategy_json(q, q.strategies(campaign_id), q.store().stages(campaign_id));
 }
 
-Json summary_document(const Queries& q, std::int64_t campaign_id) { return orchestrator::campaign_summary(q.store(), campaign_id); }
+Json summary_document(const Queries& q, std::int64_t campaign_id) {
+  return orchestrator::campaign_summary(q.store(), campaign_id);
+}
 
 Json comparison_document(const Queries& q, const std::string& campaigns) {
   constexpr std::size_t kMaxCampaigns = 8;  // each summary reads its campaign's done trials
@@ -389,7 +403,8 @@ Json comparison_document(const Queries& q, const std::string& campaigns) {
     start = comma + 1;
   }
   if (ids.size() > kMaxCampaigns)
-    throw HttpError(400, "campaigns: " + std::to_string(ids.size()) + " given, at most " + std::to_string(kMaxCampaigns) + " compare at once");
+    throw HttpError(400, "campaigns: " + std::to_string(ids.size()) + " given, at most " + std::to_string(kMaxCampaigns) +
+                             " compare at once");
   return orchestrator::compare_campaigns(q.store(), ids);
 }
 
@@ -414,7 +429,7 @@ Json trial_detail(const Queries& q, std::int64_t trial_id) {
   for (const auto& f : stage->description.value("features", Json::array())) out["feature_names"].push_back(f.value("name", ""));
   out["objective_names"] = stage->description.value("objectives", Json::array());
   out["metrics"] = metric_shapes(stage->description);  // each metric's axis, unit and kind
-  out["task_config"] = stage->task_config;              // resolved (e.g. a slowed get-up's κ)
+  out["task_config"] = stage->task_config;             // resolved (e.g. a slowed get-up's κ)
   const auto campaign = q.store().campaign(*campaign_id);
   const std::string campaign_name = campaign ? campaign->name : "";
   out["campaign_name"] = campaign_name;
@@ -445,15 +460,14 @@ Json trial_detail(const Queries& q, std::int64_t trial_id) {
   return out;
 }
 
-Json metric_series(const Queries& q, std::int64_t trial_id, std::int64_t max_points,
-                   const std::optional<std::string>& name) {
+Json metric_series(const Queries& q, std::int64_t trial_id, std::int64_t max_points, const std::optional<std::string>& name) {
   if (!q.trial_campaign(trial_id)) throw HttpError(404, "no trial " + std::to_string(trial_id));
   Json out = Json::array();
   for (const auto& m : q.metric_series(trial_id, max_points, name)) {
     Json values = Json::array();
     for (double v : m.values) values.push_back(std::isfinite(v) ? Json(v) : Json(nullptr));
-    out.push_back({{"name", m.name}, {"attempt", m.attempt}, {"total_points", m.total_points}, {"steps", m.steps},
-                   {"values", values}});
+    out.push_back(
+        {{"name", m.name}, {"attempt", m.attempt}, {"total_points", m.total_points}, {"steps", m.steps}, {"values", values}});
   }
   return out;
 }
@@ -492,9 +506,11 @@ fs::path trial_log_file(const Queries& q, const fs::path& database, std::int64_t
   if (!t || !campaign_id) throw HttpError(404, "no trial " + std::to_string(trial_id));
   const auto stages = q.store().stages(*campaign_id);
   const auto stage = std::find_if(stages.begin(), stages.end(), [&](const auto& s) { return s.id == t->stage_id; });
-  const fs::path folder = store::trial_folder(store::campaign_run_dir(database, *q.store().campaign(*campaign_id)), *stage, t->index);
+  const fs::path folder =
+      store::trial_folder(store::campaign_run_dir(database, *q.store().campaign(*campaign_id)), *stage, t->index);
   if (!fs::exists(folder / store::kTrialLog))
-    throw HttpError(404, "trial " + std::to_string(trial_id) + " has no log (it has not started, or ran before podium kept logs)");
+    throw HttpError(404,
+                    "trial " + std::to_string(trial_id) + " has no log (it has not started, or ran before podium kept logs)");
   return file_in_run_folder(q, database, *campaign_id, folder / store::kTrialLog, "log");
 }
 

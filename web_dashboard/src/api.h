@@ -41,8 +41,8 @@ Json metric_series(const store::Queries& q, std::int64_t trial_id, std::int64_t 
 
 /// The file of a trial's artifact number `index`, if it lies inside the campaign's run folder
 /// (resolving symlinks and ".."); 404 for an unknown trial or artifact, 403 outside the folder.
-std::filesystem::path artifact_file(const store::Queries& q, const std::filesystem::path& database,
-                                    std::int64_t trial_id, std::size_t index);
+std::filesystem::path artifact_file(const store::Queries& q, const std::filesystem::path& database, std::int64_t trial_id,
+                                    std::size_t index);
 /// The name the trial's artifact number `index` downloads as: "<campaign>_<stage>-<index>_<artifact><ext>".
 std::string artifact_download_name(const store::Queries& q, std::int64_t trial_id, std::size_t index);
 /// The trial's log (store::kTrialLog in its folder), under the same rule; 404 while it has none.

@@ -84,9 +84,7 @@ constexpr std::uint32_t kHeaderLimit = 32 * 1024;
 constexpr std::uint64_t kBodyLimit = 64 * 1024;
 constexpr std::size_t kChunk = 256 * 1024;
 
-Clock::duration seconds(double s) {
-  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
-}
+Clock::duration seconds(double s) { return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s)); }
 
 class Connection;
 
@@ -187,8 +185,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
     Response res;
     if (ec == http::error::header_limit) res.status = 431;
     else if (ec == http::error::body_limit) res.status = 413;
-    else if (ec.category() == beast::error_code(http::error::bad_method).category() &&
-             ec != http::error::end_of_stream && ec != http::error::partial_message)
+    else if (ec.category() == beast::error_code(http::error::bad_method).category() && ec != http::error::end_of_stream &&
+             ec != http::error::partial_message)
       res.status = 400;
     else return close();
     res.set_text(std::string(http::obsolete_reason(http::int_to_status(static_cast<unsigned>(res.status)))) + "\n",
@@ -241,8 +239,8 @@ class Connection : public std::enable_shared_from_this<Connection> {
         res.file.reset();
         body_size_ = 0;
       } else if (r.kind == ByteRange::Kind::part) {
-        res.set_header("Content-Range", "bytes " + std::to_string(r.first) + "-" + std::to_string(r.first + r.length - 1) +
-                                            "/" + std::to_string(body_size_));
+        res.set_header("Content-Range", "bytes " + std::to_string(r.first) + "-" + std::to_string(r.first + r.length - 1) + "/" +
+                                            std::to_string(body_size_));
         res.status = 206;
         body_first_ = r.first;
         body_size_ = r.length;
@@ -380,7 +378,8 @@ HttpServer::~HttpServer() {
 int HttpServer::bind(const std::string& host, int port) {
   beast::error_code ec;
   tcp::resolver resolver(impl_->io);
-  const auto endpoints = resolver.resolve(host, std::to_string(port), tcp::resolver::passive | tcp::resolver::numeric_service, ec);
+  const auto endpoints =
+      resolver.resolve(host, std::to_string(port), tcp::resolver::passive | tcp::resolver::numeric_service, ec);
   if (ec) return -1;
   for (const auto& entry : endpoints) {
     auto& a = impl_->acceptor;

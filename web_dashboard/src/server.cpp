@@ -46,8 +46,7 @@ std::int64_t parse_int(const std::string& text, const char* what, std::int64_t l
 
 std::optional<std::string> param(const Request& req, const char* name) { return req.param(name); }
 
-std::int64_t int_param(const Request& req, const char* name, std::int64_t fallback, std::int64_t low,
-                       std::int64_t high) {
+std::int64_t int_param(const Request& req, const char* name, std::int64_t fallback, std::int64_t low, std::int64_t high) {
   const auto text = param(req, name);
   return text ? parse_int(*text, name, low, high) : fallback;
 }
@@ -228,62 +227,61 @@ struct Server::Impl {
 
   void routes() {
     get("/api/version", api([this](const Request&, Response& res) { send_json(res, {{"data_version", data_version()}}); }));
-    get("/api/campaigns", json([](const Request&, const store::Queries& q) {
-      return campaign_list(q, store::now_unix_s());
-    }));
+    get("/api/campaigns", json([](const Request&, const store::Queries& q) { return campaign_list(q, store::now_unix_s()); }));
     get(R"(/api/campaigns/([^/]+))", json([](const Request& req, const store::Queries& q) {
-      return campaign_detail(q, resolve_campaign(q, req.matches[1]), store::now_unix_s());
-    }));
+          return campaign_detail(q, resolve_campaign(q, req.matches[1]), store::now_unix_s());
+        }));
     get(R"(/api/campaigns/([^/]+)/trials)", json([](const Request& req, const store::Queries& q) {
-      const auto filter = trial_filter(req);
-      return trial_page(q, resolve_campaign(q, req.matches[1]), filter);
-    }));
+          const auto filter = trial_filter(req);
+          return trial_page(q, resolve_campaign(q, req.matches[1]), filter);
+        }));
     get(R"(/api/campaigns/([^/]+)/points)", json([](const Request& req, const store::Queries& q) {
-      const auto max_points = int_param(req, "max_points", 5000, 1, 1'000'000);
-      return scatter_points(q, resolve_campaign(q, req.matches[1]), max_points);
-    }));
-    get(R"(/api/campaigns/([^/]+)/strategies)", json([](const Request& req, const store::Queries& q) {
-      return strategy_table(q, resolve_campaign(q, req.matches[1]));
-    }));
+          const auto max_points = int_param(req, "max_points", 5000, 1, 1'000'000);
+          return scatter_points(q, resolve_campaign(q, req.matches[1]), max_points);
+        }));
+    get(R"(/api/campaigns/([^/]+)/strategies)",
+        json([](const Request& req, const store::Queries& q) { return strategy_table(q, resolve_campaign(q, req.matches[1])); }));
     get(R"(/api/campaigns/([^/]+)/summary)", json([](const Request& req, const store::Queries& q) {
-      return summary_document(q, resolve_campaign(q, req.matches[1]));
-    }));
+          return summary_document(q, resolve_campaign(q, req.matches[1]));
+        }));
     get("/api/compare", json([](const Request& req, const store::Queries& q) {
-      const auto campaigns = param(req, "campaigns");
-      if (!campaigns) throw HttpError(400, "campaigns: missing (compare?campaigns=ID,ID,...)");
-      return comparison_document(q, *campaigns);
-    }));
+          const auto campaigns = param(req, "campaigns");
+          if (!campaigns) throw HttpError(400, "campaigns: missing (compare?campaigns=ID,ID,...)");
+          return comparison_document(q, *campaigns);
+        }));
     get(R"(/api/campaigns/([^/]+)/events)", json([](const Request& req, const store::Queries& q) {
-      const auto last = int_param(req, "last", 200, 1, 10000);
-      return campaign_events(q, resolve_campaign(q, req.matches[1]), static_cast<std::size_t>(last));
-    }));
+          const auto last = int_param(req, "last", 200, 1, 10000);
+          return campaign_events(q, resolve_campaign(q, req.matches[1]), static_cast<std::size_t>(last));
+        }));
     get(R"(/api/trials/([^/]+))", json([](const Request& req, const store::Queries& q) {
-      return trial_detail(q, parse_int(req.matches[1], "trial", 1, INT64_MAX));
-    }));
+          return trial_detail(q, parse_int(req.matches[1], "trial", 1, INT64_MAX));
+        }));
     get(R"(/api/trials/([^/]+)/metrics)", json([](const Request& req, const store::Queries& q) {
-      const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
-      const auto max_points = int_param(req, "max_points", 1000, 1, 1'000'000);
-      return metric_series(q, id, max_points, param(req, "name"));
-    }));
+          const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+          const auto max_points = int_param(req, "max_points", 1000, 1, 1'000'000);
+          return metric_series(q, id, max_points, param(req, "name"));
+        }));
     get(R"(/api/trials/([^/]+)/artifacts/([^/]+))", api([this](const Request& req, Response& res) {
-      const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
-      const auto index = static_cast<std::size_t>(parse_int(req.matches[2], "artifact", 0, 1'000'000));
-      auto q = pool.acquire();
-      send_file(res, artifact_file(*q, options.database, id, index), "application/octet-stream", artifact_download_name(*q, id, index));
-    }));
+          const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+          const auto index = static_cast<std::size_t>(parse_int(req.matches[2], "artifact", 0, 1'000'000));
+          auto q = pool.acquire();
+          send_file(res, artifact_file(*q, options.database, id, index), "application/octet-stream",
+                    artifact_download_name(*q, id, index));
+        }));
     get(R"(/api/trials/([^/]+)/log)", api([this](const Request& req, Response& res) {
-      const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
-      send_file(res, trial_log_file(*pool.acquire(), options.database, id), "text/plain; charset=utf-8", "");
-    }));
+          const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+          send_file(res, trial_log_file(*pool.acquire(), options.database, id), "text/plain; charset=utf-8", "");
+        }));
     get(R"(/api/trials/([^/]+)/trajectory)", api([this](const Request& req, Response& res) {
-      const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
-      // ?artifact=NAME picks another recorded motion of the trial (trajectory_fast, ...).
-      const std::string name = req.param("artifact").value_or("trajectory");
-      if (name.rfind("trajectory", 0) != 0) throw HttpError(400, "artifact \"" + name + "\" is not a trajectory (its name starts with trajectory)");
-      auto q = pool.acquire();
-      send_file(res, artifact_file(*q, options.database, id, artifact_index(*q, id, name)),
-                "application/x-ndjson", "");  // sim/'s JSON-lines trajectory file
-    }));
+          const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
+          // ?artifact=NAME picks another recorded motion of the trial (trajectory_fast, ...).
+          const std::string name = req.param("artifact").value_or("trajectory");
+          if (name.rfind("trajectory", 0) != 0)
+            throw HttpError(400, "artifact \"" + name + "\" is not a trajectory (its name starts with trajectory)");
+          auto q = pool.acquire();
+          send_file(res, artifact_file(*q, options.database, id, artifact_index(*q, id, name)), "application/x-ndjson",
+                    "");  // sim/'s JSON-lines trajectory file
+        }));
     get(R"(/api/.*)", api([](const Request& req, Response&) -> void { throw HttpError(404, "no endpoint " + req.path); }));
     get(R"(/(.*))", [this](const Request& req, Response& res) {
       const std::string path = req.matches[1].empty() ? "index.html" : req.matches[1];
@@ -330,8 +328,8 @@ int serve(const ServeOptions& options, std::ostream& out) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   Server server(options);
   const int port = server.bind();
-  out << "podium serve: http://" << options.host << ":" << port << "/ (database " << options.database.string()
-      << ", read-only)" << std::endl;
+  out << "podium serve: http://" << options.host << ":" << port << "/ (database " << options.database.string() << ", read-only)"
+      << std::endl;
   std::thread waiter([&] {
     int signal = 0;
     sigwait(&signals, &signal);

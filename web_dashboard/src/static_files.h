@@ -3,8 +3,8 @@
 // nowhere else, so no request can name a file outside the front end (no path is ever joined).
 #include <filesystem>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "encoded_body.h"

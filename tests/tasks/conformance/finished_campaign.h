@@ -1,12 +1,11 @@
 #pragma once
 // A task's campaign run to its end through the real `podium` CLI, its stages' trials read back
 // from the store: what a task's end-to-end campaign test checks (tests/tasks/*/..._task_test.cpp).
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <set>
 #include <string>
 #include <vector>
@@ -17,7 +16,7 @@ namespace podium::testing {
 
 struct FinishedCampaign {
   std::int64_t id = 0;
-  std::unique_ptr<store::Store> store;  ///< read-only
+  std::unique_ptr<store::Store> store;                            ///< read-only
   std::map<std::string, std::vector<store::TrialRecord>> trials;  ///< by stage name, in index order
 
   std::set<std::string> artifact_names(const store::TrialRecord& trial) const;

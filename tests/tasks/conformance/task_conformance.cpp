@@ -7,9 +7,9 @@
 #include <map>
 #include <set>
 
+#include "batch_trial.h"
 #include "podium/base/error.h"
 #include "podium/plugins/loader.h"
-#include "batch_trial.h"
 #include "worker_client.h"
 
 namespace podium::testing {
@@ -116,15 +116,21 @@ Json order_for(const ConformanceCase& c, const Json& overrides, const fs::path& 
     const double mid = 0.5 * (p["low"].get<double>() + p["high"].get<double>());
     params[p["name"].get<std::string>()] = p.value("integer", false) ? std::round(mid) : mid;
   }
-  const Json previous = attempt == 1 ? Json(nullptr)
-                                     : Json{{"number", attempt - 1}, {"state", "interrupted"}, {"error", "killed by the test"}};
-  return order_json({.task = c.task, .config = config, .params = params, .inputs = inputs, .previous_attempt = previous,
-                     .seed = seed, .attempt = attempt, .work_dir = work_dir});
+  const Json previous =
+      attempt == 1 ? Json(nullptr) : Json{{"number", attempt - 1}, {"state", "interrupted"}, {"error", "killed by the test"}};
+  return order_json({.task = c.task,
+                     .config = config,
+                     .params = params,
+                     .inputs = inputs,
+                     .previous_attempt = previous,
+                     .seed = seed,
+                     .attempt = attempt,
+                     .work_dir = work_dir});
 }
 
 struct TrialRun {
-  Json result;                  // result.json with artifact paths relative to the work folder
-  std::vector<Json> metrics;    // metrics.jsonl
+  Json result;                // result.json with artifact paths relative to the work folder
+  std::vector<Json> metrics;  // metrics.jsonl
   fs::path work_dir;
 };
 
@@ -206,8 +212,8 @@ TEST_P(TaskConformance, ArtifactsExistInsideTheWorkFolder) {
 
 // A trial running in a worker (key 1): what it has sent so far.
 struct WorkerRun {
-  Json result;                  // the "result" or "error" message, null while it runs
-  std::vector<Json> metrics;    // {"name", "step", "value"}, as in metrics.jsonl
+  Json result;                // the "result" or "error" message, null while it runs
+  std::vector<Json> metrics;  // {"name", "step", "value"}, as in metrics.jsonl
   std::vector<double> progress;
 };
 
@@ -266,7 +272,8 @@ TEST_P(TaskConformance, CancelIsHonouredWithinTwoSeconds) {
   const auto cancelled = std::chrono::steady_clock::now();
   std::optional<Json> end;
   while (!end && std::chrono::steady_clock::now() - cancelled < 2s) {
-    auto m = worker.next(std::chrono::duration_cast<std::chrono::milliseconds>(2s - (std::chrono::steady_clock::now() - cancelled)));
+    auto m =
+        worker.next(std::chrono::duration_cast<std::chrono::milliseconds>(2s - (std::chrono::steady_clock::now() - cancelled)));
     if (m && m->value("type", "") != "metric" && m->value("type", "") != "progress") end = std::move(m);
   }
   ASSERT_TRUE(end.has_value()) << "no answer within 2 s of the cancel message";
@@ -341,7 +348,8 @@ TEST_P(TaskConformance, WarmStartedTrialTrainsOnAndResumes) {
   const auto& source = smoke_runs(c).first;
   const WarmStartCase::Order warm = c.warm_start->order(source.work_dir, source.result);
   TempDir dir;
-  const WorkerRun full = expect_resumes_to_the_uninterrupted_result(c, dir.path(), warm.config, warm.inputs, c.warm_start->kill_after_metric_points);
+  const WorkerRun full =
+      expect_resumes_to_the_uninterrupted_result(c, dir.path(), warm.config, warm.inputs, c.warm_start->kill_after_metric_points);
   ASSERT_EQ(full.result.value("type", ""), "result") << full.result;
   EXPECT_NE(full.result, source.result) << "the warm-started trial did not train on";
 }

@@ -46,22 +46,22 @@ struct WarmStartCase {
     base::Json inputs = base::Json::array();
   };
   std::function<Order(const std::filesystem::path& source_dir, const base::Json& source_result)> order;
-  int kill_after_metric_points = 0;                    ///< as ConformanceCase's, for the warm trial
+  int kill_after_metric_points = 0;  ///< as ConformanceCase's, for the warm trial
 };
 
 struct ConformanceCase {
-  std::string task;                                    ///< plugin name
-  base::Json base_config = base::Json::object();       ///< on the smoke preset, under every trial's config (e.g. the stage)
-  base::Json smoke_config = base::Json::object();      ///< on top of the smoke preset: the smoke trial
-  base::Json long_config = base::Json::object();       ///< on the smoke preset: runs ≥ 10 s unless cancelled
-  base::Json resume_config = base::Json::object();     ///< on the smoke preset: long enough to be killed mid-run
+  std::string task;                                 ///< plugin name
+  base::Json base_config = base::Json::object();    ///< on the smoke preset, under every trial's config (e.g. the stage)
+  base::Json smoke_config = base::Json::object();   ///< on top of the smoke preset: the smoke trial
+  base::Json long_config = base::Json::object();    ///< on the smoke preset: runs ≥ 10 s unless cancelled
+  base::Json resume_config = base::Json::object();  ///< on the smoke preset: long enough to be killed mid-run
   /// The long and resume trials are cancelled / killed once they have sent this many metric
   /// points, or, for a task that reports nothing while it works (0), after kill_delay_s.
   int kill_after_metric_points = 0;
   double kill_delay_s = 0.3;
   /// Attempt 2 continues from a checkpoint: its first progress report is beyond a fresh start's.
   bool resumes_from_checkpoint = false;
-  std::vector<std::string> artifacts;                  ///< artifact names every trial returns
+  std::vector<std::string> artifacts;                      ///< artifact names every trial returns
   std::optional<WarmStartCase> warm_start = std::nullopt;  ///< none: the task has no warm start
 };
 
@@ -75,6 +75,6 @@ inline void PrintTo(const ConformanceCase& c, std::ostream* out) {
 
 }  // namespace podium::testing
 
-#define PODIUM_TASK_CONFORMANCE(Name, ...)   \
+#define PODIUM_TASK_CONFORMANCE(Name, ...)  \
   using ::podium::testing::TaskConformance; \
   INSTANTIATE_TEST_SUITE_P(Name, TaskConformance, ::testing::Values(::podium::testing::ConformanceCase __VA_ARGS__))

@@ -5,16 +5,15 @@
 
 #include <chrono>
 #include <deque>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 namespace podium::testing {
 
 class WorkerClient {
  public:
-  WorkerClient();  ///< starts `$PODIUM_BIN worker` and waits for its "ready" message
+  WorkerClient();   ///< starts `$PODIUM_BIN worker` and waits for its "ready" message
   ~WorkerClient();  ///< closes its stdin, kills it if still running, reaps it
   WorkerClient(const WorkerClient&) = delete;
   WorkerClient& operator=(const WorkerClient&) = delete;

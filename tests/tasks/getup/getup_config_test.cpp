@@ -53,7 +53,8 @@ TEST(GetupConfig, SlowerLearnsWithItsOwnDiscount) {
   EXPECT_EQ(learn::SacConfig::paper().gamma, 0.97);
   EXPECT_FALSE(slower_learner_spec(read({{"algorithm", "ppo"}}), slower(Json::object()))["config"].contains("gamma"));
   EXPECT_EQ(podium::testing::config_error_path({{"slow_gamma", 1.5}}, read_slower), "slow_gamma");
-  EXPECT_EQ(podium::testing::config_error_path({{"slow_warm_start", "/nonexistent/training.ckpt"}}, read_slower), "slow_warm_start");
+  EXPECT_EQ(podium::testing::config_error_path({{"slow_warm_start", "/nonexistent/training.ckpt"}}, read_slower),
+            "slow_warm_start");
 }
 
 TEST(GetupConfig, BadValuesAreReportedAtTheirPath) {

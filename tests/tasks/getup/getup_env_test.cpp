@@ -1,11 +1,12 @@
 // The get-up environment (seed §4–5, §7) on real Bullet: episode length, the facing-invariant
 // s_weak, the per-episode strength β̂ as SAC's action bound, and exact replay of a saved start.
+#include "getup_env.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
 
-#include "getup_env.h"
 #include "podium/base/error.h"
 
 namespace podium::tasks::getup {

@@ -1,9 +1,10 @@
 // The get-up rewards of seed 001's appendix B on hand-made states, each term at known values.
+#include "getup_rewards.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "getup_rewards.h"
 #include "podium/sim/model.h"
 
 namespace podium::tasks::getup {
@@ -21,10 +22,10 @@ TEST(GetupRewards, HeadHeightIsOneAboveTheBoundAndTheMarginValueBelowIt) {  // e
 }
 
 TEST(GetupRewards, StraightTorsoCountsOnlyAboveHalfAMetre) {  // eq. 6
-  EXPECT_EQ(r_straight(-1.0, 0.3), 1.0);  // lying: not applied
+  EXPECT_EQ(r_straight(-1.0, 0.3), 1.0);                      // lying: not applied
   EXPECT_EQ(r_straight(0.95, 0.9), 1.0);
   EXPECT_NEAR(r_straight(0.9 - 0.95, 0.9), 0.5, 1e-12);  // linear: half way down the margin
-  EXPECT_EQ(r_straight(0.9 - 1.9, 0.9), 0.0);           // value 0 at the margin
+  EXPECT_EQ(r_straight(0.9 - 1.9, 0.9), 0.0);            // value 0 at the margin
 }
 
 TEST(GetupRewards, ComVelocityAveragesItsTwoComponents) {  // eq. 7 and App. B.3
@@ -75,8 +76,11 @@ TEST(GetupRewards, SlowRewardTracksComOrientationAndHips) {  // eqs. 3, 9–11
 TEST(GetupRewards, BalanceRewardAddsThePoseKernel) {  // eqs. 4 and 12
   EXPECT_EQ(reward_balance(BalanceState{.torso_up_z = 1.0, .com_height_m = 0.9}), 1.0);
   EXPECT_NEAR(r_pose(4.0), std::exp(-1.0), 1e-15);
-  BalanceState s{.com_velocity_xy = {1.2, 1.2}, .torso_up_z = 0.9 - 0.95, .com_height_m = 0.8,
-                 .com_height_error_m = 0.5, .pose_squared_error = 4.0};
+  BalanceState s{.com_velocity_xy = {1.2, 1.2},
+                 .torso_up_z = 0.9 - 0.95,
+                 .com_height_m = 0.8,
+                 .com_height_error_m = 0.5,
+                 .pose_squared_error = 4.0};
   EXPECT_NEAR(reward_balance(s), 0.1 * 0.5 * 0.1 * std::exp(-1.0), 1e-12);
 }
 

@@ -8,11 +8,11 @@
 #include <numeric>
 #include <set>
 
+#include "batch_trial.h"
 #include "finished_campaign.h"
 #include "podium/base/config.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
-#include "batch_trial.h"
 #include "process.h"
 #include "task_conformance.h"
 
@@ -35,13 +35,20 @@ podium::testing::WarmStartCase warm_start(const char* key, const char* total, in
           },
           kill_after};
 }
-PODIUM_TASK_CONFORMANCE(Getup, {.task = "getup", .long_config = {{"total_steps", 1000000}},
-                                .resume_config = {{"total_steps", 1200}}, .kill_after_metric_points = 30,
-                                .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"},
+PODIUM_TASK_CONFORMANCE(Getup, {.task = "getup",
+                                .long_config = {{"total_steps", 1000000}},
+                                .resume_config = {{"total_steps", 1200}},
+                                .kill_after_metric_points = 30,
+                                .resumes_from_checkpoint = true,
+                                .artifacts = {"policy", "trajectory"},
                                 .warm_start = warm_start("warm_start", "total_steps", 1200, 120)});
-PODIUM_TASK_CONFORMANCE(GetupSlower, {.task = "getup", .base_config = slower_stage(), .long_config = {{"slow_total_steps", 1000000}},
-                                      .resume_config = {{"slow_total_steps", 600}}, .kill_after_metric_points = 20,
-                                      .resumes_from_checkpoint = true, .artifacts = {"policy", "weak_policy", "trajectory"},
+PODIUM_TASK_CONFORMANCE(GetupSlower, {.task = "getup",
+                                      .base_config = slower_stage(),
+                                      .long_config = {{"slow_total_steps", 1000000}},
+                                      .resume_config = {{"slow_total_steps", 600}},
+                                      .kill_after_metric_points = 20,
+                                      .resumes_from_checkpoint = true,
+                                      .artifacts = {"policy", "weak_policy", "trajectory"},
                                       .warm_start = warm_start("slow_warm_start", "slow_total_steps", 600, 36)});
 
 // One smoke Weaker trial through `podium trial --batch`: its result and its metric points by name.
@@ -91,7 +98,9 @@ void expect_strength_shrunk_at_every_test(const SmokeTrial& trial) {
   for (double h : heads) EXPECT_TRUE(h > 0.0 && h < 2.0) << h;  // head-top heights in metres
 }
 
-TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) { expect_strength_shrunk_at_every_test(run_smoke_trial(Json::object())); }
+TEST(GetupTask, SmokeTrialShrinksTheStrengthAtEveryPassedTest) {
+  expect_strength_shrunk_at_every_test(run_smoke_trial(Json::object()));
+}
 
 // PPO, the preset choice the issue allows, through the same curriculum: its tests and the
 // exported policy act at β < 1.
@@ -101,8 +110,8 @@ TEST(GetupTask, SmokePpoTrialShrinksTheStrengthAtEveryPassedTest) {
 }
 
 // risen_rate counts a start whose head top passed success_height_m after any action, success_rate
-// only one that ends above it, head_drops its falls back below the height. The smoke preset's untrained policy flails near the ground: at
-// 0.3 m one of its two starts' head passes the height in every test and ends below it.
+// only one that ends above it, head_drops its falls back below the height. The smoke preset's untrained policy flails near the
+// ground: at 0.3 m one of its two starts' head passes the height in every test and ends below it.
 TEST(GetupTask, RisenRateCountsAHeadThatPassedTheHeightBeforeTheEnd) {
   const SmokeTrial trial = run_smoke_trial({{"success_height_m", 0.3}});
   const std::vector<double>& risen = trial.metrics.at("risen_rate");
@@ -192,8 +201,9 @@ TEST(GetupTask, TrainMinutesEndTrainingEarlyAndTheTrialSaysSo) {
   EXPECT_EQ(unlimited.result["info"]["env_steps"], 400);
 
   const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt";
-  const SmokeTrial slower =
-      run_smoke_trial({{"stage", "slower"}, {"slow_train_minutes", 1e-9}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.6}}}}});
+  const SmokeTrial slower = run_smoke_trial({{"stage", "slower"},
+                                             {"slow_train_minutes", 1e-9},
+                                             {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.6}}}}});
   EXPECT_EQ(slower.result["info"]["stopped_by"], "time");
   EXPECT_EQ(slower.result["info"]["env_steps"], 100);
   EXPECT_EQ(slower.metrics.at("slow/test_return").size(), 1u);
@@ -203,7 +213,8 @@ TEST(GetupTask, TrainMinutesEndTrainingEarlyAndTheTrialSaysSo) {
 TEST(GetupTask, SmokeSlowerTrialImitatesAShippedWeakPolicy) {
   const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt";
   const double strength = 0.6;
-  const SmokeTrial trial = run_smoke_trial({{"stage", "slower"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", strength}}}}});
+  const SmokeTrial trial =
+      run_smoke_trial({{"stage", "slower"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", strength}}}}});
   EXPECT_EQ(trial.result["info"]["weak_strength"].get<double>(), strength);
   std::set<std::string> names;
   for (const auto& a : trial.result["artifacts"]) names.insert(a["name"].get<std::string>());
@@ -216,9 +227,10 @@ TEST(GetupTask, SmokeSlowerTrialImitatesAShippedWeakPolicy) {
 TEST(GetupTask, EvaluateRefusesAPolicyOfAnotherObservation) {
   const fs::path weak = fs::path(PODIUM_SOURCE_DIR) / "tasks/getup/policies/weaker_standing.pt";
   podium::testing::TempDir dir;
-  const auto run = run_smoke_batch(
-      {{"stage", "evaluate"}, {"variant", "missing_arm"}, {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.6}}}}},
-      dir / "trial", dir.path());
+  const auto run = run_smoke_batch({{"stage", "evaluate"},
+                                    {"variant", "missing_arm"},
+                                    {"shipped", {{{"weak_policy", weak.string()}, {"weak_strength", 0.6}}}}},
+                                   dir / "trial", dir.path());
   ASSERT_EQ(run.result["type"], "error") << run.result;
   const std::string message = run.result["message"];
   EXPECT_NE(message.find("π_weak takes 69 observations and gives 21 actions"), std::string::npos) << message;
@@ -238,7 +250,8 @@ TEST(GetupTask, ASlowerWarmStartTrainsOnFromAnotherTrialOfTheSamePolicy) {
   ASSERT_EQ(source.result["info"]["env_steps"], 200);
   Json warm_config = config;
   // Its own tests at another κ: the first two points can only be the source's.
-  warm_config.update({{"slow_warm_start", (dir / "source" / "training.ckpt").string()}, {"slow_total_steps", 400}, {"slow_test_kappa", 0.3}});
+  warm_config.update(
+      {{"slow_warm_start", (dir / "source" / "training.ckpt").string()}, {"slow_total_steps", 400}, {"slow_test_kappa", 0.3}});
   const SmokeTrial warm = run_smoke_trial(warm_config, dir / "warm");
   EXPECT_EQ(warm.result["info"]["env_steps"], 400);
   const std::vector<double>& returns = warm.metrics.at("slow/test_return");
@@ -306,8 +319,8 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
     std::set<double> steps;
     for (const auto& m : campaign.store->metrics(t.id))
       if (m.name == "eval/success_rate") steps.insert(m.step);
-    EXPECT_EQ(steps, (std::set<double>{0.5, 1.0}));  // the smoke preset's κ = 0.5, and fast
-    EXPECT_EQ(t.result_info["shown_fall"], 0);  // every fast fall stood (below): the first is shown
+    EXPECT_EQ(steps, (std::set<double>{0.5, 1.0}));      // the smoke preset's κ = 0.5, and fast
+    EXPECT_EQ(t.result_info["shown_fall"], 0);           // every fast fall stood (below): the first is shown
     for (const auto& speed : t.result_info["speeds"]) {  // head_watch.h's measures, per speed
       EXPECT_GE(speed["drops"].get<double>(), 0.0) << speed;
       if (speed["risen"] == 0) {
@@ -331,15 +344,15 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
 
   // tasks/getup/report.py finds each Weaker trial's trial.log (the store's folder rule) and reads
   // its wall times from the per-test lines.
-  const std::string command = "/usr/bin/python3 " PODIUM_SOURCE_DIR "/tasks/getup/report.py " +
-                              (dir.path() / "podium.db").string() + " getup 2>&1";
+  const std::string command =
+      "/usr/bin/python3 " PODIUM_SOURCE_DIR "/tasks/getup/report.py " + (dir.path() / "podium.db").string() + " getup 2>&1";
   const auto [status, report] = podium::testing::shell(command);
   ASSERT_EQ(status, 0) << report;
   std::size_t rates = 0;
   for (std::size_t at = report.find("environment steps/s over"); at != std::string::npos;
        at = report.find("environment steps/s over", at + 1))
     ++rates;
-  EXPECT_EQ(rates, 2u) << report;  // one per Weaker trial
+  EXPECT_EQ(rates, 2u) << report;                                     // one per Weaker trial
   EXPECT_NE(report.find("head drops"), std::string::npos) << report;  // Evaluate's per-speed lines
   // The bars table: a row per bar; the smoke preset evaluates κ 0.5 and fast only, so (d) says so.
   for (const char* row : {"| (a) ≥ 8/10", "| (b) ≥ 3 advances", "| (c) head curve", "not measured: it evaluated fast, k0.5"})

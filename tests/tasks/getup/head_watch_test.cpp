@@ -1,9 +1,9 @@
 // HeadWatch on hand-made head-top heights: a get-up that stands against a leap loop.
+#include "head_watch.h"
+
 #include <gtest/gtest.h>
 
 #include <vector>
-
-#include "head_watch.h"
 
 namespace podium::tasks::getup {
 namespace {

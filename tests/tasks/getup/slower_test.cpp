@@ -38,7 +38,9 @@ fs::path untrained_weak_policy() {
   return path;
 }
 
-std::shared_ptr<const learn::FrozenPolicy> weak_policy() { return std::make_shared<const learn::FrozenPolicy>(untrained_weak_policy()); }
+std::shared_ptr<const learn::FrozenPolicy> weak_policy() {
+  return std::make_shared<const learn::FrozenPolicy>(untrained_weak_policy());
+}
 
 // A hand-made τ_fast of humanoid21: the knees bend a little more each frame.
 FastRollout knee_bend(int steps) {

@@ -37,7 +37,7 @@ TEST(WeakerSchedule, AdvancesAboveOmegaAndEndsAfterItsStepBudget) {
 TEST(WeakerSchedule, TheBudgetGrowsWithTheLastLevelsSteps) {
   WeakerSchedule s({}, {});
   EXPECT_EQ(s.on_test(5'000'000, 0.0), Decision::carry_on);  // Discover has no budget
-  EXPECT_EQ(s.on_test(5'020'000, 61.0), Decision::advance);   // N_0 = 5.02e6: M_1 = N_max
+  EXPECT_EQ(s.on_test(5'020'000, 61.0), Decision::advance);  // N_0 = 5.02e6: M_1 = N_max
   EXPECT_EQ(s.on_test(5'820'000, 0.0), Decision::carry_on);
   EXPECT_EQ(s.on_test(5'840'000, 0.0), Decision::end_curriculum);
   EXPECT_DOUBLE_EQ(s.strength(), 1.0);
@@ -73,7 +73,7 @@ TEST(WeakerExport, StandsRankAboveReturn) {
   const character::Figures better_stand = {{"stood_rate", 0.1}, {"test_return", 41.0}};
   EXPECT_TRUE(exports_over(better_stand, stand));
   EXPECT_FALSE(exports_over(stand, better_stand));
-  EXPECT_FALSE(exports_over(stand, stand));  // a tie keeps what was exported
+  EXPECT_FALSE(exports_over(stand, stand));                                      // a tie keeps what was exported
   EXPECT_THROW(exports_over(stand, {{"test_return", 73.7}}), std::logic_error);  // a test must report its stands
 }
 

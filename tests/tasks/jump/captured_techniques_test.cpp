@@ -18,7 +18,9 @@ TEST(CapturedTechniques, FlopStraddleAndScissorArePairwiseDistinctStrategies) {
   if (dir.empty()) GTEST_SKIP() << "../shared/data/jump absent (PODIUM_SHARED_DIR)";
   const auto techniques = captured_techniques(dir / "motions/beyond", sim::load_shipped_model("athlete"));
   ASSERT_EQ(techniques.size(), 3u);
-  for (const auto& t : techniques) std::printf("%s (%s): up-angle %.3f rad at the COM peak %.3f m\n", t.name.c_str(), t.file.c_str(), t.up_angle_rad, t.peak_com_m);
+  for (const auto& t : techniques)
+    std::printf("%s (%s): up-angle %.3f rad at the COM peak %.3f m\n", t.name.c_str(), t.file.c_str(), t.up_angle_rad,
+                t.peak_com_m);
   for (std::size_t i = 0; i < techniques.size(); ++i)
     for (std::size_t j = i + 1; j < techniques.size(); ++j)
       EXPECT_GT(std::abs(techniques[i].up_angle_rad - techniques[j].up_angle_rad), kUpAngleStrategyThresholdRad)
@@ -28,7 +30,8 @@ TEST(CapturedTechniques, FlopStraddleAndScissorArePairwiseDistinctStrategies) {
 }
 
 TEST(CapturedTechniques, NearestIsByUpAngleAndAMissingFolderIsNamed) {
-  const std::vector<CapturedTechnique> techniques = {{"Fosbury flop", "a", 0.3, 1.0}, {"scissor", "b", 1.6, 1.0}, {"straddle", "c", 2.9, 1.0}};
+  const std::vector<CapturedTechnique> techniques = {
+      {"Fosbury flop", "a", 0.3, 1.0}, {"scissor", "b", 1.6, 1.0}, {"straddle", "c", 2.9, 1.0}};
   EXPECT_EQ(nearest_technique(techniques, 0.0).name, "Fosbury flop");
   EXPECT_EQ(nearest_technique(techniques, 1.2).name, "scissor");
   EXPECT_EQ(nearest_technique(techniques, 2.4).name, "straddle");
@@ -36,7 +39,8 @@ TEST(CapturedTechniques, NearestIsByUpAngleAndAMissingFolderIsNamed) {
     captured_techniques("/no/such/folder", sim::load_shipped_model("athlete"));
     ADD_FAILURE() << "expected a UserError";
   } catch (const base::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find("/no/such/folder/VC5_high_jump__fosbury_flop_06.txt: no such file"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("/no/such/folder/VC5_high_jump__fosbury_flop_06.txt: no such file"), std::string::npos)
+        << e.what();
   }
 }
 

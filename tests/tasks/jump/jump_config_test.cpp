@@ -16,11 +16,11 @@ std::string error_path(const Json& config) { return podium::testing::config_erro
 
 TEST(JumpConfig, DefaultsAreTheThesisSettings) {
   const TrainSettings s = read(Json::object());
-  EXPECT_EQ(s.env.sim_hz, 600.0);                     // §3.6.2
-  EXPECT_EQ(learner_spec(s)["preset"], "paper");      // PpoConfig::paper() = §3.6.2
+  EXPECT_EQ(s.env.sim_hz, 600.0);                 // §3.6.2
+  EXPECT_EQ(learner_spec(s)["preset"], "paper");  // PpoConfig::paper() = §3.6.2
   EXPECT_EQ(s.total_samples, 12'000LL * 4096);
-  EXPECT_EQ(s.z_freeze_m, 1.0);                       // §3.6.1
-  EXPECT_EQ(s.curriculum.initial, 0.5);               // Table 3.1, high jump
+  EXPECT_EQ(s.z_freeze_m, 1.0);          // §3.6.1
+  EXPECT_EQ(s.curriculum.initial, 0.5);  // Table 3.1, high jump
   EXPECT_EQ(s.curriculum.increment, 0.01);
   EXPECT_EQ(s.curriculum.threshold, 30.0);
   EXPECT_EQ(s.curriculum.limit, 2.0);

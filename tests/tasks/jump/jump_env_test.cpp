@@ -49,8 +49,8 @@ TEST(JumpEnv, PropsMoveAndResizeWhenZChanges) {
   const auto& boxes = [&] { return env.world().terrain().config().boxes; };
   EXPECT_NEAR(boxes()[0].half_extents.z(), 0.25, 1e-12);
   EXPECT_NEAR(boxes()[1].center.z() * 2, 0.02, 1e-12);  // block top clip(z − 0.7, 0.02, 0.75)
-  EXPECT_TRUE(env.set_difficulty(0.51));                 // 10 + 20·0.02 = 10.4 Hz still rounds to 10
-  EXPECT_FALSE(env.set_difficulty(1.2));                 // 30 Hz: a new env is needed
+  EXPECT_TRUE(env.set_difficulty(0.51));                // 10 + 20·0.02 = 10.4 Hz still rounds to 10
+  EXPECT_FALSE(env.set_difficulty(1.2));                // 30 Hz: a new env is needed
   EXPECT_NEAR(boxes()[0].half_extents.z(), 0.6, 1e-12);
   EXPECT_NEAR(boxes()[0].center.z(), 0.6, 1e-12);
   EXPECT_NEAR(boxes()[1].center.z() * 2, 0.5, 1e-12);
@@ -66,9 +66,9 @@ TEST(JumpEnv, PropsMoveAndResizeWhenZChanges) {
   const auto& obstacle = box.world().terrain().config().boxes[0];
   EXPECT_NEAR(obstacle.half_extents.x(), 1.0, 1e-12);
   EXPECT_NEAR(obstacle.center.x(), 1.0 + 1.0, 1e-12);
-  EXPECT_NEAR(obstacle.half_extents.z(), 0.25, 1e-12);  // 50 cm high
-  EXPECT_NEAR(box.world().terrain().config().boxes[1].center.x(), 3.02 + 2.0, 1e-12);  // block 2 cm after the box, 4 m deep
-  EXPECT_NEAR(box.suite().signed_distance(Eigen::Vector3d(2.0, 5.0, 1.0)), 0.0, 1e-12);   // the centre plane
+  EXPECT_NEAR(obstacle.half_extents.z(), 0.25, 1e-12);                                   // 50 cm high
+  EXPECT_NEAR(box.world().terrain().config().boxes[1].center.x(), 3.02 + 2.0, 1e-12);    // block 2 cm after the box, 4 m deep
+  EXPECT_NEAR(box.suite().signed_distance(Eigen::Vector3d(2.0, 5.0, 1.0)), 0.0, 1e-12);  // the centre plane
 }
 
 TEST(JumpEnv, ApproachAngleTurnsTheSuiteAboutTheTakeoffPoint) {
@@ -228,7 +228,8 @@ TEST(JumpEnv, BadSettingsAreRejectedWithTheirName) {
 }
 
 TEST(JumpEnv, SettingsReadFromConfig) {
-  const base::Json config = {{"kind", "obstacle"}, {"model", "athlete"}, {"difficulty_m", 0.3}, {"takeoff_features", {1.0, 2.0, 3.0}}};
+  const base::Json config = {
+      {"kind", "obstacle"}, {"model", "athlete"}, {"difficulty_m", 0.3}, {"takeoff_features", {1.0, 2.0, 3.0}}};
   const JumpSettings s = base::ConfigReader::parse(config, "jump config", read_jump_settings);
   EXPECT_EQ(s.kind, JumpKind::obstacle);
   EXPECT_EQ(s.difficulty_m, 0.3);

@@ -25,7 +25,7 @@ TEST(JumpRewards, OmegaTermUsesTheEpisodeMeanRootSpeed) {
 TEST(JumpRewards, NaturalnessUsesTheEpisodeMeanL1OffsetAndCOffset) {
   EpisodeSums sums;
   sums.add(0.0, 10.0);
-  sums.add(0.0, 30.0);  // mean ‖a_offset‖₁ = 20
+  sums.add(0.0, 30.0);                                                       // mean ‖a_offset‖₁ = 20
   EXPECT_DOUBLE_EQ(jump_reward(true, false, sums, 40.0).naturalness, 0.75);  // 1 − (20/40)²
   EXPECT_DOUBLE_EQ(jump_reward(true, false, sums, 20.0).naturalness, 0.0);   // at c_offset
   EXPECT_DOUBLE_EQ(jump_reward(true, false, sums, 10.0).naturalness, 0.0);   // clipped
@@ -51,8 +51,8 @@ TEST(JumpRewards, NoveltyIsTheNearestKnownFeatureOverDThresholdClipped) {
   EXPECT_DOUBLE_EQ(novelty_reward(f, {}), 1.0);
   EXPECT_DOUBLE_EQ(novelty_reward(f, {{pi / 4, 0.0, 0.0}}), 0.5);
   EXPECT_DOUBLE_EQ(novelty_reward(f, {{3.0, 0.0, 0.0}, {0.0, 0.3, 0.4}}), 0.5 / (pi / 2));  // nearest: ‖(0, .3, .4)‖ = .5
-  EXPECT_DOUBLE_EQ(novelty_reward(f, {{0.0, 3.0, 0.0}}), 1.0);   // beyond d_threshold
-  EXPECT_DOUBLE_EQ(novelty_reward(f, {{0.0, 0.0, 0.0}}), 0.01);  // the same strategy
+  EXPECT_DOUBLE_EQ(novelty_reward(f, {{0.0, 3.0, 0.0}}), 1.0);                              // beyond d_threshold
+  EXPECT_DOUBLE_EQ(novelty_reward(f, {{0.0, 0.0, 0.0}}), 0.01);                             // the same strategy
   EXPECT_DOUBLE_EQ(novelty_reward(f, {{1.0, 0.0, 0.0}}, 2.0), 0.5);
   EXPECT_THROW(novelty_reward(f, {{1.0}}), base::UserError);
   EXPECT_THROW(novelty_reward(f, {{1.0, 0.0, 0.0}}, 0.0), base::UserError);

@@ -28,7 +28,7 @@ TEST(JumpRules, LandingOnTheBlockClearOfTheWallSucceeds) {
   EXPECT_EQ(env.outcome_reason(), "landed on the block");
   EXPECT_DOUBLE_EQ(env.reward_terms().safety, 1.0);
   EXPECT_DOUBLE_EQ(env.reward_terms().naturalness, 1.0);  // plain targets: no offsets
-  EXPECT_GT(last.reward, 0.95);                             // r_ω of a near-still landing
+  EXPECT_GT(last.reward, 0.95);                           // r_ω of a near-still landing
   EXPECT_DOUBLE_EQ(last.reward, env.reward_terms().total());
   EXPECT_EQ(last.info[0], 1.0);  // success
 }

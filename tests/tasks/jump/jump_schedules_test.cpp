@@ -51,7 +51,7 @@ TEST(JumpCurriculum, HighJumpBarRisesWhenTheAccumulatorExceedsRTAndNotBefore) {
   EXPECT_FALSE(bar.observe(10.0));
   EXPECT_FALSE(bar.observe(10.0));  // accumulated exactly R_T = 30: not past it
   EXPECT_DOUBLE_EQ(bar.value(), 0.50);
-  EXPECT_TRUE(bar.observe(0.01));   // 30.01 > 30
+  EXPECT_TRUE(bar.observe(0.01));  // 30.01 > 30
   EXPECT_NEAR(bar.value(), 0.51, 1e-12);
   EXPECT_FALSE(bar.observe(29.99));  // the accumulator restarted at 0
   EXPECT_TRUE(bar.observe(0.02));

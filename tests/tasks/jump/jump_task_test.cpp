@@ -24,15 +24,25 @@ namespace fs = std::filesystem;
 
 // The warm start: a novel trial (Stage 2) handed the explore smoke trial, its policy trained on.
 podium::testing::WarmStartCase::Order novel_from(const fs::path& source, const Json& result) {
-  Json input = {{"stage", "explore"}, {"stage_index", 0}, {"trial_index", 0}, {"params", Json::object()},
-                {"objectives", result["objectives"]}, {"features", result["features"]}, {"strategy", 0},
-                {"artifacts", Json::object()}, {"info", result["info"]}};
-  for (const auto& a : result["artifacts"]) input["artifacts"][a["name"].get<std::string>()] = (source / a["path"].get<std::string>()).string();
+  Json input = {{"stage", "explore"},
+                {"stage_index", 0},
+                {"trial_index", 0},
+                {"params", Json::object()},
+                {"objectives", result["objectives"]},
+                {"features", result["features"]},
+                {"strategy", 0},
+                {"artifacts", Json::object()},
+                {"info", result["info"]}};
+  for (const auto& a : result["artifacts"])
+    input["artifacts"][a["name"].get<std::string>()] = (source / a["path"].get<std::string>()).string();
   return {{{"stage", "novel"}, {"total_samples", 1024}}, Json::array({input})};
 }
-PODIUM_TASK_CONFORMANCE(Jump, {.task = "jump", .long_config = {{"total_samples", 100'000'000}},
-                               .resume_config = {{"total_samples", 1024}}, .kill_after_metric_points = 24,
-                               .resumes_from_checkpoint = true, .artifacts = {"policy", "trajectory"},
+PODIUM_TASK_CONFORMANCE(Jump, {.task = "jump",
+                               .long_config = {{"total_samples", 100'000'000}},
+                               .resume_config = {{"total_samples", 1024}},
+                               .kill_after_metric_points = 24,
+                               .resumes_from_checkpoint = true,
+                               .artifacts = {"policy", "trajectory"},
                                .warm_start = podium::testing::WarmStartCase{novel_from, 24}});
 
 TEST(JumpTask, StagesDeclareTheTakeoffFeaturesAndTheirStrategyFeature) {
@@ -50,7 +60,8 @@ TEST(JumpTask, StagesDeclareTheTakeoffFeaturesAndTheirStrategyFeature) {
     task->describe({{"stage", "stage2"}});
     FAIL();
   } catch (const std::exception& e) {
-    EXPECT_NE(std::string(e.what()).find("stage: \"stage2\" is not one of pose_vae, explore, novel"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("stage: \"stage2\" is not one of pose_vae, explore, novel"), std::string::npos)
+        << e.what();
   }
 }
 
@@ -61,7 +72,8 @@ TEST(JumpTask, TakeoffBoxNarrowsTheSearchedRanges) {
   EXPECT_EQ(d["params"][1]["low"], -1.0);
   EXPECT_EQ(d["params"][1]["high"], 2.0);
   EXPECT_EQ(d["params"][0]["low"], -0.5);  // the others keep takeoff.h's defaults
-  for (const Json& bad : {Json{{"root_omega_x", {2.0, 1.0}}}, Json{{"root_omega_x", {1.0}}}, Json{{"omega", {0.0, 1.0}}}, Json{{"root_omega_z", {0.0, 1.0}}}}) {  // ω_z: an obstacle feature
+  for (const Json& bad : {Json{{"root_omega_x", {2.0, 1.0}}}, Json{{"root_omega_x", {1.0}}}, Json{{"omega", {0.0, 1.0}}},
+                          Json{{"root_omega_z", {0.0, 1.0}}}}) {  // ω_z: an obstacle feature
     try {
       task->describe({{"stage", "explore"}, {"takeoff_box", bad}});
       ADD_FAILURE() << bad.dump();
@@ -112,7 +124,8 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
     const double alpha = t.params["approach_angle"].get<double>();  // inside the spec's takeoff_box
     EXPECT_TRUE(alpha >= 0.4 && alpha <= 2.1) << alpha;
     if (t.strategy) strategies.insert(*t.strategy);
-    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory", "pose_vae"}));  // the P-VAE handed on to Stage 2
+    EXPECT_EQ(campaign.artifact_names(t),
+              (std::set<std::string>{"policy", "trajectory", "pose_vae"}));  // the P-VAE handed on to Stage 2
     EXPECT_TRUE(t.result_info["summary"].contains("bar reached m")) << t.result_info.dump();
     const auto metrics = campaign.metric_names(t);
     for (const char* m : {"curriculum/z_m", "curriculum/control_hz", "train/avg_reward", "eval/success_rate_start_bar"})
@@ -135,12 +148,24 @@ TEST(JumpCampaign, SmokeRunsExploreThenNovelEndToEnd) {
   std::map<std::string, std::string> files;
   for (const auto& a : campaign.store->artifacts(first.id)) files[a.name] = a.path;
   std::vector<double> takeoff;
-  for (const char* name : {"approach_angle", "root_omega_x", "root_omega_y", "lateral_speed"}) takeoff.push_back(first.params[name].get<double>());
-  const Json shipped = {{"name", "shipped"}, {"seed", 3}, {"workers", 1}, {"retries", 0}, {"trial_timeout_s", 120},
-                        {"stages", {{{"name", "jumps"}, {"task", "jump"}, {"preset", "smoke"},
-                                     {"config", {{"stage", "evaluate"}, {"kind", "high_jump"},
-                                                 {"shipped", {{{"policy", files["policy"]}, {"pose_vae", files["pose_vae"]}, {"takeoff", takeoff}}}}}},
-                                     {"search", {{"algorithm", "random"}}}, {"budget", {{"trials", 1}}}}}}};
+  for (const char* name : {"approach_angle", "root_omega_x", "root_omega_y", "lateral_speed"})
+    takeoff.push_back(first.params[name].get<double>());
+  const Json shipped = {
+      {"name", "shipped"},
+      {"seed", 3},
+      {"workers", 1},
+      {"retries", 0},
+      {"trial_timeout_s", 120},
+      {"stages",
+       {{{"name", "jumps"},
+         {"task", "jump"},
+         {"preset", "smoke"},
+         {"config",
+          {{"stage", "evaluate"},
+           {"kind", "high_jump"},
+           {"shipped", {{{"policy", files["policy"]}, {"pose_vae", files["pose_vae"]}, {"takeoff", takeoff}}}}}},
+         {"search", {{"algorithm", "random"}}},
+         {"budget", {{"trials", 1}}}}}}};
   const std::int64_t replayed = std::stoll(podium::testing::submit_spec(dir.path(), shipped));
   ASSERT_EQ(podium::testing::run_podium({"run"}, dir.path()).exit_code, 0);
   const auto again = store::Store::open(dir / "podium.db", store::Store::Access::read_only);

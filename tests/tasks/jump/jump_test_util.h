@@ -24,7 +24,8 @@ inline std::vector<double> hold_pose(const JumpEnv& env) {
 
 // The standing pose turned by `rotation` about the root, root at `root` (world), at rest; puts it
 // into the env's World (after a reset: the episode's trackers stay as the reset left them).
-inline void place(JumpEnv& env, const Eigen::Vector3d& root, const Eigen::Quaterniond& rotation = Eigen::Quaterniond::Identity()) {
+inline void place(JumpEnv& env, const Eigen::Vector3d& root,
+                  const Eigen::Quaterniond& rotation = Eigen::Quaterniond::Identity()) {
   Eigen::VectorXd q = env.model().standing_pose();
   q.head<3>() = root;
   character::set_quat(q, 3, rotation);

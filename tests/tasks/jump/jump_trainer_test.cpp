@@ -66,7 +66,7 @@ TEST(JumpStage, RebuildsTheCopiesWhenTheControlRateChanges) {
   EXPECT_EQ(t.checkpoint_tag(), "12hz");  // a checkpoint file of its own
   EXPECT_EQ(t.build_state(), (base::Json{{"z_built_m", t.z_built()}}));
   for (std::size_t i = 0; i < t.envs().size(); ++i) EXPECT_NEAR(observed_z(t.envs(), i), 0.53, 1e-12);
-  b.train_one_iteration();  // the learner trains on the new copies
+  b.train_one_iteration();    // the learner trains on the new copies
   EXPECT_TRUE(t.feed(31.0));  // 0.54 m: 11.6 Hz → 12 Hz, no rebuild
   EXPECT_EQ(t.rebuilds(), 1);
 }

@@ -104,7 +104,9 @@ TEST(PosePrior, TrainingReducesTheLossAndSavesAFileThatLoads) {
   std::vector<double> reported;
   double progress = 0.0;
   PosePriorReport report{[&](double f) { progress = f; },
-                         [&](const std::string& name, double, double v) { if (name == "pose_vae_loss") reported.push_back(v); }};
+                         [&](const std::string& name, double, double v) {
+                           if (name == "pose_vae_loss") reported.push_back(v);
+                         }};
   const fs::path dir = scratch("train");
   const PoseVaeOutcome out = train_pose_prior(s, dir, 3, nullptr, report);
   ASSERT_EQ(out.epoch_losses.size(), 4u);

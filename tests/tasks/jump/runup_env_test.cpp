@@ -19,20 +19,23 @@ RunupSettings settings(const std::string& file, JumpKind kind) {
   s.kind = kind;
   s.motion = (testing::captured_jump_dir() / "motions/beyond" / file).string();
   s.sim_hz = 150.0;
-  s.takeoff_features = kind == JumpKind::high_jump ? std::vector<double>{1.0, -1.0, 0.5, 1.0} : std::vector<double>{0.5, -1.0, 1.0};
+  s.takeoff_features =
+      kind == JumpKind::high_jump ? std::vector<double>{1.0, -1.0, 0.5, 1.0} : std::vector<double>{0.5, -1.0, 1.0};
   return s;
 }
 
-#define SKIP_WITHOUT_DATA()                                                                                   \
+#define SKIP_WITHOUT_DATA() \
   if (testing::captured_jump_dir().empty()) GTEST_SKIP() << "../shared/data/jump absent (PODIUM_SHARED_DIR)"
 
 TEST(RunupEnv, ReferenceRunsStandOnTheGroundAndTakeOffOnTheRightFoot) {
   SKIP_WITHOUT_DATA();
-  for (const auto& [file, kind] : {std::pair{"VC5_sprint__curves_03.txt", JumpKind::high_jump}, std::pair{"VC5_Run_jumpToBox_01.txt", JumpKind::obstacle}}) {
+  for (const auto& [file, kind] :
+       {std::pair{"VC5_sprint__curves_03.txt", JumpKind::high_jump}, std::pair{"VC5_Run_jumpToBox_01.txt", JumpKind::obstacle}}) {
     const RunupSettings s = settings(file, kind);
     const auto clip = load_reference_run(s);
     RunupEnv env(s, clip, true);
-    std::printf("%s: %zu frames at 30 Hz, %.2f s; take-off at %.3f s\n", file, clip->size(), clip->duration_s(), env.condition().takeoff_time_s);
+    std::printf("%s: %zu frames at 30 Hz, %.2f s; take-off at %.3f s\n", file, clip->size(), clip->duration_s(),
+                env.condition().takeoff_time_s);
     EXPECT_NEAR(clip->times_s[1], 1.0 / 30.0, 1e-12);
     EXPECT_GT(env.condition().takeoff_time_s, 0.5) << file;  // a run, not a standing start
     EXPECT_LE(env.condition().takeoff_time_s, clip->duration_s()) << file;
@@ -63,19 +66,22 @@ TEST(RunupEnv, StartsOnTheReferenceAndHandsOverExactlyAtTheTakeoffCondition) {
     env.step(zero, out);
     ++steps;
     const bool fell = env.termination() != character::Termination::none;
-    expected = !fell && takeoff_reached(env.condition(), env.reference_time_s(), env.features().touches(foot, sim::Contact::Partner::ground),
+    expected = !fell && takeoff_reached(env.condition(), env.reference_time_s(),
+                                        env.features().touches(foot, sim::Contact::Partner::ground),
                                         env.features().touches(other, sim::Contact::Partner::ground));
     EXPECT_EQ(env.handed_over(), expected) << "step " << steps;
   } while (!out.terminated && !out.truncated);
-  std::printf("PD tracking: %d steps, %s at %.3f s (take-off %.3f s), r_G %.3f\n", steps, env.handed_over() ? "handed over" : to_string(env.termination()),
-              env.reference_time_s(), env.condition().takeoff_time_s, env.task_reward());
+  std::printf("PD tracking: %d steps, %s at %.3f s (take-off %.3f s), r_G %.3f\n", steps,
+              env.handed_over() ? "handed over" : to_string(env.termination()), env.reference_time_s(),
+              env.condition().takeoff_time_s, env.task_reward());
   EXPECT_TRUE(out.terminated);  // a hand-over or an early termination ends the episode, never the step limit
   ASSERT_TRUE(env.handed_over());
   EXPECT_GE(env.reference_time_s(), 0.5 - 0.2 - 1e-9);
   EXPECT_LE(env.reference_time_s(), 0.5 + 1e-9);
   {
     EXPECT_DOUBLE_EQ(out.info[1], 1.0);
-    EXPECT_DOUBLE_EQ(env.task_reward(), runup_task_reward(env.target(), root_motion(env.world().data().q, env.world().data().qd)));
+    EXPECT_DOUBLE_EQ(env.task_reward(),
+                     runup_task_reward(env.target(), root_motion(env.world().data().q, env.world().data().qd)));
     EXPECT_NEAR(out.reward, 0.7 * out.info[0] + 0.3 * env.full_steps() * env.task_reward(), 1e-9);
   }
 }
@@ -83,7 +89,9 @@ TEST(RunupEnv, StartsOnTheReferenceAndHandsOverExactlyAtTheTakeoffCondition) {
 TEST(RunupEnv, PlacementTurnsTheHandOverStateToFacePlusXOverTheOrigin) {
   Eigen::VectorXd q = sim::load_shipped_model("athlete")->standing_pose();
   q.head<3>() = Eigen::Vector3d(4.0, -2.0, 0.9);
-  character::set_quat(q, 3, Eigen::Quaterniond(Eigen::AngleAxisd(2.0, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX())));
+  character::set_quat(
+      q, 3,
+      Eigen::Quaterniond(Eigen::AngleAxisd(2.0, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX())));
   const Placement p = place_for_jump(q);
   EXPECT_NEAR(p.q(0), 0.0, 1e-12);
   EXPECT_NEAR(p.q(1), 0.0, 1e-12);

@@ -16,7 +16,7 @@ namespace podium::tasks::jump {
 namespace {
 
 const std::vector<double> kHighJump = {1.0, -1.5, 0.5, 1.2};  // α, ω_x, ω_y, v_y
-const std::vector<double> kObstacle = {0.5, -2.0, 1.0};      // ω_x, ω_y, ω_z
+const std::vector<double> kObstacle = {0.5, -2.0, 1.0};       // ω_x, ω_y, ω_z
 
 TEST(RunupReward, TargetsAreTheStrategysTakeoffFeatures) {
   const RunupTarget high = runup_target(JumpKind::high_jump, kHighJump);
@@ -70,7 +70,9 @@ TEST(RunupReward, RootMotionIsInTheHeadingFrame) {
   EXPECT_LT((m.omega - Eigen::Vector3d(0.2, -0.4, 3.0)).norm(), 1e-12);
   EXPECT_LT((m.velocity - Eigen::Vector3d(6.0, 0.5, 0.0)).norm(), 1e-12);
   // Leaning forward (pitch) does not change the heading; the root-frame vectors tilt with it.
-  character::set_quat(q, 3, Eigen::Quaterniond(Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY())));
+  character::set_quat(
+      q, 3,
+      Eigen::Quaterniond(Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY())));
   const RootMotion lean = root_motion(q, qd);
   const Eigen::Vector3d expected = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()) * Eigen::Vector3d(6.0, 0.5, 0.0);
   EXPECT_LT((lean.velocity - expected).norm(), 1e-12);
@@ -98,11 +100,11 @@ TEST(RunupHandOver, FiresExactlyAtTheTakeoffTimeWithoutSingleSupport) {
 
 TEST(RunupHandOver, FiresAtTheFirstSingleSupportStepInTheWindow) {
   const TakeoffCondition c{.takeoff_time_s = 1.0, .window_s = 0.2};  // window: steps 24..30
-  EXPECT_EQ(handover_step(c, 0.0, {10, 20, 23, 26, 27}), 26);  // 23 is before the window
-  EXPECT_EQ(handover_step(c, 0.0, {24}), 24);                   // the window's first step
-  EXPECT_EQ(handover_step(c, 0.0, {31}), 30);                   // after the time: it already fired
-  EXPECT_FALSE(takeoff_reached(c, 0.9, true, true));            // both feet down: not single support
-  EXPECT_FALSE(takeoff_reached(c, 0.9, false, false));          // in flight
+  EXPECT_EQ(handover_step(c, 0.0, {10, 20, 23, 26, 27}), 26);        // 23 is before the window
+  EXPECT_EQ(handover_step(c, 0.0, {24}), 24);                        // the window's first step
+  EXPECT_EQ(handover_step(c, 0.0, {31}), 30);                        // after the time: it already fired
+  EXPECT_FALSE(takeoff_reached(c, 0.9, true, true));                 // both feet down: not single support
+  EXPECT_FALSE(takeoff_reached(c, 0.9, false, false));               // in flight
   EXPECT_TRUE(takeoff_reached(c, 0.9, true, false));
   const TakeoffCondition exact{.takeoff_time_s = 1.0, .window_s = 0.0};
   EXPECT_EQ(handover_step(exact, 0.0, {25, 29}), 30);

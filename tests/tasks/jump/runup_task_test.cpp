@@ -44,10 +44,15 @@ TEST(JumpRunup, SmokeRunsExploreThenRunupAndTheFullJumpEndToEnd) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
   spec["stages"][1]["budget"]["trials"] = 2;
-  spec["stages"][2] = {{"name", "runup"}, {"task", "jump"}, {"preset", "smoke"},
-                       {"config", {{"stage", "runup"}, {"kind", "high_jump"},
-                                   {"runup_motion", (data / "motions/beyond/VC5_sprint__curves_03.txt").string()}}},
-                       {"search", {{"algorithm", "random"}}}, {"budget", {{"trials", 2}}},
+  spec["stages"][2] = {{"name", "runup"},
+                       {"task", "jump"},
+                       {"preset", "smoke"},
+                       {"config",
+                        {{"stage", "runup"},
+                         {"kind", "high_jump"},
+                         {"runup_motion", (data / "motions/beyond/VC5_sprint__curves_03.txt").string()}}},
+                       {"search", {{"algorithm", "random"}}},
+                       {"budget", {{"trials", 2}}},
                        {"inputs", {{"stage", "explore"}, {"select", "all"}, {"per_trial", "each"}}}};
   spec["trial_timeout_s"] = 120;
   podium::testing::TempDir dir;
@@ -56,7 +61,8 @@ TEST(JumpRunup, SmokeRunsExploreThenRunupAndTheFullJumpEndToEnd) {
   for (const auto& t : campaign.trials.at("runup")) {
     EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory"}));
     const auto metrics = campaign.metric_names(t);
-    for (const char* m : {"runup/return", "runup/handover_rate", "runup/final_task_reward", "full_jump/success_rate"}) EXPECT_TRUE(metrics.count(m)) << m;
+    for (const char* m : {"runup/return", "runup/handover_rate", "runup/final_task_reward", "full_jump/success_rate"})
+      EXPECT_TRUE(metrics.count(m)) << m;
     ASSERT_EQ(t.objectives.size(), 2u);
     EXPECT_GE(t.objectives[0], 0.0);
     EXPECT_LE(t.objectives[0], 1.0);

@@ -26,7 +26,7 @@ TEST(StrategyFeature, AngleToUpIsInterpolatedToTheCrossing) {
   CrossingRecorder recorder(env.suite());
   recorder.reset();
   Eigen::Quaterniond before, after, at_start;
-  recorder.observe(pose_at(env, {0.0, 0.0, 1.5}, 0.0, at_start), at_start);  // take-off: upright
+  recorder.observe(pose_at(env, {0.0, 0.0, 1.5}, 0.0, at_start), at_start);   // take-off: upright
   const Eigen::Vector3d c0 = pose_at(env, {1.0, 0.0, 1.6}, kPi / 3, before);  // leaning back 60°
   recorder.observe(c0, before);
   EXPECT_FALSE(recorder.crossed());
@@ -94,7 +94,8 @@ TEST(StrategyFeature, JumpEnvRecordsItEveryControlStep) {
   // In the air before the bar, moving over it at 8 m/s and turning face up about −y.
   Eigen::VectorXd q = env.model().standing_pose();
   q.head<3>() = Eigen::Vector3d(0.6, 0.0, 2.5);
-  env.world().set_state_world(q, Eigen::Vector3d(0.0, -3.0, 0.0), Eigen::Vector3d(8.0, 0.0, 0.0), Eigen::VectorXd::Zero(env.model().nv() - 6));
+  env.world().set_state_world(q, Eigen::Vector3d(0.0, -3.0, 0.0), Eigen::Vector3d(8.0, 0.0, 0.0),
+                              Eigen::VectorXd::Zero(env.model().nv() - 6));
   learn::StepResult out;
   for (int i = 0; i < 3 && !out.terminated; ++i) env.step(testing::hold_pose(env), out);
   ASSERT_TRUE(env.crossing().crossed());

@@ -128,7 +128,8 @@ TEST(Takeoff, CapturedJumpTakeoffFrameWhenPresent) {
   const auto dir = testing::captured_jump_dir();
   if (dir.empty()) GTEST_SKIP() << "../shared/data/jump absent (PODIUM_SHARED_DIR)";
   const sim::ModelPtr model = sim::load_shipped_model("athlete");
-  for (auto [name, foot_name] : {std::pair{"VC5_high_jump__fosbury_flop_06.txt", "right_foot"}, {"VC5_high_jump__scissor_01.txt", "right_foot"},
+  for (auto [name, foot_name] : {std::pair{"VC5_high_jump__fosbury_flop_06.txt", "right_foot"},
+                                 {"VC5_high_jump__scissor_01.txt", "right_foot"},
                                  {"VC5_high_jump__straddle_02.txt", "left_foot"}}) {
     const character::Clip clip = character::read_deepmimic_clip(model, dir / "motions/beyond" / name);
     const TakeoffState s = takeoff_from_clip(clip, model->find_body(foot_name));

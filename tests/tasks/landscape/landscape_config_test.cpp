@@ -48,10 +48,10 @@ TEST(LandscapeConfigAtSubmit, BadValuesAreOneLineWithTheirPathExit2AndTheDatabas
       {{{"metric_points", 2.5}}, "stages[0].config.metric_points: 2.5 is not an integer"},
       {{{"regions", 1}}, "stages[0].config.regions: 1 is not in [2, 10000]"},
       {{{"sleep_s", -1}}, "stages[0].config.sleep_s: -1 is not in [0, 1000000]"},
-      {{{"failures", {{{"mode", "hang"}, {"trials", {0, -2}}}}}},
-       "stages[0].config.failures[0].trials[1]: -2 is not >= 0"},
-      {{{"dimm", 4}}, "stages[0].config.dimm: unknown key (known: artifact, dim, failures, family, landscape_seed, "
-                      "metric_points, noise, regions, sleep_s)"},
+      {{{"failures", {{{"mode", "hang"}, {"trials", {0, -2}}}}}}, "stages[0].config.failures[0].trials[1]: -2 is not >= 0"},
+      {{{"dimm", 4}},
+       "stages[0].config.dimm: unknown key (known: artifact, dim, failures, family, landscape_seed, "
+       "metric_points, noise, regions, sleep_s)"},
   };
   for (const auto& [config, message] : cases) {
     write_file(dir / "bad.json", spec_with(config).dump());

@@ -32,8 +32,10 @@ plugins::RunRequest request_for(const Json& config, std::uint64_t seed) {
   return r;
 }
 
-PODIUM_TASK_CONFORMANCE(Landscape, {.task = "landscape", .smoke_config = {{"artifact", true}, {"noise", 0.05}},
-                                    .long_config = {{"sleep_s", 60.0}}, .resume_config = {{"sleep_s", 1.5}},
+PODIUM_TASK_CONFORMANCE(Landscape, {.task = "landscape",
+                                    .smoke_config = {{"artifact", true}, {"noise", 0.05}},
+                                    .long_config = {{"sleep_s", 60.0}},
+                                    .resume_config = {{"sleep_s", 1.5}},
                                     .artifacts = {"result"}});
 
 // The suite runs one seed twice; the noise must also change with the seed.
@@ -49,8 +51,10 @@ TEST(LandscapeTask, NoiseDependsOnTheSeed) {
 
 TEST(LandscapeTask, ConfigErrorsNameTheKeyInsideTheConfig) {
   auto task = plugins::load_task("landscape");
-  for (const auto& [config, path] : std::vector<std::pair<Json, std::string>>{
-           {{{"dimm", 3}}, "dimm"}, {{{"family", "plateus"}}, "family"}, {{{"failures", {{{"mode", "nap"}}}}}, "failures[0].mode"}}) {
+  for (const auto& [config, path] :
+       std::vector<std::pair<Json, std::string>>{{{{"dimm", 3}}, "dimm"},
+                                                 {{{"family", "plateus"}}, "family"},
+                                                 {{{"failures", {{{"mode", "nap"}}}}}, "failures[0].mode"}}) {
     try {
       task->describe(config);
       ADD_FAILURE() << config << " was accepted";

@@ -18,9 +18,9 @@
 #include "podium/base/config.h"
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
-#include "podium/learn/classic_control.h"
 #include "podium/character/evaluator.h"
 #include "podium/character/training_stage.h"
+#include "podium/learn/classic_control.h"
 #include "podium/learn/learner.h"
 #include "podium/plugins/export.h"
 
@@ -122,10 +122,14 @@ class PendulumStage final : public character::TrainingStage {
   learn::VecEnv& envs() override { return *envs_; }
   // Pendulum settings of tests/learn/learning_settings.h, σ annealed over the whole trial.
   Json learner_spec() const override {
-    const Json ppo = {{"hidden", s_.hidden},           {"rollout_steps", s_.rollout_steps},
-                      {"epochs", s_.epochs},           {"minibatch_size", s_.minibatch_size},
-                      {"gamma", 0.95},                 {"reward_scale", 0.1},
-                      {"policy_lr_start", lr_},        {"policy_lr_end", lr_},
+    const Json ppo = {{"hidden", s_.hidden},
+                      {"rollout_steps", s_.rollout_steps},
+                      {"epochs", s_.epochs},
+                      {"minibatch_size", s_.minibatch_size},
+                      {"gamma", 0.95},
+                      {"reward_scale", 0.1},
+                      {"policy_lr_start", lr_},
+                      {"policy_lr_end", lr_},
                       {"sigma_anneal_steps", total_steps(s_)}};
     return {{"algorithm", "ppo"}, {"config", ppo}};
   }
@@ -149,7 +153,9 @@ class PendulumStage final : public character::TrainingStage {
   }
 
   static std::int64_t total_steps(const Settings& s) { return std::int64_t{s.updates} * s.copies * s.rollout_steps; }
-  Json info() const { return {{"first_eval_return", first_eval_return_}, {"warm_start", warm_start_}, {"parameter_hash", parameter_hash_}}; }
+  Json info() const {
+    return {{"first_eval_return", first_eval_return_}, {"warm_start", warm_start_}, {"parameter_hash", parameter_hash_}};
+  }
   const Evaluation& last() const { return last_; }
 
  private:
@@ -168,23 +174,35 @@ class PendulumTask final : public plugins::Task {
   Json describe(const Json& config) const override {
     settings_from(config);
     Json d = {{"params", {{{"name", "log10_lr"}, {"low", -4.0}, {"high", -2.0}}}},
-            {"features",
-             {{{"name", "final_return"}, {"low", -2000.0}, {"high", 0.0}, {"metric", "euclidean"}},
-              {{"name", "mean_abs_torque"}, {"low", 0.0}, {"high", 2.0}, {"metric", "euclidean"}, {"unit", "N·m"}}}},
-            {"metrics",
-             {{{"name", "eval_return"}, {"description", "deterministic return on the evaluation starts; step = update"}},
-              {{"name", "train_return"}, {"description", "mean return of training episodes finished in the update"}}}},
-            {"objectives", {"final_return"}},
-            // smoke: seconds per trial; quick and paper: the learn tests' PPO budget (a test task has
-            // no paper; paper only evaluates on more starts).
-            {"presets",
-             {{"smoke", Json::object()},
-              {"quick", {{"updates", 150}, {"copies", 8}, {"rollout_steps", 256}, {"minibatch_size", 256},
-                         {"hidden", {64, 64}}, {"checkpoint_every", 10}, {"eval_episodes", 5}}},
-              {"paper", {{"updates", 150}, {"copies", 8}, {"rollout_steps", 256}, {"minibatch_size", 256},
-                         {"hidden", {64, 64}}, {"checkpoint_every", 10}, {"eval_episodes", 20}}}}},
-            {"config", accepted_config()},
-            {"config_defaults", base::ConfigReader::defaults(accepted_config())}};
+              {"features",
+               {{{"name", "final_return"}, {"low", -2000.0}, {"high", 0.0}, {"metric", "euclidean"}},
+                {{"name", "mean_abs_torque"}, {"low", 0.0}, {"high", 2.0}, {"metric", "euclidean"}, {"unit", "N·m"}}}},
+              {"metrics",
+               {{{"name", "eval_return"}, {"description", "deterministic return on the evaluation starts; step = update"}},
+                {{"name", "train_return"}, {"description", "mean return of training episodes finished in the update"}}}},
+              {"objectives", {"final_return"}},
+              // smoke: seconds per trial; quick and paper: the learn tests' PPO budget (a test task has
+              // no paper; paper only evaluates on more starts).
+              {"presets",
+               {{"smoke", Json::object()},
+                {"quick",
+                 {{"updates", 150},
+                  {"copies", 8},
+                  {"rollout_steps", 256},
+                  {"minibatch_size", 256},
+                  {"hidden", {64, 64}},
+                  {"checkpoint_every", 10},
+                  {"eval_episodes", 5}}},
+                {"paper",
+                 {{"updates", 150},
+                  {"copies", 8},
+                  {"rollout_steps", 256},
+                  {"minibatch_size", 256},
+                  {"hidden", {64, 64}},
+                  {"checkpoint_every", 10},
+                  {"eval_episodes", 20}}}}},
+              {"config", accepted_config()},
+              {"config_defaults", base::ConfigReader::defaults(accepted_config())}};
     for (const Json& m : character::time_metric_entries()) d["metrics"].push_back(m);  // the driver's wall times
     return d;
   }
@@ -204,12 +222,15 @@ class PendulumTask final : public plugins::Task {
       source = {{"stage", input.stage}, {"trial_index", input.trial_index}};
     }
     PendulumStage stage(s, lr, request.seed, source);
-    const character::StageOutcome done = character::run_training_stage(
-        stage,
-        {.name = "test_pendulum", .total_steps = PendulumStage::total_steps(s), .test_before_training = true,
-         .checkpoint_every = s.checkpoint_every, .warm_start = warm_start,
-         .warm_start_kind = character::StageSettings::WarmStart::policy},
-        {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
+    const character::StageOutcome done =
+        character::run_training_stage(stage,
+                                      {.name = "test_pendulum",
+                                       .total_steps = PendulumStage::total_steps(s),
+                                       .test_before_training = true,
+                                       .checkpoint_every = s.checkpoint_every,
+                                       .warm_start = warm_start,
+                                       .warm_start_kind = character::StageSettings::WarmStart::policy},
+                                      {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
     plugins::RunResult result;
     result.objectives = {stage.last().mean_return};
     result.features = {stage.last().mean_return, stage.last().mean_abs_torque};

@@ -2,8 +2,8 @@
 // first evaluation is its source policy's last.
 #include <gtest/gtest.h>
 
-#include "podium/base/json.h"
 #include "batch_trial.h"
+#include "podium/base/json.h"
 #include "task_conformance.h"
 
 namespace podium::tests::pendulum {
@@ -14,22 +14,33 @@ namespace fs = std::filesystem;
 
 // The warm start: from the smoke trial's policy, handed over as an input trial.
 podium::testing::WarmStartCase::Order from_policy(const fs::path& source, const Json& result) {
-  const Json input = {{"stage", "explore"}, {"stage_index", 0}, {"trial_index", 0}, {"params", Json::object()},
-                      {"objectives", result["objectives"]}, {"features", result["features"]}, {"strategy", 0},
+  const Json input = {{"stage", "explore"},
+                      {"stage_index", 0},
+                      {"trial_index", 0},
+                      {"params", Json::object()},
+                      {"objectives", result["objectives"]},
+                      {"features", result["features"]},
+                      {"strategy", 0},
                       {"artifacts", {{"policy", (source / result["artifacts"][0]["path"].get<std::string>()).string()}}}};
   return {{{"updates", 60}, {"checkpoint_every", 3}}, Json::array({input})};
 }
-PODIUM_TASK_CONFORMANCE(TestPendulum, {.task = "test_pendulum", .long_config = {{"updates", 100000}},
+PODIUM_TASK_CONFORMANCE(TestPendulum, {.task = "test_pendulum",
+                                       .long_config = {{"updates", 100000}},
                                        .resume_config = {{"updates", 60}, {"checkpoint_every", 3}},
-                                       .kill_after_metric_points = 12, .resumes_from_checkpoint = true,
-                                       .artifacts = {"policy"}, .warm_start = podium::testing::WarmStartCase{from_policy, 40}});
+                                       .kill_after_metric_points = 12,
+                                       .resumes_from_checkpoint = true,
+                                       .artifacts = {"policy"},
+                                       .warm_start = podium::testing::WarmStartCase{from_policy, 40}});
 
 // `podium trial --batch` on one order in `dir`; returns result.json.
 Json run_trial(const fs::path& dir, const Json& inputs, double log10_lr) {
-  const auto run = podium::testing::run_batch_trial(
-      podium::testing::order_json({.task = "test_pendulum", .config = {{"updates", 4}}, .params = {{"log10_lr", log10_lr}},
-                                   .inputs = inputs, .seed = 5, .work_dir = dir / "trial"}),
-      dir);
+  const auto run = podium::testing::run_batch_trial(podium::testing::order_json({.task = "test_pendulum",
+                                                                                 .config = {{"updates", 4}},
+                                                                                 .params = {{"log10_lr", log10_lr}},
+                                                                                 .inputs = inputs,
+                                                                                 .seed = 5,
+                                                                                 .work_dir = dir / "trial"}),
+                                                    dir);
   EXPECT_EQ(run.run.exit_code, 0) << run.run.err;
   return run.result;
 }
@@ -38,8 +49,13 @@ TEST(TestPendulumTask, WarmStartsFromItsInputsPolicy) {
   podium::testing::TempDir dir;
   const Json source = run_trial(dir / "source", Json::array(), -2.5);
   ASSERT_EQ(source["type"], "result") << source;
-  const Json input = {{"stage", "explore"}, {"stage_index", 0}, {"trial_index", 3}, {"params", {{"log10_lr", -2.5}}},
-                      {"objectives", source["objectives"]}, {"features", source["features"]}, {"strategy", 0},
+  const Json input = {{"stage", "explore"},
+                      {"stage_index", 0},
+                      {"trial_index", 3},
+                      {"params", {{"log10_lr", -2.5}}},
+                      {"objectives", source["objectives"]},
+                      {"features", source["features"]},
+                      {"strategy", 0},
                       {"artifacts", {{"policy", source["artifacts"][0]["path"]}}}};
   const Json warm = run_trial(dir / "warm", Json::array({input}), -3.0);
   ASSERT_EQ(warm["type"], "result") << warm;

@@ -104,20 +104,17 @@ class ConfigReader {
   std::string file(const std::string& key, Required, const std::string& doc = "");
   std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed,
                      const std::string& doc = "");
-  std::string choice(const std::string& key, Required, const std::vector<std::string>& allowed,
-                     const std::string& doc = "");
+  std::string choice(const std::string& key, Required, const std::vector<std::string>& allowed, const std::string& doc = "");
 
   template <class T>
   std::vector<T> integers(const std::string& key, const std::vector<T>& fallback, IntInterval range = {},
                           const std::string& doc = "") {
-    const auto values = read_integers(key, std::vector<std::int64_t>(fallback.begin(), fallback.end()),
-                                      clamped<T>(range), doc);
+    const auto values = read_integers(key, std::vector<std::int64_t>(fallback.begin(), fallback.end()), clamped<T>(range), doc);
     return std::vector<T>(values.begin(), values.end());
   }
   std::vector<double> numbers(const std::string& key, const std::vector<double>& fallback, Interval range = {},
                               const std::string& doc = "");
-  std::vector<std::string> strings(const std::string& key, const std::vector<std::string>& fallback,
-                                   const std::string& doc = "");
+  std::vector<std::string> strings(const std::string& key, const std::vector<std::string>& fallback, const std::string& doc = "");
 
   /// Reads `field` with its current value as the default, by its type (bool, integer, floating
   /// point, string, or a vector of those); for plain config structs read field by field.
@@ -200,8 +197,8 @@ class ConfigReader {
 
   std::int64_t read_integer(const std::string& key, std::int64_t fallback, bool is_required, IntInterval range,
                             const std::string& doc);
-  std::vector<std::int64_t> read_integers(const std::string& key, const std::vector<std::int64_t>& fallback,
-                                          IntInterval range, const std::string& doc);
+  std::vector<std::int64_t> read_integers(const std::string& key, const std::vector<std::int64_t>& fallback, IntInterval range,
+                                          const std::string& doc);
   double read_number(const std::string& key, double fallback, bool is_required, Interval range, const std::string& doc);
   std::string read_choice(const std::string& key, const std::string& fallback, bool is_required,
                           const std::vector<std::string>& allowed, const std::string& doc);

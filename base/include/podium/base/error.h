@@ -26,8 +26,8 @@ class RuntimeError : public std::runtime_error {
 
 }  // namespace podium::base
 
-#define PODIUM_CHECK(cond, detail)                                              \
-  do {                                                                          \
+#define PODIUM_CHECK(cond, detail)                                                \
+  do {                                                                            \
     if (!(cond)) ::podium::base::check_failed(#cond, __FILE__, __LINE__, detail); \
   } while (0)
 

@@ -12,12 +12,8 @@ class Rng {
  public:
   explicit Rng(std::uint64_t seed = 0) : engine_(seed) {}
 
-  double uniform(double low = 0.0, double high = 1.0) {
-    return std::uniform_real_distribution<double>(low, high)(engine_);
-  }
-  double normal(double mean = 0.0, double stddev = 1.0) {
-    return std::normal_distribution<double>(mean, stddev)(engine_);
-  }
+  double uniform(double low = 0.0, double high = 1.0) { return std::uniform_real_distribution<double>(low, high)(engine_); }
+  double normal(double mean = 0.0, double stddev = 1.0) { return std::normal_distribution<double>(mean, stddev)(engine_); }
   /// Uniform integer in [low, high].
   std::int64_t integer(std::int64_t low, std::int64_t high) {
     return std::uniform_int_distribution<std::int64_t>(low, high)(engine_);

@@ -42,8 +42,8 @@ class VaeActions : public ActionMap {
  public:
   /// The C-VAE condition of the current state (empty for a P-VAE).
   using ConditionFn = std::function<std::vector<double>(const CharacterEnv& env)>;
-  VaeActions(std::shared_ptr<const learn::PoseVae> vae, PoseBridge bridge, sim::Control mode, double latent_bound, double offset_bound,
-             ConditionFn condition = {});
+  VaeActions(std::shared_ptr<const learn::PoseVae> vae, PoseBridge bridge, sim::Control mode, double latent_bound,
+             double offset_bound, ConditionFn condition = {});
   learn::BoxSpace space(const sim::CharacterModel& model) const override;
   sim::Control control() const override { return mode_; }
   void command(const CharacterEnv& env, std::span<const double> action, Eigen::VectorXd& out) const override;

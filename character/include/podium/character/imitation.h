@@ -97,9 +97,9 @@ class ReferenceStateStart : public Start {
 /// large deviation from the reference (the COM at least `max_com_deviation_m` from the
 /// reference's, or r_p at most `min_pose_reward`).
 struct EarlyTermination {
-  std::vector<int> fall_bodies;            ///< body indices; fall_bodies_except() builds the usual list
-  double max_com_deviation_m = kInf;       ///< m; ∞: never
-  double min_pose_reward = 0.0;            ///< 0: never (r_p > 0 always)
+  std::vector<int> fall_bodies;       ///< body indices; fall_bodies_except() builds the usual list
+  double max_com_deviation_m = kInf;  ///< m; ∞: never
+  double min_pose_reward = 0.0;       ///< 0: never (r_p > 0 always)
 };
 enum class Termination { none, fell, deviated };
 const char* to_string(Termination termination);

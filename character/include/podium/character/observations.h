@@ -116,7 +116,8 @@ class HeightMap : public ObservationPart {
 /// with the character (it is fixed in the world).
 class ReferenceFrames : public ObservationPart {
  public:
-  ReferenceFrames(sim::ModelPtr model, std::vector<int> steps_ahead) : bridge_(std::move(model)), steps_(std::move(steps_ahead)) {}
+  ReferenceFrames(sim::ModelPtr model, std::vector<int> steps_ahead)
+      : bridge_(std::move(model)), steps_(std::move(steps_ahead)) {}
   std::size_t size(const sim::CharacterModel& model) const override { return steps_.size() * (model.nv() - 6 + 9); }
   void write(const CharacterEnv& env, std::span<double> out) const override;
 

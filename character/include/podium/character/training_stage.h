@@ -126,7 +126,7 @@ struct TestRound {
   int test = 0;                ///< 1, 2, ...; 0: the test before training (StageSettings)
   std::int64_t iteration = 0;  ///< iterations so far
   std::int64_t env_steps = 0;
-  TrainingTally training;      ///< since the previous test
+  TrainingTally training;  ///< since the previous test
   /// Wall seconds since the test began (for a log line; the driver sends time/test_s).
   double seconds() const;
   std::chrono::steady_clock::time_point started;  ///< when the test began (set by the driver)
@@ -135,11 +135,11 @@ struct TestRound {
 /// What record() is handed after training.
 struct Recording {
   const ExportRecord& exported;
-  const std::filesystem::path& file;   ///< the exported policy's TorchScript file
-  const learn::FrozenPolicy& policy;   ///< loaded from it (its actions equal the learner's exactly)
-  const learn::Learner& learner;       ///< the final learner (its parameters; not the exported policy unless `last`)
-  const MetricFn& send;                ///< metric points (after the last checkpoint: not kept)
-  std::filesystem::path rollouts;      ///< work_dir/rollouts, for recorded motions
+  const std::filesystem::path& file;  ///< the exported policy's TorchScript file
+  const learn::FrozenPolicy& policy;  ///< loaded from it (its actions equal the learner's exactly)
+  const learn::Learner& learner;      ///< the final learner (its parameters; not the exported policy unless `last`)
+  const MetricFn& send;               ///< metric points (after the last checkpoint: not kept)
+  std::filesystem::path rollouts;     ///< work_dir/rollouts, for recorded motions
 };
 
 /// The task's part of a training stage. Every hook but build(), envs(), learner_spec() and test()
@@ -194,17 +194,18 @@ class TrainingStage {
 
 /// How the driver runs a stage.
 struct StageSettings {
-  std::string name = {};                    ///< in log lines and errors: "getup", "jump"
-  std::int64_t total_steps = 0;             ///< environment steps at most (≥ 1)
+  std::string name = {};         ///< in log lines and errors: "getup", "jump"
+  std::int64_t total_steps = 0;  ///< environment steps at most (≥ 1)
   /// An iteration trains until env_steps + this: 1 = one PPO iteration; SAC: e.g. the test interval.
   std::int64_t steps_per_iteration = 1;
-  int test_every = 1;                       ///< iterations between tests (≥ 1)
-  bool test_before_training = false;        ///< also test at step 0 (test 0), on a fresh start only
-  int checkpoint_every = 1;                 ///< iterations between checkpoints (≥ 1)
-  double train_minutes = 0.0;               ///< wall-clock budget of training and tests (learn::WallBudget); 0: none
+  int test_every = 1;                 ///< iterations between tests (≥ 1)
+  bool test_before_training = false;  ///< also test at step 0 (test 0), on a fresh start only
+  int checkpoint_every = 1;           ///< iterations between checkpoints (≥ 1)
+  double train_minutes = 0.0;         ///< wall-clock budget of training and tests (learn::WallBudget); 0: none
   /// "": from scratch. Otherwise on a fresh start (no checkpoint of this trial yet):
   enum class WarmStart {
-    checkpoint,  ///< another trial's training checkpoint: networks, buffers, copies, steps, state(), metric points; not its export record nor its clock
+    checkpoint,  ///< another trial's training checkpoint: networks, buffers, copies, steps, state(), metric points; not its
+                 ///< export record nor its clock
     policy,      ///< a policy file (learn::Learner::warm_start): its networks, everything else fresh
   };
   std::filesystem::path warm_start = {};
@@ -214,14 +215,14 @@ struct StageSettings {
 /// The trial a stage runs in, as the plugin hands it.
 struct StageRun {
   std::uint64_t seed = 0;
-  std::filesystem::path work_dir = {};      ///< the trial folder: checkpoints, policy.pt, rollouts/
+  std::filesystem::path work_dir = {};  ///< the trial folder: checkpoints, policy.pt, rollouts/
   const std::atomic<bool>* cancel = nullptr;
   Reporter report = {};
 };
 
 struct StageOutcome {
   ExportRecord exported;
-  std::filesystem::path policy;             ///< work_dir/policy.pt
+  std::filesystem::path policy;  ///< work_dir/policy.pt
   std::int64_t env_steps = 0;
   std::int64_t iterations = 0;
   int tests = 0;

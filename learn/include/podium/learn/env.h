@@ -26,8 +26,8 @@ struct BoxSpace {
 struct StepResult {
   std::vector<double> observation;  ///< next observation, observation_space().size()
   double reward = 0.0;
-  bool terminated = false;  ///< terminal MDP state: do not bootstrap
-  bool truncated = false;   ///< time limit or external cut: bootstrap from `observation`
+  bool terminated = false;   ///< terminal MDP state: do not bootstrap
+  bool truncated = false;    ///< time limit or external cut: bootstrap from `observation`
   std::vector<double> info;  ///< extra per-step numbers, named by info_names()
 };
 

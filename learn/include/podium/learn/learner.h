@@ -17,11 +17,11 @@ namespace podium::learn {
 
 /// Reported after every PPO iteration / every SAC logging interval.
 struct TrainStats {
-  std::int64_t env_steps = 0;       ///< environment steps so far (all copies)
-  double mean_return = 0.0;         ///< mean return of episodes finished in this interval (NaN if none)
-  std::size_t episodes = 0;         ///< episodes finished in this interval
-  double rollout_seconds = 0.0;     ///< wall time spent stepping environments and querying the policy
-  double update_seconds = 0.0;      ///< wall time spent in network updates
+  std::int64_t env_steps = 0;    ///< environment steps so far (all copies)
+  double mean_return = 0.0;      ///< mean return of episodes finished in this interval (NaN if none)
+  std::size_t episodes = 0;      ///< episodes finished in this interval
+  double rollout_seconds = 0.0;  ///< wall time spent stepping environments and querying the policy
+  double update_seconds = 0.0;   ///< wall time spent in network updates
 };
 using TrainCallback = std::function<void(const TrainStats&)>;
 
@@ -35,19 +35,15 @@ class Learner {
   /// The action for one observation, in the environment's action space. Deterministic: the
   /// policy mean (PPO) or β·s·tanh(mean) (SAC); otherwise a sample, using the learner's generator.
   /// `action_scale` s is the environment's Env::action_scale() (SAC only; PPO requires 1).
-  virtual void act(std::span<const double> observation, std::span<double> action, bool deterministic,
-                   double action_scale) = 0;
+  virtual void act(std::span<const double> observation, std::span<double> action, bool deterministic, double action_scale) = 0;
   void act(std::span<const double> observation, std::span<double> action, bool deterministic) {
     act(observation, action, deterministic, 1.0);
   }
   /// Saves everything needed to continue exactly: networks, optimisers, normaliser, buffers,
   /// generators, counters, and the runner's rollout state; `user_state` is stored alongside and
   /// returned by load_checkpoint() (TrainingCheckpoint keeps the task's own state there).
-  virtual void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs,
-                               const base::Json& user_state) const = 0;
-  void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs) const {
-    save_checkpoint(path, envs, base::Json());
-  }
+  virtual void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs, const base::Json& user_state) const = 0;
+  void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs) const { save_checkpoint(path, envs, base::Json()); }
   /// Loads save_checkpoint()'s file into a learner built with the same config and spaces;
   /// returns the user_state saved with it (null when none was given).
   virtual base::Json load_checkpoint(const std::filesystem::path& path, VecEnv& envs) = 0;
@@ -68,8 +64,8 @@ class Learner {
 
 /// Builds a learner from spec data: {"algorithm": "ppo" | "sac", "preset": "quick" | "paper",
 /// "config": {field overrides}}; errors name the bad field (task presets stay plain data).
-std::unique_ptr<Learner> make_learner(const base::Json& spec, const BoxSpace& observation_space,
-                                      const BoxSpace& action_space, std::uint64_t seed);
+std::unique_ptr<Learner> make_learner(const base::Json& spec, const BoxSpace& observation_space, const BoxSpace& action_space,
+                                      std::uint64_t seed);
 
 /// Runs `episodes` episodes of `env` with the learner's policy (at the env's action_scale());
 /// returns each episode's return.

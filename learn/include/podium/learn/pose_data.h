@@ -12,11 +12,11 @@
 namespace podium::learn {
 
 struct PoseDataset {
-  std::vector<std::string> dof_names;            ///< one per pose entry, e.g. "right_hip_x"
-  std::vector<double> lower, upper;              ///< joint limits per entry (rad)
-  std::vector<std::string> condition_names;      ///< C-VAE conditions, e.g. "root_height_m"
-  std::vector<std::vector<double>> poses;        ///< N × dof_names.size()
-  std::vector<std::vector<double>> conditions;   ///< N × condition_names.size() (or empty)
+  std::vector<std::string> dof_names;           ///< one per pose entry, e.g. "right_hip_x"
+  std::vector<double> lower, upper;             ///< joint limits per entry (rad)
+  std::vector<std::string> condition_names;     ///< C-VAE conditions, e.g. "root_height_m"
+  std::vector<std::vector<double>> poses;       ///< N × dof_names.size()
+  std::vector<std::vector<double>> conditions;  ///< N × condition_names.size() (or empty)
 
   std::size_t size() const { return poses.size(); }
   /// Appends another dataset with the same DoFs and conditions (UserError otherwise).

@@ -13,23 +13,23 @@ namespace podium::learn {
 
 /// Defaults are the `quick` preset for small problems; paper() gives thesis §3.6.2.
 struct PpoConfig {
-  std::vector<int> hidden = {64, 64};   ///< hidden layer widths (policy and value)
-  std::string activation = "tanh";      ///< tanh or relu
-  int rollout_steps = 256;              ///< steps per environment copy per iteration
-  int epochs = 10;                      ///< passes over each batch
+  std::vector<int> hidden = {64, 64};  ///< hidden layer widths (policy and value)
+  std::string activation = "tanh";     ///< tanh or relu
+  int rollout_steps = 256;             ///< steps per environment copy per iteration
+  int epochs = 10;                     ///< passes over each batch
   int minibatch_size = 64;
-  double gamma = 0.99;                  ///< discount
-  double lambda = 0.95;                 ///< GAE(λ) and TD(λ)
-  double clip = 0.2;                    ///< ε of the clipped ratio
+  double gamma = 0.99;                                  ///< discount
+  double lambda = 0.95;                                 ///< GAE(λ) and TD(λ)
+  double clip = 0.2;                                    ///< ε of the clipped ratio
   double policy_lr_start = 3e-4, policy_lr_end = 3e-4;  ///< linear schedule over lr_anneal_steps
   double value_lr_start = 1e-3, value_lr_end = 1e-3;
   std::int64_t lr_anneal_steps = 1'000'000;
   double sigma_start = 0.5, sigma_end = 0.1;  ///< action σ in the normalised box [−1, 1]
   std::int64_t sigma_anneal_steps = 1'000'000;
-  double max_grad_norm = 0.0;           ///< 0 = no gradient clipping
+  double max_grad_norm = 0.0;  ///< 0 = no gradient clipping
   bool normalize_observations = true;
   bool normalize_advantages = true;
-  double reward_scale = 1.0;            ///< rewards are multiplied by this before learning
+  double reward_scale = 1.0;  ///< rewards are multiplied by this before learning
 
   /// Thesis §3.6.2: 1024-512 ReLU, 4096 samples per iteration, 5 epochs of minibatch 256,
   /// γ = 1, λ = 0.95, ε = 0.02, policy LR 2.5e-5, value LR 1e-2, σ 0.5 → 0.1 over 1e7 steps.
@@ -47,8 +47,7 @@ class Ppo final : public Learner {
   void train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCallback& callback = {}) override;
   std::int64_t env_steps() const override;
   using Learner::act;
-  void act(std::span<const double> observation, std::span<double> action, bool deterministic,
-           double action_scale) override;
+  void act(std::span<const double> observation, std::span<double> action, bool deterministic, double action_scale) override;
   using Learner::save_checkpoint;
   void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs, const base::Json& user_state) const override;
   base::Json load_checkpoint(const std::filesystem::path& path, VecEnv& envs) override;

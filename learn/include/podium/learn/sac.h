@@ -16,24 +16,24 @@ namespace podium::learn {
 
 /// Defaults are the `quick` preset (small networks, minutes on 2 cores); paper() is Table 1.
 struct SacConfig {
-  std::vector<int> hidden = {64, 64};   ///< hidden widths of the actor and of each critic
+  std::vector<int> hidden = {64, 64};  ///< hidden widths of the actor and of each critic
   std::string activation = "relu";
   double actor_lr = 1e-3, critic_lr = 1e-3, alpha_lr = 1e-3;
   double initial_alpha = 1.0;
   double log_std_min = -5.0, log_std_max = 2.0;  ///< Table 1
-  double tau = 5e-3;                    ///< target update rate
+  double tau = 5e-3;                             ///< target update rate
   double gamma = 0.99;
   int batch_size = 256;
   /// Update-to-data ratio: updates per environment step of each copy, fractional allowed (0.25:
   /// one update per 4 steps of one copy; with K copies ⌊0.25·K·n⌋ updates after n vector steps).
   double updates_per_step = 1.0;
-  std::int64_t warmup_steps = 1000;     ///< uniform random actions, no updates, before this
+  std::int64_t warmup_steps = 1000;  ///< uniform random actions, no updates, before this
   std::int64_t buffer_capacity = 1'000'000;
   double reward_scale = 1.0;
-  double max_grad_norm = 0.0;           ///< 0 = no gradient clipping (Table 1: False)
+  double max_grad_norm = 0.0;  ///< 0 = no gradient clipping (Table 1: False)
   bool normalize_observations = false;
-  double target_entropy = 0.0;          ///< 0 = automatic, −(action size)
-  double action_bound = 1.0;            ///< initial β
+  double target_entropy = 0.0;             ///< 0 = automatic, −(action size)
+  double action_bound = 1.0;               ///< initial β
   std::int64_t log_interval_steps = 1000;  ///< how often train_until calls back
 
   /// Table 1: actor/critic 1024-1024 ReLU, critic LR 1e-4, actor LR 1e-5, α0 = 0.1, α LR 1e-4,
@@ -65,8 +65,7 @@ class Sac final : public Learner {
   void train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCallback& callback = {}) override;
   std::int64_t env_steps() const override;
   using Learner::act;
-  void act(std::span<const double> observation, std::span<double> action, bool deterministic,
-           double action_scale) override;
+  void act(std::span<const double> observation, std::span<double> action, bool deterministic, double action_scale) override;
   using Learner::save_checkpoint;
   void save_checkpoint(const std::filesystem::path& path, const VecEnv& envs, const base::Json& user_state) const override;
   base::Json load_checkpoint(const std::filesystem::path& path, VecEnv& envs) override;

@@ -16,12 +16,12 @@
 namespace podium::learn {
 
 struct VaeConfig {
-  int latent_size = 13;                 ///< thesis §3.4.2: 13 (PCA, 85 % variance)
+  int latent_size = 13;                  ///< thesis §3.4.2: 13 (PCA, 85 % variance)
   std::vector<int> hidden = {256, 256};  ///< encoder and decoder, tanh
-  double beta = 1e-6;                   ///< KL weight per pose (PoseVae averages the KL over a minibatch); C-VAE seed §3.5
-  double learning_rate = 1e-4;          ///< Adam, both seeds
-  int batch_size = 128;                 ///< both seeds
-  int epochs = 80;                      ///< thesis: 80; C-VAE seed: 100
+  double beta = 1e-6;                    ///< KL weight per pose (PoseVae averages the KL over a minibatch); C-VAE seed §3.5
+  double learning_rate = 1e-4;           ///< Adam, both seeds
+  int batch_size = 128;                  ///< both seeds
+  int epochs = 80;                       ///< thesis: 80; C-VAE seed: 100
 
   /// The thesis P-VAE (§3.4.2: latent 13, 80 epochs, β 1e-5 on the KL summed over a minibatch of
   /// 128, so 1.28e-3 per pose here).

@@ -45,8 +45,7 @@ struct Extension {
 /// knowing every earlier result (an uninterrupted run would not yet have had the last W - 1).
 /// Throws base::UserError when the campaign is not done, the stage is not its last, the stage
 /// spent its wall-time budget, or the new budget is outside [1, kMaxTrials].
-Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage,
-                          std::int64_t add_trials);
+Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage, std::int64_t add_trials);
 
 /// A trial's one name, in every command and page: `<stage name>/<index>` ("explore/12"; the index
 /// counts from 0 in the order the stage's search proposed). The database id is for URLs only.
@@ -61,7 +60,6 @@ std::string trial_name(const std::string& stage, std::int64_t index);
 ///   JSON row: {"campaign", "name", "id", "stage", "trial", "state", "attempts", "seed", "params",
 ///              "objectives", "features", "strategy", "error", "started_at", "finished_at", "result",
 ///              "metrics"?}
-std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format,
-                            bool metrics = false);
+std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format, bool metrics = false);
 
 }  // namespace podium::orchestrator

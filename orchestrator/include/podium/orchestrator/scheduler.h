@@ -23,12 +23,12 @@ class Store;
 namespace podium::orchestrator {
 
 struct SchedulerOptions {
-  std::size_t workers = 2;                 ///< worker processes in the local pool
-  bool follow = false;                     ///< keep waiting for new campaigns
-  bool log_json = false;                   ///< machine-readable events on stdout
-  bool progress = false;                   ///< live progress lines on stderr (a terminal)
-  std::filesystem::path worker_binary;     ///< the `podium` binary that runs `podium worker`
-  std::filesystem::path database;          ///< for default run folders and the writer lock
+  std::size_t workers = 2;              ///< worker processes in the local pool
+  bool follow = false;                  ///< keep waiting for new campaigns
+  bool log_json = false;                ///< machine-readable events on stdout
+  bool progress = false;                ///< live progress lines on stderr (a terminal)
+  std::filesystem::path worker_binary;  ///< the `podium` binary that runs `podium worker`
+  std::filesystem::path database;       ///< for default run folders and the writer lock
 };
 
 /// Runs until no campaign is left to run and returns 0. On SIGINT/SIGTERM it stops at once: the

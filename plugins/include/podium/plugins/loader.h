@@ -4,8 +4,8 @@
 /// A plugin named "landscape" is the file libpodium_task_landscape.so, searched in each folder of
 /// PODIUM_PLUGIN_PATH (colon-separated), then in <bin>/../lib/podium/plugins next to the running
 /// binary (the build tree mirrors the install layout). Every failure is one line:
-/// a missing file (with the folders searched, the installed tasks and the nearest names), a missing symbol, or an ABI mismatch saying what
-/// the library was built for and what this host accepts.
+/// a missing file (with the folders searched, the installed tasks and the nearest names), a missing symbol, or an ABI mismatch
+/// saying what the library was built for and what this host accepts.
 #include <filesystem>
 #include <map>
 #include <memory>

@@ -135,14 +135,14 @@ class Sink {
 /// `inputs` selects them from finished trials of earlier stages when the stage starts; they are
 /// stored with the stage, so every attempt and a resumed campaign see the same ones.
 struct InputTrial {
-  std::string stage;          ///< the earlier stage's name
-  int stage_index = 0;        ///< its position in the campaign's stages
+  std::string stage;    ///< the earlier stage's name
+  int stage_index = 0;  ///< its position in the campaign's stages
   std::int64_t trial_index = 0;
   Json params = Json::object();
   std::vector<double> objectives, features;
-  std::optional<std::int64_t> strategy;  ///< its strategy id in its stage, if it has features
+  std::optional<std::int64_t> strategy;                    ///< its strategy id in its stage, if it has features
   std::map<std::string, std::filesystem::path> artifacts;  ///< absolute paths, by artifact name
-  Json info = Json::object();  ///< its RunResult::info (e.g. the strength a get-up policy passed at)
+  Json info = Json::object();                              ///< its RunResult::info (e.g. the strength a get-up policy passed at)
 };
 
 /// How the trial's previous attempt ended (see the header comment).
@@ -159,7 +159,7 @@ struct RunRequest {
   Json config = Json::object();   ///< task config: defaults, then preset, then the spec's overrides
   std::uint64_t seed = 0;         ///< the only source of randomness a task may use
   std::uint64_t trial_index = 0;
-  int attempt = 1;                ///< 1 for the first attempt, 2 for the first retry, ...
+  int attempt = 1;                                  ///< 1 for the first attempt, 2 for the first retry, ...
   std::optional<PreviousAttempt> previous_attempt;  ///< set from the second attempt on
   /// The stage's hand-over: with inputs `"per_trial": "all"` every selected earlier trial, in
   /// selection order; with `"each"` exactly one (trial i gets input i mod n, or under
@@ -172,15 +172,15 @@ struct RunRequest {
 };
 
 struct Artifact {
-  std::string name;              ///< e.g. "policy", "trajectory"
-  std::filesystem::path path;    ///< inside work_dir
+  std::string name;            ///< e.g. "policy", "trajectory"
+  std::filesystem::path path;  ///< inside work_dir
 };
 
 struct RunResult {
   std::vector<double> objectives;
   std::vector<double> features;  ///< as many as the description's "features"
   std::vector<Artifact> artifacts;
-  Json info = Json::object();    ///< free-form extra results (stored with the trial)
+  Json info = Json::object();  ///< free-form extra results (stored with the trial)
 };
 
 class Task {

@@ -24,8 +24,8 @@ namespace podium::search {
 using base::Json;
 
 struct Proposal {
-  std::uint64_t id = 0;       ///< stage-unique, dense from 0; becomes the trial index
-  std::vector<double> x;      ///< parameters, inside the space's bounds
+  std::uint64_t id = 0;           ///< stage-unique, dense from 0; becomes the trial index
+  std::vector<double> x;          ///< parameters, inside the space's bounds
   Json context = Json::object();  ///< extra input for the task (e.g. features to be novel against)
   Json info = Json::object();     ///< why this point was proposed (e.g. {"step": "explore"})
   /// Which of SearchSetup::inputs the proposal is for (novel-policy seeking); a stage whose
@@ -35,9 +35,9 @@ struct Proposal {
 
 struct Observation {
   std::uint64_t id = 0;
-  bool ok = false;                  ///< false: the trial failed; objectives/features are empty
-  std::vector<double> objectives;   ///< as returned by the task; objectives[0] is the primary one
-  std::vector<double> features;     ///< strategy feature vector, sized as the task declares
+  bool ok = false;                 ///< false: the trial failed; objectives/features are empty
+  std::vector<double> objectives;  ///< as returned by the task; objectives[0] is the primary one
+  std::vector<double> features;    ///< strategy feature vector, sized as the task declares
   /// The task's success rule (search/strategies.h trial_success): a finished trial that missed the
   /// task's goal (a jump that did not clear) is ok with features but no strategy.
   bool success = true;
@@ -55,9 +55,9 @@ class Search {
 
 /// Everything a search is built from; all of it is stored with the stage.
 struct SearchSetup {
-  Space space;                        ///< parameter box the search proposes in
-  std::vector<Feature> features;      ///< the task's strategy features (for diversity searches)
-  Json config = Json::object();       ///< the algorithm's config from the spec
+  Space space;                    ///< parameter box the search proposes in
+  std::vector<Feature> features;  ///< the task's strategy features (for diversity searches)
+  Json config = Json::object();   ///< the algorithm's config from the spec
   std::uint64_t seed = 0;
   /// Feature distance within which two results are one strategy (the stage's strategy_threshold;
   /// 0: 5% of the feature box's diagonal).

@@ -31,8 +31,7 @@ namespace podium::search {
 /// Distance between two feature vectors: √(Σ_i d_i²), where d_i = |a_i − b_i| for a euclidean
 /// feature and the wrapped angle difference in [0, π] for an angular one (radians), so that
 /// −π and π are the same orientation.
-double feature_distance(const std::vector<Feature>& features, const std::vector<double>& a,
-                        const std::vector<double>& b);
+double feature_distance(const std::vector<Feature>& features, const std::vector<double>& a, const std::vector<double>& b);
 
 /// Cells of each feature's grid at `threshold` (see the rule above). Throws UserError when the
 /// threshold is not > 0.
@@ -44,13 +43,13 @@ std::vector<std::int64_t> strategy_cells_per_feature(const std::vector<Feature>&
 std::int64_t strategy_id(const std::vector<Feature>& features, const std::vector<double>& vector, double threshold);
 
 /// strategy_id of every vector, in order.
-std::vector<std::int64_t> strategy_ids(const std::vector<Feature>& features,
-                                       const std::vector<std::vector<double>>& vectors, double threshold);
+std::vector<std::int64_t> strategy_ids(const std::vector<Feature>& features, const std::vector<std::vector<double>>& vectors,
+                                       double threshold);
 
 /// Number of distinct strategies among `vectors` (the cells they occupy; 0 if empty). With
 /// `success`, only vectors whose flag is true count (sizes must match).
-int count_strategies(const std::vector<Feature>& features, const std::vector<std::vector<double>>& vectors,
-                     double threshold, const std::vector<bool>* success = nullptr);
+int count_strategies(const std::vector<Feature>& features, const std::vector<std::vector<double>>& vectors, double threshold,
+                     const std::vector<bool>* success = nullptr);
 
 /// The ceiling: how many strategies the box [low, high] of feature values can hold (the cells it
 /// meets). `low`/`high` are per feature, e.g. the reachable range a pool of trials measured.
@@ -64,8 +63,8 @@ using Outcome = std::function<std::optional<std::vector<double>>(const std::vect
 /// Random search's expected number of distinct successful strategies after `samples` uniform
 /// draws over `space`, by Monte Carlo over `draws` repetitions (seeded): the baseline a search
 /// must beat, beside the ceiling.
-double expected_random_count(const std::vector<Feature>& features, double threshold, const Space& space,
-                             const Outcome& outcome, int samples, int draws, std::uint64_t seed);
+double expected_random_count(const std::vector<Feature>& features, double threshold, const Space& space, const Outcome& outcome,
+                             int samples, int draws, std::uint64_t seed);
 
 /// Whether a finished trial succeeded by its task's rule: the description's "success", an object
 /// {"info": JSON pointer into the result info, "min": number (default 0.5)}, holds when the value

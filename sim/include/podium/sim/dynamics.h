@@ -27,12 +27,14 @@ struct Gains {
   static Gains from_model(const CharacterModel& model);
 };
 
-/// Stable PD (thesis eq. 2.6) with targets q̄ (nq; root entries ignored): τ = −Kp(q + Δt·q̇ − q̄) − Kd(q̇ + Δt·q̈). Spherical joints use the rotation vector of
-/// q̄⁻¹q in place of q − q̄. Writes data.tau (root entries: the root servo force, 0 by default) and data.qdd.
-/// Dense: solves (M + Kd Δt) q̈ = Q − C by Cholesky (thesis eq. 2.7), O(n³).
-void stable_pd_dense(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
+/// Stable PD (thesis eq. 2.6) with targets q̄ (nq; root entries ignored): τ = −Kp(q + Δt·q̇ − q̄) − Kd(q̇ + Δt·q̈). Spherical joints
+/// use the rotation vector of q̄⁻¹q in place of q − q̄. Writes data.tau (root entries: the root servo force, 0 by default) and
+/// data.qdd. Dense: solves (M + Kd Δt) q̈ = Q − C by Cholesky (thesis eq. 2.7), O(n³).
+void stable_pd_dense(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target,
+                     double dt_s);
 /// MABA: the modified articulated-body algorithm (thesis §2.3, eqs. 2.17–2.29), O(n).
-void stable_pd_maba(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target, double dt_s);
+void stable_pd_maba(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target,
+                    double dt_s);
 /// Plain PD: τ = −Kp(q − q̄) − Kd q̇ (explicit). Writes data.tau.
 void pd_torques(const CharacterModel& model, CharacterData& data, const Gains& gains, const Eigen::VectorXd& target);
 

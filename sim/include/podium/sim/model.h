@@ -33,9 +33,9 @@ struct Geom {
 };
 
 struct Link {
-  std::string name;           // joint name (root: the root body's name)
-  int parent = -1;            // parent link index, < own index; -1 for the root
-  int body = -1;              // index of the body this link moves
+  std::string name;  // joint name (root: the root body's name)
+  int parent = -1;   // parent link index, < own index; -1 for the root
+  int body = -1;     // index of the body this link moves
   JointType joint = JointType::free;
   Eigen::Vector3d joint_pos = Eigen::Vector3d::Zero();  // anchor in parent link frame, m
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();      // revolute axis; spherical: twist axis (unit), link frame
@@ -43,19 +43,19 @@ struct Link {
   Eigen::Vector3d com = Eigen::Vector3d::Zero();        // centre of mass, link frame, m
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();    // about the COM, link frame, kg·m²
   std::vector<Geom> geoms;                              // shapes carried by this link
-  int q_index = 0, v_index = 0;  // first entries in q (nq) and qd (nv)
-  int nq = 0, nv = 0;            // free 7/6, revolute 1/1, spherical 4/3
-  double lower = 0.0, upper = 0.0;  // revolute angle limits, rad (lower > upper: unlimited)
+  int q_index = 0, v_index = 0;                         // first entries in q (nq) and qd (nv)
+  int nq = 0, nv = 0;                                   // free 7/6, revolute 1/1, spherical 4/3
+  double lower = 0.0, upper = 0.0;                      // revolute angle limits, rad (lower > upper: unlimited)
   // Spherical limits: swing = the angle between `axis` and its image (a cone), twist = the angle
   // of the twist about `axis` in the swing–twist split q = q_swing q_twist.
-  double swing_limit = -1.0;                   // rad (< 0: none)
+  double swing_limit = -1.0;                     // rad (< 0: none)
   double twist_lower = 1.0, twist_upper = -1.0;  // rad (lower > upper: none)
-  bool locked = false;  // held at `lock` (a cast): revolute angle in lock(0), spherical quaternion wxyz
+  bool locked = false;                           // held at `lock` (a cast): revolute angle in lock(0), spherical quaternion wxyz
   Eigen::Vector4d lock = Eigen::Vector4d(1, 0, 0, 0);
   // Per-DoF torque bounds before the strength multiplier, N·m: the first nv entries (revolute:
   // (0); spherical: about the link's x, y, z axes, which may differ, as the thesis's jumper's do).
   Eigen::Vector3d torque_limit_nm = Eigen::Vector3d::Zero();
-  double kp = 0.0, kd = 0.0;        // PD gains, N·m/rad and N·m·s/rad
+  double kp = 0.0, kd = 0.0;  // PD gains, N·m/rad and N·m·s/rad
   // Passive joint torque −damping·q̇ − stiffness·q (MuJoCo's joint damping and stiffness, spring
   // at q = 0), N·m·s/rad and N·m/rad; revolute joints only; a World applies it when
   // WorldConfig::passive_joints is set.
@@ -65,7 +65,7 @@ struct Link {
 /// A named rigid body (what observations, recording and contacts talk about).
 struct Body {
   std::string name;
-  int link = 0;  // link that carries it
+  int link = 0;                                      // link that carries it
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();  // body origin in that link's frame, m
 };
 

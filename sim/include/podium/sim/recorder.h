@@ -12,11 +12,11 @@ namespace podium::sim {
 
 struct Frame {
   double time_s = 0.0;
-  Eigen::VectorXd q;                      // nq
-  Eigen::VectorXd qd;                     // nv (joint velocities; sim/README.md glossary)
+  Eigen::VectorXd q;                               // nq
+  Eigen::VectorXd qd;                              // nv (joint velocities; sim/README.md glossary)
   std::vector<Eigen::Matrix<double, 7, 1>> links;  // per link: position (3), quaternion wxyz (4), world
   Eigen::Vector3d com = Eigen::Vector3d::Zero();
-  std::vector<char> body_contacts;        // per body
+  std::vector<char> body_contacts;  // per body
 };
 
 class Recorder {

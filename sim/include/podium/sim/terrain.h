@@ -15,11 +15,11 @@ namespace podium::sim {
 
 /// A static box in world coordinates.
 struct BoxProp {
-  std::string name;                                          // for contacts and the replay
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();          // m
-  Eigen::Vector3d half_extents{0.5, 0.5, 0.5};               // m, along the box's own axes
+  std::string name;                                              // for contacts and the replay
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();              // m
+  Eigen::Vector3d half_extents{0.5, 0.5, 0.5};                   // m, along the box's own axes
   Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();  // box axes in world
-  double friction = 1.0;                                     // multiplies the character's μ
+  double friction = 1.0;                                         // multiplies the character's μ
   /// What the box stands for, for a replay (web_dashboard/README.md "Trajectory files"): "" a box;
   /// "crossbar" (the box is a bar's collision stand-in, the bar at its top edge), "obstacle", "mat".
   std::string kind;

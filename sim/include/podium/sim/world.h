@@ -24,9 +24,9 @@ enum class Control {
 };
 
 struct WorldConfig {
-  double sim_hz = 800.0;      ///< physics steps per second (get-up seed: 800)
-  double control_hz = 40.0;   ///< control steps per second (get-up seed: 40); must divide sim_hz
-  double friction = 1.0;      ///< Coulomb μ of the character (ground: μ; a prop: μ × its friction); set_friction changes it
+  double sim_hz = 800.0;       ///< physics steps per second (get-up seed: 800)
+  double control_hz = 40.0;    ///< control steps per second (get-up seed: 40); must divide sim_hz
+  double friction = 1.0;       ///< Coulomb μ of the character (ground: μ; a prop: μ × its friction); set_friction changes it
   bool self_collision = true;  ///< character links collide with each other (model filter applies)
   bool joint_limits = true;    ///< enforce revolute angle limits
   bool torque_limits = true;   ///< clamp torques to strength × model limits
@@ -35,14 +35,14 @@ struct WorldConfig {
   /// simulation step, in every control mode (SPD's implicit step does not see them).
   bool passive_joints = false;
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};
-  TerrainConfig terrain;       ///< set_terrain changes it between episodes
-  ModelEdits edits;            ///< applied to the model when the World is built (World::model() is the edited one)
+  TerrainConfig terrain;  ///< set_terrain changes it between episodes
+  ModelEdits edits;       ///< applied to the model when the World is built (World::model() is the edited one)
 };
 
 /// What one control step did.
 struct StepReport {
-  bool ok = true;        ///< false once a velocity was NaN/Inf or beyond 1000 m/s or rad/s (a blown-up state)
-  int bad_dof = -1;      ///< first such velocity DoF, when !ok
+  bool ok = true;           ///< false once a velocity was NaN/Inf or beyond 1000 m/s or rad/s (a blown-up state)
+  int bad_dof = -1;         ///< first such velocity DoF, when !ok
   long long bad_step = -1;  ///< simulation step at which it appeared
 };
 
@@ -68,14 +68,14 @@ struct WorldSnapshot;
 
 /// Task-level features of the current state (get-up seed App. C; curves get-up paper).
 struct Observation {
-  double head_height_m = 0.0;             ///< head above the ground below it
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();       ///< centre of mass, world, m
-  Eigen::Vector3d com_vel = Eigen::Vector3d::Zero();   ///< COM velocity, world, m/s
-  Eigen::Vector3d torso_up = Eigen::Vector3d::Zero();  ///< z components of the torso's x, y, z axes
-  Eigen::Vector4d root_quat = Eigen::Vector4d::Zero(); ///< root orientation (w, x, y, z)
-  std::vector<Eigen::Vector3d> end_effectors;          ///< in the root frame, m (model order)
-  std::vector<char> body_contacts;                     ///< per body: touching anything
-  std::vector<Contact> contacts;                       ///< each (body, partner, index) touching, once, sorted
+  double head_height_m = 0.0;                           ///< head above the ground below it
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();        ///< centre of mass, world, m
+  Eigen::Vector3d com_vel = Eigen::Vector3d::Zero();    ///< COM velocity, world, m/s
+  Eigen::Vector3d torso_up = Eigen::Vector3d::Zero();   ///< z components of the torso's x, y, z axes
+  Eigen::Vector4d root_quat = Eigen::Vector4d::Zero();  ///< root orientation (w, x, y, z)
+  std::vector<Eigen::Vector3d> end_effectors;           ///< in the root frame, m (model order)
+  std::vector<char> body_contacts;                      ///< per body: touching anything
+  std::vector<Contact> contacts;                        ///< each (body, partner, index) touching, once, sorted
   /// Whether `body` touches `partner` (index −1: any of that kind).
   bool touches(int body, Contact::Partner partner, int index = -1) const;
 };
@@ -166,7 +166,7 @@ class World {
   std::vector<Eigen::Vector3d> centroids_;  // per body, in its link's frame
   Eigen::VectorXd tau_external_;            // passive joint torques + Jᵀ F over all bodies (nv)
   bool has_forces_ = false;
-  std::vector<int> passive_links_;          // revolute links with damping or stiffness, when applied
+  std::vector<int> passive_links_;  // revolute links with damping or stiffness, when applied
   std::function<void(World&)> substep_observer_;
 };
 

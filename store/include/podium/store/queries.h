@@ -22,9 +22,9 @@
 namespace podium::store {
 
 struct TrialFilter {
-  std::optional<int> stage_index;          ///< only this stage (0-based)
-  std::optional<std::string> state;        ///< only trials in this state
-  std::optional<std::int64_t> strategy;    ///< only trials of this strategy cluster
+  std::optional<int> stage_index;        ///< only this stage (0-based)
+  std::optional<std::string> state;      ///< only trials in this state
+  std::optional<std::int64_t> strategy;  ///< only trials of this strategy cluster
   std::int64_t offset = 0, limit = 100;
   enum class Order { index, objective, finished } order = Order::index;
   bool descending = false;
@@ -44,7 +44,7 @@ struct TrialText {
 };
 
 struct TrialPage {
-  std::int64_t total = 0;                  ///< trials matching the filter (before offset/limit)
+  std::int64_t total = 0;  ///< trials matching the filter (before offset/limit)
   std::vector<TrialText> trials;
 };
 
@@ -54,15 +54,15 @@ struct TrialPoint {
   double objective = 0;
   std::vector<double> features;
   std::optional<std::int64_t> strategy;
-  std::string step;                        ///< info.step ("explore", "diversity" for BDS) or ""
+  std::string step;  ///< info.step ("explore", "diversity" for BDS) or ""
   double finished_at = 0;
 };
 
 /// Strategy ids are per stage (each stage groups its own trials), so a strategy is (stage, id).
 struct StrategySummary {
   std::int64_t stage_index = 0, strategy = 0, trials = 0;
-  std::int64_t representative_trial = 0;   ///< the trial with the best objective (its id)
-  std::int64_t representative_index = 0;   ///< and its index in the stage
+  std::int64_t representative_trial = 0;  ///< the trial with the best objective (its id)
+  std::int64_t representative_index = 0;  ///< and its index in the stage
   double best_objective = 0;
   std::vector<double> representative_features;
 };
@@ -70,12 +70,11 @@ struct StrategySummary {
 struct CampaignSummary {
   TrialCounts counts;
   std::map<std::int64_t, TrialCounts> stage_counts;  ///< by stage id (stages without trials absent)
-  std::optional<double> best_objective;    ///< max of objectives[0] over done trials
+  std::optional<double> best_objective;              ///< max of objectives[0] over done trials
   double first_finished_at = 0, last_finished_at = 0;
-  std::int64_t done_last_minute = 0;       ///< trials finished in the 60 s before `now`
+  std::int64_t done_last_minute = 0;            ///< trials finished in the 60 s before `now`
   std::vector<StrategySummary> strategy_table;  ///< what strategies() returns (same snapshot): per stage
 };
-
 
 /// One metric of one attempt, downsampled to at most 2 * max_points points (min and max of each
 /// bucket, in step order, so spikes survive).
@@ -83,7 +82,7 @@ struct MetricSeries {
   std::string name;
   int attempt = 1;
   std::int64_t total_points = 0;
-  std::vector<double> steps, values;       ///< NaN values are stored as NULL and returned as NaN
+  std::vector<double> steps, values;  ///< NaN values are stored as NULL and returned as NaN
 };
 
 class Queries {

@@ -32,11 +32,11 @@ using base::Json;
 struct NewStage {
   std::string name, task, algorithm;
   Json search_config = Json::object();
-  Json task_config = Json::object();   ///< resolved: defaults, preset, overrides
-  Json description = Json::object();   ///< the task's describe() for that config
-  Json inputs = nullptr;               ///< the spec's hand-over rule (orchestrator's InputsSpec) or null
-  std::int64_t budget_trials = 0;      ///< 0: set by start_stage (a budget per input)
-  double budget_seconds = 0.0;         ///< 0: no wall-time budget
+  Json task_config = Json::object();  ///< resolved: defaults, preset, overrides
+  Json description = Json::object();  ///< the task's describe() for that config
+  Json inputs = nullptr;              ///< the spec's hand-over rule (orchestrator's InputsSpec) or null
+  std::int64_t budget_trials = 0;     ///< 0: set by start_stage (a budget per input)
+  double budget_seconds = 0.0;        ///< 0: no wall-time budget
 };
 
 struct CampaignRecord {
@@ -53,11 +53,11 @@ struct StageRecord {
   std::string name, task, algorithm, state;  ///< state: waiting, running, done, failed
   std::string error;                         ///< why it failed ("" otherwise)
   Json search_config, task_config, description, inputs;
-  std::optional<Json> input_trials;          ///< the trials handed over, resolved by start_stage
+  std::optional<Json> input_trials;  ///< the trials handed over, resolved by start_stage
   std::int64_t budget_trials = 0;
   double budget_seconds = 0, elapsed_s = 0;
   std::optional<Json> search_state;
-  std::int64_t told = 0;                     ///< trials (in the order asked) told to the search
+  std::int64_t told = 0;  ///< trials (in the order asked) told to the search
 };
 
 struct TrialRecord {
@@ -66,7 +66,7 @@ struct TrialRecord {
   std::uint64_t seed = 0;
   std::string state, error;
   int attempts = 0;
-  Json objectives = nullptr;           ///< array once done
+  Json objectives = nullptr;  ///< array once done
   std::vector<double> features;
   Json result_info = nullptr;
   std::optional<std::int64_t> strategy;
@@ -76,10 +76,10 @@ struct TrialRecord {
 /// A done trial as a campaign summary reads it: a few columns, no params, info or features.
 struct TrialOutcome {
   std::int64_t id = 0, index = 0;
-  std::optional<double> objective;       ///< objectives[0] (absent when not a number)
+  std::optional<double> objective;  ///< objectives[0] (absent when not a number)
   std::optional<std::int64_t> strategy;
   double finished_at = 0;
-  std::string result_info;               ///< its result info's JSON text when it has a "table", else ""
+  std::string result_info;  ///< its result info's JSON text when it has a "table", else ""
 };
 
 struct AttemptRecord {
@@ -156,8 +156,8 @@ class Store {
   void save_search_state(std::int64_t stage_id, const Json& state, double elapsed_s, std::int64_t told);
 
   // Trials and attempts.
-  std::int64_t add_trial(std::int64_t stage_id, std::int64_t index, const Json& params, const Json& context,
-                         const Json& info, std::uint64_t seed);
+  std::int64_t add_trial(std::int64_t stage_id, std::int64_t index, const Json& params, const Json& context, const Json& info,
+                         std::uint64_t seed);
   std::vector<TrialRecord> trials(std::int64_t stage_id) const;
   std::vector<TrialRecord> campaign_trials(std::int64_t campaign_id) const;
   /// One trial (with its features), or nullopt.
@@ -169,12 +169,11 @@ class Store {
   TrialCounts stage_trial_counts(std::int64_t stage_id) const;
   std::int64_t start_attempt(std::int64_t trial_id, int number, const std::string& worker, const std::string& host,
                              const std::string& job_id = "");
-  void finish_attempt(std::int64_t attempt_id, const std::string& state, const std::string& error,
-                      std::optional<int> exit_code, std::optional<int> signal);
+  void finish_attempt(std::int64_t attempt_id, const std::string& state, const std::string& error, std::optional<int> exit_code,
+                      std::optional<int> signal);
   /// Records a finished trial's result (state done), its features (named) and artifacts.
-  void complete_trial(std::int64_t trial_id, const std::vector<double>& objectives,
-                      const std::vector<std::string>& feature_names, const std::vector<double>& features,
-                      const Json& result_info, const std::vector<ArtifactRecord>& artifacts);
+  void complete_trial(std::int64_t trial_id, const std::vector<double>& objectives, const std::vector<std::string>& feature_names,
+                      const std::vector<double>& features, const Json& result_info, const std::vector<ArtifactRecord>& artifacts);
   /// Sets a trial's state (pending, failed, interrupted, cancelled) and, if given, its error text.
   void set_trial_state(std::int64_t trial_id, const std::string& state, const std::string& error = "");
   void set_trial_strategy(std::int64_t trial_id, std::int64_t strategy);

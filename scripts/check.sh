@@ -37,7 +37,11 @@ if ((${#units[@]})); then
   # -Wno-unknown-warning-option: clang reads GCC's compile commands (-Wno-restrict is GCC's).
   tidy=$(printf '%s\n' "${units[@]}" |
     xargs -P "$(nproc)" -I{} clang-tidy -p build --quiet --extra-arg=-Wno-unknown-warning-option {} 2>/dev/null)
-  if grep -qE '(warning|error):' <<<"$tidy"; then echo "$tidy"; status=1; fi
+  # Only findings in this repository's files count: clang 14 in C++20 mode reports errors inside
+  # libtorch's own headers (std::vector<c10::IValue> of an incomplete type, which GCC accepts);
+  # the analysis of our code in those units still runs.
+  ours=$(grep -E "^$PWD/[^:]+:[0-9]+:[0-9]+: (warning|error):" <<<"$tidy")
+  if [ -n "$ours" ]; then echo "$ours"; status=1; fi
 fi
 
 cmake --build build -j "$(nproc)" || exit 1

@@ -28,10 +28,10 @@ std::string trial_page(const store::Queries& q, std::int64_t campaign_id, const 
 /// JSON text (written directly: 5,000 points are 40,000 numbers).
 std::string scatter_points(const store::Queries& q, std::int64_t campaign_id, std::int64_t max_points);
 Json strategy_table(const store::Queries& q, std::int64_t campaign_id);
-/// The campaign's summary: orchestrator::campaign_summary's JSON (orchestrator/summary.h), what
+/// The campaign's summary: store::campaign_summary's JSON (store/summary.h), what
 /// `podium summary --json` prints.
 Json summary_document(const store::Queries& q, std::int64_t campaign_id);
-/// Several campaigns side by side: orchestrator::compare_campaigns's JSON. `campaigns`: ids or
+/// Several campaigns side by side: store::compare_campaigns's JSON. `campaigns`: ids or
 /// names, comma-separated, 1 to 8 of them; 400 otherwise, 404 for one that does not exist.
 Json comparison_document(const store::Queries& q, const std::string& campaigns);
 Json campaign_events(const store::Queries& q, std::int64_t campaign_id, std::size_t last_n);

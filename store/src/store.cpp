@@ -390,6 +390,35 @@ StrategyLabels Store::strategy_labels(std::int64_t stage_id) const {
   return labels;
 }
 
+std::string Store::summary_token(std::int64_t campaign_id) const {
+  std::string token;
+  const auto add = [&token](Statement& s, int columns) {
+    while (s.step())
+      for (int i = 0; i < columns; ++i) token += (s.is_null(i) ? std::string("-") : s.text(i)) + (i + 1 < columns ? "," : ";");
+  };
+  Statement campaign(impl_->db, "SELECT state FROM campaigns WHERE id = ?");
+  campaign.bind(1, campaign_id);
+  add(campaign, 1);
+  Statement stages(impl_->db,
+                   "SELECT st.id, st.state, st.budget_trials, "
+                   "(SELECT max(finished_at) FROM trials t WHERE t.stage_id = st.id AND t.state = 'done') "
+                   "FROM stages st WHERE st.campaign_id = ? ORDER BY st.idx");
+  stages.bind(1, campaign_id);
+  add(stages, 4);
+  Statement states(impl_->db,
+                   "SELECT c.stage_id, c.state, c.trials FROM stages st JOIN stage_state_counts c ON c.stage_id = st.id "
+                   "WHERE st.campaign_id = ? ORDER BY c.stage_id, c.state");
+  states.bind(1, campaign_id);
+  add(states, 3);
+  Statement strategies(
+      impl_->db,
+      "SELECT c.stage_id, c.strategy, c.trials FROM stages st JOIN stage_strategy_counts c ON c.stage_id = st.id "
+      "WHERE st.campaign_id = ? ORDER BY c.stage_id, c.strategy");
+  strategies.bind(1, campaign_id);
+  add(strategies, 3);
+  return token;
+}
+
 // From the counts the triggers keep (schema v3): a few rows, not a scan of the trials.
 TrialCounts Store::trial_counts(std::int64_t campaign_id) const {
   Statement s(impl_->db,

@@ -224,21 +224,27 @@ Json campaign_summary(const store::Store& store, std::int64_t campaign_id) {
   return {{"campaign", {{"id", c->id}, {"name", c->name}, {"state", c->state}}}, {"stages", stages}};
 }
 
-Json compare_campaigns(const store::Store& store, const std::vector<std::int64_t>& campaign_ids) {
+Json compare_summaries(const std::vector<Json>& summaries) {
   Json campaigns = Json::array(), stages = Json::array();
-  for (const auto id : campaign_ids) {
-    Json s = campaign_summary(store, id);
+  for (const Json& s : summaries) {
     for (const auto& st : s["stages"]) {
       auto it = std::find_if(stages.begin(), stages.end(), [&](const Json& x) { return x["name"] == st["name"]; });
       if (it == stages.end()) {
         stages.push_back({{"name", st["name"]}, {"curves", Json::array()}});
         it = stages.end() - 1;
       }
-      (*it)["curves"].push_back({{"campaign", id}, {"campaign_name", s["campaign"]["name"]}, {"discovery", st["discovery"]}});
+      (*it)["curves"].push_back(
+          {{"campaign", s["campaign"]["id"]}, {"campaign_name", s["campaign"]["name"]}, {"discovery", st["discovery"]}});
     }
-    campaigns.push_back(std::move(s));
+    campaigns.push_back(s);
   }
   return {{"campaigns", campaigns}, {"stages", stages}};
+}
+
+Json compare_campaigns(const store::Store& store, const std::vector<std::int64_t>& campaign_ids) {
+  std::vector<Json> summaries;
+  for (const auto id : campaign_ids) summaries.push_back(campaign_summary(store, id));
+  return compare_summaries(summaries);
 }
 
 }  // namespace podium::store

@@ -399,9 +399,24 @@ Json strategy_table(const Queries& q, std::int64_t campaign_id) {
   return strategy_json(q, q.strategies(campaign_id), q.store().stages(campaign_id));
 }
 
-Json summary_document(const Queries& q, std::int64_t campaign_id) { return store::campaign_summary(q.store(), campaign_id); }
+std::shared_ptr<const Json> SummaryCache::get(const Queries& q, std::int64_t campaign_id) {
+  if (!enabled_) return std::make_shared<const Json>(store::campaign_summary(q.store(), campaign_id));
+  std::string token = q.store().summary_token(campaign_id);
+  {
+    std::lock_guard lock(mutex_);
+    const auto it = entries_.find(campaign_id);
+    if (it != entries_.end() && it->second.first == token) return it->second.second;
+  }
+  auto summary = std::make_shared<const Json>(store::campaign_summary(q.store(), campaign_id));
+  std::lock_guard lock(mutex_);
+  if (entries_.size() >= kMaxCampaigns) entries_.clear();
+  entries_[campaign_id] = {std::move(token), summary};
+  return summary;
+}
 
-Json comparison_document(const Queries& q, const std::string& campaigns) {
+Json summary_document(const Queries& q, SummaryCache& cache, std::int64_t campaign_id) { return *cache.get(q, campaign_id); }
+
+Json comparison_document(const Queries& q, SummaryCache& cache, const std::string& campaigns) {
   constexpr std::size_t kMaxCampaigns = 8;  // each summary reads its campaign's done trials
   std::vector<std::int64_t> ids;
   std::size_t start = 0;
@@ -415,7 +430,9 @@ Json comparison_document(const Queries& q, const std::string& campaigns) {
   if (ids.size() > kMaxCampaigns)
     throw HttpError(400, "campaigns: " + std::to_string(ids.size()) + " given, at most " + std::to_string(kMaxCampaigns) +
                              " compare at once");
-  return store::compare_campaigns(q.store(), ids);
+  std::vector<Json> summaries;
+  for (const auto id : ids) summaries.push_back(*cache.get(q, id));
+  return store::compare_summaries(summaries);
 }
 
 Json campaign_events(const Queries& q, std::int64_t campaign_id, std::size_t last_n) {

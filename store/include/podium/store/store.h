@@ -175,6 +175,11 @@ class Store {
   /// that stops once every strategy the stage's counts hold has its label.
   StrategyLabels strategy_labels(std::int64_t stage_id) const;
   TrialCounts trial_counts(std::int64_t campaign_id) const;
+  /// Text that changes whenever a campaign's summary (store/summary.h) may: the campaign's state,
+  /// its stages' states and budgets, their trial counts per state and per strategy, and each
+  /// stage's latest finishing time (done trials never change, and a trial's strategy is stored
+  /// with its result). A few count rows and one index probe per stage, whatever the trial count.
+  std::string summary_token(std::int64_t campaign_id) const;
   TrialCounts stage_trial_counts(std::int64_t stage_id) const;
   std::int64_t start_attempt(std::int64_t trial_id, int number, const std::string& worker, const std::string& host,
                              const std::string& job_id = "");

@@ -58,6 +58,9 @@ base::Json campaign_summary(const store::Store& store, std::int64_t campaign_id)
 /// has no curve in it.
 base::Json compare_campaigns(const store::Store& store, const std::vector<std::int64_t>& campaign_ids);
 
+/// compare_campaigns of summaries already made (campaign_summary's JSON each, in that order).
+base::Json compare_summaries(const std::vector<base::Json>& summaries);
+
 /// campaign_summary's JSON as text (what `podium summary CAMPAIGN` prints). `brief` (`--short`,
 /// what the demo prints): per stage its trials, best trial, strategy count and the task's tables,
 /// without the objectives' descriptions, the strategy table and the discovery curve.

@@ -7,12 +7,12 @@
 #include "podium/base/config.h"
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
+#include "podium/base/suggest.h"
 #include "podium/orchestrator/spec.h"
-#include "podium/orchestrator/summary.h"
-#include "podium/plugins/suggest.h"
 #include "podium/search/search.h"
 #include "podium/search/strategies.h"
 #include "podium/store/store.h"
+#include "podium/store/summary.h"
 #include "slurm_executor.h"
 #include "worker_process.h"
 
@@ -153,18 +153,8 @@ std::int64_t submit_campaign(const std::filesystem::path& database, const Json& 
   return store->add_campaign(spec.name, spec_json, spec.seed, run_dir, stages);
 }
 
-std::int64_t find_campaign_id(const store::Store& store, const std::string& id_or_name) {
-  if (const auto c = store.find_campaign(id_or_name)) return c->id;
-  std::vector<std::string> names;
-  for (const auto& c : store.campaigns())
-    if (std::find(names.begin(), names.end(), c.name) == names.end()) names.push_back(c.name);
-  const std::string near = plugins::did_you_mean(id_or_name, names);
-  throw UserError("no campaign \"" + id_or_name + "\" in " + store.path().string() +
-                  (near.empty() ? " (podium status lists them)" : near));
-}
-
 void control_campaign(store::Store& store, const std::string& id_or_name, const std::string& action) {
-  const auto campaign = store.campaign(find_campaign_id(store, id_or_name));
+  const auto campaign = store.campaign(store::find_campaign_id(store, id_or_name));
   const std::string& state = campaign->state;
   const bool active = state == "queued" || state == "running";
   std::string next;
@@ -181,7 +171,7 @@ void control_campaign(store::Store& store, const std::string& id_or_name, const 
 Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage, std::int64_t add_trials) {
   Extension out;
   store.transaction([&] {  // read and written under the write lock: no scheduler moves in between
-    const auto campaign = store.campaign(find_campaign_id(store, id_or_name));
+    const auto campaign = store.campaign(store::find_campaign_id(store, id_or_name));
     const std::string which = "campaign " + std::to_string(campaign->id) + " (" + campaign->name + ")";
     if (campaign->state != "done") {
       const bool ended = campaign->state == "failed" || campaign->state == "cancelled";
@@ -227,7 +217,7 @@ std::string csv_field(const std::string& s) {
 
 using Ordered = nlohmann::ordered_json;
 
-std::string number(const Ordered& v) { return v.is_number() ? format_number(v.get<double>()) : ""; }
+std::string number(const Ordered& v) { return v.is_number() ? store::format_number(v.get<double>()) : ""; }
 
 void add_unique(std::vector<std::string>& list, const std::string& name) {
   if (std::find(list.begin(), list.end(), name) == list.end()) list.push_back(name);
@@ -266,14 +256,15 @@ std::vector<Ordered> export_rows(const store::Store& store, std::int64_t campaig
   std::vector<Ordered> rows;
   for (const auto& st : store.stages(campaign_id)) {
     const auto params = names_of(st.description.value("params", Json::array()));
-    const auto objectives = names_of(objective_entries(st.description));
-    const auto features = names_of(feature_entries(st.description));
+    const auto objectives = names_of(store::objective_entries(st.description));
+    const auto features = names_of(store::feature_entries(st.description));
     for (const auto& n : params) add_unique(columns.params, n);
     for (const auto& n : objectives) add_unique(columns.objectives, n);
     for (const auto& n : features) add_unique(columns.features, n);
+    const store::StrategyLabels labels = store.strategy_labels(st.id);
     for (const auto& t : store.trials(st.id)) {
       Ordered row = {{"campaign", campaign_id},
-                     {"name", trial_name(st.name, t.index)},
+                     {"name", store::trial_name(st.name, t.index)},
                      {"id", t.id},
                      {"stage", st.name},
                      {"trial", t.index},
@@ -287,6 +278,8 @@ std::vector<Ordered> export_rows(const store::Store& store, std::int64_t campaig
       for (const auto& [k, v] : row["features"].items()) add_unique(columns.features, k);
       for (const auto& [k, v] : row["params"].items()) add_unique(columns.params, k);
       row["strategy"] = t.strategy ? Ordered(*t.strategy) : Ordered(nullptr);
+      const auto label = t.strategy ? labels.find(*t.strategy) : labels.end();
+      row["strategy_label"] = label != labels.end() ? Ordered(label->second) : Ordered(nullptr);
       row["error"] = t.error;
       row["started_at"] = t.started_at;
       row["finished_at"] = t.finished_at;
@@ -302,8 +295,6 @@ std::vector<Ordered> export_rows(const store::Store& store, std::int64_t campaig
   return rows;
 }
 }  // namespace
-
-std::string trial_name(const std::string& stage, std::int64_t index) { return stage + "/" + std::to_string(index); }
 
 std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format, bool metrics) {
   if (format != "csv" && format != "json") throw UserError("--format: \"" + format + "\" is not one of csv, json");
@@ -321,14 +312,15 @@ std::string export_campaign(const store::Store& store, std::int64_t campaign_id,
   for (const auto& p : columns.params) out << "," << csv_field("param." + p);
   for (const auto& o : columns.objectives) out << "," << csv_field("objective." + o);
   for (const auto& f : columns.features) out << "," << csv_field("feature." + f);
-  out << ",strategy,error\n";
+  out << ",strategy,strategy_label,error\n";
   for (const auto& r : rows) {
     out << campaign_id << "," << csv_field(r["stage"]) << "," << r["trial"] << "," << r["state"].get<std::string>() << ","
         << r["attempts"] << "," << r["seed"];
     for (const auto& p : columns.params) out << "," << (r["params"].contains(p) ? number(r["params"][p]) : "");
     for (const auto& o : columns.objectives) out << "," << (r["objectives"].contains(o) ? number(r["objectives"][o]) : "");
     for (const auto& f : columns.features) out << "," << (r["features"].contains(f) ? number(r["features"][f]) : "");
-    out << "," << (r["strategy"].is_null() ? "" : r["strategy"].dump()) << "," << csv_field(r["error"]) << "\n";
+    out << "," << (r["strategy"].is_null() ? "" : r["strategy"].dump()) << ","
+        << (r["strategy_label"].is_null() ? "" : r["strategy_label"].dump()) << "," << csv_field(r["error"]) << "\n";
   }
   return out.str();
 }

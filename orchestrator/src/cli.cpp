@@ -19,9 +19,9 @@
 #include "podium/orchestrator/campaigns.h"
 #include "podium/orchestrator/scheduler.h"
 #include "podium/orchestrator/spec.h"
-#include "podium/orchestrator/summary.h"
 #include "podium/store/run_folders.h"
 #include "podium/store/store.h"
+#include "podium/store/summary.h"
 #include "podium/store/writer_lock.h"
 #include "podium/web_dashboard/server.h"
 #include "spec_edit.h"
@@ -55,7 +55,7 @@ commands:
   export CAMPAIGN --format csv|json [--metrics]
                              every trial, objectives and features named (--metrics: with each trial's
                              metric series, JSON only)
-  summary CAMPAIGN... [--json]
+  summary CAMPAIGN... [--json] [--short]
                              per stage: trials done, the best trial, the strategies found, the task's
                              result tables; several campaigns: side by side, with discovery curves
   tasks [NAME] [--json] [--all]
@@ -93,7 +93,7 @@ std::unique_ptr<Store> open_read(const Command& cmd) {
 }
 
 std::int64_t campaign_id(const Store& store, const std::string& id_or_name) {
-  return podium::orchestrator::find_campaign_id(store, id_or_name);
+  return podium::store::find_campaign_id(store, id_or_name);
 }
 
 // A table column named by an objective or feature entry: "name", or "name(unit)" (one word).
@@ -133,7 +133,7 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
       if (!index_of.count(a.trial_id))
         if (const auto trial = store.trial(a.trial_id)) index_of[a.trial_id] = trial->index;
       const std::int64_t index = index_of[a.trial_id];
-      running.push_back({{"name", podium::orchestrator::trial_name(st.name, index)},
+      running.push_back({{"name", podium::store::trial_name(st.name, index)},
                          {"trial", index},
                          {"attempt", a.number},
                          {"worker", a.worker},
@@ -159,8 +159,8 @@ Json status_json(const Store& store, const podium::store::CampaignRecord& c, con
                       {"elapsed_s", st.elapsed_s},
                       {"error", st.error},
                       {"running_attempts", running},
-                      {"objectives", podium::orchestrator::objective_entries(st.description)},
-                      {"features", podium::orchestrator::feature_entries(st.description)}});
+                      {"objectives", podium::store::objective_entries(st.description)},
+                      {"features", podium::store::feature_entries(st.description)}});
   }
   return {{"id", c.id},
           {"name", c.name},
@@ -359,21 +359,23 @@ int cmd_trials(int argc, char** argv) {
   // their widest cell; the last one (the error) is not.
   bool first = true;
   for (const auto& st : store->stages(id)) {
-    const Json objectives = podium::orchestrator::objective_entries(st.description);
-    const Json features = podium::orchestrator::feature_entries(st.description);
+    const Json objectives = podium::store::objective_entries(st.description);
+    const Json features = podium::store::feature_entries(st.description);
     std::vector<std::string> header = {"trial", "state", "attempts"};
     for (const auto& o : objectives) header.push_back(named_column(o));
     header.insert(header.end(), {"strategy", "id"});
     for (const auto& f : features) header.push_back(named_column(f));
     header.push_back("error");
     std::vector<std::vector<std::string>> rows = {header};
+    const auto labels = store->strategy_labels(st.id);
     for (const auto& t : store->trials(st.id)) {
-      std::vector<std::string> row = {podium::orchestrator::trial_name(st.name, t.index), t.state, std::to_string(t.attempts)};
+      std::vector<std::string> row = {podium::store::trial_name(st.name, t.index), t.state, std::to_string(t.attempts)};
       for (std::size_t i = 0; i < objectives.size(); ++i) {
         const bool has = t.objectives.is_array() && i < t.objectives.size() && t.objectives[i].is_number();
         row.push_back(has ? significant(t.objectives[i].get<double>(), 4) : "-");
       }
-      row.insert(row.end(), {t.strategy ? std::to_string(*t.strategy) : "-", std::to_string(t.id)});
+      const auto label = t.strategy ? labels.find(*t.strategy) : labels.end();
+      row.insert(row.end(), {label != labels.end() ? std::to_string(label->second) : "-", std::to_string(t.id)});
       for (std::size_t i = 0; i < features.size(); ++i)
         row.push_back(i < t.features.size() ? significant(t.features[i], 3) : "-");
       row.push_back(error_line(t.error));
@@ -488,20 +490,20 @@ int cmd_export(int argc, char** argv) {
 
 int cmd_summary(int argc, char** argv) {
   Command cmd;
-  cmd.options.add_options()("campaign", po::value<std::vector<std::string>>()->required(), "campaign ids or names")("json",
-                                                                                                                    "print JSON");
+  cmd.options.add_options()("campaign", po::value<std::vector<std::string>>()->required(), "campaign ids or names")(
+      "json", "print JSON")("short", "per stage only its trials, best trial, strategy count and the task's tables");
   cmd.positional.add("campaign", -1);
-  if (!parse(cmd, "summary", "CAMPAIGN... [--json] [--db PATH]", argc, argv)) return 0;
+  if (!parse(cmd, "summary", "CAMPAIGN... [--json] [--short] [--db PATH]", argc, argv)) return 0;
   auto store = open_read(cmd);
   std::vector<std::int64_t> ids;
   for (const auto& c : cmd.vm["campaign"].as<std::vector<std::string>>()) ids.push_back(campaign_id(*store, c));
   const bool json = cmd.vm.count("json") > 0;
   if (ids.size() == 1) {
-    const Json summary = podium::orchestrator::campaign_summary(*store, ids[0]);
-    std::cout << (json ? summary.dump(2) + "\n" : podium::orchestrator::format_summary(summary));
+    const Json summary = podium::store::campaign_summary(*store, ids[0]);
+    std::cout << (json ? summary.dump(2) + "\n" : podium::store::format_summary(summary, cmd.vm.count("short") > 0));
   } else {
-    const Json comparison = podium::orchestrator::compare_campaigns(*store, ids);
-    std::cout << (json ? comparison.dump(2) + "\n" : podium::orchestrator::format_comparison(comparison));
+    const Json comparison = podium::store::compare_campaigns(*store, ids);
+    std::cout << (json ? comparison.dump(2) + "\n" : podium::store::format_comparison(comparison));
   }
   return 0;
 }

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "podium/base/config.h"
-#include "podium/plugins/suggest.h"
+#include "podium/base/suggest.h"
 
 namespace podium::orchestrator {
 
@@ -41,7 +41,7 @@ void check_keys(const Json& object, const std::vector<std::string>& known, const
   for (const auto& [key, value] : object.items())
     if (std::find(known.begin(), known.end(), key) == known.end())
       throw base::ConfigError(source, base::json_path_join(path, key),
-                              "unknown key (known: " + plugins::name_list(known) + ")" + plugins::did_you_mean(key, known));
+                              "unknown key (known: " + base::name_list(known) + ")" + base::did_you_mean(key, known));
 }
 
 void check_spec_keys(const Json& j, const std::string& source) {

@@ -130,7 +130,7 @@ void Scheduler::end_stage(CampaignRun& c) {
     for (auto& t : store_.trials(s.rec.id))
       if (t.state == "failed" && t.finished_at >= last.finished_at) last = std::move(t);
     const std::string all = "all " + std::to_string(counts.failed) + " trials" + (counts.cancelled > 0 ? " that ran" : "");
-    return fail_stage(c, s, all + " failed (last: trial " + trial_name(s.rec.name, last.index) + ", " + last.error + ")");
+    return fail_stage(c, s, all + " failed (last: trial " + store::trial_name(s.rec.name, last.index) + ", " + last.error + ")");
   }
   store_.set_stage_state(s.rec.id, "done");
   emit(c, "stage_done", {{"stage", s.rec.name}}, true);

@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "podium/base/error.h"
-#include "podium/orchestrator/summary.h"
 #include "podium/plugins/loader.h"
+#include "podium/store/summary.h"
 #include "worker_process.h"
 
 namespace podium::orchestrator {
@@ -110,7 +110,7 @@ std::string format_tasks(const Json& tasks) {
                  (m.contains("description") ? " (" + m["description"].get<std::string>() + ")" : "");
     out << "  metrics: " << (metrics.empty() ? "none" : metrics) << "\n";
     std::string objectives;  // with unit and meaning (the default config's stage; a stage may name them otherwise)
-    for (const auto& o : objective_entries(t))
+    for (const auto& o : store::objective_entries(t))
       objectives += (objectives.empty() ? "" : ", ") + o.at("name").get<std::string>() +
                     (o.contains("description") ? " (" + (o.contains("unit") ? o["unit"].get<std::string>() + "; " : "") +
                                                      o["description"].get<std::string>() + ")"

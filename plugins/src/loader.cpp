@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "podium/base/error.h"
+#include "podium/base/suggest.h"
 #include "podium/base/version.h"
 #include "podium/plugins/export.h"
-#include "podium/plugins/suggest.h"
 
 namespace podium::plugins {
 
@@ -69,7 +69,8 @@ std::shared_ptr<Task> load_task(const std::string& task_name) {
   for (const auto& [name, file] : installed_plugins())
     if (!is_test_plugin(file)) installed.push_back(name);
   throw UserError("plugin \"" + task_name + "\": no file " + file_name_for(task_name) + " in " + searched +
-                  " (set PODIUM_PLUGIN_PATH); installed tasks: " + name_list(installed) + did_you_mean(task_name, installed));
+                  " (set PODIUM_PLUGIN_PATH); installed tasks: " + base::name_list(installed) +
+                  base::did_you_mean(task_name, installed));
 }
 
 std::shared_ptr<Task> load_task_file(const fs::path& file, const std::string& task_name) {

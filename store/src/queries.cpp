@@ -274,11 +274,16 @@ std::vector<StrategySummary> Queries::strategies(std::int64_t campaign_id) const
                  "(SELECT max(objective) FROM trials WHERE stage_id = ?1 AND strategy = ?2) ORDER BY id LIMIT 1");
   Statement features(impl_->db, kTrialFeatures);
   std::vector<StrategySummary> out;
+  std::map<std::int64_t, StrategyLabels> labels;  // by stage id
   while (list.step()) {
     StrategySummary r;
     r.stage_index = list.int64(1);
     r.strategy = list.int64(2);
     r.trials = list.int64(3);
+    auto stage_labels = labels.find(list.int64(0));
+    if (stage_labels == labels.end()) stage_labels = labels.emplace(list.int64(0), store_->strategy_labels(list.int64(0))).first;
+    const auto label = stage_labels->second.find(r.strategy);
+    r.label = label != stage_labels->second.end() ? label->second : 0;
     best.reset();
     best.bind(1, list.int64(0)).bind(2, r.strategy);
     if (best.step()) {
@@ -289,6 +294,9 @@ std::vector<StrategySummary> Queries::strategies(std::int64_t campaign_id) const
     }
     out.push_back(std::move(r));
   }
+  std::stable_sort(out.begin(), out.end(), [](const StrategySummary& a, const StrategySummary& b) {
+    return a.stage_index != b.stage_index ? a.stage_index < b.stage_index : a.label < b.label;
+  });
   return out;
 }
 

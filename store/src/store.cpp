@@ -2,11 +2,13 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
 
 #include "podium/base/error.h"
+#include "podium/base/suggest.h"
 #include "podium/base/version.h"
 #include "records.h"
 #include "schema.h"
@@ -93,6 +95,18 @@ std::string shown_stage_state(const std::string& campaign_state, const std::stri
   if (campaign_state == "cancelled" && stage_state == "waiting") return "cancelled";
   return stage_state;
 }
+
+std::int64_t find_campaign_id(const Store& store, const std::string& id_or_name) {
+  if (const auto c = store.find_campaign(id_or_name)) return c->id;
+  std::vector<std::string> names;
+  for (const auto& c : store.campaigns())
+    if (std::find(names.begin(), names.end(), c.name) == names.end()) names.push_back(c.name);
+  const std::string near = base::did_you_mean(id_or_name, names);
+  throw base::UserError("no campaign \"" + id_or_name + "\" in " + store.path().string() +
+                        (near.empty() ? " (podium status lists them)" : near));
+}
+
+std::string trial_name(const std::string& stage, std::int64_t index) { return stage + "/" + std::to_string(index); }
 
 Store::Store(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Store::~Store() = default;
@@ -360,6 +374,49 @@ std::vector<TrialOutcome> Store::done_trials(std::int64_t stage_id) const {
     out.push_back(std::move(t));
   }
   return out;
+}
+
+StrategyLabels Store::strategy_labels(std::int64_t stage_id) const {
+  Statement count(impl_->db, "SELECT count(*) FROM stage_strategy_counts WHERE stage_id = ? AND trials > 0");
+  count.bind(1, stage_id);
+  const std::size_t strategies = count.step() ? static_cast<std::size_t>(count.int64(0)) : 0;
+  StrategyLabels labels;
+  if (strategies == 0) return labels;
+  Statement s(impl_->db,
+              "SELECT strategy FROM trials WHERE stage_id = ? AND state = 'done' AND strategy IS NOT NULL "
+              "ORDER BY finished_at, idx");
+  s.bind(1, stage_id);
+  while (labels.size() < strategies && s.step()) labels.emplace(s.int64(0), static_cast<std::int64_t>(labels.size()) + 1);
+  return labels;
+}
+
+std::string Store::summary_token(std::int64_t campaign_id) const {
+  std::string token;
+  const auto add = [&token](Statement& s, int columns) {
+    while (s.step())
+      for (int i = 0; i < columns; ++i) token += (s.is_null(i) ? std::string("-") : s.text(i)) + (i + 1 < columns ? "," : ";");
+  };
+  Statement campaign(impl_->db, "SELECT state FROM campaigns WHERE id = ?");
+  campaign.bind(1, campaign_id);
+  add(campaign, 1);
+  Statement stages(impl_->db,
+                   "SELECT st.id, st.state, st.budget_trials, "
+                   "(SELECT max(finished_at) FROM trials t WHERE t.stage_id = st.id AND t.state = 'done') "
+                   "FROM stages st WHERE st.campaign_id = ? ORDER BY st.idx");
+  stages.bind(1, campaign_id);
+  add(stages, 4);
+  Statement states(impl_->db,
+                   "SELECT c.stage_id, c.state, c.trials FROM stages st JOIN stage_state_counts c ON c.stage_id = st.id "
+                   "WHERE st.campaign_id = ? ORDER BY c.stage_id, c.state");
+  states.bind(1, campaign_id);
+  add(states, 3);
+  Statement strategies(
+      impl_->db,
+      "SELECT c.stage_id, c.strategy, c.trials FROM stages st JOIN stage_strategy_counts c ON c.stage_id = st.id "
+      "WHERE st.campaign_id = ? ORDER BY c.stage_id, c.strategy");
+  strategies.bind(1, campaign_id);
+  add(strategies, 3);
+  return token;
 }
 
 // From the counts the triggers keep (schema v3): a few rows, not a scan of the trials.

@@ -38,7 +38,7 @@ def main(db_path, campaign):
         print("|---|---|---|---|---|---|---|---|---|---|---|")
         clears, strategies, clearing_strategies = 0, set(), set()
         for row in trials:
-            info, state, error, strategy = row["result"] or {}, row["state"], row["error"], row["strategy"]
+            info, state, error, strategy = row["result"] or {}, row["state"], row["error"], row["strategy_label"]
             start = info.get("start_bar", {}).get("success_rate", float("nan"))
             final = info.get("final_bar", {}).get("success_rate", float("nan"))
             technique = info.get("nearest_technique", {}).get("name", "–")

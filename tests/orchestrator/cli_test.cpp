@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <set>
 #include <thread>
 
@@ -65,6 +66,17 @@ TEST(Cli, Runs200TrialCampaignEndToEnd) {
     const std::int64_t cell1 = std::min<std::int64_t>(49, static_cast<std::int64_t>(std::floor(f["f1"].get<double>() / 0.02)));
     EXPECT_EQ(row["strategy"], cell0 * 50 + cell1) << row;
   }
+  // What users read: 1..n per stage, numbered in the order the strategies were first found (done
+  // trials by finishing time, the lower index first on a tie), one label per cell.
+  std::vector<Json> by_finish(rows.begin(), rows.end());
+  std::stable_sort(by_finish.begin(), by_finish.end(), [](const Json& a, const Json& b) {
+    return a["finished_at"] != b["finished_at"] ? a["finished_at"].get<double>() < b["finished_at"].get<double>()
+                                                : a["trial"].get<std::int64_t>() < b["trial"].get<std::int64_t>();
+  });
+  std::map<std::int64_t, std::int64_t> expected;
+  for (const auto& row : by_finish)
+    expected.emplace(row["strategy"].get<std::int64_t>(), static_cast<std::int64_t>(expected.size()) + 1);
+  for (const auto& row : rows) EXPECT_EQ(row["strategy_label"], expected.at(row["strategy"].get<std::int64_t>())) << row;
 
   auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
   const auto trials = store->campaign_trials(std::stoll(id));

@@ -93,7 +93,7 @@ TEST(CliUser, TrialsTableNamesTrialsByStageAndIndexWithReadableNumbers) {
     EXPECT_EQ(cells[5], std::to_string(row["id"].get<std::int64_t>()));  // the dashboard's trial.html?id=
     if (row["state"] == "done") {
       EXPECT_EQ(cells[3], significant(row["objectives"]["objective"].get<double>(), 4));
-      EXPECT_EQ(cells[4], std::to_string(row["strategy"].get<int>()));
+      EXPECT_EQ(cells[4], std::to_string(row["strategy_label"].get<int>()));  // what users read, not the grid cell
       EXPECT_EQ(cells[6], significant(row["features"]["f0"].get<double>(), 3));
       EXPECT_EQ(cells[7], significant(row["features"]["f1"].get<double>(), 3));
     } else {

@@ -3,7 +3,7 @@
 // task's result tables) and of several (their discovery curves), numbers that round-trip.
 // Stores built through the store's API where the test needs exact contents, real campaigns of the
 // landscape plugin where it needs a search's strategies; real `podium` processes.
-#include "podium/orchestrator/summary.h"
+#include "podium/store/summary.h"
 
 #include <gtest/gtest.h>
 
@@ -24,6 +24,9 @@ namespace {
 using base::Json;
 using podium::testing::run_podium;
 using podium::testing::TempDir;
+using store::feature_entries;
+using store::format_number;
+using store::objective_entries;
 
 // A stage whose task names its objectives and features in an order that is not alphabetical.
 store::NewStage named_stage(const std::string& name) {
@@ -83,10 +86,10 @@ TEST(Summary, NamesTheBestTrialStrategiesAndTheTasksTable) {
   {
     auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_write);
     id = add_campaign(*store, "named",
-                      {{{0.5, 0.9}, {0.1, 0.2}, 0, {{"table", speed_table(0.25, 3)}}},
-                       {{0.75, 0.8}, {0.9, 0.1}, 1, {{"table", speed_table(0.5, 4)}}},
+                      {{{0.5, 0.9}, {0.1, 0.2}, 7, {{"table", speed_table(0.25, 3)}}},
+                       {{0.75, 0.8}, {0.9, 0.1}, 3, {{"table", speed_table(0.5, 4)}}},
                        {},
-                       {{0.6, 0.7}, {0.15, 0.25}, 0, {{"table", speed_table(0.75, 5)}}}});
+                       {{0.6, 0.7}, {0.15, 0.25}, 7, {{"table", speed_table(0.75, 5)}}}});
   }
   const auto r = run_podium({"summary", "named", "--json", "--db", db_arg(dir)}, dir.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -109,9 +112,15 @@ TEST(Summary, NamesTheBestTrialStrategiesAndTheTasksTable) {
   EXPECT_EQ(st["best"]["objectives"][1]["value"], 0.8);
   EXPECT_EQ(st["best"]["features"][0]["name"], "zeta");
   EXPECT_EQ(st["best"]["features"][0]["value"], 0.9);
-  // Strategies as the store has them, each with its best trial and what it looks like.
+  // Strategies as the store keys them (grid cells 7 and 3), labelled 1..n in the order found, each
+  // with its best trial and what it looks like.
+  EXPECT_EQ(st["best"]["strategy"], 3);
+  EXPECT_EQ(st["best"]["strategy_label"], 2);
   ASSERT_EQ(st["strategies"].size(), 2u);
-  EXPECT_EQ(st["strategies"][0]["id"], 0);
+  EXPECT_EQ(st["strategies"][0]["id"], 7);
+  EXPECT_EQ(st["strategies"][0]["label"], 1);
+  EXPECT_EQ(st["strategies"][1]["id"], 3);
+  EXPECT_EQ(st["strategies"][1]["label"], 2);
   EXPECT_EQ(st["strategies"][0]["trials"], 2);
   EXPECT_EQ(st["strategies"][0]["representative"]["trial"], "evaluate/3");
   EXPECT_EQ(st["strategies"][0]["features"][1]["name"], "alpha");
@@ -132,8 +141,9 @@ TEST(Summary, NamesTheBestTrialStrategiesAndTheTasksTable) {
   // The text names the same things.
   const auto text = run_podium({"summary", std::to_string(id), "--db", db_arg(dir)}, dir.path());
   ASSERT_EQ(text.exit_code, 0) << text.err;
-  for (const char* part : {"best: evaluate/1: slow_success_rate 0.75, fast_success_rate 0.8; zeta (rad) 0.9, alpha 0.1",
-                           "strategies: 2", "rise time (s)", "evaluate/3  fast"})
+  for (const char* part :
+       {"best: evaluate/1: slow_success_rate 0.75, fast_success_rate 0.8; zeta (rad) 0.9, alpha 0.1; strategy 2", "strategies: 2",
+        "rise time (s)", "evaluate/3  fast"})
     EXPECT_NE(text.out.find(part), std::string::npos) << part << " in\n" << text.out;
 }
 
@@ -153,8 +163,8 @@ TEST(Summary, ExportNamesColumnsInTheTasksOrderAtRoundTripPrecision) {
   std::getline(lines, row);
   EXPECT_EQ(header,
             "campaign,stage,trial,state,attempts,seed,param.width,param.angle,objective.slow_success_rate,"
-            "objective.fast_success_rate,feature.zeta,feature.alpha,strategy,error");
-  EXPECT_EQ(row, "1,evaluate,0,done,0,0,0.5,0.25,0.6,0.30000000000000004,0.3,0.3333333333333333,0,");
+            "objective.fast_success_rate,feature.zeta,feature.alpha,strategy,strategy_label,error");
+  EXPECT_EQ(row, "1,evaluate,0,done,0,0,0.5,0.25,0.6,0.30000000000000004,0.3,0.3333333333333333,0,1,");
 
   const auto json = run_podium({"export", "order", "--format", "json", "--db", db_arg(dir)}, dir.path());
   ASSERT_EQ(json.exit_code, 0) << json.err;

@@ -12,6 +12,7 @@
 
 #include "dashboard_support.h"
 #include "podium/store/store.h"
+#include "podium/store/summary.h"
 #include "podium/store/writer_lock.h"
 
 namespace podium::web_dashboard {
@@ -419,6 +420,56 @@ TEST_F(Api, ATrialsLogIsServedAndAFailedOneSaysWhy) {
 
 // A running campaign with no scheduler alive (killed with -9: nothing was written) is "stopped",
 // as `podium status` shows it; a held writer lock is a live scheduler.
+// A campaign's summary is kept while its own campaign is unchanged (a commit to another campaign
+// leaves it), and is made again as soon as one of its trials finishes or its state changes: each
+// answer equals the summary library's document made afresh.
+TEST(ApiSummaryCache, FollowsItsOwnCampaignOnly) {
+  podium::testing::TempDir dir;
+  const auto db = dir / "podium.db";
+  auto writer = store::Store::open(db, store::Store::Access::read_write);
+  store::NewStage stage{"explore", "landscape", "random"};
+  stage.description = {{"params", Json::array()},
+                       {"features", Json::array({{{"name", "f0"}, {"low", 0}, {"high", 1}}})},
+                       {"objectives", {"objective"}}};
+  stage.budget_trials = 10;
+  const auto watched = writer->add_campaign("watched", Json::object(), 1, "", {stage});
+  const auto other = writer->add_campaign("other", Json::object(), 1, "", {stage});
+  const auto finish = [&](std::int64_t campaign, std::int64_t index, double objective, std::int64_t strategy) {
+    const auto t = writer->add_trial(writer->stages(campaign)[0].id, index, Json::object(), Json::object(), Json::object(), 1);
+    writer->complete_trial(t, {objective}, {"f0"}, {0.5}, Json::object(), {});
+    writer->set_trial_strategy(t, strategy);
+  };
+  finish(watched, 0, 0.5, 4);
+  RunningServer server(db);
+  const std::string url = "/api/campaigns/" + std::to_string(watched) + "/summary";
+  const auto fresh = [&] {
+    const auto reader = store::Store::open(db, store::Store::Access::read_only);
+    return store::campaign_summary(*reader, watched);
+  };
+  const Json first = server.get_json(url);
+  EXPECT_EQ(first, fresh());
+  EXPECT_EQ(first["stages"][0]["trials"]["done"], 1);
+
+  finish(other, 0, 0.9, 2);  // another campaign: the watched one's summary stands
+  writer->add_event(other, "note", Json::object());
+  EXPECT_EQ(server.get_json(url), first);
+  EXPECT_EQ(server.get_json(url), fresh());
+
+  finish(watched, 1, 0.8, 7);  // a trial of its own finishes: a new best and a second strategy
+  const Json second = server.get_json(url);
+  EXPECT_EQ(second, fresh());
+  EXPECT_EQ(second["stages"][0]["trials"]["done"], 2);
+  EXPECT_EQ(second["stages"][0]["best"]["index"], 1);
+  EXPECT_EQ(second["stages"][0]["strategies"].size(), 2u);
+
+  writer->set_campaign_state(watched, "cancelled");  // its state: the stage shows it
+  const Json third = server.get_json(url);
+  EXPECT_EQ(third, fresh());
+  EXPECT_EQ(third["campaign"]["state"], "cancelled");
+  const Json both = server.get_json("/api/compare?campaigns=" + std::to_string(watched) + "," + std::to_string(other));
+  EXPECT_EQ(both["campaigns"][0], third);
+}
+
 TEST(ApiStates, RunningWithoutASchedulerIsStopped) {
   podium::testing::TempDir dir;
   const auto id = testing::run_campaign(dir.path(), testing::landscape_spec("killed", 3));

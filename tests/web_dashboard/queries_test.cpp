@@ -168,13 +168,18 @@ TEST(Queries, StrategiesPickTheBestTrialAsRepresentative) {
   auto q = Queries::open(f.db);
   const auto s = q->strategies(f.campaign);
   ASSERT_EQ(s.size(), 3u);
-  EXPECT_EQ(s[0].strategy, 0);
-  EXPECT_EQ(s[0].trials, 4);
-  EXPECT_EQ(s[0].representative_trial, f.trials[12]);
-  EXPECT_EQ(s[0].representative_index, 12);
-  EXPECT_EQ(s[0].best_objective, 12.0);
-  EXPECT_EQ(s[2].trials, 5);
-  EXPECT_EQ(s[2].representative_features, (std::vector<double>{14.0, -14.0}));
+  // In label order: the order found (trial 1 found strategy 1, trial 2 strategy 2, trial 3 strategy 0).
+  EXPECT_EQ(s[0].strategy, 1);
+  EXPECT_EQ(s[1].strategy, 2);
+  EXPECT_EQ(s[2].strategy, 0);
+  for (std::size_t k = 0; k < s.size(); ++k) EXPECT_EQ(s[k].label, static_cast<std::int64_t>(k) + 1);
+  EXPECT_EQ(s[2].trials, 4);
+  EXPECT_EQ(s[2].representative_trial, f.trials[12]);
+  EXPECT_EQ(s[2].representative_index, 12);
+  EXPECT_EQ(s[2].best_objective, 12.0);
+  EXPECT_EQ(s[1].trials, 5);
+  EXPECT_EQ(s[1].representative_features, (std::vector<double>{14.0, -14.0}));
+  EXPECT_EQ(q->store().strategy_labels(q->store().stages(f.campaign)[0].id), (StrategyLabels{{1, 1}, {2, 2}, {0, 3}}));
   const auto summary = q->summary(f.campaign, now_unix_s());
   EXPECT_EQ(summary.strategy_table.size(), 3u);
   EXPECT_EQ(summary.best_objective, 29.0);

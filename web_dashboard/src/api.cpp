@@ -7,8 +7,8 @@
 #include <string_view>
 #include <type_traits>
 
-#include "podium/orchestrator/summary.h"
 #include "podium/store/run_folders.h"
+#include "podium/store/summary.h"
 #include "podium/store/writer_lock.h"
 
 namespace podium::web_dashboard {
@@ -28,7 +28,13 @@ Json optional_number(const std::optional<double>& v) { return v && std::isfinite
 
 // The one name of a trial on every page and in `podium trials`: "<stage name>/<index in the
 // stage>" (database ids appear in URLs only).
-std::string trial_name(const std::string& stage_name, std::int64_t index) { return stage_name + "/" + std::to_string(index); }
+using store::trial_name;
+
+// A strategy's label (store::StrategyLabels) or null: what pages show for a strategy id.
+Json label_of(const store::StrategyLabels& labels, const std::optional<std::int64_t>& strategy) {
+  const auto it = strategy ? labels.find(*strategy) : labels.end();
+  return it != labels.end() ? Json(it->second) : Json(nullptr);
+}
 
 // States as `podium status` shows them: a stage of a paused or cancelled campaign says so
 // (store::shown_stage_state), and a running campaign or stage with no scheduler alive (none holds
@@ -227,6 +233,7 @@ Json strategy_json(const Queries& q, const std::vector<store::StrategySummary>& 
     out.push_back(
         {{"stage", s.stage_index},
          {"strategy", s.strategy},
+         {"label", s.label},
          {"trials", s.trials},
          {"representative_trial", s.representative_trial},
          {"representative_name", trial_name(stages.at(static_cast<std::size_t>(s.stage_index)).name, s.representative_index)},
@@ -257,12 +264,17 @@ Json trial_inputs(const Queries& q, const store::StageRecord& stage, const store
     const auto stage_index = input->at("stage_index").get<std::size_t>();
     const auto index = input->at("trial_index").get<std::int64_t>();
     const auto id = stage_index < stages.size() ? q.trial_id(stages[stage_index].id, index) : std::nullopt;
+    const Json strategy = input->value("strategy", Json(nullptr));
+    const auto labels = stage_index < stages.size() ? q.store().strategy_labels(stages[stage_index].id) : store::StrategyLabels{};
     out.push_back({{"name", trial_name(input->at("stage").get<std::string>(), index)},
                    {"id", id ? Json(*id) : Json(nullptr)},
                    {"stage", stage_index},
                    {"index", index},
                    {"objectives", input->value("objectives", Json::array())},
-                   {"strategy", input->value("strategy", Json(nullptr))}});
+                   {"strategy", strategy},
+                   {"strategy_label",
+                    label_of(labels, strategy.is_number_integer() ? std::optional<std::int64_t>(strategy.get<std::int64_t>())
+                                                                  : std::nullopt)}});
   }
   return out;
 }
@@ -387,11 +399,24 @@ Json strategy_table(const Queries& q, std::int64_t campaign_id) {
   return strategy_json(q, q.strategies(campaign_id), q.store().stages(campaign_id));
 }
 
-Json summary_document(const Queries& q, std::int64_t campaign_id) {
-  return orchestrator::campaign_summary(q.store(), campaign_id);
+std::shared_ptr<const Json> SummaryCache::get(const Queries& q, std::int64_t campaign_id) {
+  if (!enabled_) return std::make_shared<const Json>(store::campaign_summary(q.store(), campaign_id));
+  std::string token = q.store().summary_token(campaign_id);
+  {
+    std::lock_guard lock(mutex_);
+    const auto it = entries_.find(campaign_id);
+    if (it != entries_.end() && it->second.first == token) return it->second.second;
+  }
+  auto summary = std::make_shared<const Json>(store::campaign_summary(q.store(), campaign_id));
+  std::lock_guard lock(mutex_);
+  if (entries_.size() >= kMaxCampaigns) entries_.clear();
+  entries_[campaign_id] = {std::move(token), summary};
+  return summary;
 }
 
-Json comparison_document(const Queries& q, const std::string& campaigns) {
+Json summary_document(const Queries& q, SummaryCache& cache, std::int64_t campaign_id) { return *cache.get(q, campaign_id); }
+
+Json comparison_document(const Queries& q, SummaryCache& cache, const std::string& campaigns) {
   constexpr std::size_t kMaxCampaigns = 8;  // each summary reads its campaign's done trials
   std::vector<std::int64_t> ids;
   std::size_t start = 0;
@@ -405,7 +430,9 @@ Json comparison_document(const Queries& q, const std::string& campaigns) {
   if (ids.size() > kMaxCampaigns)
     throw HttpError(400, "campaigns: " + std::to_string(ids.size()) + " given, at most " + std::to_string(kMaxCampaigns) +
                              " compare at once");
-  return orchestrator::compare_campaigns(q.store(), ids);
+  std::vector<Json> summaries;
+  for (const auto id : ids) summaries.push_back(*cache.get(q, id));
+  return store::compare_summaries(summaries);
 }
 
 Json campaign_events(const Queries& q, std::int64_t campaign_id, std::size_t last_n) {
@@ -421,6 +448,7 @@ Json trial_detail(const Queries& q, std::int64_t trial_id) {
   const auto stages = q.store().stages(*campaign_id);
   const auto stage = std::find_if(stages.begin(), stages.end(), [&](const auto& s) { return s.id == t->stage_id; });
   Json out = trial_json(*t, *stage);
+  out["strategy_label"] = label_of(q.store().strategy_labels(stage->id), t->strategy);
   out["campaign_id"] = *campaign_id;
   out["inputs"] = trial_inputs(q, *stage, *t, stages);  // the earlier trials it was handed
   out["stage_name"] = stage->name;

@@ -2,6 +2,9 @@
 // The JSON API's documents, built from store queries (no SQL here, no HTTP types either).
 // Endpoints and fields are documented in the top-level README, "The dashboard".
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -28,12 +31,30 @@ std::string trial_page(const store::Queries& q, std::int64_t campaign_id, const 
 /// JSON text (written directly: 5,000 points are 40,000 numbers).
 std::string scatter_points(const store::Queries& q, std::int64_t campaign_id, std::int64_t max_points);
 Json strategy_table(const store::Queries& q, std::int64_t campaign_id);
-/// The campaign's summary: orchestrator::campaign_summary's JSON (orchestrator/summary.h), what
+/// Campaign summaries (store::campaign_summary: a walk of every done trial, ~0.1 s at 100,000),
+/// each kept while its campaign's store::Store::summary_token (a few count rows) is unchanged: a
+/// commit to another campaign, an event or a poll leaves it valid, unlike the response cache's
+/// database-wide data_version. The token is read before the summary is made, so a kept summary is
+/// never older than its token. Thread-safe; summaries of one campaign may be made twice at once.
+class SummaryCache {
+ public:
+  /// `enabled` false: every get() makes the summary (ServeOptions::cache off, for benchmarks).
+  explicit SummaryCache(bool enabled = true) : enabled_(enabled) {}
+  std::shared_ptr<const Json> get(const store::Queries& q, std::int64_t campaign_id);
+
+ private:
+  bool enabled_;
+  static constexpr std::size_t kMaxCampaigns = 64;  // beyond it the cache starts over
+  std::mutex mutex_;
+  std::map<std::int64_t, std::pair<std::string, std::shared_ptr<const Json>>> entries_;
+};
+
+/// The campaign's summary: store::campaign_summary's JSON (store/summary.h), what
 /// `podium summary --json` prints.
-Json summary_document(const store::Queries& q, std::int64_t campaign_id);
-/// Several campaigns side by side: orchestrator::compare_campaigns's JSON. `campaigns`: ids or
+Json summary_document(const store::Queries& q, SummaryCache& cache, std::int64_t campaign_id);
+/// Several campaigns side by side: store::compare_campaigns's JSON. `campaigns`: ids or
 /// names, comma-separated, 1 to 8 of them; 400 otherwise, 404 for one that does not exist.
-Json comparison_document(const store::Queries& q, const std::string& campaigns);
+Json comparison_document(const store::Queries& q, SummaryCache& cache, const std::string& campaigns);
 Json campaign_events(const store::Queries& q, std::int64_t campaign_id, std::size_t last_n);
 Json trial_detail(const store::Queries& q, std::int64_t trial_id);
 Json metric_series(const store::Queries& q, std::int64_t trial_id, std::int64_t max_points,

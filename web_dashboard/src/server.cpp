@@ -137,6 +137,7 @@ struct Server::Impl {
   std::unique_ptr<store::Queries> watch;  // one connection, so its data_version is one sequence
   StaticFiles files;
   ResponseCache cache;
+  SummaryCache summaries;                                    // per campaign, by its own change token (api.h)
   std::vector<std::pair<std::regex, RouteHandler>> routes_;  // GET (and HEAD); the first match answers
   HttpServer http;
   int port = 0;
@@ -146,6 +147,7 @@ struct Server::Impl {
         pool(o.database),
         watch(store::Queries::open(o.database)),
         files(o.static_dir),
+        summaries(o.cache),
         http(http_options(o), [this](Request& req) { return handle(req); }) {}
 
   static HttpServerOptions http_options(const ServeOptions& o) {
@@ -241,13 +243,13 @@ struct Server::Impl {
         }));
     get(R"(/api/campaigns/([^/]+)/strategies)",
         json([](const Request& req, const store::Queries& q) { return strategy_table(q, resolve_campaign(q, req.matches[1])); }));
-    get(R"(/api/campaigns/([^/]+)/summary)", json([](const Request& req, const store::Queries& q) {
-          return summary_document(q, resolve_campaign(q, req.matches[1]));
+    get(R"(/api/campaigns/([^/]+)/summary)", json([this](const Request& req, const store::Queries& q) {
+          return summary_document(q, summaries, resolve_campaign(q, req.matches[1]));
         }));
-    get("/api/compare", json([](const Request& req, const store::Queries& q) {
+    get("/api/compare", json([this](const Request& req, const store::Queries& q) {
           const auto campaigns = param(req, "campaigns");
           if (!campaigns) throw HttpError(400, "campaigns: missing (compare?campaigns=ID,ID,...)");
-          return comparison_document(q, *campaigns);
+          return comparison_document(q, summaries, *campaigns);
         }));
     get(R"(/api/campaigns/([^/]+)/events)", json([](const Request& req, const store::Queries& q) {
           const auto last = int_param(req, "last", 200, 1, 10000);

@@ -93,12 +93,23 @@ function scatterStage() {
   return +select.value;
 }
 
-// The strategies of a stage: every id its points or its strategy table rows carry, in id order.
+// A strategy as users read it: its label (1..n per stage in the order the strategies were found;
+// the strategy table's "label"), the store's id staying the key. A strategy the table does not yet
+// list (points read a moment later) shows its id.
+function strategyLabel(stage, id) {
+  if (id === null || id === undefined) return null;
+  const s = state.detail.strategy_table.find(x => x.stage === stage && x.strategy === id);
+  return s ? s.label : `#${id}`;
+}
+const strategyColour = (stage, id) => { const l = strategyLabel(stage, id); return podium.colour(typeof l === 'number' ? l : null); };
+
+// The strategies of a stage: every id its points or its strategy table rows carry, in label order.
 function stageStrategies(stage) {
   const cols = state.points.columns, trials = new Map();
   for (let i = 0; i < cols.id.length; i++) if (cols.stage[i] === stage && cols.strategy[i] !== null) trials.set(cols.strategy[i], null);
   for (const s of state.detail.strategy_table) if (s.stage === stage) trials.set(s.strategy, s.trials);
-  return [...trials.entries()].sort((a, b) => a[0] - b[0]);
+  const order = id => { const l = strategyLabel(stage, id); return typeof l === 'number' ? l : Infinity; };
+  return [...trials.entries()].sort((a, b) => order(a[0]) - order(b[0]) || a[0] - b[0]);
 }
 
 // Axis choices: every feature of the shown stage, then the objective.
@@ -143,7 +154,7 @@ function renderScatter() {
   shown.forEach((i, k) => {
     if (!Number.isFinite(xs[k]) || !Number.isFinite(ys[k])) return;
     const x = px(xs[k]), y = py(ys[k]);
-    ctx.fillStyle = ctx.strokeStyle = podium.colour(cols.strategy[i]);
+    ctx.fillStyle = ctx.strokeStyle = strategyColour(stage, cols.strategy[i]);
     ctx.beginPath();
     if (cols.step[i] === 'diversity') {  // BDS diversity step: diamond
       ctx.moveTo(x, y - 4.5); ctx.lineTo(x + 4.5, y); ctx.lineTo(x, y + 4.5); ctx.lineTo(x - 4.5, y); ctx.closePath(); ctx.fill();
@@ -152,7 +163,7 @@ function renderScatter() {
     } else {
       ctx.arc(x, y, 3, 0, 2 * Math.PI); ctx.fill();
     }
-    state.screen.push({ x, y, id: cols.id[i], name: podium.trialName(stageName, cols.index[i]), strategy: cols.strategy[i] });
+    state.screen.push({ x, y, id: cols.id[i], name: podium.trialName(stageName, cols.index[i]), strategy: strategyLabel(stage, cols.strategy[i]) });
   });
   canvas.dataset.points = state.screen.length;
   canvas.dataset.stage = stage;
@@ -162,8 +173,11 @@ function renderScatter() {
   const strategies = stageStrategies(stage);
   const legend = document.getElementById('legend');
   legend.dataset.stage = stage;
-  legend.replaceChildren(...strategies.map(([id, trials]) => podium.el('span', { 'data-strategy': id, title: `${stageName} · strategy ${id}` },
-    podium.swatch(id), `strategy ${id}` + (trials === null ? '' : ` (${trials})`))));
+  legend.replaceChildren(...strategies.map(([id, trials]) => {
+    const label = strategyLabel(stage, id);
+    return podium.el('span', { 'data-strategy': id, 'data-label': label, title: `${stageName} · strategy ${label}` },
+      podium.el('i', { class: 'swatch', style: `background:${strategyColour(stage, id)}` }), `strategy ${label}` + (trials === null ? '' : ` (${trials})`));
+  }));
   if (shown.some(i => cols.step[i] === 'explore' || cols.step[i] === 'diversity')) legend.append(podium.el('div', {}, '○ BDS exploration  ◆ BDS diversity'));
   if (!strategies.length) legend.append(podium.el('div', { class: 'muted' }, 'no strategy clusters in this stage yet'));
 }
@@ -230,7 +244,7 @@ function renderDiscovery(summary) {
   }, data) };
 }
 
-// The summary (orchestrator/summary.h, as `podium summary` prints it): per stage the trials done,
+// The summary (store/summary.h, as `podium summary` prints it): per stage the trials done,
 // the best trial by its named objective, the strategies found with their representatives, and the
 // task's result tables of the stage's trials.
 function renderSummaryPanel(summary) {
@@ -268,7 +282,7 @@ function renderStrategies(list) {
     ...(techniques ? ['nearest captured technique'] : []), ''],
     list.map(s => {
       const names = featureNames(s.stage);
-      return [stages[s.stage]?.name ?? s.stage, podium.el('span', {}, podium.swatch(s.strategy), ` ${s.strategy}`),
+      return [stages[s.stage]?.name ?? s.stage, podium.el('span', { 'data-strategy': s.strategy }, podium.swatch(s.label), ` ${s.label}`),
         s.trials, `${podium.objectiveName(stages[s.stage])} ${podium.num(s.best_objective)}`,
         podium.trialLink(s.representative_trial, s.representative_name),
         s.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' '),
@@ -306,7 +320,7 @@ function renderParallel(stage, trials) {
   const yOf = (a, v) => H - bottom - (v - a.lo) / (a.hi - a.lo) * (H - bottom - pad);
   ctx.globalAlpha = 0.35;
   for (const t of trials) {
-    ctx.strokeStyle = podium.colour(t.strategy);
+    ctx.strokeStyle = strategyColour(t.stage, t.strategy);
     ctx.beginPath();
     axes.forEach((a, i) => { const y = yOf(a, a.get(t)); i ? ctx.lineTo(ax(i), y) : ctx.moveTo(ax(i), y); });
     ctx.stroke();
@@ -340,7 +354,7 @@ async function renderTrials() {
   podium.fill(document.getElementById('trials'), ['trial', 'state', 'attempts', 'objective', 'features', 'strategy', 'step', 'error'],
     page.trials.map(t => [podium.trialLink(t.id, t.name), podium.el('span', { class: 'state-' + t.state }, t.state),
       t.attempts, t.objectives ? `${podium.objectiveName(state.detail.stages[t.stage])} ${podium.num(t.objectives[0])}` : '–',
-      t.features.map(f => podium.num(f, 3)).join(', '), t.strategy ?? '–',
+      t.features.map(f => podium.num(f, 3)).join(', '), strategyLabel(t.stage, t.strategy) ?? '–',
       t.info?.step ?? '', t.error.slice(0, 80)]));
   state.total = page.total;
 }

@@ -46,9 +46,9 @@ const podium = {
   },
   time(unix_s) { return unix_s > 0 ? new Date(unix_s * 1000).toLocaleString() : '–'; },
 
-  // Strategy colours (ids restart per stage, so a page colours one stage's ids): Tableau 10 for
-  // ids 0-9, then golden-angle hues (137.5 degrees apart, three lightnesses), so no two ids share a
-  // colour; pages also print the id beside every swatch.
+  // Strategy colours by label (1..n per stage, so a page colours one stage's strategies): Tableau 10
+  // for 0-9, then golden-angle hues (137.5 degrees apart, three lightnesses), so no two labels share
+  // a colour; pages also print the label beside every swatch.
   palette: ['#4e79a7', '#f28e2b', '#e15759', '#76b7b2', '#59a14f', '#edc948', '#b07aa1', '#ff9da7', '#9c755f', '#bab0ac'],
   colour(k) {
     if (k === null || k === undefined) return '#607d8b';

@@ -32,7 +32,7 @@ async function makeCard(s, stageName, featureNames) {
   element.className = 'card';
   element.dataset.trial = s.representative_trial;
   const title = document.createElement('div');
-  const link = text('a', `${stageName} · strategy ${s.strategy}`);
+  const link = text('a', `${stageName} · strategy ${s.label}`);
   link.href = `replay.html?trial=${encodeURIComponent(s.representative_trial)}`;
   title.append(link, text('span', ` · trial ${s.representative_name} · ${s.trials} trial${s.trials === 1 ? '' : 's'}`, 'muted'));
   const facts = document.createElement('div');
@@ -50,7 +50,7 @@ async function makeCard(s, stageName, featureNames) {
     holder.append(text('div', 'no motion recorded', 'muted'));
     return { element, view: null };
   }
-  const view = makeView(traj, { label: '', colour: podium.colour(s.strategy), width: 300, height: 240, parent: holder });
+  const view = makeView(traj, { label: '', colour: podium.colour(s.label), width: 300, height: 240, parent: holder });
   window.podiumGallery.kinds[s.representative_trial] = view.props.children.map(c => c.userData.kind);
   return { element, view };
 }

@@ -58,12 +58,12 @@ async function refreshTrial() {
     ` · task ${t.task} · ${t.attempts} attempt(s) · seed ${t.seed}`,
     ` · ${t.objectives ? t.objectives.map((o, k) => `${t.objective_names[k] || 'objective ' + k} ${podium.num(o)}`).join(', ') : 'objective –'}`,
     ` · features ${t.features.map((f, k) => `${names[k] || 'f' + k}=${podium.num(f, 3)}`).join(' ') || '–'}`,
-    ' · strategy ', t.strategy === null ? '–' : podium.el('span', {}, podium.swatch(t.strategy), t.strategy),
+    ' · strategy ', t.strategy_label === null ? '–' : podium.el('span', { 'data-strategy': t.strategy }, podium.swatch(t.strategy_label), t.strategy_label),
     t.info?.step ? ` · BDS step ${t.info.step}` : '');
   // The earlier trials it was handed (its stage's inputs).
   document.getElementById('inputs-title').hidden = document.getElementById('inputs').hidden = !t.inputs.length;
   podium.fill(document.getElementById('inputs'), ['earlier trial', 'objective', 'strategy'],
-    t.inputs.map(i => [i.id === null ? i.name : podium.trialLink(i.id, i.name), podium.num(i.objectives[0]), i.strategy ?? '–']));
+    t.inputs.map(i => [i.id === null ? i.name : podium.trialLink(i.id, i.name), podium.num(i.objectives[0]), i.strategy_label ?? '–']));
   document.getElementById('error').textContent = t.error;
   document.getElementById('params').textContent = JSON.stringify(t.params, null, 2);
   document.getElementById('context').textContent = JSON.stringify(t.context, null, 2);

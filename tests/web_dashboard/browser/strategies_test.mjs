@@ -50,8 +50,11 @@ run('strategies', async h => {
   await waitFor('stage 0 legend', async () => (await page.locator('#legend').getAttribute('data-stage')) === '0');
   const legend = await page.$$eval('#legend span', spans => spans.map(s => ({
     id: Number(s.dataset.strategy), text: s.textContent, colour: getComputedStyle(s.querySelector('i')).backgroundColor })));
-  assert.deepEqual(legend.map(e => e.id), strategiesOf(0), 'one legend entry per strategy of the stage');
-  for (const e of legend) assert.match(e.text, new RegExp(`strategy ${e.id}\\b`), 'each entry names its id');
+  assert.deepEqual(legend.map(e => e.id), strategiesOf(0), 'one legend entry per strategy of the stage, in label order');
+  // Users read labels 1..n (in the order found), never the grid-cell ids the store keys them by.
+  const labelOf = id => detail.strategy_table.find(s => s.stage === 0 && s.strategy === id).label;
+  assert.deepEqual(legend.map(e => labelOf(e.id)), legend.map((e, k) => k + 1), 'labels 1..n');
+  for (const e of legend) assert.match(e.text, new RegExp(`strategy ${labelOf(e.id)}\\b`), 'each entry names its label');
   assert.equal(new Set(legend.map(e => e.colour)).size, legend.length, `colours repeat: ${legend.map(e => e.colour)}`);
   const axes = await page.$$eval('#sx option', o => o.map(x => x.textContent));
   assert.deepEqual(axes, detail.stages[0].description.features.map(f => f.name).concat(['objective']));
@@ -59,11 +62,13 @@ run('strategies', async h => {
 
   step('strategy table: the legend\'s colours, representatives named stage/index');
   const table = await page.$$eval('#strategies tr', rows => rows.slice(1).map(r => ({
-    stage: r.cells[0].textContent, id: Number(r.cells[1].textContent), colour: getComputedStyle(r.querySelector('i')).backgroundColor,
+    stage: r.cells[0].textContent, id: Number(r.cells[1].querySelector('span').dataset.strategy),
+    label: Number(r.cells[1].textContent), colour: getComputedStyle(r.querySelector('i')).backgroundColor,
     representative: r.cells[4].textContent })));
   for (const e of legend) {
     const t = table.find(r => r.stage === 'discover' && r.id === e.id);
     assert.equal(t.colour, e.colour, `strategy ${e.id}: table and legend colours differ`);
+    assert.equal(t.label, labelOf(e.id), `strategy ${e.id}: the table shows its label`);
     assert.match(t.representative, /^discover\/\d+$/);
   }
 

@@ -23,10 +23,6 @@ namespace podium::orchestrator {
 std::int64_t submit_campaign(const std::filesystem::path& database, const base::Json& spec, const std::string& source,
                              const std::filesystem::path& spec_dir, const std::filesystem::path& worker_binary);
 
-/// The id of the campaign `id_or_name` names (an id, or the newest campaign of that name).
-/// Throws base::UserError naming the database and the nearest campaign names when there is none.
-std::int64_t find_campaign_id(const store::Store& store, const std::string& id_or_name);
-
 /// pause: stop starting trials; resume: queue again; cancel: stop running trials, end the campaign.
 /// Throws base::UserError if the campaign is in a state the action does not apply to.
 void control_campaign(store::Store& store, const std::string& id_or_name, const std::string& action);
@@ -47,18 +43,15 @@ struct Extension {
 /// spent its wall-time budget, or the new budget is outside [1, kMaxTrials].
 Extension extend_campaign(store::Store& store, const std::string& id_or_name, const std::string& stage, std::int64_t add_trials);
 
-/// A trial's one name, in every command and page: `<stage name>/<index>` ("explore/12"; the index
-/// counts from 0 in the order the stage's search proposed). The database id is for URLs only.
-std::string trial_name(const std::string& stage, std::int64_t index);
-
 /// Every trial of a campaign as CSV (a header row, then one row per trial) or a JSON array (each
 /// row also with its `name`, database `id` and result info). Objectives and features are named, in
 /// the task's order: CSV columns `param.<name>`, `objective.<name>`, `feature.<name>` (over the
 /// stages, in stage order), JSON objects {name: value} (an older store's unnamed values: `value<i>`).
 /// Numbers at the shortest precision that round-trips. `metrics` (JSON only): each row also has
-/// "metrics": {name: [[step, value], ...]}.
+/// "metrics": {name: [[step, value], ...]}. "strategy" is the store's id (a cell of the strategy
+/// grid), "strategy_label" what users read (store::StrategyLabels: 1..n per stage in the order found).
 ///   JSON row: {"campaign", "name", "id", "stage", "trial", "state", "attempts", "seed", "params",
-///              "objectives", "features", "strategy", "error", "started_at", "finished_at", "result",
+///              "objectives", "features", "strategy", "strategy_label", "error", "started_at", "finished_at", "result",
 ///              "metrics"?}
 std::string export_campaign(const store::Store& store, std::int64_t campaign_id, const std::string& format, bool metrics = false);
 

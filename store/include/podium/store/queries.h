@@ -61,6 +61,7 @@ struct TrialPoint {
 /// Strategy ids are per stage (each stage groups its own trials), so a strategy is (stage, id).
 struct StrategySummary {
   std::int64_t stage_index = 0, strategy = 0, trials = 0;
+  std::int64_t label = 0;                 ///< what users read (StrategyLabels in store.h); `strategy` stays the key
   std::int64_t representative_trial = 0;  ///< the trial with the best objective (its id)
   std::int64_t representative_index = 0;  ///< and its index in the stage
   double best_objective = 0;
@@ -111,6 +112,7 @@ class Queries {
   /// Done trials as scatter points, in stage and trial index order; at most max_points per stage,
   /// evenly strided within a stage that has more (`total` receives the number of done trials).
   std::vector<TrialPoint> points(std::int64_t campaign_id, std::int64_t max_points, std::int64_t* total) const;
+  /// Per stage in label order (StrategyLabels: 1..n in the order the strategies were found).
   std::vector<StrategySummary> strategies(std::int64_t campaign_id) const;
   /// Every metric (or only `name`) of a trial, each downsampled (see MetricSeries).
   std::vector<MetricSeries> metric_series(std::int64_t trial_id, std::int64_t max_points,

@@ -18,6 +18,7 @@
 ///   is refused without being touched.
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -81,6 +82,11 @@ struct TrialOutcome {
   double finished_at = 0;
   std::string result_info;  ///< its result info's JSON text when it has a "table", else ""
 };
+
+/// A stage's strategies as users read them: the store's id (a cell of the strategy grid, the key in
+/// filters, URLs and the search) -> 1..n in the order the strategies were first found (done trials
+/// in the order they finished, the lower index first on a tie), so "strategy 3" is the third found.
+using StrategyLabels = std::map<std::int64_t, std::int64_t>;
 
 struct AttemptRecord {
   std::int64_t id = 0, trial_id = 0;
@@ -165,7 +171,15 @@ class Store {
   /// A stage's done trials in index order, lean (TrialOutcome): one walk of an index, no JSON
   /// parsed but the result info of trials whose info holds a per-task table.
   std::vector<TrialOutcome> done_trials(std::int64_t stage_id) const;
+  /// The stage's strategy labels (StrategyLabels): a walk of its done trials in finishing order
+  /// that stops once every strategy the stage's counts hold has its label.
+  StrategyLabels strategy_labels(std::int64_t stage_id) const;
   TrialCounts trial_counts(std::int64_t campaign_id) const;
+  /// Text that changes whenever a campaign's summary (store/summary.h) may: the campaign's state,
+  /// its stages' states and budgets, their trial counts per state and per strategy, and each
+  /// stage's latest finishing time (done trials never change, and a trial's strategy is stored
+  /// with its result). A few count rows and one index probe per stage, whatever the trial count.
+  std::string summary_token(std::int64_t campaign_id) const;
   TrialCounts stage_trial_counts(std::int64_t stage_id) const;
   std::int64_t start_attempt(std::int64_t trial_id, int number, const std::string& worker, const std::string& host,
                              const std::string& job_id = "");
@@ -210,5 +224,13 @@ double now_unix_s();
 /// stage of a paused or cancelled campaign shows "paused" or "cancelled", and a waiting stage of
 /// a cancelled campaign "cancelled".
 std::string shown_stage_state(const std::string& campaign_state, const std::string& stage_state);
+
+/// The id of the campaign `id_or_name` names (an id, or the newest campaign of that name).
+/// Throws base::UserError naming the database and the nearest campaign names when there is none.
+std::int64_t find_campaign_id(const Store& store, const std::string& id_or_name);
+
+/// A trial's one name, in every command and page: `<stage name>/<index>` ("explore/12"; the index
+/// counts from 0 in the order the stage's search proposed). The database id is for URLs only.
+std::string trial_name(const std::string& stage, std::int64_t index);
 
 }  // namespace podium::store

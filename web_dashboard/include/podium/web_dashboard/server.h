@@ -6,10 +6,11 @@
 /// connection from a small pool and reads in one short read transaction that ends before the
 /// response is sent, so no read transaction outlives a request and a running scheduler (WAL
 /// mode) is never blocked. Server threads run at a lower CPU priority (nice +10) than the scheduler. API responses are cached by
-/// URL and database version (SQLite's data_version): repeated requests cost nothing until a commit. The transport is asynchronous
-/// (src/http_server.h): a slow client holds a socket, never a thread. A request header must arrive whole within header_timeout_s
-/// of the server waiting for it, a body within as long; a peer address holds at most connections_per_client connections; the Host
-/// header must name the bound address (src/host_rule.h); a taken port is an error.
+/// URL and database version (SQLite's data_version): repeated requests cost nothing until a commit; a campaign's summary is also
+/// kept until its own change token changes (src/api.h SummaryCache), so commits to other campaigns leave it valid. The transport
+/// is asynchronous (src/http_server.h): a slow client holds a socket, never a thread. A request header must arrive whole within
+/// header_timeout_s of the server waiting for it, a body within as long; a peer address holds at most connections_per_client
+/// connections; the Host header must name the bound address (src/host_rule.h); a taken port is an error.
 #include <filesystem>
 #include <memory>
 #include <ostream>
@@ -22,7 +23,7 @@ struct ServeOptions {
   std::string host = "127.0.0.1";    ///< localhost only unless asked otherwise
   int port = 8080;                   ///< 0: any free port (see Server::port())
   std::filesystem::path static_dir;  ///< the built front end (index.html, vendor/...)
-  bool cache = true;                 ///< reuse an API response while the database is unchanged
+  bool cache = true;                 ///< reuse an API response while the database (a summary: its campaign) is unchanged
   double header_timeout_s = 5.0;     ///< a request header (and its body) must arrive whole within this time
   int connections_per_client = 128;  ///< open connections per peer address (the longest-waiting one makes room)
 };

@@ -1,4 +1,4 @@
-#include "podium/orchestrator/summary.h"
+#include "podium/store/summary.h"
 
 #include <algorithm>
 #include <charconv>
@@ -8,10 +8,9 @@
 #include <sstream>
 
 #include "podium/base/error.h"
-#include "podium/orchestrator/campaigns.h"
 #include "podium/store/store.h"
 
-namespace podium::orchestrator {
+namespace podium::store {
 
 using base::Json;
 
@@ -72,19 +71,38 @@ std::vector<double> features_of(const store::Store& store, std::int64_t trial_id
   return t ? t->features : std::vector<double>{};
 }
 
+// The done trials in the order they finished (the index breaks ties).
+std::vector<const store::TrialOutcome*> in_finish_order(const std::vector<store::TrialOutcome>& done_trials) {
+  std::vector<const store::TrialOutcome*> done;
+  for (const auto& t : done_trials) done.push_back(&t);
+  std::stable_sort(done.begin(), done.end(), [](const auto* a, const auto* b) {
+    return a->finished_at != b->finished_at ? a->finished_at < b->finished_at : a->index < b->index;
+  });
+  return done;
+}
+
+// The labels Store::strategy_labels gives, from the same walk.
+StrategyLabels strategy_labels(const std::vector<const store::TrialOutcome*>& done_in_finish_order) {
+  StrategyLabels labels;
+  for (const auto* t : done_in_finish_order)
+    if (t->strategy) labels.emplace(*t->strategy, static_cast<std::int64_t>(labels.size()) + 1);
+  return labels;
+}
+
 Json strategies_of(const store::Store& store, const std::string& stage, const std::vector<store::TrialOutcome>& done,
-                   const Json& features) {
-  std::map<std::int64_t, std::pair<std::int64_t, const store::TrialOutcome*>> by_id;  // id -> (trials, representative)
+                   const StrategyLabels& labels, const Json& features) {
+  std::map<std::int64_t, std::pair<std::int64_t, const store::TrialOutcome*>> by_label;  // label -> (trials, representative)
   for (const auto& t : done) {
     if (!t.strategy) continue;
-    auto& [count, best] = by_id[*t.strategy];
+    auto& [count, best] = by_label[labels.at(*t.strategy)];
     ++count;
     if (!best || ranks_above(t, *best)) best = &t;
   }
   Json out = Json::array();
-  for (const auto& [id, entry] : by_id) {
+  for (const auto& [label, entry] : by_label) {
     const store::TrialOutcome& rep = *entry.second;
-    out.push_back({{"id", id},
+    out.push_back({{"id", *rep.strategy},
+                   {"label", label},
                    {"trials", entry.first},
                    {"best_objective", has_primary(rep) ? Json(*rep.objective) : Json(nullptr)},
                    {"representative", trial_ref(stage, rep)},
@@ -93,12 +111,7 @@ Json strategies_of(const store::Store& store, const std::string& stage, const st
   return out;
 }
 
-Json discovery_curve(const std::vector<store::TrialOutcome>& done_trials) {
-  std::vector<const store::TrialOutcome*> done;
-  for (const auto& t : done_trials) done.push_back(&t);
-  std::stable_sort(done.begin(), done.end(), [](const auto* a, const auto* b) {
-    return a->finished_at != b->finished_at ? a->finished_at < b->finished_at : a->index < b->index;
-  });
+Json discovery_curve(const std::vector<const store::TrialOutcome*>& done) {
   Json curve = Json::array();
   std::set<std::int64_t> seen;
   std::size_t last_count = 0;
@@ -142,7 +155,7 @@ Json stage_tables(const std::string& stage, const std::vector<store::TrialOutcom
 }
 
 Json best_of(const store::Store& store, const std::string& stage, const std::vector<store::TrialOutcome>& done,
-             const Json& objectives, const Json& features) {
+             const StrategyLabels& labels, const Json& objectives, const Json& features) {
   const store::TrialOutcome* best = nullptr;
   for (const auto& t : done)
     if (has_primary(t) && (!best || ranks_above(t, *best))) best = &t;
@@ -151,6 +164,7 @@ Json best_of(const store::Store& store, const std::string& stage, const std::vec
   if (!record) return nullptr;
   Json out = trial_ref(stage, *best);
   out["strategy"] = best->strategy ? Json(*best->strategy) : Json(nullptr);
+  out["strategy_label"] = best->strategy ? Json(labels.at(*best->strategy)) : Json(nullptr);
   out["objectives"] = named_values(objectives, objective_values(*record));
   out["features"] = named_values(features, record->features);
   return out;
@@ -159,6 +173,8 @@ Json best_of(const store::Store& store, const std::string& stage, const std::vec
 Json stage_summary(const store::Store& store, const store::StageRecord& st, const std::string& campaign_state) {
   const auto counts = store.stage_trial_counts(st.id);
   const auto done = store.done_trials(st.id);
+  const auto finished = in_finish_order(done);
+  const StrategyLabels labels = strategy_labels(finished);
   const Json objectives = objective_entries(st.description), features = feature_entries(st.description);
   return {{"index", st.index},
           {"name", st.name},
@@ -175,9 +191,9 @@ Json stage_summary(const store::Store& store, const store::StageRecord& st, cons
             {"cancelled", counts.cancelled}}},
           {"objectives", objectives},
           {"features", features},
-          {"best", best_of(store, st.name, done, objectives, features)},
-          {"strategies", strategies_of(store, st.name, done, features)},
-          {"discovery", discovery_curve(done)},
+          {"best", best_of(store, st.name, done, labels, objectives, features)},
+          {"strategies", strategies_of(store, st.name, done, labels, features)},
+          {"discovery", discovery_curve(finished)},
           {"tables", stage_tables(st.name, done)}};
 }
 
@@ -208,21 +224,27 @@ Json campaign_summary(const store::Store& store, std::int64_t campaign_id) {
   return {{"campaign", {{"id", c->id}, {"name", c->name}, {"state", c->state}}}, {"stages", stages}};
 }
 
-Json compare_campaigns(const store::Store& store, const std::vector<std::int64_t>& campaign_ids) {
+Json compare_summaries(const std::vector<Json>& summaries) {
   Json campaigns = Json::array(), stages = Json::array();
-  for (const auto id : campaign_ids) {
-    Json s = campaign_summary(store, id);
+  for (const Json& s : summaries) {
     for (const auto& st : s["stages"]) {
       auto it = std::find_if(stages.begin(), stages.end(), [&](const Json& x) { return x["name"] == st["name"]; });
       if (it == stages.end()) {
         stages.push_back({{"name", st["name"]}, {"curves", Json::array()}});
         it = stages.end() - 1;
       }
-      (*it)["curves"].push_back({{"campaign", id}, {"campaign_name", s["campaign"]["name"]}, {"discovery", st["discovery"]}});
+      (*it)["curves"].push_back(
+          {{"campaign", s["campaign"]["id"]}, {"campaign_name", s["campaign"]["name"]}, {"discovery", st["discovery"]}});
     }
-    campaigns.push_back(std::move(s));
+    campaigns.push_back(s);
   }
   return {{"campaigns", campaigns}, {"stages", stages}};
 }
 
-}  // namespace podium::orchestrator
+Json compare_campaigns(const store::Store& store, const std::vector<std::int64_t>& campaign_ids) {
+  std::vector<Json> summaries;
+  for (const auto id : campaign_ids) summaries.push_back(campaign_summary(store, id));
+  return compare_summaries(summaries);
+}
+
+}  // namespace podium::store

@@ -1,9 +1,9 @@
-#include "podium/plugins/suggest.h"
+#include "podium/base/suggest.h"
 
 #include <algorithm>
 #include <cctype>
 
-namespace podium::plugins {
+namespace podium::base {
 
 namespace {
 
@@ -60,4 +60,4 @@ std::string name_list(const std::vector<std::string>& names) {
   return out.empty() ? "none" : out;
 }
 
-}  // namespace podium::plugins
+}  // namespace podium::base

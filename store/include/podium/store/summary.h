@@ -9,15 +9,17 @@
 ///      "trials": {"budget", "done", "failed", "running", "pending", "cancelled"},
 ///      "objectives": [{"name", "unit"?, "description"?}],   // objectives[0] ranks trials
 ///      "features":   [{"name", "unit"?, "description"?}],
-///      "best": null | {"trial": "stage/index", "index", "id", "strategy": id|null,
+///      "best": null | {"trial": "stage/index", "index", "id", "strategy": id|null, "strategy_label": label|null,
 ///                      "objectives": [{"name", "unit"?, "value"}], "features": [{"name", "unit"?, "value"}]},
-///      "strategies": [{"id", "trials", "best_objective",
+///      "strategies": [{"id", "label", "trials", "best_objective",
 ///                      "representative": {"trial": "stage/index", "index", "id"},
 ///                      "features": [{"name", "unit"?, "value"}]}],       // the representative's
 ///      "discovery": [[samples, strategies], ...],
 ///      "tables": [{"title", "columns": [{"name", "unit"?}], "rows": [[cell, ...], ...]}]}]}
 /// - "best" and each strategy's representative: the done trial with the highest objectives[0]
-///   (the lower index on a tie). Strategy ids are the store's (the stage's search assigned them).
+///   (the lower index on a tie). A strategy's "id" is the store's (its cell of the strategy grid, the
+///   key in filters and URLs); its "label" (1..n, StrategyLabels in store.h) is what users read.
+///   "strategies" in label order.
 /// - "discovery": done trials in the order they finished; samples = done trials so far,
 ///   strategies = distinct strategy ids among them. One point where the count rises, and the last
 ///   sample (a step curve); empty without done trials.
@@ -32,10 +34,8 @@
 #include "podium/base/json.h"
 
 namespace podium::store {
-class Store;
-}  // namespace podium::store
 
-namespace podium::orchestrator {
+class Store;
 
 /// A number at the shortest precision that reads back to the same double (std::to_chars);
 /// "nan", "inf", "-inf" for those.
@@ -58,10 +58,15 @@ base::Json campaign_summary(const store::Store& store, std::int64_t campaign_id)
 /// has no curve in it.
 base::Json compare_campaigns(const store::Store& store, const std::vector<std::int64_t>& campaign_ids);
 
-/// campaign_summary's JSON as text (what `podium summary CAMPAIGN` prints).
-std::string format_summary(const base::Json& summary);
+/// compare_campaigns of summaries already made (campaign_summary's JSON each, in that order).
+base::Json compare_summaries(const std::vector<base::Json>& summaries);
+
+/// campaign_summary's JSON as text (what `podium summary CAMPAIGN` prints). `brief` (`--short`,
+/// what the demo prints): per stage its trials, best trial, strategy count and the task's tables,
+/// without the objectives' descriptions, the strategy table and the discovery curve.
+std::string format_summary(const base::Json& summary, bool brief = false);
 
 /// compare_campaigns's JSON as text: per stage, each campaign's figures and tables side by side.
 std::string format_comparison(const base::Json& comparison);
 
-}  // namespace podium::orchestrator
+}  // namespace podium::store

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "podium/orchestrator/summary.h"
+#include "podium/store/summary.h"
 
-namespace podium::orchestrator {
+namespace podium::store {
 
 using base::Json;
 
@@ -79,17 +79,17 @@ Lines table_lines(const std::vector<std::string>& header, const std::vector<std:
   return out;
 }
 
-Lines strategy_lines(const Json& stage) {
+Lines strategy_lines(const Json& stage, bool brief) {
   const Json& strategies = stage["strategies"];
   if (stage["features"].empty()) return {};
   Lines out = {"  strategies: " + std::to_string(strategies.size())};
-  if (strategies.empty()) return out;
+  if (strategies.empty() || brief) return out;
   std::vector<std::string> header = {"strategy", "trials", "representative"};
   if (!stage["objectives"].empty()) header.push_back(label(stage["objectives"][0]));
   for (const auto& f : stage["features"]) header.push_back(label(f));
   std::vector<std::vector<Json>> rows;
   for (const auto& s : strategies) {
-    std::vector<Json> row = {s["id"], s["trials"], s["representative"]["trial"]};
+    std::vector<Json> row = {s["label"], s["trials"], s["representative"]["trial"]};
     if (!stage["objectives"].empty()) row.push_back(s["best_objective"]);
     for (const auto& f : s["features"]) row.push_back(f["value"]);
     rows.push_back(row);
@@ -98,25 +98,25 @@ Lines strategy_lines(const Json& stage) {
   return out;
 }
 
-Lines stage_lines(const Json& stage) {
+Lines stage_lines(const Json& stage, bool brief) {
   const Json& n = stage["trials"];
   Lines out = {"stage " + std::to_string(stage["index"].get<int>()) + " " + stage["name"].get<std::string>() + " (task " +
                stage["task"].get<std::string>() + ", search " + stage["algorithm"].get<std::string>() +
                "): " + stage["state"].get<std::string>() + ", " + std::to_string(n["done"].get<long long>()) + " of " +
                std::to_string(n["budget"].get<long long>()) + " trials done, " + std::to_string(n["failed"].get<long long>()) +
                " failed"};
-  if (!stage["objectives"].empty()) out.emplace_back("  objectives (the first ranks trials):");
-  for (const auto& o : stage["objectives"])
+  if (!stage["objectives"].empty() && !brief) out.emplace_back("  objectives (the first ranks trials):");
+  for (const auto& o : brief ? Json::array() : stage["objectives"])
     out.push_back("    " + label(o) + (o.contains("description") ? ": " + o["description"].get<std::string>() : ""));
   if (stage["best"].is_object()) {
     const Json& b = stage["best"];
     std::string line = "  best: " + b["trial"].get<std::string>() + ": " + values_text(b["objectives"]);
     if (!b["features"].empty()) line += "; " + values_text(b["features"]);
-    if (!b["strategy"].is_null() && !stage["features"].empty()) line += "; strategy " + b["strategy"].dump();
+    if (!b["strategy_label"].is_null() && !stage["features"].empty()) line += "; strategy " + b["strategy_label"].dump();
     out.push_back(line);
   }
-  for (auto& l : strategy_lines(stage)) out.push_back(std::move(l));
-  if (!stage["discovery"].empty() && !stage["features"].empty()) {
+  for (auto& l : strategy_lines(stage, brief)) out.push_back(std::move(l));
+  if (!stage["discovery"].empty() && !stage["features"].empty() && !brief) {
     std::string curve;
     for (const auto& p : stage["discovery"]) curve += (curve.empty() ? "" : " ") + p[1].dump() + "@" + p[0].dump();
     out.push_back("  discovery (strategies@samples): " + curve);
@@ -140,12 +140,12 @@ std::string joined(const Lines& lines) {
 
 }  // namespace
 
-std::string format_summary(const Json& summary) {
+std::string format_summary(const Json& summary, bool brief) {
   const Json& c = summary["campaign"];
   Lines out = {"campaign " + c["id"].dump() + " (" + c["name"].get<std::string>() + "): " + c["state"].get<std::string>()};
   for (const auto& stage : summary["stages"]) {
     out.emplace_back();
-    for (auto& l : stage_lines(stage)) out.push_back(std::move(l));
+    for (auto& l : stage_lines(stage, brief)) out.push_back(std::move(l));
   }
   return joined(out);
 }
@@ -164,7 +164,7 @@ std::string format_comparison(const Json& comparison) {
       Lines block = {"[" + s["campaign"]["name"].get<std::string>() + "]"};
       for (const auto& st : s["stages"])
         if (st["name"] == stage["name"])
-          for (auto& l : stage_lines(st)) block.push_back(std::move(l));
+          for (auto& l : stage_lines(st, false)) block.push_back(std::move(l));
       if (block.size() == 1) block.push_back("(no stage " + stage["name"].get<std::string>() + ")");
       blocks.push_back(std::move(block));
     }
@@ -186,4 +186,4 @@ std::string format_comparison(const Json& comparison) {
   return joined(out);
 }
 
-}  // namespace podium::orchestrator
+}  // namespace podium::store

@@ -1,4 +1,4 @@
-// The pool replay (tasks/pool) on a synthetic table: a 1-D take-off x in [0, 1] whose feature is
+// The pool table (tasks/pool) and its replay (bench/search) on a synthetic table: a 1-D take-off x in [0, 1] whose feature is
 // x itself, succeeding below 0.8, recorded on a grid of 101 points.
 #include "pool_replay.h"
 
@@ -8,7 +8,7 @@
 
 #include "podium/base/error.h"
 
-namespace podium::tasks::pool {
+namespace podium::bench::pool {
 namespace {
 
 base::Json synthetic_table() {
@@ -30,9 +30,10 @@ TEST(PoolTable, LooksUpTheNearestRecordedTakeOff) {
   EXPECT_EQ(t.nearest({0.333}), 33u);
   EXPECT_EQ(t.nearest({-5.0}), 0u);
   EXPECT_FALSE(t.rows[50].finished);
-  EXPECT_FALSE(t.outcome()({0.9}).has_value());  // failed to clear
-  EXPECT_FALSE(t.outcome()({0.5}).has_value());  // failed outright
-  EXPECT_DOUBLE_EQ(t.outcome()({0.2})->at(0), 0.2);
+  const auto lookup = outcome(t);
+  EXPECT_FALSE(lookup({0.9}).has_value());  // failed to clear
+  EXPECT_FALSE(lookup({0.5}).has_value());  // failed outright
+  EXPECT_DOUBLE_EQ(lookup({0.2})->at(0), 0.2);
   const PoolTable again = PoolTable::parse(t.to_json(), "round trip");
   EXPECT_EQ(again.rows.size(), t.rows.size());
   EXPECT_EQ(again.rows[50].finished, false);
@@ -84,4 +85,4 @@ TEST(PoolReplay, RandomMatchesItsExpectationAndCountsStayUnderTheCeiling) {
 }
 
 }  // namespace
-}  // namespace podium::tasks::pool
+}  // namespace podium::bench::pool

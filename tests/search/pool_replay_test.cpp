@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "podium/base/error.h"
 
@@ -82,6 +83,29 @@ TEST(PoolReplay, RandomMatchesItsExpectationAndCountsStayUnderTheCeiling) {
   o.arms = {"random"};
   const ReplayResult again = replay(t, o);
   EXPECT_EQ(again.arms.at("random").strategies, r.arms.at("random").strategies);
+}
+
+// BDS's default treatment of failed samples (bds.h "Failed samples") against Algorithm 1 read
+// literally, on the same table and seeds: the literal reading explores into the failing end of
+// the box (x ≥ 0.795) more often than random does; modelling the success probability fails less.
+TEST(PoolReplay, BdsModellingFailuresFailsLessThanTheLiteralReading) {
+  const PoolTable t = PoolTable::parse(synthetic_table(), "table.json");
+  std::map<std::string, MeanSd> failures;
+  for (const std::string mode : {"model", "ignore"}) {
+    ReplayOptions o;
+    o.arms = {"bds"};
+    o.reps = 100;
+    o.budgets = {10};
+    o.expected_draws = 10;
+    o.configs["bds"] = {{"direct_evals", 100}, {"explore_candidates", 64}, {"failures", mode}};
+    const ReplayResult r = replay(t, o);
+    std::vector<double> v;
+    for (const auto& rep : r.arms.at("bds").failures) v.push_back(rep[0]);
+    failures[mode] = mean_sd(v);
+  }
+  const double se = std::hypot(failures["model"].sd, failures["ignore"].sd) / std::sqrt(100.0);
+  EXPECT_LT(failures["model"].mean, failures["ignore"].mean - 4.0 * se)
+      << "model " << failures["model"].mean << ", ignore " << failures["ignore"].mean;
 }
 
 }  // namespace

@@ -42,7 +42,9 @@
 // posterior mean, clipped to [0.01, 1], of a GP fitted to the 0/1 success labels of every told
 // trial (prior mean their success rate): the expected diversity gained, as constrained Bayesian
 // optimisation weighs expected improvement by the probability of feasibility (Gelbart, Snoek &
-// Adams 2014). Until a trial succeeds, proposals stay the initial design. While every told trial
+// Adams 2014); (4) an exploration step likewise maximises p(x)·Σ_j σ_j(x), as a failure observes
+// nothing of g on successes (`explore_success_weight`; measured on landscapes with failure regions,
+// tasks/landscape/RESULTS.md). Until a trial succeeds, proposals stay the initial design. While every told trial
 // succeeded this is exactly the thesis's step (p ≡ 1). "ignore" is Algorithm 1 read literally.
 // Batches (ask(n) with n > 1, or proposals still running): pending points enter the GPs as
 // "believers" with their posterior mean as value (σ collapses there; their predicted feature joins

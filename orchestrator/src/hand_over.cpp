@@ -75,8 +75,9 @@ std::string empty_selection_reason(const store::Store& store, const std::vector<
     std::size_t done = 0;
     for (const auto& t : store.trials(stage.id)) done += t.state == "done" ? 1 : 0;
     const Json rule = stage.description.value("success", Json());
-    why += "; stage \"" + name + "\" found no strategy in " + std::to_string(done) + " done trials" +
-           (rule.is_null() ? "" : " (none succeeded by its task's success rule " + rule.dump() + "; a failed trial is no strategy)");
+    why +=
+        "; stage \"" + name + "\" found no strategy in " + std::to_string(done) + " done trials" +
+        (rule.is_null() ? "" : " (none succeeded by its task's success rule " + rule.dump() + "; a failed trial is no strategy)");
   }
   return why;
 }

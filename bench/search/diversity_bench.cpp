@@ -23,7 +23,10 @@
 //          [--threshold 0.05] [--continuous-threshold 0.2] [--noise 0.02] [--max-frequency 0] [--batch 1] [--threads 1]
 //          [--bds-config '{"stall": 0}'] [--novelty-config '{}']
 //          [--families plateaus,voronoi,plateaus_rough,plateaus_noisy,smooth,smooth_noisy] [--algorithms bds,random,novelty]
-//          [--budgets 10,20,50]
+//          [--budgets 10,20,50] [--fail-fraction 0]
+// --fail-fraction F > 0 makes trials fail (the task's success rule says no) on about F of the box
+// (LandscapeOptions::fail_fraction: a smooth random region, apart from the features); failed
+// trials still report their feature, count no strategy, and each algorithm's failures are printed.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -51,6 +54,7 @@ struct Options {
   double continuous_threshold = 0.2;
   double noise = 0.02;         // sd of the noisy families' measurement noise (the landscape task's threshold)
   double max_frequency = 0.0;  // plateau families' trend frequency bound; 0 = the family's own
+  double fail_fraction = 0.0;  // fraction of the box where trials fail
   Json bds_config = Json::object(), novelty_config = Json::object();
   std::vector<std::string> families = {"plateaus", "voronoi", "plateaus_rough", "plateaus_noisy", "smooth", "smooth_noisy"},
                            algorithms = {"bds", "random", "novelty"};
@@ -69,6 +73,7 @@ podium::tasks::landscape::LandscapeModel landscape_model(const Options& o, const
   const std::string model_family = continuous(family) ? "plateaus" : family;
   podium::tasks::landscape::LandscapeOptions options{model_family, o.dim, static_cast<std::uint64_t>(landscape), o.regions};
   options.max_frequency = o.max_frequency;
+  options.fail_fraction = o.fail_fraction;
   return podium::tasks::landscape::LandscapeModel(options);
 }
 
@@ -88,7 +93,8 @@ podium::search::SearchSetup search_setup(const Options& o, const std::string& fa
   return setup;
 }
 
-// Distinct strategies after each budget for one (algorithm, landscape, seed) run: at τ, then at 2τ.
+// Distinct strategies after each budget for one (algorithm, landscape, seed) run: at τ, then at 2τ;
+// then the failures after each budget.
 std::vector<int> run(const Options& o, const std::string& family, const std::string& algorithm, int landscape_index,
                      int seed_index) {
   const int landscape = o.first_landscape + landscape_index, seed = o.first_seed + seed_index;
@@ -98,6 +104,7 @@ std::vector<int> run(const Options& o, const std::string& family, const std::str
   // Measurement noise of its own stream: the same for every algorithm's k-th evaluation.
   podium::base::Rng noise(podium::base::derive_seed(setup.seed, 0x6e015e));
   std::vector<std::vector<double>> found;
+  std::vector<bool> success;
   while (static_cast<int>(found.size()) < o.budgets.back()) {
     const auto proposals =
         search->ask(static_cast<std::size_t>(std::min<int>(o.batch, o.budgets.back() - static_cast<int>(found.size()))));
@@ -106,16 +113,20 @@ std::vector<int> run(const Options& o, const std::string& family, const std::str
       auto f = family.starts_with("smooth") ? model.trend(p.x) : model.feature(p.x);
       if (noisy(family))
         for (auto& v : f) v += noise.normal(0.0, o.noise);
-      observations.push_back({p.id, true, {model.objective(p.x)}, f});
+      success.push_back(model.succeeds(p.x));
+      observations.push_back({p.id, true, {model.objective(p.x)}, f, success.back()});
       found.push_back(f);
     }
     search->tell(observations);
   }
   std::vector<int> counts;
   for (double scale : {1.0, 2.0})
-    for (int b : o.budgets)
-      counts.push_back(
-          podium::search::count_strategies(setup.features, {found.begin(), found.begin() + b}, scale * threshold_of(o, family)));
+    for (int b : o.budgets) {
+      const std::vector<bool> first(success.begin(), success.begin() + b);
+      counts.push_back(podium::search::count_strategies(setup.features, {found.begin(), found.begin() + b},
+                                                        scale * threshold_of(o, family), &first));
+    }
+  for (int b : o.budgets) counts.push_back(static_cast<int>(std::count(success.begin(), success.begin() + b, false)));
   return counts;
 }
 
@@ -148,6 +159,8 @@ int main(int argc, char** argv) {
       return checked(podium::bench::real_number(value, o.continuous_threshold) && o.continuous_threshold > 0);
     else if (key == "--noise") return checked(podium::bench::real_number(value, o.noise) && o.noise >= 0);
     else if (key == "--max-frequency") return checked(podium::bench::real_number(value, o.max_frequency) && o.max_frequency >= 0);
+    else if (key == "--fail-fraction")
+      return checked(podium::bench::real_number(value, o.fail_fraction) && o.fail_fraction >= 0 && o.fail_fraction <= 0.9);
     else if (key == "--batch") return checked(count(value, 1, 10'000, o.batch));
     else if (key == "--threads") return checked(count(value, 1, 10'000, o.threads));
     else if (key == "--bds-config") return checked(podium::bench::json_value(value, o.bds_config));
@@ -200,9 +213,9 @@ int main(int argc, char** argv) {
   std::printf("split %s (landscape seeds %d.., search seeds %d..): ", o.split.c_str(), o.first_landscape, o.first_seed);
   std::printf(
       "landscapes %d x seeds %d, dim %d, regions %d, max frequency %g, threshold %.3g (continuous families %.3g), "
-      "noise %.3g, batch %d, bds config %s, novelty config %s\n",
-      o.landscapes, o.seeds, o.dim, o.regions, o.max_frequency, o.threshold, o.continuous_threshold, o.noise, o.batch,
-      o.bds_config.dump().c_str(), o.novelty_config.dump().c_str());
+      "noise %.3g, fail fraction %.3g, batch %d, bds config %s, novelty config %s\n",
+      o.landscapes, o.seeds, o.dim, o.regions, o.max_frequency, o.threshold, o.continuous_threshold, o.noise, o.fail_fraction,
+      o.batch, o.bds_config.dump().c_str(), o.novelty_config.dump().c_str());
   // results[family][algorithm][run][budget]
   std::map<std::string, std::map<std::string, std::vector<std::vector<int>>>> results;
   std::vector<std::tuple<std::string, std::string, int, int>> jobs;
@@ -247,6 +260,14 @@ int main(int argc, char** argv) {
           for (const auto& r : results[f][a]) v.push_back(r[k * nb + b]);
           const Stat st = stat(v);
           std::printf("  @%d: %5.2f ± %.2f", o.budgets[b], st.mean, st.se);
+        }
+        if (o.fail_fraction > 0.0) {
+          std::printf("   failures");
+          for (std::size_t b = 0; b < nb; ++b) {
+            std::vector<double> v;
+            for (const auto& r : results[f][a]) v.push_back(r[2 * nb + b]);
+            std::printf(" @%d: %.2f", o.budgets[b], stat(v).mean);
+          }
         }
         std::printf("\n");
       }

@@ -22,11 +22,11 @@
 #include "pool_replay.h"
 
 using podium::base::Json;
-using podium::tasks::pool::mean_sd;
+using podium::bench::pool::mean_sd;
 
 namespace {
-void print_counts(const podium::tasks::pool::ReplayResult& r, const std::vector<std::string>& arms, std::size_t b, bool coarse) {
-  const auto pick = [&](const podium::tasks::pool::ArmRuns& runs) { return coarse ? runs.strategies_coarse : runs.strategies; };
+void print_counts(const podium::bench::pool::ReplayResult& r, const std::vector<std::string>& arms, std::size_t b, bool coarse) {
+  const auto pick = [&](const podium::bench::pool::ArmRuns& runs) { return coarse ? runs.strategies_coarse : runs.strategies; };
   for (const auto& arm : arms) {
     std::vector<double> v, fails, techniques;
     for (const auto& rep : pick(r.arms.at(arm))) v.push_back(rep[b]);
@@ -49,7 +49,7 @@ void print_counts(const podium::tasks::pool::ReplayResult& r, const std::vector<
 
 int main(int argc, char** argv) {
   std::string table_file;
-  podium::tasks::pool::ReplayOptions o;
+  podium::bench::pool::ReplayOptions o;
   using podium::bench::checked, podium::bench::count, podium::bench::Flag;
   long long first_seed = 0;
   const auto read = [&](const std::string& key, const char* value) {
@@ -73,14 +73,14 @@ int main(int argc, char** argv) {
   }
   o.first_seed = static_cast<std::uint64_t>(first_seed);
   try {
-    const auto table = podium::tasks::pool::PoolTable::load(table_file);
+    const auto table = podium::bench::pool::PoolTable::load(table_file);
     int finished = 0, succeeded = 0;
     for (const auto& row : table.rows) {
       finished += row.finished ? 1 : 0;
       succeeded += row.success ? 1 : 0;
     }
     const auto start = std::chrono::steady_clock::now();
-    const auto r = podium::tasks::pool::replay(table, o);
+    const auto r = podium::bench::pool::replay(table, o);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     std::printf("pool %s (%s): %zu recorded trials, %d finished, %d successful; τ = %.3g\n", table_file.c_str(),
                 table.source.dump().c_str(), table.rows.size(), finished, succeeded, table.strategy_threshold);

@@ -64,6 +64,24 @@ Json select_input_trials(const store::Store& store, const std::vector<store::Sta
   return out;
 }
 
+std::string empty_selection_reason(const store::Store& store, const std::vector<store::StageRecord>& stages,
+                                   const InputsSpec& inputs) {
+  std::string names;
+  for (const auto& name : inputs.stages) names += (names.empty() ? "\"" : ", \"") + name + "\"";
+  std::string why = "selecting \"" + inputs.select + "\" from stage " + names + " gave none";
+  if (inputs.select != "best_per_strategy") return why;
+  for (const auto& name : inputs.stages) {
+    const auto& stage = *std::find_if(stages.begin(), stages.end(), [&](const auto& s) { return s.name == name; });
+    std::size_t done = 0;
+    for (const auto& t : store.trials(stage.id)) done += t.state == "done" ? 1 : 0;
+    const Json rule = stage.description.value("success", Json());
+    why +=
+        "; stage \"" + name + "\" found no strategy in " + std::to_string(done) + " done trials" +
+        (rule.is_null() ? "" : " (none succeeded by its task's success rule " + rule.dump() + "; a failed trial is no strategy)");
+  }
+  return why;
+}
+
 std::size_t input_for_trial(std::int64_t trial_index, std::optional<std::size_t> proposed, std::size_t n) {
   return proposed ? *proposed : static_cast<std::size_t>(trial_index) % n;
 }

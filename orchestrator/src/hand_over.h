@@ -3,6 +3,7 @@
 // of them each trial receives. The selection is made once, when the stage starts, and stored with
 // the stage (store: start_stage), so a resumed stage hands over exactly what it did before.
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "podium/base/json.h"
@@ -21,6 +22,12 @@ namespace podium::orchestrator {
 /// best of each strategy, by strategy id; `top` the k best, best first.
 base::Json select_input_trials(const store::Store& store, const std::vector<store::StageRecord>& stages,
                                const InputsSpec& inputs);
+
+/// Why `inputs` selected nothing, for the stage's error: "selecting ... from stage ... gave none",
+/// and for best_per_strategy, per named stage, how many done trials it has and that none is a
+/// strategy (none succeeded by its task's success rule: a failed trial has no strategy).
+std::string empty_selection_reason(const store::Store& store, const std::vector<store::StageRecord>& stages,
+                                   const InputsSpec& inputs);
 
 /// Which input a new trial of a per_trial "each" stage receives: the one its proposal is for, else
 /// trial_index mod n (n > 0).

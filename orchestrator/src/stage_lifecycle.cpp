@@ -12,12 +12,6 @@ namespace podium::orchestrator {
 
 namespace {
 constexpr std::uint64_t kSearchSeedSalt = 0x5ea4c4;
-
-std::string stage_names(const InputsSpec& inputs) {
-  std::string out;
-  for (const auto& name : inputs.stages) out += (out.empty() ? "\"" : ", \"") + name + "\"";
-  return out;
-}
 }  // namespace
 
 std::optional<std::int64_t> StrategyTracker::assign(const std::vector<double>& f, const Json& info) const {
@@ -35,7 +29,7 @@ void Scheduler::load_stage(CampaignRun& c, std::size_t index) {
   if (s.rec.state == "waiting" || (s.spec->inputs && !s.rec.input_trials)) start_stage(c, s);
   else if (s.rec.input_trials) s.input_trials = *s.rec.input_trials;  // resumed: the stored hand-over
   if (const auto& inputs = s.spec->inputs; inputs && s.input_trials.empty()) {
-    const std::string why = "selecting \"" + inputs->select + "\" from stage " + stage_names(*inputs) + " gave none";
+    const std::string why = empty_selection_reason(store_, c.stages, *inputs);
     if (inputs->per_trial == "each") return fail_stage(c, s, path + ".inputs: per_trial \"each\" got 0 inputs (" + why + ")");
     if (s.spec->budget_per_input > 0)
       return fail_stage(c, s,

@@ -41,6 +41,8 @@ BdsParams BdsParams::from_json(const Json& config, const std::string& path) {
   p.length_scale_min = r.number("length_scale_min", p.length_scale_min, {1e-6, 1e6});
   p.length_scale_max = r.number("length_scale_max", p.length_scale_max, {p.length_scale_min, 1e6});
   p.noise_min = r.number("noise_min", p.noise_min, {1e-9, 0.5});
+  p.failures = r.choice("failures", p.failures, {"model", "ignore"});
+  p.explore_success_weight = r.boolean("explore_success_weight", p.explore_success_weight);
   r.finish();
   return p;
 }
@@ -72,6 +74,7 @@ BayesianDiversitySearch::BayesianDiversitySearch(const SearchSetup& setup, const
   bounds_.log_noise_low = std::log(params_.noise_min);
   const GaussianProcess prototype(static_cast<int>(space_.dim()), 0.5);
   theta_.assign(features_.size(), prototype.default_theta());
+  theta_success_ = prototype.default_theta();
 }
 
 std::vector<double> BayesianDiversitySearch::to_params(const VectorXd& u) const { return unit_to_params(space_, u); }
@@ -99,8 +102,9 @@ std::vector<Proposal> BayesianDiversitySearch::ask(std::size_t n) {
 }
 
 VectorXd BayesianDiversitySearch::propose(std::string& step) {
-  const bool any_ok = std::any_of(told_.begin(), told_.end(), [](const Told& t) { return t.ok; });
-  if (next_id_ < static_cast<std::uint64_t>(params_.initial_samples) || !any_ok) {
+  // The GPs need a modelled trial (with failures "model": a success); until then, the initial design.
+  const bool any_data = std::any_of(told_.begin(), told_.end(), [&](const Told& t) { return modelled(t); });
+  if (next_id_ < static_cast<std::uint64_t>(params_.initial_samples) || !any_data) {
     step = "initial";
     return initial_point();
   }
@@ -123,14 +127,35 @@ VectorXd BayesianDiversitySearch::propose(std::string& step) {
   return diversify(gps, diversity_targets(believer_features));
 }
 
-// The features a diversity step must keep away from: every finished trial's (a failed jump's
-// feature is where that take-off leads, not somewhere new) and the pending believers' predictions.
+// The features a diversity step must keep away from (eq. 3.7's f_i): the modelled trials' (with
+// failures "model" the strategies found; with "ignore" every finished trial's) and the pending
+// believers' predictions.
 std::vector<std::vector<double>> BayesianDiversitySearch::diversity_targets(
     const std::vector<std::vector<double>>& believer_features) const {
   std::vector<std::vector<double>> targets = believer_features;
   for (const auto& t : told_)
-    if (t.ok) targets.push_back(t.features);
+    if (modelled(t)) targets.push_back(t.features);
   return targets;
+}
+
+// The success model is used once a told trial has failed (failures "model"); before, p ≡ 1.
+bool BayesianDiversitySearch::success_modelled() const {
+  return params_.failures == "model" && std::any_of(told_.begin(), told_.end(), [](const Told& t) { return !t.success; });
+}
+
+// "Failed samples" in bds.h: a GP on every told trial's 0/1 success label, prior mean their rate.
+std::optional<GaussianProcess> BayesianDiversitySearch::success_model() const {
+  if (!success_modelled()) return std::nullopt;
+  const int d = static_cast<int>(space_.dim());
+  MatrixXd x(static_cast<Eigen::Index>(told_.size()), d);
+  VectorXd y(x.rows());
+  for (std::size_t i = 0; i < told_.size(); ++i) {
+    x.row(static_cast<Eigen::Index>(i)) = told_[i].u.transpose();
+    y[static_cast<Eigen::Index>(i)] = told_[i].success ? 1.0 : 0.0;
+  }
+  GaussianProcess gp(d, y.mean());
+  gp.set(x, y, theta_success_);
+  return gp;
 }
 
 VectorXd BayesianDiversitySearch::initial_point() {
@@ -153,9 +178,15 @@ VectorXd BayesianDiversitySearch::initial_point() {
 }
 
 void BayesianDiversitySearch::fit_if_needed() {
+  if (success_modelled() && told_.size() != success_fitted_on_) {
+    auto gp = *success_model();
+    gp.fit(rng_, params_.fit_starts, bounds_);
+    theta_success_ = gp.theta();
+    success_fitted_on_ = told_.size();
+  }
   std::vector<const Told*> ok;
   for (const auto& t : told_)
-    if (t.ok) ok.push_back(&t);
+    if (modelled(t)) ok.push_back(&t);
   if (ok.size() == fitted_on_) return;
   const int d = static_cast<int>(space_.dim());
   MatrixXd x(static_cast<Eigen::Index>(ok.size()), d);
@@ -175,7 +206,7 @@ void BayesianDiversitySearch::fit_if_needed() {
 std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(std::vector<std::vector<double>>& believer_features) const {
   const int d = static_cast<int>(space_.dim());
   std::vector<VectorXd> xs, believers;
-  for (const auto& t : told_) (t.ok ? xs : believers).push_back(t.u);
+  for (const auto& t : told_) (modelled(t) ? xs : believers).push_back(t.u);
   const std::size_t failed = believers.size();
   for (const auto& [id, p] : pending_) believers.push_back(p.u);
   believer_features.assign(believers.size() - failed, std::vector<double>(features_.size()));
@@ -189,7 +220,7 @@ std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(std::vecto
     VectorXd y(n_all);
     Eigen::Index i = 0;
     for (const auto& t : told_)
-      if (t.ok) {
+      if (modelled(t)) {
         x.row(i) = t.u.transpose();
         y[i++] = (t.features[j] - features_[j].low) / range;
       }
@@ -210,15 +241,31 @@ std::vector<GaussianProcess> BayesianDiversitySearch::conditioned_gps(std::vecto
 }
 
 namespace {
+constexpr double kMinSuccessProbability = 0.01;  // keeps the acquisition informative where p is ~0 everywhere
+
+// p(u) of "Failed samples" (bds.h): the success model's posterior mean clipped to [0.01, 1] (1
+// without a model), with its gradient (0 where clipped).
+double success_probability(const GaussianProcess* success, const VectorXd& u, VectorXd* grad) {
+  if (grad) grad->setZero(u.size());
+  if (!success) return 1.0;
+  double mean = 0.0, var = 0.0;
+  VectorXd dmean;
+  success->predict(u, mean, var, grad ? &dmean : nullptr);
+  if (grad && mean > kMinSuccessProbability && mean < 1.0) *grad = dmean;
+  return std::clamp(mean, kMinSuccessProbability, 1.0);
+}
+
 struct ExploreContext {
   const std::vector<GaussianProcess>* gps;
+  const GaussianProcess* success;  // weighs the step (explore_success_weight), or null
 };
 
-// Eq. 3.9 summed over feature dimensions: Σ_j σ_j(u), with its gradient for L-BFGS.
-double total_sigma(const std::vector<GaussianProcess>& gps, const VectorXd& u, VectorXd* grad) {
+// Eq. 3.9 summed over feature dimensions: Σ_j σ_j(u), times p(u) when weighted, with its gradient
+// for L-BFGS.
+double total_sigma(const ExploreContext& c, const VectorXd& u, VectorXd* grad) {
   double total = 0.0;
   if (grad) grad->setZero(u.size());
-  for (const auto& gp : gps) {
+  for (const auto& gp : *c.gps) {
     double mean = 0.0, var = 0.0;
     VectorXd dvar;
     gp.predict(u, mean, var, nullptr, grad ? &dvar : nullptr);
@@ -226,29 +273,34 @@ double total_sigma(const std::vector<GaussianProcess>& gps, const VectorXd& u, V
     total += sigma;
     if (grad) *grad += dvar / (2.0 * sigma);
   }
-  return total;
+  if (!c.success) return total;
+  VectorXd dp;
+  const double p = success_probability(c.success, u, grad ? &dp : nullptr);
+  if (grad) *grad = p * *grad + total * dp;
+  return p * total;
 }
 }  // namespace
 
 VectorXd BayesianDiversitySearch::explore(const std::vector<GaussianProcess>& gps) {
   const int d = static_cast<int>(space_.dim());
+  const auto success = params_.explore_success_weight ? success_model() : std::nullopt;
+  ExploreContext ctx{&gps, success ? &*success : nullptr};
   std::vector<std::pair<double, VectorXd>> candidates;
   for (int c = 0; c < params_.explore_candidates; ++c) {
     VectorXd u(d);
     for (int i = 0; i < d; ++i) u[i] = rng_.uniform();
-    candidates.emplace_back(total_sigma(gps, u, nullptr), u);
+    candidates.emplace_back(total_sigma(ctx, u, nullptr), u);
   }
   std::stable_sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   candidates.resize(std::min<std::size_t>(candidates.size(), static_cast<std::size_t>(params_.explore_starts)));
 
   VectorXd best = candidates.front().second;
   double best_value = candidates.front().first;
-  ExploreContext ctx{&gps};
   auto objective = [](const std::vector<double>& x, std::vector<double>& g, void* data) {
-    const auto* c = static_cast<ExploreContext*>(data);
+    const auto* c = static_cast<const ExploreContext*>(data);
     const VectorXd u = Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size()));
     VectorXd grad;
-    const double v = total_sigma(*c->gps, u, g.empty() ? nullptr : &grad);
+    const double v = total_sigma(*c, u, g.empty() ? nullptr : &grad);
     for (std::size_t i = 0; i < g.size(); ++i) g[i] = grad[static_cast<Eigen::Index>(i)];
     return v;
   };
@@ -267,7 +319,7 @@ VectorXd BayesianDiversitySearch::explore(const std::vector<GaussianProcess>& gp
       // Round-off stops keep the last iterate; it is re-scored below.
     }
     const VectorXd u = Eigen::Map<const VectorXd>(x.data(), d).cwiseMax(0.0).cwiseMin(1.0);
-    const double score = total_sigma(gps, u, nullptr);
+    const double score = total_sigma(ctx, u, nullptr);
     if (score > best_value) {
       best_value = score;
       best = u;
@@ -289,8 +341,9 @@ struct DiversityContext {
   double ucb_beta;
   // eq. 3.7 (both acquisitions: "new_combination" breaks its ties with it):
   const std::vector<std::vector<double>>* targets;
-  const MatrixXd* eps;     // mc_samples × features: common random numbers for every x
-  double tie_scale = 0.0;  // "new_combination": eq. 3.7's weight (10⁻³ / the feature box's diagonal)
+  const MatrixXd* eps;                       // mc_samples × features: common random numbers for every x
+  double tie_scale = 0.0;                    // "new_combination": eq. 3.7's weight (10⁻³ / the feature box's diagonal)
+  const GaussianProcess* success = nullptr;  // failures "model" after a failure: weighs by p(u)
   // "new_combination":
   std::vector<Levels> levels = {};                    // per feature
   std::vector<std::vector<std::size_t>> tuples = {};  // distinct observed strategies as level indices
@@ -373,10 +426,13 @@ double diversity_acquisition(const DiversityContext& c, const VectorXd& u) {
       for (std::size_t j = 0; j < nf; ++j) p *= mass[j][t[j]];
       repeat += p;
     }
-    return 1.0 - repeat + c.tie_scale * expected_nearest_distance(*c.features, mean, sigma, *c.targets, *c.eps) +
-           c.ucb_beta * spread;
+    return success_probability(c.success, u, nullptr) *
+           (1.0 - repeat + c.tie_scale * expected_nearest_distance(*c.features, mean, sigma, *c.targets, *c.eps) +
+            c.ucb_beta * spread);
   }
-  return expected_nearest_distance(*c.features, mean, sigma, *c.targets, *c.eps) + c.ucb_beta * spread;
+  // "Failed samples" (bds.h): the expected gain p(u)·a(u); p ≡ 1 without a failure.
+  return success_probability(c.success, u, nullptr) *
+         (expected_nearest_distance(*c.features, mean, sigma, *c.targets, *c.eps) + c.ucb_beta * spread);
 }
 }  // namespace
 
@@ -442,8 +498,10 @@ VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& 
   DiversityInputs in{{&gps, &features_, params_.ucb_beta, &targets, nullptr}, {}};
   std::vector<std::vector<double>> observed;
   for (const auto& t : told_)
-    if (t.ok) observed.push_back(t.features);
+    if (modelled(t)) observed.push_back(t.features);
   fill_context(in, acquisition_, features_, observed, rng_, params_.mc_samples);
+  const auto success = success_model();
+  in.ctx.success = success ? &*success : nullptr;
   auto objective = [](const std::vector<double>& x, std::vector<double>&, void* data) {
     return diversity_acquisition(*static_cast<DiversityContext*>(data),
                                  Eigen::Map<const VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())));
@@ -466,8 +524,8 @@ VectorXd BayesianDiversitySearch::diversify(const std::vector<GaussianProcess>& 
 }
 
 std::vector<double> BayesianDiversitySearch::diversity_values(const std::vector<VectorXd>& us) {
-  PODIUM_CHECK(std::any_of(told_.begin(), told_.end(), [](const Told& t) { return t.ok; }),
-               "bds: diversity_values needs a finished trial");
+  PODIUM_CHECK(std::any_of(told_.begin(), told_.end(), [&](const Told& t) { return modelled(t); }),
+               "bds: diversity_values needs a modelled (successful, or with failures \"ignore\" finished) trial");
   fit_if_needed();
   std::vector<std::vector<double>> believer_features;
   const auto gps = conditioned_gps(believer_features);
@@ -475,8 +533,10 @@ std::vector<double> BayesianDiversitySearch::diversity_values(const std::vector<
   DiversityInputs in{{&gps, &features_, params_.ucb_beta, &targets, nullptr}, {}};
   std::vector<std::vector<double>> observed;
   for (const auto& t : told_)
-    if (t.ok) observed.push_back(t.features);
+    if (modelled(t)) observed.push_back(t.features);
   fill_context(in, acquisition_, features_, observed, rng_, params_.mc_samples);
+  const auto success = success_model();
+  in.ctx.success = success ? &*success : nullptr;
   std::vector<double> out;
   for (const auto& u : us) out.push_back(diversity_acquisition(in.ctx, u));
   return out;
@@ -525,9 +585,17 @@ Json BayesianDiversitySearch::save() const {
   for (const auto& t : told_)
     told.push_back({{"id", t.id}, {"u", vector_json(t.u)}, {"ok", t.ok}, {"features", t.features}, {"success", t.success}});
   for (const auto& t : theta_) theta.push_back(vector_json(t));
-  return {{"rng", rng_.save()},      {"next_id", next_id_}, {"stalled", stalled_}, {"fallback_left", fallback_left_},
-          {"fitted_on", fitted_on_}, {"theta", theta},      {"pending", pending},  {"told", told},
-          {"gp_steps", gp_steps_}};
+  return {{"rng", rng_.save()},
+          {"next_id", next_id_},
+          {"stalled", stalled_},
+          {"fallback_left", fallback_left_},
+          {"fitted_on", fitted_on_},
+          {"theta", theta},
+          {"pending", pending},
+          {"told", told},
+          {"gp_steps", gp_steps_},
+          {"theta_success", vector_json(theta_success_)},
+          {"success_fitted_on", success_fitted_on_}};
 }
 
 void BayesianDiversitySearch::load(const Json& state) {
@@ -537,6 +605,8 @@ void BayesianDiversitySearch::load(const Json& state) {
   fallback_left_ = state.at("fallback_left").get<int>();
   fitted_on_ = state.at("fitted_on").get<std::size_t>();
   gp_steps_ = state.value("gp_steps", std::uint64_t{0});
+  if (state.contains("theta_success")) theta_success_ = vector_from(state["theta_success"]);
+  success_fitted_on_ = state.value("success_fitted_on", std::size_t{0});
   theta_.clear();
   for (const auto& t : state.at("theta")) theta_.push_back(vector_from(t));
   PODIUM_CHECK(theta_.size() == features_.size(), "bds: saved state has a different number of features");

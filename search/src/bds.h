@@ -2,11 +2,10 @@
 // Bayesian Diversity Search (thesis §3.5.1, Algorithm 1), batched.
 //
 // One GP per feature dimension (gaussian_process.h) over the parameter box scaled to [0,1]^d,
-// fitted on the trials that finished (a jump that did not clear still has a feature: g(x) of
-// §3.5.1); features scaled to [0,1] by their declared range, prior mean 0.5 (the middle of the
-// range, "GP Priors and Kernels" of §3.6.1). Exploration steps take x = argmax Σ_j σ_j(x) (eqs.
-// 3.9–3.10, NLopt L-BFGS from the best of random candidates); diversity steps maximise the
-// diversity acquisition by NLopt DIRECT-L (Algorithm 1 line 7).
+// fitted on the successful trials (see "Failed samples" below); features scaled to [0,1] by their declared range, prior mean 0.5
+// (the middle of the range, "GP Priors and Kernels" of §3.6.1). Exploration steps take x = argmax Σ_j σ_j(x) (eqs. 3.9–3.10,
+// NLopt L-BFGS from the best of random candidates); diversity steps maximise the diversity acquisition by NLopt DIRECT-L
+// (Algorithm 1 line 7).
 //
 // Diversity acquisition (`acquisition`, default "auto"): the thesis's eq. 3.7,
 // E_{f ~ N(μ(x), σ²(x))}[min_i ‖f − f_i‖] by Monte Carlo with common random numbers over the
@@ -29,13 +28,32 @@
 // the task counts it a success and its feature lies farther than the stage's strategy threshold
 // from every earlier success (the threshold the store's strategies use, strategies.h), so a
 // noisy repeat of a known strategy is a repeat.
+// Failed samples (`failures`, default "model"). Algorithm 1 has no notion of failure: every
+// sample's f_{t+1} = g(x_{t+1}) joins F_t and the GP (lines 9–11), and §3.7.1 only reports that
+// of 10 samples "the other four generated either repetitions or failures". Its aim is "a set of
+// representatives ... such that the corresponding feature set F_n has a large diversity" of
+// strategies that "complete the task" (§3.5), and a failure completes nothing. So where a task
+// declares a success rule and a trial fails it, BDS reads the thesis's objective as the diversity
+// of successful features: (1) the feature GPs model g on successful trials only (a jump that did
+// not clear has an up-angle, but not one of a strategy), and failed points enter them as
+// believers, so no step proposes them again; (2) eq. 3.7's targets f_i are the successful
+// features (a failure claims no strategy); (3) eq. 3.7 is the expected distance *if* x yields a
+// strategy, and a failure adds nothing to F, so a diversity step maximises p(x)·a(x), with p the
+// posterior mean, clipped to [0.01, 1], of a GP fitted to the 0/1 success labels of every told
+// trial (prior mean their success rate): the expected diversity gained, as constrained Bayesian
+// optimisation weighs expected improvement by the probability of feasibility (Gelbart, Snoek &
+// Adams 2014); (4) an exploration step likewise maximises p(x)·Σ_j σ_j(x), as a failure observes
+// nothing of g on successes (`explore_success_weight`; measured on landscapes with failure regions,
+// tasks/landscape/RESULTS.md). Until a trial succeeds, proposals stay the initial design. While every told trial
+// succeeded this is exactly the thesis's step (p ≡ 1). "ignore" is Algorithm 1 read literally.
 // Batches (ask(n) with n > 1, or proposals still running): pending points enter the GPs as
 // "believers" with their posterior mean as value (σ collapses there; their predicted feature joins
 // the observed ones as a strategy already claimed), so a batch spreads out instead of repeating one
 // point. The thesis is sequential (one trial at a time, Algorithm 1 line 9): with one worker and
-// ask(1) there are no believers. Failed trials (no result) stay out of the fitted model but are
-// believers too, so the search does not propose them again.
+// ask(1) there are no believers. Failed trials stay out of the fitted model but are believers too
+// (with "ignore", only trials that failed outright), so the search does not propose them again.
 #include <map>
+#include <optional>
 
 #include "gaussian_process.h"
 #include "podium/base/rng.h"
@@ -97,6 +115,15 @@ struct BdsParams {
   double length_scale_min = 0.1;
   double length_scale_max = 0.5;
   double noise_min = 1e-3;  ///< lower bound of the GP noise variance η² (features scaled to [0,1])
+  /// Trials that do not succeed (the task's success rule said no, or the trial failed outright;
+  /// see the header comment "Failed samples"): "model" (default) keeps them out of the feature GPs
+  /// and the diversity targets (a failure is no strategy) and weighs the diversity acquisition by
+  /// a GP model of the probability of success; "ignore" treats a finished failure as any sample
+  /// (Algorithm 1 read literally: its feature joins the GPs and the targets).
+  std::string failures = "model";
+  /// With failures "model": weigh exploration steps (eq. 3.9's Σ_j σ_j) by the success
+  /// probability too, so exploration stops spending samples where trials fail.
+  bool explore_success_weight = true;
   static BdsParams from_json(const Json& config, const std::string& path);
 };
 
@@ -141,6 +168,9 @@ class BayesianDiversitySearch final : public Search {
   Eigen::VectorXd diversify(const std::vector<GaussianProcess>& gps, const std::vector<std::vector<double>>& targets);
   bool is_new_strategy(const Observation& o) const;
   std::vector<std::vector<double>> diversity_targets(const std::vector<std::vector<double>>& believer_features) const;
+  bool modelled(const Told& t) const { return params_.failures == "model" ? t.success : t.ok; }
+  bool success_modelled() const;
+  std::optional<GaussianProcess> success_model() const;
   std::vector<double> to_params(const Eigen::VectorXd& u) const;
   Eigen::VectorXd to_unit(const std::vector<double>& x) const;
 
@@ -154,6 +184,8 @@ class BayesianDiversitySearch final : public Search {
   std::uint64_t next_id_ = 0;
   std::size_t fitted_on_ = 0;           // successful observations the hyperparameters were fitted on
   std::vector<Eigen::VectorXd> theta_;  // per feature GP hyperparameters
+  Eigen::VectorXd theta_success_;       // the success model's hyperparameters
+  std::size_t success_fitted_on_ = 0;   // told trials the success model was fitted on
   int stalled_ = 0;                     // consecutive told diversity steps without a new strategy
   int fallback_left_ = 0;               // exploration steps left since the diversity steps stalled
   std::uint64_t gp_steps_ = 0;          // proposals after the initial ones (the thesis schedule's t)

@@ -245,6 +245,9 @@ Json describe_stage(const TaskConfig& c) {
         feature("rotation_z", -pi, pi, "the root orientation at the bar in the bar frame as a rotation vector: its z component")};
   }
   d["strategy_threshold"] = kUpAngleStrategyThresholdRad;  // strategy_feature.h says why (Stage 2: the same radians)
+  // A trained jump is a strategy only if its deterministic test jump clears the starting bar
+  // (§3.6.1's success); one that does not has a feature but no strategy, and hands nothing over.
+  if (c.stage == "explore" || c.stage == "novel") d["success"] = {{"info", "/start_bar/deterministic_success"}};
   return d;
 }
 

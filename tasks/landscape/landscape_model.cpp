@@ -60,6 +60,42 @@ LandscapeModel::LandscapeModel(const LandscapeOptions& options) : options_(optio
   } else {
     throw base::UserError("landscape: family \"" + options.family + "\" is not one of basins, plateaus, plateaus_rough, voronoi");
   }
+  if (!(options.fail_fraction >= 0.0 && options.fail_fraction < 1.0))
+    throw base::UserError("landscape: fail_fraction " + std::to_string(options.fail_fraction) + " is not in [0, 1)");
+  if (options.fail_fraction > 0.0) {
+    base::Rng fail_rng(base::derive_seed(options.landscape_seed, 0xfa11ed));
+    for (int c = 0; c < 3; ++c) {
+      Cosine term;
+      for (int i = 0; i < d; ++i) term.frequency.push_back(fail_rng.uniform(-1.0, 1.0));
+      term.phase = fail_rng.uniform(0.0, 2.0 * std::numbers::pi);
+      term.amplitude = fail_rng.uniform(0.5, 1.0);
+      failure_field_.push_back(term);
+    }
+    // The quantile over uniform points of the box: about fail_fraction of it fails.
+    std::vector<double> values;
+    for (int k = 0; k < 4096; ++k) {
+      std::vector<double> p(d);
+      for (auto& v : p) v = fail_rng.uniform();
+      values.push_back(cosine_sum(failure_field_, p));
+    }
+    std::sort(values.begin(), values.end());
+    failure_cut_ = values[static_cast<std::size_t>(options.fail_fraction * static_cast<double>(values.size()))];
+  }
+}
+
+double LandscapeModel::cosine_sum(const std::vector<Cosine>& terms, const std::vector<double>& x) {
+  double t = 0.0;
+  for (const auto& c : terms) {
+    double phase = c.phase;
+    for (std::size_t i = 0; i < x.size(); ++i) phase += 2.0 * std::numbers::pi * c.frequency[i] * x[i];
+    t += c.amplitude * std::cos(phase);
+  }
+  return t;
+}
+
+bool LandscapeModel::succeeds(const std::vector<double>& x) const {
+  PODIUM_CHECK(static_cast<int>(x.size()) == options_.dim, "landscape: x has the wrong dimension");
+  return failure_field_.empty() || cosine_sum(failure_field_, x) >= failure_cut_;
 }
 
 std::vector<double> LandscapeModel::feature(const std::vector<double>& x) const {
@@ -103,15 +139,7 @@ std::vector<double> LandscapeModel::trend(const std::vector<double>& x) const {
   PODIUM_CHECK(static_cast<int>(x.size()) == options_.dim, "landscape: x has the wrong dimension");
   if (trends_.empty()) throw base::UserError("landscape: trend() is defined for the plateau families only");
   std::vector<double> out(kFeatureDim);
-  for (int f = 0; f < kFeatureDim; ++f) {
-    double t = 0.0;
-    for (const auto& c : trends_[f]) {
-      double phase = c.phase;
-      for (std::size_t i = 0; i < x.size(); ++i) phase += 2.0 * std::numbers::pi * c.frequency[i] * x[i];
-      t += c.amplitude * std::cos(phase);
-    }
-    out[f] = 0.5 + 0.5 * std::tanh(t);
-  }
+  for (int f = 0; f < kFeatureDim; ++f) out[f] = 0.5 + 0.5 * std::tanh(cosine_sum(trends_[f], x));
   return out;
 }
 

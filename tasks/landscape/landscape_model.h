@@ -31,6 +31,12 @@ struct LandscapeOptions {
   /// Plateau families: bound of the trend's cosine frequencies (cycles per unit per axis); 0 means
   /// the family's own (1.0 for "plateaus", 1.5 for "plateaus_rough"). For smoothness studies.
   double max_frequency = 0.0;
+  /// Fraction of the box where a trial fails (0: none): where a smooth random field (3 cosines,
+  /// frequencies within ±1 per axis, drawn from its own seed stream so the features do not change)
+  /// lies below its `fail_fraction` quantile. A failed trial still has a feature (the landscape's
+  /// there), as a jump that does not clear still has an up-angle: for searches that must learn
+  /// where trials fail.
+  double fail_fraction = 0.0;
 };
 
 class LandscapeModel {
@@ -42,6 +48,8 @@ class LandscapeModel {
   std::vector<double> trend(const std::vector<double>& x) const;
   /// A smooth objective to maximise (peak 0 at a seeded optimum), for optimisers like CMA-ES.
   double objective(const std::vector<double>& x) const;
+  /// Whether a trial at x succeeds (always, when fail_fraction is 0).
+  bool succeeds(const std::vector<double>& x) const;
   int dim() const { return options_.dim; }
   static constexpr int kFeatureDim = 2;
   static std::vector<std::string> families() { return {"basins", "plateaus", "plateaus_rough", "voronoi"}; }
@@ -59,6 +67,9 @@ class LandscapeModel {
   std::vector<std::vector<Cosine>> trends_;      // "plateaus": per feature dimension
   std::vector<std::vector<double>> thresholds_;  // "plateaus": level boundaries per dimension
   std::vector<double> optimum_;
+  std::vector<Cosine> failure_field_;  // fail_fraction > 0: fails where its value < failure_cut_
+  double failure_cut_ = 0.0;
+  static double cosine_sum(const std::vector<Cosine>& terms, const std::vector<double>& x);
 };
 
 }  // namespace podium::tasks::landscape

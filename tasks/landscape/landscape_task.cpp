@@ -47,6 +47,9 @@ TaskConfig read_config(base::ConfigReader& r) {
   c.landscape.dim = r.integer("dim", 3, {1, 1000}, "parameters x0..x{dim-1}, each in [0, 1]");
   c.landscape.landscape_seed = r.integer<std::uint64_t>("landscape_seed", 1, {}, "picks the landscape");
   c.landscape.regions = r.integer("regions", 6, {2, 10000}, "basins, plateau levels per feature, or Voronoi cells");
+  c.landscape.fail_fraction =
+      r.number("fail_fraction", 0.0, {.min = 0.0, .max = 0.9},
+               "fraction of the box where trials fail the task (info.success false; they still have a feature)");
   c.noise = r.number("noise", 0.0, {.min = 0.0}, "standard deviation added to each feature value");
   c.sleep_s = r.number("sleep_s", 0.0, {.min = 0.0, .max = 1e6}, "wall time a trial takes (cancellable)");
   c.metric_points = r.integer("metric_points", 5, {0, 1000000}, "points of the \"trace\" learning curve per trial");
@@ -98,7 +101,7 @@ class LandscapeTask final : public plugins::Task {
     Json features = Json::array();
     for (int f = 0; f < LandscapeModel::kFeatureDim; ++f)
       features.push_back({{"name", "f" + std::to_string(f)}, {"low", 0.0}, {"high", 1.0}, {"metric", "euclidean"}});
-    return {
+    Json d = {
         {"params", params},
         {"features", features},
         {"metrics",
@@ -111,6 +114,8 @@ class LandscapeTask final : public plugins::Task {
           {"paper", {{"dim", 4}, {"metric_points", 200}, {"sleep_s", 1.0}}}}},
         {"config", accepted},
         {"config_defaults", base::ConfigReader::defaults(accepted)}};
+    if (c.landscape.fail_fraction > 0.0) d["success"] = {{"info", "/success"}};  // failed trials have no strategy
+    return d;
   }
 
   RunResult run(const RunRequest& request, Sink& sink) override {
@@ -135,6 +140,7 @@ class LandscapeTask final : public plugins::Task {
     if (c.noise > 0.0)
       for (auto& f : result.features) f += rng.normal(0.0, c.noise);
     if (failure == "nan") result.features[0] = std::nan("");
+    result.info = {{"success", model.succeeds(x)}};
 
     const int points = c.metric_points;
     for (int k = 0; k < points; ++k) {

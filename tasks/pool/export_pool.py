@@ -5,13 +5,13 @@ Reads the stage's trials with `podium export CAMPAIGN --format json` and the tas
 features and strategy threshold with `podium tasks TASK --json` (the task's default config: the
 stage must have searched the task's default box, as the recorded high-jump pool does). Only
 reads the database. Each finished trial becomes a row: its take-off parameters, success by
---success (a JSON pointer into the trial's result info; the jump: its deterministic test jump
-cleared the starting bar), its strategy feature, the bar it reached and its nearest captured
+--success (a JSON pointer into the trial's result info; default: the task's declared success rule,
+for the jump its deterministic test jump cleared the starting bar), its strategy feature, the bar it reached and its nearest captured
 technique; a trial that failed outright is a row with "finished": false; running or pending
 trials are left out (export again as the pool grows).
 
 usage: export_pool.py --podium BIN --db DB --campaign NAME --stage NAME --out TABLE.json
-                      [--task jump] [--success /start_bar/deterministic_success] [--bar /z_reached_m]
+                      [--task jump] [--success POINTER] [--bar /z_reached_m]
 """
 import argparse
 import json
@@ -45,13 +45,18 @@ def main():
     a.add_argument("--stage", required=True)
     a.add_argument("--out", required=True)
     a.add_argument("--task", default="jump")
-    a.add_argument("--success", default="/start_bar/deterministic_success")
+    a.add_argument("--success", default=None, help="default: the task's success rule (its description's success.info)")
     a.add_argument("--bar", default="/z_reached_m")
     args = a.parse_args()
+    task = run_json([args.podium, "tasks", args.task, "--json", "--db", args.db])
+    if args.success is None:
+        rule = task.get("success") or {}
+        if not isinstance(rule.get("info"), str) or "min" in rule:
+            sys.exit(f"export_pool: task {args.task} declares no success rule read as true/false ({rule!r}); pass --success")
+        args.success = rule["info"]
     if not args.success.startswith("/") or not args.bar.startswith("/"):
         sys.exit("export_pool: --success and --bar are JSON pointers (they start with '/')")
 
-    task = run_json([args.podium, "tasks", args.task, "--json", "--db", args.db])
     trials = run_json([args.podium, "export", args.campaign, "--format", "json", "--db", args.db])
     names = [p["name"] for p in task["params"]]
     features = [f["name"] for f in task["features"]]

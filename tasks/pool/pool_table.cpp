@@ -28,6 +28,23 @@ std::vector<double> numbers(const Json& j, std::size_t size, const std::string& 
   return out;
 }
 
+// [{"name", "low", "high", ...}, ...] (other keys pass through in the JSON): names and ranges.
+std::vector<Range> ranges(const Json& j, const std::string& path, bool need_params) {
+  if (!j.is_array() || (need_params && j.empty())) throw UserError(path + ": expected a non-empty array, got " + j.dump());
+  std::vector<Range> out;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string at = base::json_path_index(path, i);
+    const Json& name = field(j[i], "name", at);
+    const Json& low = field(j[i], "low", at);
+    const Json& high = field(j[i], "high", at);
+    if (!name.is_string() || name.get<std::string>().empty()) throw UserError(at + ".name: " + name.dump() + " is not a name");
+    if (!low.is_number() || !high.is_number() || !(low.get<double>() < high.get<double>()))
+      throw UserError(at + ": [low, high] = [" + low.dump() + ", " + high.dump() + "] is not a range of numbers with low < high");
+    out.push_back({name.get<std::string>(), low.get<double>(), high.get<double>()});
+  }
+  return out;
+}
+
 PoolRow parse_row(const Json& r, std::size_t dim, std::size_t nf, const std::string& path) {
   PoolRow row;
   const Json& trial = field(r, "trial", path);
@@ -54,8 +71,10 @@ PoolTable PoolTable::load(const std::filesystem::path& file) { return parse(base
 
 PoolTable PoolTable::parse(const Json& j, const std::string& origin) {
   PoolTable t;
-  t.space = search::Space::from_json(field(j, "params", origin), origin + ": params");
-  t.features = search::Feature::list_from_json(field(j, "features", origin), origin + ": features");
+  t.params_json = field(j, "params", origin);
+  t.features_json = field(j, "features", origin);
+  t.box = ranges(t.params_json, origin + ": params", true);
+  t.features = ranges(t.features_json, origin + ": features", false);
   const Json& threshold = field(j, "strategy_threshold", origin);
   if (!threshold.is_number() || !(threshold.get<double>() > 0))
     throw UserError(origin + ": strategy_threshold: " + threshold.dump() + " is not a number > 0");
@@ -64,7 +83,7 @@ PoolTable PoolTable::parse(const Json& j, const std::string& origin) {
   const Json& rows = field(j, "rows", origin);
   if (!rows.is_array() || rows.empty()) throw UserError(origin + ": rows: expected a non-empty array");
   for (std::size_t i = 0; i < rows.size(); ++i)
-    t.rows.push_back(parse_row(rows[i], t.space.dim(), t.features.size(), origin + ": " + base::json_path_index("rows", i)));
+    t.rows.push_back(parse_row(rows[i], t.box.size(), t.features.size(), origin + ": " + base::json_path_index("rows", i)));
   return t;
 }
 
@@ -76,21 +95,21 @@ Json PoolTable::to_json() const {
     if (!r.technique.empty()) row["technique"] = r.technique;
     out.push_back(row);
   }
-  return {{"params", space.to_json()},
-          {"features", search::Feature::list_to_json(features)},
+  return {{"params", params_json},
+          {"features", features_json},
           {"strategy_threshold", strategy_threshold},
           {"source", source},
           {"rows", out}};
 }
 
 std::size_t PoolTable::nearest(const std::vector<double>& x) const {
-  PODIUM_CHECK(x.size() == space.dim(), "pool: parameters of the wrong dimension");
+  PODIUM_CHECK(x.size() == box.size(), "pool: parameters of the wrong dimension");
   std::size_t best = 0;
   double best_d = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < rows.size(); ++i) {
     double d = 0.0;
     for (std::size_t k = 0; k < x.size(); ++k) {
-      const double range = space.params[k].high - space.params[k].low;
+      const double range = box[k].high - box[k].low;
       const double u = (x[k] - rows[i].params[k]) / range;
       d += u * u;
     }
@@ -100,14 +119,6 @@ std::size_t PoolTable::nearest(const std::vector<double>& x) const {
     }
   }
   return best;
-}
-
-search::Outcome PoolTable::outcome() const {
-  return [this](const std::vector<double>& x) -> std::optional<std::vector<double>> {
-    const PoolRow& r = rows[nearest(x)];
-    if (!r.success) return std::nullopt;
-    return r.features;
-  };
 }
 
 void PoolTable::reachable(std::vector<double>& low, std::vector<double>& high) const {

@@ -4,13 +4,16 @@
 // campaign stage by export_pool.py. Searches replay over it by lookup: parameters x read as the
 // recorded row nearest to x in the box scaled to [0,1]^d, so a search over a pool is restricted
 // to the pool's points. README.md describes the file.
+//
+// Plain data (base only): the box and features stay the JSON a task describes them with, beside
+// the ranges a lookup needs, so the `pool` plugin depends on plugins and base alone. The search
+// side (search::Space, Feature, Outcome) is bench/search/pool_replay.h's adapter.
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
 
 #include "podium/base/json.h"
-#include "podium/search/space.h"
-#include "podium/search/strategies.h"
 
 namespace podium::tasks::pool {
 
@@ -25,9 +28,17 @@ struct PoolRow {
   std::string technique;         ///< nearest captured technique ("" when unknown)
 };
 
+/// A named closed interval: one parameter of the box, or one feature's declared range.
+struct Range {
+  std::string name;
+  double low = 0.0, high = 1.0;
+};
+
 struct PoolTable {
-  search::Space space;
-  std::vector<search::Feature> features;
+  base::Json params_json = base::Json::array();    ///< the box, as a task describes it (`params`)
+  base::Json features_json = base::Json::array();  ///< the features, as a task describes them
+  std::vector<Range> box;                          ///< params_json's names and bounds, in order
+  std::vector<Range> features;                     ///< features_json's names and declared ranges
   double strategy_threshold = 0.0;
   base::Json source = base::Json::object();  ///< where the rows came from (campaign, stage, database)
   std::vector<PoolRow> rows;
@@ -40,8 +51,6 @@ struct PoolTable {
 
   /// Index of the row nearest to x (Euclidean in the box scaled to [0,1]^d; ties: the first).
   std::size_t nearest(const std::vector<double>& x) const;
-  /// The lookup as strategies.h's Outcome: the nearest row's features when it succeeded.
-  search::Outcome outcome() const;
   /// Per feature, the lowest and highest value of the successful rows (the reachable range).
   void reachable(std::vector<double>& low, std::vector<double>& high) const;
 };

@@ -42,8 +42,8 @@ class PoolTask final : public plugins::Task {
               {"config_defaults", base::ConfigReader::defaults(accepted)}};
     if (!c.table.empty()) {
       const PoolTable t = PoolTable::load(c.table);
-      d["params"] = t.space.to_json();
-      d["features"] = search::Feature::list_to_json(t.features);
+      d["params"] = t.params_json;
+      d["features"] = t.features_json;
       d["strategy_threshold"] = t.strategy_threshold;
     }
     return d;
@@ -54,7 +54,7 @@ class PoolTask final : public plugins::Task {
     if (c.table.empty()) throw base::UserError("pool: config.table is required (the pool's table file)");
     const PoolTable t = PoolTable::load(c.table);
     std::vector<double> x;
-    for (const auto& p : t.space.params) {
+    for (const auto& p : t.box) {
       if (!request.params.contains(p.name) || !request.params[p.name].is_number())
         throw base::UserError("pool: params." + p.name + " is missing or not a number (got " + request.params.dump() + ")");
       x.push_back(request.params[p.name].get<double>());
@@ -69,7 +69,7 @@ class PoolTask final : public plugins::Task {
     result.objectives = {row.bar_m};
     result.features = row.features;
     Json recorded = Json::object();
-    for (std::size_t k = 0; k < x.size(); ++k) recorded[t.space.params[k].name] = row.params[k];
+    for (std::size_t k = 0; k < x.size(); ++k) recorded[t.box[k].name] = row.params[k];
     result.info = {
         {"success", row.success}, {"row", i}, {"recorded_trial", row.trial}, {"recorded_params", recorded}, {"bar_m", row.bar_m}};
     Json summary = {{"recorded trial", row.trial}, {"success", row.success}, {"bar m", row.bar_m}};

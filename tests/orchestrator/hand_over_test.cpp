@@ -262,6 +262,39 @@ TEST(HandOver, EachWithZeroInputsFailsTheStageAndTheCampaign) {
   EXPECT_NE(status.out.find("error: stage \"each\" failed: " + reason), std::string::npos) << status.out;
 }
 
+// "Each strategy" from a stage where no trial succeeded (the landscape task failing on 90% of its
+// box, every explore trial inside that part): no strategy, so nothing to hand over; the stage fails
+// and says why, rather than handing on failed trials as if they were strategies.
+TEST(HandOver, BestPerStrategyFromAStageWithoutSuccessFailsAndSaysWhy) {
+  TempDir dir;
+  Json explore = {{"name", "explore"},
+                  {"task", "landscape"},
+                  {"config", {{"fail_fraction", 0.9}}},
+                  {"search", {{"algorithm", "random"}}},
+                  {"budget", {{"trials", 3}}}};
+  Json each = {{"name", "each"},
+               {"task", "landscape"},
+               {"search", {{"algorithm", "random"}}},
+               {"budget", {{"trials", {{"per_input", 1}}}}},
+               {"inputs", {{"stage", "explore"}, {"select", "best_per_strategy"}, {"per_trial", "each"}}}};
+  const auto id = submit(dir, campaign("no-success", {explore, each}));
+  run(dir, 1);
+  auto s = open_store(dir);
+  const auto trials = stage_trials(*s, id, 0);
+  ASSERT_EQ(trials.size(), 3u);
+  for (const auto& t : trials) {  // the fixture's premise: done, with features, and none a success
+    ASSERT_EQ(t.state, "done");
+    ASSERT_FALSE(t.result_info.at("success").get<bool>()) << t.params;
+    EXPECT_FALSE(t.strategy.has_value());
+  }
+  const std::string reason =
+      "stages[1].inputs: per_trial \"each\" got 0 inputs (selecting \"best_per_strategy\" from stage \"explore\" gave none; "
+      "stage \"explore\" found no strategy in 3 done trials (none succeeded by its task's success rule "
+      "{\"info\":\"/success\"}; a failed trial is no strategy))";
+  EXPECT_EQ(s->campaign(id)->state, "failed");
+  EXPECT_EQ(s->stages(id)[1].error, reason);
+}
+
 // The (trial, params, objectives, features, inputs received) of every trial of a campaign; the
 // inputs by stage and trial index (their artifact paths name the campaign's own folder).
 std::set<std::string> outcome(const Store& s, std::int64_t id) {

@@ -233,5 +233,91 @@ TEST(Bds, ThesisScheduleAlternatesThreeExplorationAndThreeDiversitySteps) {
                                              "diversity", "explore", "explore", "explore"}));
 }
 
+// "Failed samples" (bds.h) on a 1-D box whose feature is x itself and whose trials fail for
+// x ≥ 0.6 (a finished failure still reports its feature). Told: successes at 0, 0.1, .., 0.4 and
+// failures at 0.6, 0.7, .., 1.0.
+BayesianDiversitySearch one_sided_failures(const std::string& failures) {
+  SearchSetup setup = unit_box(1, {{"initial_samples", 10}, {"failures", failures}, {"direct_evals", 200}});
+  setup.features = Feature::list_from_json(Json::parse(R"([{"name": "f", "low": 0, "high": 1}])"), "features");
+  BayesianDiversitySearch search(setup, "search");
+  const auto proposals = search.ask(10);
+  const std::vector<double> xs = {0.0, 0.1, 0.2, 0.3, 0.4, 0.6, 0.7, 0.8, 0.9, 1.0};
+  std::vector<Observation> told;
+  for (std::size_t i = 0; i < xs.size(); ++i) told.push_back({proposals[i].id, true, {0.0}, {xs[i]}, xs[i] < 0.6});
+  // The proposals were the initial design; what the search believes comes from the told values.
+  search.load([&] {
+    Json state = search.save();
+    for (std::size_t i = 0; i < xs.size(); ++i) state["pending"][i]["u"] = Json::array({xs[i]});
+    return state;
+  }());
+  search.tell(told);
+  return search;
+}
+
+// With failures modelled, the diversity acquisition is weighed by the success probability: its
+// maximum lies where trials succeed or at the edge of what is known, never inside the region
+// where every told trial failed. Read literally ("ignore"), the failed features are diversity
+// targets like any and the acquisition does not see the failures.
+TEST(Bds, FailedSamplesWeighTheDiversityAcquisitionByTheSuccessProbability) {
+  std::vector<Eigen::VectorXd> grid;
+  for (int k = 0; k <= 20; ++k) grid.push_back(Eigen::VectorXd::Constant(1, k / 20.0));
+  auto modelled = one_sided_failures("model");
+  const auto values = modelled.diversity_values(grid);
+  const double best_inside = *std::max_element(values.begin() + 13, values.end());     // x ≥ 0.65
+  const double best_outside = *std::max_element(values.begin(), values.begin() + 12);  // x ≤ 0.55
+  EXPECT_LT(best_inside, 0.5 * best_outside) << "inside " << best_inside << ", outside " << best_outside;
+  // The next proposal (a diversity step: 10 points told) stays out of the failed region.
+  const auto next = modelled.ask(1).at(0);
+  EXPECT_EQ(next.info.at("step"), "diversity");
+  EXPECT_LT(next.x[0], 0.6);
+  // Fitted on the 5 successes only; the success model on all 10 told trials.
+  const Json state = modelled.save();
+  EXPECT_EQ(state.at("fitted_on"), 5);
+  EXPECT_EQ(state.at("success_fitted_on"), 10);
+  auto literal = one_sided_failures("ignore");
+  EXPECT_EQ(literal.save().at("fitted_on"), 0);  // fitted when it first proposes
+  literal.diversity_values(grid);
+  EXPECT_EQ(literal.save().at("fitted_on"), 10);
+}
+
+// While every told trial succeeded, modelling failures changes nothing: p ≡ 1, the same GPs.
+TEST(Bds, WithoutFailuresTheModelledAndLiteralReadingsAgree) {
+  std::vector<std::vector<double>> proposed[2];
+  for (int k = 0; k < 2; ++k) {
+    auto search = make_search(
+        "bds",
+        unit_box(
+            3, {{"initial_samples", 3}, {"explore_until", 6}, {"direct_evals", 100}, {"failures", k == 0 ? "model" : "ignore"}}));
+    for (int t = 0; t < 9; ++t) {
+      const auto p = search->ask(1).at(0);
+      proposed[k].push_back(p.x);
+      search->tell({run(p)});
+    }
+  }
+  EXPECT_EQ(proposed[0], proposed[1]);
+}
+
+// The success model's state survives save/load: a resumed search proposes what the original would.
+TEST(Bds, ResumedSearchWithFailuresProposesTheSame) {
+  auto search = make_search("bds", unit_box(3, {{"initial_samples", 3}, {"explore_until", 5}, {"direct_evals", 100}}));
+  for (int t = 0; t < 7; ++t) {
+    const auto p = search->ask(1).at(0);
+    Observation o = run(p);
+    o.success = p.x[0] < 0.5;
+    search->tell({o});
+  }
+  auto resumed = make_search("bds", unit_box(3, {{"initial_samples", 3}, {"explore_until", 5}, {"direct_evals", 100}}));
+  resumed->load(search->save());
+  for (int t = 0; t < 2; ++t) {
+    const auto a = search->ask(1).at(0), b = resumed->ask(1).at(0);
+    EXPECT_EQ(a.x, b.x);
+    Observation o = run(a);
+    o.success = a.x[0] < 0.5;
+    search->tell({o});
+    o.id = b.id;
+    resumed->tell({o});
+  }
+}
+
 }  // namespace
 }  // namespace podium::search

@@ -1,14 +1,15 @@
-// The pool replay (tasks/pool) on a synthetic table: a 1-D take-off x in [0, 1] whose feature is
+// The pool table (tasks/pool) and its replay (bench/search) on a synthetic table: a 1-D take-off x in [0, 1] whose feature is
 // x itself, succeeding below 0.8, recorded on a grid of 101 points.
 #include "pool_replay.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "podium/base/error.h"
 
-namespace podium::tasks::pool {
+namespace podium::bench::pool {
 namespace {
 
 base::Json synthetic_table() {
@@ -30,9 +31,10 @@ TEST(PoolTable, LooksUpTheNearestRecordedTakeOff) {
   EXPECT_EQ(t.nearest({0.333}), 33u);
   EXPECT_EQ(t.nearest({-5.0}), 0u);
   EXPECT_FALSE(t.rows[50].finished);
-  EXPECT_FALSE(t.outcome()({0.9}).has_value());  // failed to clear
-  EXPECT_FALSE(t.outcome()({0.5}).has_value());  // failed outright
-  EXPECT_DOUBLE_EQ(t.outcome()({0.2})->at(0), 0.2);
+  const auto lookup = outcome(t);
+  EXPECT_FALSE(lookup({0.9}).has_value());  // failed to clear
+  EXPECT_FALSE(lookup({0.5}).has_value());  // failed outright
+  EXPECT_DOUBLE_EQ(lookup({0.2})->at(0), 0.2);
   const PoolTable again = PoolTable::parse(t.to_json(), "round trip");
   EXPECT_EQ(again.rows.size(), t.rows.size());
   EXPECT_EQ(again.rows[50].finished, false);
@@ -83,5 +85,28 @@ TEST(PoolReplay, RandomMatchesItsExpectationAndCountsStayUnderTheCeiling) {
   EXPECT_EQ(again.arms.at("random").strategies, r.arms.at("random").strategies);
 }
 
+// BDS's default treatment of failed samples (bds.h "Failed samples") against Algorithm 1 read
+// literally, on the same table and seeds: the literal reading explores into the failing end of
+// the box (x ≥ 0.795) more often than random does; modelling the success probability fails less.
+TEST(PoolReplay, BdsModellingFailuresFailsLessThanTheLiteralReading) {
+  const PoolTable t = PoolTable::parse(synthetic_table(), "table.json");
+  std::map<std::string, MeanSd> failures;
+  for (const std::string mode : {"model", "ignore"}) {
+    ReplayOptions o;
+    o.arms = {"bds"};
+    o.reps = 100;
+    o.budgets = {10};
+    o.expected_draws = 10;
+    o.configs["bds"] = {{"direct_evals", 100}, {"explore_candidates", 64}, {"failures", mode}};
+    const ReplayResult r = replay(t, o);
+    std::vector<double> v;
+    for (const auto& rep : r.arms.at("bds").failures) v.push_back(rep[0]);
+    failures[mode] = mean_sd(v);
+  }
+  const double se = std::hypot(failures["model"].sd, failures["ignore"].sd) / std::sqrt(100.0);
+  EXPECT_LT(failures["model"].mean, failures["ignore"].mean - 4.0 * se)
+      << "model " << failures["model"].mean << ", ignore " << failures["ignore"].mean;
+}
+
 }  // namespace
-}  // namespace podium::tasks::pool
+}  // namespace podium::bench::pool

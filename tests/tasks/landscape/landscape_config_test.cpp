@@ -47,10 +47,11 @@ TEST(LandscapeConfigAtSubmit, BadValuesAreOneLineWithTheirPathExit2AndTheDatabas
       {{{"artifact", "yes"}}, "stages[0].config.artifact: \"yes\" is not a boolean (true or false)"},
       {{{"metric_points", 2.5}}, "stages[0].config.metric_points: 2.5 is not an integer"},
       {{{"regions", 1}}, "stages[0].config.regions: 1 is not in [2, 10000]"},
+      {{{"fail_fraction", 0.95}}, "stages[0].config.fail_fraction: 0.95 is not in [0, 0.9]"},
       {{{"sleep_s", -1}}, "stages[0].config.sleep_s: -1 is not in [0, 1000000]"},
       {{{"failures", {{{"mode", "hang"}, {"trials", {0, -2}}}}}}, "stages[0].config.failures[0].trials[1]: -2 is not >= 0"},
       {{{"dimm", 4}},
-       "stages[0].config.dimm: unknown key (known: artifact, dim, failures, family, landscape_seed, "
+       "stages[0].config.dimm: unknown key (known: artifact, dim, fail_fraction, failures, family, landscape_seed, "
        "metric_points, noise, regions, sleep_s)"},
   };
   for (const auto& [config, message] : cases) {

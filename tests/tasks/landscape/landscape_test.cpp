@@ -104,5 +104,46 @@ TEST(LandscapeModel, TrendNeedsAPlateauFamily) {
   EXPECT_THROW(voronoi.trend({0.1, 0.2, 0.3}), base::UserError);
 }
 
+// fail_fraction: about that fraction of the box fails, in a region (not scattered points), and the
+// features are the landscape's whether a trial fails or not.
+TEST(LandscapeModel, FailFractionFailsAboutThatMuchOfTheBoxInARegion) {
+  for (double fraction : {0.0, 0.3, 0.6}) {
+    LandscapeOptions options{"plateaus", 3, 7, 6};
+    const LandscapeModel plain(options);
+    options.fail_fraction = fraction;
+    const LandscapeModel model(options);
+    base::Rng rng(11);
+    int failed = 0, neighbours_agree = 0;
+    for (int i = 0; i < 4000; ++i) {
+      const std::vector<double> x = {rng.uniform(0.0, 0.98), rng.uniform(), rng.uniform()};
+      const bool ok = model.succeeds(x);
+      failed += ok ? 0 : 1;
+      neighbours_agree += ok == model.succeeds({x[0] + 0.02, x[1], x[2]}) ? 1 : 0;
+      EXPECT_EQ(model.feature(x), plain.feature(x));
+    }
+    EXPECT_NEAR(failed / 4000.0, fraction, 0.05) << fraction;
+    EXPECT_GT(neighbours_agree, 3800) << fraction;  // a nearby point mostly shares the outcome
+  }
+  EXPECT_THROW(LandscapeModel({"plateaus", 3, 7, 6, 0.0, 1.0}), base::UserError);
+}
+
+// The task declares its success rule only where trials can fail, and reports each trial's success.
+TEST(LandscapeTask, FailFractionDeclaresTheSuccessRule) {
+  auto task = plugins::load_task("landscape");
+  EXPECT_FALSE(task->describe(Json::object()).contains("success"));
+  const Json described = task->describe({{"fail_fraction", 0.5}});
+  EXPECT_EQ(described.at("success"), Json({{"info", "/success"}}));
+  NullSink sink;
+  int failed = 0;
+  for (double x0 = 0.0; x0 <= 1.0; x0 += 0.1) {
+    auto request = request_for({{"fail_fraction", 0.5}}, 1);
+    request.params["x0"] = x0;
+    const auto result = task->run(request, sink);
+    failed += result.info.at("success").get<bool>() ? 0 : 1;
+    EXPECT_EQ(result.features.size(), 2u);
+  }
+  EXPECT_GT(failed, 0);
+}
+
 }  // namespace
 }  // namespace podium::tasks::landscape

@@ -7,16 +7,29 @@
 #include "podium/base/rng.h"
 #include "podium/search/search.h"
 
-namespace podium::tasks::pool {
+namespace podium::bench::pool {
+
+SearchView::SearchView(const PoolTable& table, const std::string& origin)
+    : space(search::Space::from_json(table.params_json, origin + ": params")),
+      features(search::Feature::list_from_json(table.features_json, origin + ": features")) {}
+
+search::Outcome outcome(const PoolTable& table) {
+  return [&table](const std::vector<double>& x) -> std::optional<std::vector<double>> {
+    const PoolRow& r = table.rows[table.nearest(x)];
+    if (!r.success) return std::nullopt;
+    return r.features;
+  };
+}
 
 namespace {
 constexpr std::uint64_t kRandomExpectedSalt = 0x9001e;
 
 // One arm, one repetition: counts after each budget.
-void run_once(const PoolTable& table, const ReplayOptions& o, const std::string& arm, int rep, ArmRuns& out) {
+void run_once(const PoolTable& table, const SearchView& view, const ReplayOptions& o, const std::string& arm, int rep,
+              ArmRuns& out) {
   search::SearchSetup setup;
-  setup.space = table.space;
-  setup.features = table.features;
+  setup.space = view.space;
+  setup.features = view.features;
   setup.strategy_threshold = table.strategy_threshold;
   setup.seed = o.first_seed + static_cast<std::uint64_t>(rep);
   setup.config = o.configs.count(arm) ? o.configs.at(arm) : base::Json::object();
@@ -40,8 +53,8 @@ void run_once(const PoolTable& table, const ReplayOptions& o, const std::string&
       if (row.success && !row.technique.empty()) techniques.insert(row.technique);
     }
     tq.push_back(static_cast<int>(techniques.size()));
-    s.push_back(search::count_strategies(table.features, found, table.strategy_threshold, &success));
-    sc.push_back(search::count_strategies(table.features, found, 2.0 * table.strategy_threshold, &success));
+    s.push_back(search::count_strategies(view.features, found, table.strategy_threshold, &success));
+    sc.push_back(search::count_strategies(view.features, found, 2.0 * table.strategy_threshold, &success));
     f.push_back(failures);
   }
   out.strategies[static_cast<std::size_t>(rep)] = s;
@@ -54,13 +67,14 @@ void run_once(const PoolTable& table, const ReplayOptions& o, const std::string&
 ReplayResult replay(const PoolTable& table, const ReplayOptions& o) {
   PODIUM_CHECK(o.reps > 0 && !o.budgets.empty(), "pool replay: reps and budgets must be positive");
   ReplayResult r;
+  const SearchView view(table, "pool table");
   for (const auto& arm : o.arms) {
     ArmRuns runs;
     runs.strategies.resize(static_cast<std::size_t>(o.reps));
     runs.strategies_coarse.resize(static_cast<std::size_t>(o.reps));
     runs.failures.resize(static_cast<std::size_t>(o.reps));
     runs.techniques.resize(static_cast<std::size_t>(o.reps));
-    for (int rep = 0; rep < o.reps; ++rep) run_once(table, o, arm, rep, runs);
+    for (int rep = 0; rep < o.reps; ++rep) run_once(table, view, o, arm, rep, runs);
     r.arms[arm] = std::move(runs);
   }
   const double tau = table.strategy_threshold;
@@ -72,19 +86,18 @@ ReplayResult replay(const PoolTable& table, const ReplayOptions& o) {
     all.push_back(row.finished ? row.features : std::vector<double>(table.features.size(), 0.0));
     success.push_back(row.success);
   }
-  r.occupied = search::count_strategies(table.features, all, tau, &success);
-  r.occupied_coarse = search::count_strategies(table.features, all, 2.0 * tau, &success);
+  r.occupied = search::count_strategies(view.features, all, tau, &success);
+  r.occupied_coarse = search::count_strategies(view.features, all, 2.0 * tau, &success);
   if (r.occupied > 0) {
-    r.ceiling = search::strategy_ceiling(table.features, tau, low, high);
-    r.ceiling_coarse = search::strategy_ceiling(table.features, 2.0 * tau, low, high);
+    r.ceiling = search::strategy_ceiling(view.features, tau, low, high);
+    r.ceiling_coarse = search::strategy_ceiling(view.features, 2.0 * tau, low, high);
   }
-  const auto outcome = table.outcome();
+  const auto lookup = outcome(table);
   for (int b : o.budgets) {
     const std::uint64_t seed = base::derive_seed(o.first_seed, kRandomExpectedSalt, static_cast<std::uint64_t>(b));
-    r.random_expected.push_back(
-        search::expected_random_count(table.features, tau, table.space, outcome, b, o.expected_draws, seed));
+    r.random_expected.push_back(search::expected_random_count(view.features, tau, view.space, lookup, b, o.expected_draws, seed));
     r.random_expected_coarse.push_back(
-        search::expected_random_count(table.features, 2.0 * tau, table.space, outcome, b, o.expected_draws, seed));
+        search::expected_random_count(view.features, 2.0 * tau, view.space, lookup, b, o.expected_draws, seed));
   }
   return r;
 }
@@ -101,4 +114,4 @@ MeanSd mean_sd(const std::vector<double>& v) {
   return m;
 }
 
-}  // namespace podium::tasks::pool
+}  // namespace podium::bench::pool

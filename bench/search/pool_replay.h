@@ -1,5 +1,5 @@
 #pragma once
-// Replays searches over a recorded pool (pool_table.h): each arm (a search algorithm) runs
+// Replays searches over a recorded pool (tasks/pool/pool_table.h): each arm (a search algorithm) runs
 // `reps` times, one trial at a time, repetition r with the same search seed in every arm (paired
 // by seed), and after each budget counts the distinct successful strategies it found
 // (search/strategies.h, at the pool's strategy threshold τ and at 2τ) and its failures (trials
@@ -9,9 +9,27 @@
 #include <string>
 #include <vector>
 
+#include "podium/search/space.h"
+#include "podium/search/strategies.h"
 #include "pool_table.h"
 
-namespace podium::tasks::pool {
+namespace podium::bench::pool {
+
+using tasks::pool::PoolRow;
+using tasks::pool::PoolTable;
+
+/// The search side of a table (the adapter that keeps tasks/pool free of search/): its box and
+/// features parsed as a task description's, and its lookup as strategies.h's Outcome.
+struct SearchView {
+  search::Space space;
+  std::vector<search::Feature> features;
+  /// Throws UserError naming `origin` when the table's params or features are not a task's.
+  SearchView(const PoolTable& table, const std::string& origin);
+};
+
+/// The lookup as an Outcome: the nearest row's features when it succeeded, else nothing. The
+/// table must outlive it.
+search::Outcome outcome(const PoolTable& table);
 
 struct ReplayOptions {
   std::vector<std::string> arms = {"bds", "random", "novelty"};
@@ -44,4 +62,4 @@ struct MeanSd {
 };
 MeanSd mean_sd(const std::vector<double>& v);
 
-}  // namespace podium::tasks::pool
+}  // namespace podium::bench::pool

@@ -1,0 +1,76 @@
+// The pool task through the real `podium` CLI: BDS and random search run over a recorded table (a
+// synthetic one: a 2-D take-off whose feature is its first coordinate, succeeding below 0.7), each
+// trial's result the nearest recorded row's, failed rows without a strategy.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "finished_campaign.h"
+#include "process.h"
+
+// Linked for run_campaign_to_end; the pool task does not join the conformance suite (a trial is a
+// lookup: nothing to cancel, interrupt or resume).
+namespace podium::testing {
+GTEST_ALLOW_UNINSTANTIATED_PARAMETERIZED_TEST(TaskConformance);
+}  // namespace podium::testing
+
+namespace podium::tasks::pool {
+namespace {
+
+using nlohmann::json;
+
+json synthetic_table() {
+  json rows = json::array();
+  int trial = 0;
+  for (int i = 0; i <= 10; ++i)
+    for (int k = 0; k <= 10; ++k) {
+      const double a = i / 10.0, b = k / 10.0;
+      rows.push_back({{"trial", trial++}, {"params", {a, b}}, {"success", a < 0.65}, {"features", {a}}, {"bar_m", 1.0 + b}});
+    }
+  return {{"params", {{{"name", "a"}, {"low", 0.0}, {"high", 1.0}}, {{"name", "b"}, {"low", 0.0}, {"high", 1.0}}}},
+          {"features", {{{"name", "f"}, {"low", 0.0}, {"high", 1.0}}}},
+          {"strategy_threshold", 0.25},
+          {"source", {{"synthetic", true}}},
+          {"rows", rows}};
+}
+
+json spec(const std::string& table, const std::string& algorithm) {
+  return {{"name", "pool-" + algorithm},
+          {"seed", 5},
+          {"workers", 1},
+          {"stages",
+           {{{"name", "replay"},
+             {"task", "pool"},
+             {"config", {{"table", table}}},
+             {"search", {{"algorithm", algorithm}}},
+             {"budget", {{"trials", 8}}}}}}};
+}
+
+TEST(PoolTask, PodiumRunsASearchOverARecordedTable) {
+  podium::testing::TempDir dir;
+  const auto table = dir / "table.json";
+  std::ofstream(table) << synthetic_table().dump();
+  for (const std::string algorithm : {"bds", "random"}) {
+    std::filesystem::create_directories(dir / algorithm);
+    const auto campaign = podium::testing::run_campaign_to_end(dir / algorithm, spec(table.string(), algorithm));
+    const auto& trials = campaign.trials.at("replay");
+    ASSERT_EQ(trials.size(), 8u) << algorithm;
+    for (const auto& t : trials) {
+      const json& recorded = t.result_info.at("recorded_params");
+      // The result is the nearest recorded row's: a grid point within half a step of the proposal.
+      EXPECT_LE(std::abs(recorded["a"].get<double>() - t.params["a"].get<double>()), 0.05 + 1e-9) << t.params;
+      ASSERT_EQ(t.features.size(), 1u);
+      EXPECT_DOUBLE_EQ(t.features[0], recorded["a"].get<double>());
+      EXPECT_DOUBLE_EQ(t.objectives[0].get<double>(), 1.0 + recorded["b"].get<double>());
+      const bool success = t.result_info.at("success").get<bool>();
+      EXPECT_EQ(success, t.features[0] < 0.65);
+      EXPECT_EQ(t.strategy.has_value(), success) << "a failed recorded jump has no strategy";
+    }
+  }
+}
+
+}  // namespace
+}  // namespace podium::tasks::pool

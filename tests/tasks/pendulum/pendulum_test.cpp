@@ -27,7 +27,12 @@ podium::testing::WarmStartCase::Order from_policy(const fs::path& source, const 
 PODIUM_TASK_CONFORMANCE(TestPendulum, {.task = "test_pendulum",
                                        .long_config = {{"updates", 100000}},
                                        .resume_config = {{"updates", 60}, {"checkpoint_every", 3}},
-                                       .kill_after_metric_points = 12,
+                                       // Whole updates past the first checkpoint (update 3), so the
+                                       // kill cannot race its write: the test before training sends 5
+                                       // points, each update 5 or 6 (eval_return, four time/, train_return
+                                       // when an episode ended), so point 72 comes after update 9's
+                                       // checkpoint was written, and long before the 60th update.
+                                       .kill_after_metric_points = 72,
                                        .resumes_from_checkpoint = true,
                                        .artifacts = {"policy"},
                                        .warm_start = podium::testing::WarmStartCase{from_policy, 40}});

@@ -143,6 +143,23 @@ Stat stat(const std::vector<double>& v) {  // v has ≥ 2 runs (main checks)
 }
 }  // namespace
 
+// The first landscape and search seeds of o.split; false for an unknown split.
+bool set_split(Options& o) {
+  if (o.split == "dev") {
+    o.first_landscape = 1001;
+    o.first_seed = 100;
+  } else if (o.split == "holdout") {
+    o.first_landscape = 3001;
+    o.first_seed = 300;
+  } else if (o.split == "final") {
+    o.first_landscape = 5001;
+    o.first_seed = 500;
+  } else if (o.split != "test") {
+    return false;
+  }
+  return true;
+}
+
 int main(int argc, char** argv) {
   Options o;
   // Counts within [min, max]: dim and regions as the landscape task allows them, the rest small
@@ -183,16 +200,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "--budgets must be ascending positive evaluation counts\n");
     return 2;
   }
-  if (o.split == "dev") {
-    o.first_landscape = 1001;
-    o.first_seed = 100;
-  } else if (o.split == "holdout") {
-    o.first_landscape = 3001;
-    o.first_seed = 300;
-  } else if (o.split == "final") {
-    o.first_landscape = 5001;
-    o.first_seed = 500;
-  } else if (o.split != "test") {
+  if (!set_split(o)) {
     std::fprintf(stderr, "--split must be test, dev, holdout or final\n");
     return 2;
   }
@@ -250,7 +258,7 @@ int main(int argc, char** argv) {
   const std::size_t nb = o.budgets.size();
   for (const auto& f : o.families)
     for (std::size_t k = 0; k < 2; ++k) {  // counts at τ (the bars), then at 2τ
-      const double tau = (k + 1.0) * threshold_of(o, f);
+      const double tau = (static_cast<double>(k) + 1.0) * threshold_of(o, f);
       std::printf("\nfamily %s, %s τ = %.3g: distinct strategies, mean ± standard error over %d runs\n", f.c_str(),
                   k == 0 ? "grid" : "coarser grid", tau, o.landscapes * o.seeds);
       for (const auto& a : o.algorithms) {

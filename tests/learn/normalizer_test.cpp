@@ -24,8 +24,8 @@ TEST(RunningNormalizer, MatchesWholeSampleStatisticsWhateverTheBatching) {
     r += rows;
   }
   double mean0 = 0, var0 = 0;
-  for (int r = 0; r < 1000; ++r) mean0 += data[std::size_t(2 * r)] / 1000;
-  for (int r = 0; r < 1000; ++r) var0 += std::pow(data[std::size_t(2 * r)] - mean0, 2) / 1000;
+  for (int r = 0; r < 1000; ++r) mean0 += data[2 * std::size_t(r)] / 1000;
+  for (int r = 0; r < 1000; ++r) var0 += std::pow(data[2 * std::size_t(r)] - mean0, 2) / 1000;
   EXPECT_NEAR(whole.mean()[0], mean0, 1e-12);
   EXPECT_NEAR(whole.variance()[0], var0, 1e-10);
   for (int j = 0; j < 2; ++j) {

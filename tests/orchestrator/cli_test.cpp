@@ -61,7 +61,7 @@ TEST(Cli, Runs200TrialCampaignEndToEnd) {
   // 0.02: 50 cells per feature over [0, 1]); the basins landscape has several.
   EXPECT_GE(strategies.size(), 2u);
   for (const auto& row : rows) {
-    const auto f = row["features"];
+    const auto& f = row["features"];
     const std::int64_t cell0 = std::min<std::int64_t>(49, static_cast<std::int64_t>(std::floor(f["f0"].get<double>() / 0.02)));
     const std::int64_t cell1 = std::min<std::int64_t>(49, static_cast<std::int64_t>(std::floor(f["f1"].get<double>() / 0.02)));
     EXPECT_EQ(row["strategy"], cell0 * 50 + cell1) << row;

@@ -204,7 +204,7 @@ TEST(HandOver, SpecErrorsNameTheJsonPathAndLeaveTheDatabaseUnchanged) {
   submit(dir, campaign("ok", Json::array({probe_stage("explore", "random", 2)})));
   run(dir);  // settles the WAL into the main file
   const std::string before = file_bytes(dir / "podium.db");
-  auto expect_error = [&](Json spec, const std::string& message) {
+  auto expect_error = [&](const Json& spec, const std::string& message) {
     podium::testing::write_file(dir / "bad.json", spec.dump());
     const auto r = run_podium({"submit", "bad.json"}, dir.path());
     EXPECT_EQ(r.exit_code, 2) << message;

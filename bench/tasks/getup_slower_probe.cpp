@@ -12,8 +12,9 @@
 //
 // WEAK_POLICY: a Weaker TorchScript export and the strength β it passed at; SLOW_POLICY: a Slower
 // export trained on that π_weak (omitted or -: zero residual). Falls use seeds 1000, 1001, … with
-// the task's default settings (800/40 Hz, τ_fast until the head top passes REFERENCE_END_M, 1.2 m
-// unless given).
+// the task's default settings (the seed repository's body; π_weak at 200 Hz, π_slow at 800 Hz,
+// 40 Hz control; τ_fast until one step after the head origin passes REFERENCE_END_M, 1.4 m unless
+// given).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -99,7 +100,8 @@ int main(int argc, char** argv) {
     int reached = 0, stood = 0;
     std::printf("standing: COM %.2f m from the nearer foot\n", support(still, env.world().model().standing_pose()).second);
     std::printf(
-        "κ %.2f, τ_fast to a head top of %.2f m, %s\nfall  T(steps)  low s  upper climb s  steps  ended            COM/ref at "
+        "κ %.2f, τ_fast to a head origin of %.2f m (and a step), %s\nfall  T(steps)  low s  upper climb s  steps  ended          "
+        "  COM/ref at "
         "T/κ (m)  head top max (m)  climb: peak leg rad/s; at its start: COM–foot (m), on the ground\n",
         kappa, settings.reference_end_m, slow ? "π_slow" : "zero residual (PD on the reference)");
     for (long long k = 0; k < falls; ++k) {

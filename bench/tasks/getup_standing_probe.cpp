@@ -1,23 +1,24 @@
-// Can humanoid21 stand at all under the get-up task's control (torques chosen at 40 Hz and held
-// for the 20 simulation steps at 800 Hz)? The `quick` Weaker policies rise but never stand; this
+// Can the get-up's body stand at all under the task's control (torques chosen at 40 Hz and held
+// for a control step's simulation steps)? The `quick` Weaker policies rise but never stand; this
 // separates "the physics cannot hold a stand at that control rate and strength" from "the policy
 // has not learned to". A joint-space PD towards the standing pose (App. D's kp = torque limit,
 // kd = kp/10, scaled) stands in for the policy: it is computed once per control step and held
 // (as a policy's torque is), and, for comparison, evaluated at every simulation step.
 //
-// The same PD runs, in the same program, on the peer: MuJoCo 2.2.2 with the seed's body
-// (../shared/peers/mujoco/humanoid.xml: motor gear = Table 2's torque limits, armature 0.01,
-// soft contacts, implicit joint damping; or the MuJoCo file given, e.g. the seed repository's
-// data/humanoid_high_freq.xml, set down onto the floor), at the same 800 Hz with its passive
-// joints as the file has them, and once more bare: armature, damping and stiffness 0, as
-// humanoid21 without `passive_joints`.
+// The same PD runs, in the same program, on the peer: MuJoCo 2.2.2 with a MuJoCo body (the peer's
+// ../shared/peers/mujoco/humanoid.xml, or the file given, e.g. the seed repository's
+// data/humanoid_static.xml, set down onto the floor), at the same rate with its passive joints as
+// the file has them, and once more bare (armature, damping and stiffness 0). Podium runs
+// humanoid21_seed (armature, frictionless self-contact) with passive_joints, and humanoid21
+// without them (the body `quick` trained on before the get-up took the seed's).
 //
 // Prints, for each engine, strength β, gain scale and hold, how long the head top stayed above
-// 1.2 m from the standing pose (10 s at most) and the head top's range. No row stands: both bodies
-// need active balance, which a PD to a fixed pose does not give; the rows compare how fast each
-// tips over (measured: with `passive_joints`, humanoid21 tips as fast as the seed repository's
-// own body; without, in 0.72 of its time; experiments/getup/LOG.md has the tables). Run:
-//   build/bin/getup_standing_probe [seconds [mujoco.xml]]
+// 1.2 m from the standing pose (10 s at most) and the head top's range, then per Podium body the
+// median over the rows held a whole control step of its time up over MuJoCo's as the file has it
+// (the tipping-time ratio; 1: tips as fast as the seed's body). No row stands: both bodies need
+// active balance, which a PD to a fixed pose does not give. Run (HZ: the simulation rate, 200 the
+// seed's π_weak, 800 its π_slow; default 200):
+//   build/bin/getup_standing_probe [seconds [mujoco.xml [HZ]]]
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -34,7 +35,8 @@ namespace {
 
 using podium::sim::Control;
 
-constexpr double kControlHz = 40.0, kSimHz = 800.0, kUpM = 1.2;  // the get-up task's rates; §7's height
+constexpr double kControlHz = 40.0, kUpM = 1.2;  // the get-up task's control rate; §7's height
+double sim_hz = 200.0;                           // the simulation rate of both engines (argument)
 
 // How long the head top stayed above kUpM from the start, and its range.
 struct Outcome {
@@ -50,10 +52,11 @@ struct Outcome {
   }
 };
 
-Outcome hold(double strength, double gain_scale, double kd_ratio, int hold_steps, bool passive, double seconds) {
-  const podium::sim::ModelPtr model = podium::sim::load_shipped_model("humanoid21");
+Outcome hold(const char* body, double strength, double gain_scale, double kd_ratio, int hold_steps, bool passive,
+             double seconds) {
+  const podium::sim::ModelPtr model = podium::sim::load_shipped_model(body);
   podium::sim::WorldConfig config;
-  config.sim_hz = kSimHz;
+  config.sim_hz = sim_hz;
   config.control_hz = kControlHz;
   config.strength = strength;
   config.passive_joints = passive;
@@ -90,7 +93,7 @@ Outcome hold(double strength, double gain_scale, double kd_ratio, int hold_steps
 // MuJoCo: the motors' PD toward qpos0 (standing), kp = scale × gear, clamped to β of the motor
 // range; the head top is the head body's z plus its sphere's radius.
 Outcome hold_mujoco(mjModel* m, double strength, double gain_scale, double kd_ratio, int hold_steps, double seconds) {
-  m->opt.timestep = 1.0 / kSimHz;
+  m->opt.timestep = 1.0 / sim_hz;
   mjData* d = mj_makeData(m);
   // Set down onto the floor: the lowest root height without a contact (the seed repository's
   // file puts the torso at 1.5 m, its feet 0.2 m in the air).
@@ -106,7 +109,7 @@ Outcome hold_mujoco(mjModel* m, double strength, double gain_scale, double kd_ra
   const double radius = m->geom_size[3 * mj_name2id(m, mjOBJ_GEOM, "head")];
   Outcome out;
   for (int k = 0; k < static_cast<int>(seconds * kControlHz) && !out.blew_up; ++k) {
-    for (int s = 0; s < static_cast<int>(kSimHz / kControlHz); ++s) {
+    for (int s = 0; s < static_cast<int>(std::lround(sim_hz / kControlHz)); ++s) {
       if (s % hold_steps == 0)
         for (int a = 0; a < m->nu; ++a) {
           const int j = m->actuator_trnid[2 * a];
@@ -148,43 +151,64 @@ struct PassiveTerms {
   }
 };
 
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   double seconds = 10.0;
-  if (argc > 3 || (argc >= 2 && (!podium::bench::real_number(argv[1], seconds) || !(seconds > 0.0)))) {
-    std::fprintf(stderr, "usage: %s [SECONDS>0 [MUJOCO_XML]]\n", argv[0]);
+  if (argc > 4 || (argc >= 2 && (!podium::bench::real_number(argv[1], seconds) || !(seconds > 0.0))) ||
+      (argc == 4 && (!podium::bench::real_number(argv[3], sim_hz) || !(sim_hz >= kControlHz)))) {
+    std::fprintf(stderr, "usage: %s [SECONDS>0 [MUJOCO_XML [HZ>=40]]]\n", argv[0]);
+    return 2;
+  }
+  const int substeps = static_cast<int>(std::lround(sim_hz / kControlHz));
+  if (std::abs(substeps * kControlHz - sim_hz) > 1e-9) {
+    std::fprintf(stderr, "%s: HZ %g is not a multiple of the control rate %g\n", argv[0], sim_hz, kControlHz);
     return 2;
   }
   mju_user_warning = [](const char*) {};  // counted per run (mjWARN_BADQACC) instead of printed
-  // Another MuJoCo body (e.g. the seed repository's humanoid_high_freq.xml) in place of the peer's.
-  const std::string xml = argc == 3 ? argv[2] : std::string(PODIUM_SHARED_DIR) + "/peers/mujoco/humanoid.xml";
+  // Another MuJoCo body (e.g. the seed repository's humanoid_static.xml) in place of the peer's.
+  const std::string xml = argc >= 3 ? argv[2] : std::string(PODIUM_SHARED_DIR) + "/peers/mujoco/humanoid.xml";
   char error[1000] = "";
   mjModel* m = mj_loadXML(xml.c_str(), nullptr, error, sizeof error);
   if (!m) std::printf("mujoco: skipped, cannot load %s: %s\n", xml.c_str(), error);
   std::printf(
-      "From the standing pose, joint PD to it (kp = scale × torque limit) chosen every `hold` simulation steps at 800 Hz (20: "
-      "the task's 40 Hz), "
-      "%.0f s at most; stood = head top above 1.2 m\n",
-      seconds);
+      "From the standing pose, joint PD to it (kp = scale × torque limit) chosen every `hold` simulation steps at %.0f Hz (%d: "
+      "the task's 40 Hz), %.0f s at most; stood = head top above 1.2 m\n",
+      sim_hz, substeps, seconds);
   std::printf("%-26s %-8s %-6s %-6s %-14s %-10s %s\n", "engine", "strength", "scale", "kd/kp", "hold (steps)", "stood (s)",
               "head top range (m)");
+  std::vector<double> seed_ratio, plain_ratio;  // per row held a control step: Podium's time up over MuJoCo's
   for (const double strength : {1.0, 0.6})
     for (const double scale : {1.0, 2.0})
-      for (const int hold_steps : {1, 8, 20}) {
+      for (const int hold_steps : {1, substeps}) {
         const double kd_ratio = 0.1;
-        print("podium", strength, scale, kd_ratio, hold_steps, hold(strength, scale, kd_ratio, hold_steps, false, seconds));
-        print("podium passive_joints", strength, scale, kd_ratio, hold_steps,
-              hold(strength, scale, kd_ratio, hold_steps, true, seconds));
+        const Outcome plain = hold("humanoid21", strength, scale, kd_ratio, hold_steps, false, seconds);
+        const Outcome seed = hold("humanoid21_seed", strength, scale, kd_ratio, hold_steps, true, seconds);
+        print("podium humanoid21", strength, scale, kd_ratio, hold_steps, plain);
+        print("podium humanoid21_seed", strength, scale, kd_ratio, hold_steps, seed);
         if (!m) continue;
-        print("mujoco as the file", strength, scale, kd_ratio, hold_steps,
-              hold_mujoco(m, strength, scale, kd_ratio, hold_steps, seconds));
+        const Outcome file = hold_mujoco(m, strength, scale, kd_ratio, hold_steps, seconds);
+        print("mujoco as the file", strength, scale, kd_ratio, hold_steps, file);
         const PassiveTerms terms(m);
         terms.bare(m);
         print("mujoco bare", strength, scale, kd_ratio, hold_steps,
               hold_mujoco(m, strength, scale, kd_ratio, hold_steps, seconds));
         terms.restore(m);
+        if (hold_steps == substeps && file.stood_s > 0) {
+          seed_ratio.push_back(seed.stood_s / file.stood_s);
+          plain_ratio.push_back(plain.stood_s / file.stood_s);
+        }
       }
+  if (!seed_ratio.empty())
+    std::printf(
+        "median tipping-time ratio to MuJoCo as the file, held %d steps (%zu rows): humanoid21_seed with passive joints "
+        "%.2f, humanoid21 bare %.2f\n",
+        substeps, seed_ratio.size(), median(seed_ratio), median(plain_ratio));
   if (m) mj_deleteModel(m);
   return 0;
 }

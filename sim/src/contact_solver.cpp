@@ -112,6 +112,8 @@ void ContactSolver::add_manifold_contacts(btDispatcher* dispatcher) {
       c.point_a = to_eigen(pt.getPositionWorldOnA()), c.point_b = to_eigen(pt.getPositionWorldOnB());
       c.normal = to_eigen(pt.m_normalWorldOnB), c.local_a = to_eigen(pt.m_localPointA);
       c.distance = pt.getDistance(), c.friction = pt.m_combinedFriction;
+      // Two of the character's own bodies: the model's self-contact μ if it sets one (MuJoCo's condim 1: none).
+      if (a >= 0 && b >= 0 && model_.self_contact_friction()) c.friction = *model_.self_contact_friction();
       found_.push_back(c);
     }
   }

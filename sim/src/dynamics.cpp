@@ -140,6 +140,8 @@ void internal::mass_matrix_posed(const CharacterModel& model, CharacterData& dat
       data.M.block(l.v_index, lj.v_index, l.nv, lj.nv) = data.M.block(lj.v_index, l.v_index, lj.nv, l.nv).transpose();
     }
   }
+  // MuJoCo adds joint armature (rotor inertia) to the diagonal of the joint-space inertia.
+  if (model.has_armature()) data.M.diagonal() += model.armature();
 }
 
 void bias_forces(const CharacterModel& model, CharacterData& data) {

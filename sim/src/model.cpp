@@ -230,6 +230,8 @@ ParsedJoint parse_joint(const Json& j, const std::string& jw, const CharacterMod
   if (link.damping < 0 || link.stiffness < 0) throw UserError(jw + ": damping and stiffness must be ≥ 0");
   if (link.joint != JointType::revolute && (link.damping > 0 || link.stiffness > 0))
     throw UserError(jw + ": damping and stiffness are for revolute joints (this one is " + type + ")");
+  link.armature = number(j, "armature", 0.0, jw);
+  if (!(link.armature >= 0)) throw UserError(jw + ".armature: " + show(j["armature"]) + " is not ≥ 0 (kg·m²)");
   return out;
 }
 
@@ -290,6 +292,11 @@ ModelBuilder::ModelBuilder(const Json& json, const std::string& where) : json_(j
     hinge_mass_ = number(json["hinge_link"], "mass", 0.0, where + ": hinge_link");
     hinge_radius_ = number(json["hinge_link"], "radius", 0.0, where + ": hinge_link");
     if (hinge_mass_ < 0 || hinge_radius_ < 0) throw UserError(where + ": hinge_link: mass and radius must be ≥ 0");
+  }
+  if (json.contains("self_contact_friction")) {
+    const double mu = number(json, "self_contact_friction", -1.0, where);
+    if (!(mu >= 0)) throw UserError(where + ": self_contact_friction: " + show(json["self_contact_friction"]) + " is not ≥ 0");
+    m_.self_contact_friction_ = mu;
   }
   m_.source_ = json;
   removed_ = removed_bodies(json, where);
@@ -433,6 +440,7 @@ void ModelBuilder::layout_dofs() {
   m.kd_ = Eigen::VectorXd::Zero(nv);
   m.damping_ = Eigen::VectorXd::Zero(nv);
   m.stiffness_ = Eigen::VectorXd::Zero(nv);
+  m.armature_ = Eigen::VectorXd::Zero(nv);
   for (const Link& l : m.links_) {
     if (l.joint == JointType::free) continue;
     m.torque_limits_.segment(l.v_index, l.nv) = l.torque_limit_nm.head(l.nv);
@@ -440,6 +448,8 @@ void ModelBuilder::layout_dofs() {
     m.kd_.segment(l.v_index, l.nv).setConstant(l.kd);
     m.damping_.segment(l.v_index, l.nv).setConstant(l.damping);
     m.stiffness_.segment(l.v_index, l.nv).setConstant(l.stiffness);
+    m.armature_.segment(l.v_index, l.nv).setConstant(l.armature);
+    m.has_armature_ = m.has_armature_ || l.armature > 0;
   }
 }
 

@@ -137,7 +137,8 @@ void maba_pass2(const Link& l, CharacterData& data, const Gains& gains, double d
   const MatS U = d.I * S;
   MatD D = S.transpose() * U;
   D.diagonal() +=
-      gains.kd.template segment<N>(l.v_index) * dt_s;  // thesis eq. 2.19: K_i = Kd,i Δt (the root's: its servo damper)
+      gains.kd.template segment<N>(l.v_index) * dt_s;      // thesis eq. 2.19: K_i = Kd,i Δt (the root's: its servo damper)
+  if (l.armature > 0) D.diagonal().array() += l.armature;  // as CRBA's M (MuJoCo's joint armature)
   const MatD L_inv = inverse_cholesky_factor<N>(D);
   const MatD D_inv = L_inv.transpose() * L_inv;
   const Eigen::Matrix<double, N, 1> u = data.Q.template segment<N>(l.v_index) - S.transpose() * d.f;

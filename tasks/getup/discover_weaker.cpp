@@ -25,7 +25,12 @@ Settings read_settings(base::ConfigReader& r) {
   EnvSettings& e = s.env;
   e.variant = r.choice("variant", e.variant, {"none", "casts", "missing_arm"},
                        "§7's character: casts (left elbow, right knee locked) or the left arm removed");
-  e.sim_hz = r.number("sim_hz", e.sim_hz, {.min = 1.0}, "physics steps per second (App. D: 800)");
+  e.model = r.choice("model", e.model, {"humanoid21_seed", "humanoid21"},
+                     "the body: humanoid21_seed, the seed repository's (humanoid_static.xml: armature 0.01, frictionless "
+                     "self-contact); humanoid21 without them (the shipped policies' body)");
+  e.sim_hz = r.number("sim_hz", e.sim_hz, {.min = 1.0},
+                      "π_weak's physics steps per second (the seed repository's humanoid_static.xml: timestep 0.005, 200 Hz; "
+                      "App. D's 800 Hz is its Slower's, slow_sim_hz)");
   e.control_hz = r.number("control_hz", e.control_hz, {.min = 1.0}, "policy steps per second (App. D: 40); divides sim_hz");
   const double substeps = e.sim_hz / e.control_hz;
   if (std::abs(substeps - std::round(substeps)) > 1e-9)
@@ -34,14 +39,18 @@ Settings read_settings(base::ConfigReader& r) {
   e.fall.drop_height_m = r.number("fall_height_m", e.fall.drop_height_m, {.min = 0.0, .max = 10.0, .exclusive_min = true},
                                   "root height at the ragdoll's release (§7: 1.5)");
   e.fall.control_steps = r.integer<int>("fall_steps", e.fall.control_steps, {0, 10000}, "control steps of the fall (§7: 80)");
-  e.fall.action_sigma = r.number("fall_sigma", e.fall.action_sigma, {.min = 0.0, .max = 10.0},
-                                 "σ of the fall's random actions, in torque limits (§7: 0.1)");
+  e.fall.action_sigma =
+      r.number("fall_sigma", e.fall.action_sigma, {.min = 0.0, .max = 10.0},
+               "σ of the fall's random actions, in torque limits (the seed repository's env.py reset: 0, zero torques, its "
+               "N(0, 0.1) commented out; §7's text: 0.1)");
   e.strength_sigma =
       r.number("strength_sigma", e.strength_sigma, {.min = 0.0, .max = 1.0}, "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
-  e.passive_joints =
-      r.boolean("passive_joints", e.passive_joints,
-                "the model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo humanoid's)");
-  e.min_strength = r.number("min_strength", e.min_strength, {.min = 0.0, .max = 1.0, .exclusive_min = true}, "lower clip of β̂");
+  e.passive_joints = r.boolean("passive_joints", e.passive_joints,
+                               "the model's passive joint damping and stiffness (humanoid21*: the seed repository's MuJoCo "
+                               "humanoid's, always on there)");
+  e.min_strength =
+      r.number("min_strength", e.min_strength, {.min = 0.0, .max = 1.0, .exclusive_min = true},
+               "lower clip of β̂ during the curriculum (the seed repository's power_end, main.py: 0.4); after it, β itself");
 
   s.algorithm = r.choice("algorithm", s.algorithm, {"sac", "ppo"},
                          "the learner (the seed: SAC; PPO only as a measured choice for a preset)");
@@ -98,7 +107,8 @@ Settings read_settings(base::ConfigReader& r) {
       "a Weaker trial's training.ckpt to train on from (same config but for the limits; its steps count towards total_steps)");
   if (!s.warm_start.empty() && !fs::is_regular_file(s.warm_start)) r.fail("warm_start", "is not a file: " + s.warm_start);
   s.hold_strength = r.number("hold_strength", s.hold_strength, {.min = 0.0, .max = 1.0},
-                             "> 0: no curriculum, train and test at this strength β (e.g. on from a warm_start); 0: Algorithm 1");
+                             "> 0: departs from the seed: no curriculum, train (β̂ ~ clip(N(β, ε), β, 1)) and test at this "
+                             "strength β, which no test passed (e.g. on from a warm_start); 0: Algorithm 1, the seed's");
   // Tests and checkpoints on episode boundaries: every copy then stands at an episode's start,
   // whose saved state replays bitwise (GetupEnv::save_state), so a resumed trial is exact.
   if (s.eval_every % (std::int64_t{s.copies} * e.episode_steps) != 0)
@@ -183,6 +193,7 @@ class WeakerStage final : public character::TrainingStage {
       : s_(s),
         seed_(seed),
         beta_(std::make_shared<double>(s.curriculum.initial)),
+        floor_(std::make_shared<double>(s.env.min_strength)),
         schedule_(s.curriculum, s.budget),
         tests_(test_config(s)),
         heads_(tests_.start_seeds.size()),
@@ -198,7 +209,7 @@ class WeakerStage final : public character::TrainingStage {
 
   void build(const Json&) override {
     std::vector<std::unique_ptr<learn::Env>> copies;
-    for (int i = 0; i < s_.copies; ++i) copies.push_back(std::make_unique<GetupEnv>(s_.env, beta_, true));
+    for (int i = 0; i < s_.copies; ++i) copies.push_back(std::make_unique<GetupEnv>(s_.env, beta_, true, floor_));
     envs_ = std::make_unique<learn::VecEnv>(std::move(copies), s_.threads, base::derive_seed(seed_, 1));
     test_env_ = std::make_unique<GetupEnv>(s_.env, beta_, false);
   }
@@ -209,6 +220,7 @@ class WeakerStage final : public character::TrainingStage {
   void begin(bool, learn::Learner& learner) override {
     if (s_.hold_strength > 0.0) schedule_.hold(s_.hold_strength);
     *beta_ = schedule_.strength();
+    *floor_ = strength_floor(schedule_, s_.env.min_strength);
     updates_ = sac_updates(learner);
   }
 
@@ -261,7 +273,8 @@ class WeakerStage final : public character::TrainingStage {
 
   const Settings& s_;
   std::uint64_t seed_;
-  std::shared_ptr<double> beta_;  // β^i, shared by the copies and the test env
+  std::shared_ptr<double> beta_;   // β^i, shared by the copies and the test env
+  std::shared_ptr<double> floor_;  // the copies' lower clip of β̂ (strength_floor)
   WeakerSchedule schedule_;
   character::EvaluationConfig tests_;
   std::vector<HeadWatch> heads_;
@@ -319,6 +332,7 @@ character::Figures WeakerStage::test(const character::TestRound& round, learn::L
   ended_before_ = schedule_.ended();
   decision_ = schedule_.on_test(round.env_steps, min_return);
   *beta_ = schedule_.strength();
+  *floor_ = strength_floor(schedule_, s_.env.min_strength);
   send("curriculum/strength", steps, *beta_);
   return {{"strength", tested_at},
           {"test_return", result.mean_return},

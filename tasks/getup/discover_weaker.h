@@ -78,6 +78,14 @@ class WeakerSchedule {
   bool ended_ = false;
 };
 
+/// The lower clip of the training episodes' β̂: `min_strength` during the curriculum; once it has
+/// ended (or under hold_strength), the strength trained at, so β̂ ~ clip(N(β, ε), β, 1) never
+/// falls below it (the seed repository's main.py update_power sets power_end to β; env.py
+/// sample_power clips there).
+inline double strength_floor(const WeakerSchedule& schedule, double min_strength) {
+  return schedule.ended() ? schedule.strength() : min_strength;
+}
+
 /// Whether a tested policy should replace the exported one where the curriculum does not decide
 /// (before the first pass, and at the last strength passed once the curriculum has ended): more
 /// fixed starts stood (head_watch.h), then a higher mean test return. The seed repository keeps

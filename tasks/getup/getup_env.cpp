@@ -67,14 +67,20 @@ sim::ModelEdits variant_edits(const std::string& variant) {
   return edits;
 }
 
-GetupEnv::GetupEnv(const EnvSettings& settings, std::shared_ptr<const double> curriculum, bool sample_strength)
+double draw_strength(base::Rng& rng, double beta, double sigma, double floor) {
+  return std::clamp(rng.normal(beta, sigma), floor, 1.0);
+}
+
+GetupEnv::GetupEnv(const EnvSettings& settings, std::shared_ptr<const double> curriculum, bool sample_strength,
+                   std::shared_ptr<const double> floor)
     : GetupEnv(settings, sim::edit_model(sim::load_shipped_model(settings.model), variant_edits(settings.variant)),
-               std::move(curriculum), sample_strength) {}
+               std::move(curriculum), sample_strength, std::move(floor)) {}
 
 GetupEnv::GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std::shared_ptr<const double> curriculum,
-                   bool sample_strength)
+                   bool sample_strength, std::shared_ptr<const double> floor)
     : CharacterEnv(parts_for(settings, model)),
       curriculum_(std::move(curriculum)),
+      floor_(std::move(floor)),
       sample_(sample_strength),
       settings_(settings),
       readings_(BodyReadings::of(*model)) {
@@ -83,8 +89,8 @@ GetupEnv::GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std:
 
 void GetupEnv::begin_episode(base::Rng& rng) {
   if (!replaying_) {
-    const double beta = *curriculum_;
-    strength_ = std::clamp(sample_ ? rng.normal(beta, settings_.strength_sigma) : beta, settings_.min_strength, 1.0);
+    const double beta = *curriculum_, floor = floor_ ? *floor_ : settings_.min_strength;
+    strength_ = sample_ ? draw_strength(rng, beta, settings_.strength_sigma, floor) : beta;
   }
   start_rng_ = rng.save();
 }

@@ -3,11 +3,13 @@
 /// character::CharacterEnv: humanoid21 (or a variant), the ragdoll fall as the start, torque
 /// actions, the s_weak observation, R_weak, fixed-length episodes without early termination.
 ///
-/// Strength: each episode draws β̂ ~ N(β^i, ε) (§5, Algorithm 1; ε read as the standard
-/// deviation), clipped to [min_strength, 1], and reports it as Env::action_scale(), so SAC acts
-/// in [−β̂, β̂] (its squashing β̂·tanh, §5) and stores β̂ with each transition; the torque map then
-/// multiplies by the torque limits only (the World's strength stays 1). β^i itself is shared by
-/// every copy and set by the trial between training chunks.
+/// Strength: each episode draws β̂ = clip(N(β^i, ε), floor, 1) (§5, Algorithm 1; ε read as the
+/// standard deviation; the seed repository's env.py sample_power), floor = min_strength during the
+/// curriculum and β itself once the curriculum has ended (main.py update_power sets power_end to
+/// the last strength passed), and reports it as Env::action_scale(), so SAC acts in [−β̂, β̂] (its
+/// squashing β̂·tanh, §5) and stores β̂ with each transition; the torque map then multiplies by
+/// the torque limits only (the World's strength stays 1). β^i and the floor are shared by every
+/// copy and set by the trial between training chunks.
 #include <memory>
 #include <string>
 
@@ -19,20 +21,37 @@
 namespace podium::tasks::getup {
 
 struct EnvSettings {
-  std::string model = "humanoid21";
+  /// humanoid21_seed: the seed repository's body (humanoid_static.xml: armature, frictionless
+  /// self-contact, with passive_joints its damping and stiffness); humanoid21: the same layout
+  /// without armature and with μ = 1 between its own bodies (what the shipped policies trained on).
+  std::string model = "humanoid21_seed";
   /// §7's variants: "none", "casts" (left elbow and right knee locked straight) or "missing_arm"
   /// (the seed does not say which arm; the left one, from the upper arm down, is removed).
   std::string variant = "none";
-  double sim_hz = 800.0;         ///< App. D
-  double control_hz = 40.0;      ///< App. D
-  int episode_steps = 250;       ///< §7
-  sim::RagdollStart fall;        ///< §7: 1.5 m, 80 control steps of a ~ N(0, 0.1)
+  /// π_weak's simulation rate: the seed repository's humanoid_static.xml (timestep 0.005; App. D's
+  /// 800 Hz is its Slower's humanoid_high_freq.xml).
+  double sim_hz = 200.0;
+  double control_hz = 40.0;  ///< App. D
+  int episode_steps = 250;   ///< §7
+  /// The fall (§7: 1.5 m, 80 control steps); its actions are zero torques as in the seed
+  /// repository's env.py reset (the N(0, 0.1) line is commented out there).
+  sim::RagdollStart fall = zero_torque_fall();
   double strength_sigma = 0.04;  ///< ε of §5
-  double min_strength = 0.05;    ///< lower clip of β̂ (SAC needs a bound in (0, 1])
-  /// The model's passive joint damping and stiffness (humanoid21: the seed repository's MuJoCo
-  /// humanoid's) act on every joint; off: undamped joints (the `quick` preset's choice).
-  bool passive_joints = false;
+  /// Lower clip of β̂ during the curriculum: the seed repository's power_end (main.py: 0.4).
+  double min_strength = 0.4;
+  /// The model's passive joint damping and stiffness (humanoid21*: the seed repository's MuJoCo
+  /// humanoid's) act on every joint, as they always do in the seed's body.
+  bool passive_joints = true;
+
+  static sim::RagdollStart zero_torque_fall() {
+    sim::RagdollStart fall;
+    fall.action_sigma = 0.0;
+    return fall;
+  }
 };
+
+/// β̂ = clip(N(β, ε), floor, 1): one draw of an episode's strength (env.py sample_power).
+double draw_strength(base::Rng& rng, double beta, double sigma, double floor);
 
 /// Appends s_weak's body parts (§7 (1)–(5), App. C; every part facing-invariant): joint angles and
 /// velocities with the root's angular and linear velocity (the seed repository's dm_control state
@@ -53,8 +72,10 @@ sim::ModelEdits variant_edits(const std::string& variant);
 
 class GetupEnv final : public character::CharacterEnv {
  public:
-  /// `curriculum` holds β^i. With `sample_strength` false (evaluation) β̂ = β^i exactly.
-  GetupEnv(const EnvSettings& settings, std::shared_ptr<const double> curriculum, bool sample_strength);
+  /// `curriculum` holds β^i, `floor` the lower clip of β̂ (null: settings.min_strength). With
+  /// `sample_strength` false (evaluation) β̂ = β^i exactly.
+  GetupEnv(const EnvSettings& settings, std::shared_ptr<const double> curriculum, bool sample_strength,
+           std::shared_ptr<const double> floor = nullptr);
 
   double action_scale() const override { return strength_; }
   /// β̂ of the current episode.
@@ -73,9 +94,9 @@ class GetupEnv final : public character::CharacterEnv {
 
  private:
   GetupEnv(const EnvSettings& settings, const sim::ModelPtr& model, std::shared_ptr<const double> curriculum,
-           bool sample_strength);
+           bool sample_strength, std::shared_ptr<const double> floor);
 
-  std::shared_ptr<const double> curriculum_;
+  std::shared_ptr<const double> curriculum_, floor_;
   bool sample_;
   EnvSettings settings_;
   BodyReadings readings_;

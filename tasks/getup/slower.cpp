@@ -39,13 +39,38 @@ SlowerConfig read_slower(base::ConfigReader& r) {
                            "Slower: ε-RSI, probability of starting at the fall's end (§6; the seed repository: 0.2)");
   e.residual_bound_rad = r.number("residual_bound_rad", e.residual_bound_rad, {.min = 0.0, .max = 3.2, .exclusive_min = true},
                                   "Slower: residual PD target bound per joint, rad (the seed repository: 1)");
-  e.balance_steps =
-      r.integer<int>("balance_steps", e.balance_steps, {0, 100000}, "Slower: standing-phase control steps (§6: 100)");
+  e.balance_steps = r.integer<int>("balance_steps", e.balance_steps, {0, 100000},
+                                   "Slower: standing-phase control steps (the seed repository's env.py _done: 150; §6: 100)");
   e.rise_height_m = r.number("rise_height_m", e.rise_height_m, {.min = 0.0, .exclusive_min = true},
                              "Slower and Evaluate: standing success is the head top above it at the end, m (§6: 1.2)");
-  e.reference_end_m =
-      r.number("reference_end_height_m", e.reference_end_m, {.min = 0.0, .exclusive_min = true},
-               "Slower: τ_fast ends at its first frame with the head top above it, m (§6: 1.2; the seed repository: 1.49)");
+  e.reference_end_m = r.number("reference_end_height_m", e.reference_end_m, {.min = 0.0, .exclusive_min = true},
+                               "Slower: τ_fast ends reference_end_extra_steps after its first frame with the head origin "
+                               "(not its top) above it, m (the seed repository's env.py run_one_episode: 1.4; §6's text: 1.2)");
+  e.reference_end_extra_steps =
+      r.integer<int>("reference_end_extra_steps", e.reference_end_extra_steps, {0, 1000},
+                     "Slower: control steps τ_fast runs on after the head origin passed (env.py end_next_step: 1)");
+  e.sim_hz = r.number("slow_sim_hz", e.sim_hz, {.min = 1.0},
+                      "Slower: π_slow's physics steps per second (the seed repository's humanoid_high_freq.xml: 800; its "
+                      "teacher π_weak runs at sim_hz); control_hz divides it");
+  e.standing_pose = r.object(
+      "standing_pose",
+      [](base::ConfigReader& p) {
+        std::vector<std::pair<std::string, double>> pose;
+        for (const auto& [joint, angle] : seed_standing_pose())
+          pose.emplace_back(joint, p.number(joint, angle, {.min = -3.2, .max = 3.2}, "rad"));
+        return pose;
+      },
+      "Slower: q̂, the standing phase's PD target and R_balance's pose, per joint in rad (the seed repository's env.py "
+      "STANDING_POSE)");
+  e.standing_com_m = r.number("standing_com_m", e.standing_com_m, {.min = 0.0, .exclusive_min = true},
+                              "Slower: h'_com of the standing phase, m (the seed repository's env.py COM_HEIGHT: 0.80326)");
+  e.seed_standing = r.choice("standing_target", "seed", {"seed", "model"},
+                             "Slower: seed: standing_pose and standing_com_m; model: the model's own standing pose (every "
+                             "joint 0) and its observed COM height (what the shipped π_slow trained with)") == "seed";
+  e.rise_kd_ratio = r.number("rise_kd_ratio", e.rise_kd_ratio, {.min = 0.0, .exclusive_min = true},
+                             "Slower: k_d = k_p / this over the rise (App. D and env.py substep: 10)");
+  e.standing_kd_ratio = r.number("standing_kd_ratio", e.standing_kd_ratio, {.min = 0.0, .exclusive_min = true},
+                                 "Slower: k_d = k_p / this while standing (the seed repository's env.py substep: 5)");
   e.max_rise_steps = r.integer<int>("max_rise_steps", e.max_rise_steps, {1, 100000}, "Slower: τ_fast's cap in control steps");
   e.rise_attempts =
       r.integer<int>("rise_attempts", e.rise_attempts, {1, 1000},

@@ -38,7 +38,7 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
   using namespace character;
   CharacterEnvParts p;
   p.model = model;
-  p.world.sim_hz = e.sim_hz;
+  p.world.sim_hz = s.sim_hz;  // π_slow's rate; its teacher runs at π_weak's (e.sim_hz)
   p.world.control_hz = e.control_hz;
   p.world.passive_joints = e.passive_joints;
   // The longest episode: τ_fast's cap at the slowest κ, then the standing phase (the reward
@@ -70,6 +70,17 @@ character::CharacterEnvParts slower_parts(const EnvSettings& e, const SlowerSett
 }
 
 }  // namespace
+
+std::vector<std::pair<std::string, double>> seed_standing_pose() {
+  // tianxintao/get_up_control env.py STANDING_POSE, in humanoid_static.xml's joint order.
+  return {{"abdomen_z", 0.0},           {"abdomen_y", -0.11665},       {"abdomen_x", 0.0},
+          {"hip_x_right", -0.03601},    {"hip_z_right", -0.03219},     {"hip_y_right", 0.05025},
+          {"knee_right", -0.39803},     {"ankle_y_right", -0.30198},   {"ankle_x_right", 0.13615},
+          {"hip_x_left", -0.03601},     {"hip_z_left", -0.03219},      {"hip_y_left", 0.05025},
+          {"knee_left", -0.39803},      {"ankle_y_left", -0.30198},    {"ankle_x_left", -0.13615},
+          {"shoulder1_right", 0.40763}, {"shoulder2_right", -0.41967}, {"elbow_right", -1.5795},
+          {"shoulder1_left", -0.40763}, {"shoulder2_left", 0.41967},   {"elbow_left", -1.5795}};
+}
 
 Json FastRollout::to_json() const {
   Json j = {{"q", Json::array()}, {"qd", Json::array()}, {"com_height_m", com_height_m}, {"torso_up", Json::array()}};
@@ -159,14 +170,27 @@ SlowerEnv::SlowerEnv(const EnvSettings& env, const SlowerSettings& slower, const
                           std::to_string(settings_.kappa_high) + "] is empty or not > 0");
   teacher_ = std::make_unique<GetupEnv>(env, teacher_strength_, false);
   check_policy_fits(*weak_, *teacher_, "getup slower: π_weak");
-  // App. D: PD with k_p = the torque limit (per rad), k_d = k_p/10; the full torque limits (the
-  // seed repository's slow env runs at strength 1 while its teacher is weak).
-  sim::Gains gains{model->torque_limits(), model->torque_limits() / 10.0};
-  world().set_gains(gains);
-  // The standing pose q̂ (§6: "a single standing pose") and its COM height, by one observation.
+  // App. D: PD with k_p = the torque limit (per rad), k_d = k_p/10 over the rise, k_p/5 standing
+  // (the seed repository's env.py substep); the full torque limits (its slow env runs at strength
+  // 1 while its teacher is weak).
+  rise_gains_ = {model->torque_limits(), model->torque_limits() / settings_.rise_kd_ratio};
+  standing_gains_ = {model->torque_limits(), model->torque_limits() / settings_.standing_kd_ratio};
+  world().set_gains(rise_gains_);
+  // The standing pose q̂ (§6: "a single standing pose"; the seed repository's) and h'_com.
   standing_q_ = model->standing_pose();
-  world().reset(standing_q_, Eigen::VectorXd::Zero(model->nv()));
-  standing_com_m_ = world().observe().com.z();
+  const sim::ModelPtr unedited = sim::load_shipped_model(env.model);
+  for (const auto& [joint, angle] : settings_.seed_standing ? settings_.standing_pose : decltype(settings_.standing_pose){}) {
+    if (const int link = model->find_link(joint); link >= 0) {
+      standing_q_(model->links()[static_cast<std::size_t>(link)].q_index) = angle;
+    } else if (unedited->find_link(joint) < 0) {
+      throw base::UserError("getup slower: standing_pose names joint \"" + joint + "\", which " + env.model + " lacks");
+    }
+  }
+  standing_com_m_ = settings_.standing_com_m;
+  if (!settings_.seed_standing) {  // the model's pose, its COM height by one observation
+    world().reset(standing_q_, Eigen::VectorXd::Zero(model->nv()));
+    standing_com_m_ = world().observe().com.z();
+  }
   for (const sim::Link& l : model->links())
     if (l.joint == sim::JointType::revolute && !l.locked) free_joints_.push_back(l.q_index);
   hip_right_ = model->link("hip_y_right").v_index;
@@ -187,16 +211,20 @@ FastRollout SlowerEnv::rise(base::Rng& rng) {
     teacher_->seed(rng.next());
     teacher_->reset(observation);  // a fresh fall
     keep();
-    for (int k = 0; k < settings_.max_rise_steps; ++k) {
+    int passed_at = -1;  // the first step with the head origin above reference_end_m
+    for (int k = 0; k < settings_.max_rise_steps + settings_.reference_end_extra_steps; ++k) {
+      if (passed_at < 0 && k >= settings_.max_rise_steps) break;
       weak_->act(observation, action, teacher_->action_scale());
       teacher_->step(action, step);
       if (step.terminated) break;  // a blown-up state
       keep();
-      if (teacher_->weak().head_height_m > settings_.reference_end_m) return fast;
+      // The seed repository's env.py: the head origin (not its top) past the height, then one more step.
+      if (passed_at < 0 && teacher_->weak().head_height_m - readings_.head_top_m > settings_.reference_end_m) passed_at = k;
+      if (passed_at >= 0 && k - passed_at >= settings_.reference_end_extra_steps) return fast;
       observation.swap(step.observation);
     }
   }
-  throw base::UserError("getup slower: π_weak never lifted the head top above " + std::to_string(settings_.reference_end_m) +
+  throw base::UserError("getup slower: π_weak never lifted the head origin above " + std::to_string(settings_.reference_end_m) +
                         " m within " + std::to_string(settings_.max_rise_steps) + " control steps in " +
                         std::to_string(settings_.rise_attempts) + " falls in a row (at strength " +
                         std::to_string(*teacher_strength_) + "): Slower imitates a policy that gets up");
@@ -231,6 +259,13 @@ void SlowerEnv::begin_episode(base::Rng& rng) {
     world().reset(q, qd);
   }
   set_reference_time(t0);
+}
+
+void SlowerEnv::step(std::span<const double> action, learn::StepResult& out) {
+  // The seed repository's env.py substep: k_d = k_p/10 while the step starts inside τ_slow's rise,
+  // k_p/5 once it tracks the standing pose.
+  world().set_gains(standing_phase() ? standing_gains_ : rise_gains_);
+  CharacterEnv::step(action, out);
 }
 
 void SlowerEnv::score(learn::StepResult& out) const {

@@ -3,12 +3,13 @@
 /// slowed copy of π_weak's own get-up, then holds a standing pose.
 ///
 /// Each episode: a fresh fall in a teacher GetupEnv at π_weak's strength; π_weak (frozen) runs
-/// from it until the head top passes `reference_end_m` (τ_fast, T control steps; capped, and a
+/// from it until one step after the head origin passes `reference_end_m` (τ_fast, T control steps; capped, and a
 /// policy that never rises throws); κ ~ U(κ_low, κ_high) (or the fixed κ of a test); τ_slow =
 /// τ_fast retimed by κ (character::retime: T/κ long, through every frame of τ_fast), the standing
 /// pose q̂ appended. The episode starts at τ_slow's first state (the fall's end) with probability
 /// ε, else at a uniform control step of τ_slow (ε-RSI, §6). Actions are residual PD targets on
-/// the reference (k_p = the torque limit, k_d = k_p/10, App. D); the state is s_weak without β
+/// the reference (k_p = the torque limit, k_d = k_p/10, App. D; k_p/5 while standing, the seed
+/// repository's); the state is s_weak without β
 /// plus ŝ' = [q, h_com, o_torso] of τ_slow at t+1 and t+5 (§6; the standing pose's after the
 /// rise). Reward R_slow while t < T/κ, terminated when h_com is more than 0.5 m off the
 /// reference; then R_balance for `balance_steps`, terminated when h_com < 0.5 m (§6).
@@ -16,6 +17,9 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "getup_env.h"
 #include "podium/character/motion.h"
@@ -23,17 +27,36 @@
 
 namespace podium::tasks::getup {
 
+/// The seed repository's standing pose (env.py STANDING_POSE, MuJoCo humanoid qpos order mapped to
+/// humanoid21's joints, whose axes are the same): knees −0.40, ankles −0.30, abdomen −0.12,
+/// elbows −1.58 rad.
+std::vector<std::pair<std::string, double>> seed_standing_pose();
+
 struct SlowerSettings {
   double kappa_low = 0.2, kappa_high = 0.8;  ///< App. D: κ ~ U(0.2, 0.8)
   /// ε of ε-RSI: the probability of starting at τ_slow's beginning (the seed repository: 0.2).
   double rsi_epsilon = 0.2;
   /// Residual bound, rad per joint (the seed repository adds actions in [−1, 1] to the reference).
   double residual_bound_rad = 1.0;
-  int balance_steps = 100;     ///< §6
+  /// The standing phase's control steps (the seed repository's env.py _done: 150; §6's text: 100).
+  int balance_steps = 150;
   double rise_height_m = 1.2;  ///< §6: standing means the head top above it
-  /// τ_fast ends at its first frame with the head top above it (§6's text: 1.2 m; the seed
-  /// repository ends one step after its head origin passes 1.4 m: our head top at 1.49 m).
-  double reference_end_m = 1.2;
+  /// τ_fast ends `reference_end_extra_steps` after its first frame with the head *origin* above
+  /// this height (the seed repository's env.py run_one_episode: 1.4 m, then one more step).
+  double reference_end_m = 1.4;
+  int reference_end_extra_steps = 1;
+  /// π_slow's simulation rate (the seed repository's humanoid_high_freq.xml: timestep 0.00125).
+  double sim_hz = 800.0;
+  /// q̂, the standing phase's PD target and R_balance's pose (joint name → rad; joints a variant
+  /// removes are skipped), and h'_com there (env.py COM_HEIGHT: 0.80326 m).
+  std::vector<std::pair<std::string, double>> standing_pose = seed_standing_pose();
+  double standing_com_m = 0.80326;
+  /// false: the model's own standing pose (every joint at 0) and its COM height, observed, in
+  /// place of standing_pose and standing_com_m (what the shipped π_slow trained with).
+  bool seed_standing = true;
+  /// PD gains k_p = torque limit and k_d = k_p / ratio: over the rise (App. D and env.py: 10) and
+  /// while standing (env.py substep: 5).
+  double rise_kd_ratio = 10.0, standing_kd_ratio = 5.0;
   int max_rise_steps = 250;  ///< τ_fast's cap (a Weaker episode's length)
   /// Falls tried per episode before π_weak is declared unable. Every episode needs a rise, so a
   /// π_weak rising from a share p of falls fails a trial of E episodes with probability about
@@ -112,6 +135,11 @@ class SlowerEnv final : public character::CharacterEnv {
 
   /// The episode's start (called by the env's Start part): the fall, τ_fast, κ, τ_slow, ε-RSI.
   void begin_episode(base::Rng& rng);
+  /// A control step with the phase's PD gains (rise: k_p/rise_kd_ratio; standing: standing_kd_ratio).
+  void step(std::span<const double> action, learn::StepResult& out) override;
+  /// q̂ and h'_com of the standing phase (SlowerSettings::standing_pose, standing_com_m).
+  const Eigen::VectorXd& standing_pose() const { return standing_q_; }
+  double standing_com_m() const { return standing_com_m_; }
   /// Reward and termination of a step (the env's RewardFn); adds to the episode's COM error.
   void score(learn::StepResult& out) const;
   std::optional<base::Json> save_state() const override;
@@ -132,6 +160,7 @@ class SlowerEnv final : public character::CharacterEnv {
   BodyReadings readings_;
   Eigen::VectorXd standing_q_;
   double standing_com_m_ = 0.0;
+  sim::Gains rise_gains_, standing_gains_;
   std::vector<int> free_joints_;        // q indices of the hinges r_pose compares (locked ones excluded)
   int hip_right_ = -1, hip_left_ = -1;  // q̇ indices of the hips' y joints (r_hip)
   std::unique_ptr<SlowReference> reference_;

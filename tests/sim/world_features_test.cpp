@@ -476,6 +476,126 @@ TEST(WorldJoints, PassiveStiffnessSwingsTheJointAndDampingStopsIt) {
               *std::max_element(spring.energy.begin(), spring.energy.end()), damped.energy.back(), damped.q_end);
 }
 
+// A sphere of mass m and radius r on a hinge 0.4 m from its centre, hung from a base heavy enough
+// to stand still (1e9 kg), no gravity: the hinge's inertia is I = 2/5 m r² + m d², and a torque step
+// τ from rest gives q̇(t) = τ t / (I + armature) (MuJoCo adds armature to M's diagonal).
+ModelPtr hinged_ball(double armature) {
+  base::Json model = base::Json::parse(R"({
+    "name": "ball", "standing_root_height": 2.0,
+    "bodies": [
+      {"name": "base", "mass": 1e9, "geoms": [{"type": "box", "half_extents": [0.2, 0.2, 0.05]}]},
+      {"name": "ball", "parent": "base", "pos": [0, 0, -0.1], "mass": 2,
+       "geoms": [{"type": "sphere", "pos": [0, 0, -0.4], "radius": 0.1}],
+       "joints": [{"name": "hinge", "type": "revolute", "axis": [0, 1, 0], "torque_limit": 100}]}]})");
+  model["bodies"][1]["joints"][0]["armature"] = armature;
+  return CharacterModel::from_json(model, "hinged ball");
+}
+
+double hinge_rate_after(const ModelPtr& model, double torque, double seconds) {
+  WorldConfig config;
+  config.gravity.setZero();
+  World world(model, config);
+  Eigen::VectorXd q = model->standing_pose();
+  q(2) = 2.0;
+  world.reset(q, Eigen::VectorXd::Zero(model->nv()));
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(model->nv());
+  tau(6) = torque;
+  for (int step = 0; step < static_cast<int>(std::lround(seconds * config.control_hz)); ++step)
+    EXPECT_TRUE(world.control_step(Control::torque, tau).ok);
+  return world.data().qd(6);
+}
+
+TEST(WorldJoints, ArmatureAddsToTheHingesInertiaAsTheClosedFormSays) {
+  const double m = 2.0, r = 0.1, d = 0.4, inertia = 0.4 * m * r * r + m * d * d, torque = 3.0, t = 0.25;
+  for (const double armature : {0.0, 0.01, 0.5}) {
+    const double rate = hinge_rate_after(hinged_ball(armature), torque, t);
+    EXPECT_NEAR(rate, torque * t / (inertia + armature), 1e-6 * torque * t / inertia) << "armature " << armature;
+  }
+  // humanoid21_seed carries the seed repository's armature 0.01 on every hinge; humanoid21 none.
+  const ModelPtr seed = load_shipped_model("humanoid21_seed"), plain = load_shipped_model("humanoid21");
+  EXPECT_TRUE(seed->has_armature());
+  EXPECT_FALSE(plain->has_armature());
+  EXPECT_EQ(seed->armature().tail(seed->nv() - 6), Eigen::VectorXd::Constant(seed->nv() - 6, 0.01));
+  EXPECT_EQ(seed->armature().head<6>(), Eigen::VectorXd::Zero(6));
+}
+
+TEST(WorldJoints, ArmatureReachesStablePdBothWays) {
+  // SPD's dense solve factors M (CRBA, armature included); MABA adds it to each joint's D: one
+  // control step from the same state agrees.
+  const ModelPtr model = load_shipped_model("humanoid21_seed");
+  base::Rng rng(5);
+  const Eigen::VectorXd target = random_pose(*model, rng, 0.0, 0.6);
+  std::vector<Eigen::VectorXd> rates;
+  for (const Control mode : {Control::spd_dense, Control::spd_maba}) {
+    World world(model, WorldConfig{});
+    Eigen::VectorXd q = model->standing_pose();
+    q(2) += 0.5;  // in the air: no contacts
+    world.reset(q, Eigen::VectorXd::Zero(model->nv()));
+    EXPECT_TRUE(world.control_step(mode, target).ok);
+    rates.push_back(world.data().qd);
+  }
+  EXPECT_LT((rates[0] - rates[1]).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+// A hand (a sphere on a hinge about x through its centre) on an arm with a ball joint 0.35 m to its
+// side, touching the face x = 0.1 of a heavy torso box, no gravity: −20 N·m about z presses it on
+// the face (≈ 57 N), 3 N·m about x pushes it along the face (≈ 8.6 N, downwards). With μ = 1
+// friction holds it (up to ≈ 57 N); with the model's self_contact_friction 0 (the seed's condim 1)
+// it slides.
+ModelPtr hand_on_torso(bool frictionless) {
+  base::Json model = base::Json::parse(R"({
+    "name": "hand", "standing_root_height": 2.0,
+    "bodies": [
+      {"name": "torso", "mass": 1e6, "geoms": [{"type": "box", "half_extents": [0.1, 0.2, 0.3]}]},
+      {"name": "arm", "parent": "torso", "pos": [0.149, 0.35, 0], "mass": 0.2,
+       "geoms": [{"type": "sphere", "radius": 0.02}],
+       "joints": [{"name": "shoulder", "type": "spherical", "torque_limit": 100}]},
+      {"name": "hand", "parent": "arm", "pos": [0, -0.35, 0], "mass": 1,
+       "geoms": [{"type": "sphere", "radius": 0.05}],
+       "joints": [{"name": "wrist", "type": "revolute", "axis": [1, 0, 0], "torque_limit": 100}]}]})");
+  if (frictionless) model["self_contact_friction"] = 0.0;
+  return CharacterModel::from_json(model, "hand on torso");
+}
+
+struct Slide {
+  double hand_z_m = 0.0;
+  bool touched = true;  // at every control step
+};
+
+Slide slide(const ModelPtr& model, double seconds) {
+  WorldConfig config;
+  config.gravity.setZero();
+  World world(model, config);
+  Eigen::VectorXd q = model->standing_pose();
+  q(2) = 2.0;
+  world.reset(q, Eigen::VectorXd::Zero(model->nv()));
+  const int hand = model->find_body("hand"), torso = model->find_body("torso");
+  const int shoulder = model->link("shoulder").v_index;
+  Eigen::VectorXd tau = Eigen::VectorXd::Zero(model->nv());
+  tau(shoulder) = 3.0;        // about x: along the face
+  tau(shoulder + 2) = -20.0;  // about z: into the face
+  Slide out;
+  const double z0 = world.body_centroid(hand).z();
+  for (int step = 0; step < static_cast<int>(std::lround(seconds * config.control_hz)); ++step) {
+    EXPECT_TRUE(world.control_step(Control::torque, tau).ok);
+    out.touched = out.touched && world.observe().touches(hand, Partner::body, torso);
+  }
+  out.hand_z_m = world.body_centroid(hand).z() - z0;
+  return out;
+}
+
+TEST(WorldContacts, FrictionlessSelfContactLetsAHandSlideAlongTheTorso) {
+  const Slide held = slide(hand_on_torso(false), 0.2), slid = slide(hand_on_torso(true), 0.2);
+  EXPECT_TRUE(held.touched);
+  EXPECT_TRUE(slid.touched);
+  EXPECT_LT(std::abs(held.hand_z_m), 5e-3);  // the friction pyramid's creep (measured 1.2 mm)
+  EXPECT_LT(slid.hand_z_m, -0.05);           // free: about ½ (F/m) t² ≈ 0.17 m
+  std::printf("hand moved %.2e m along the torso with μ = 1, %.4f m frictionless\n", held.hand_z_m, slid.hand_z_m);
+  // Ground contacts keep their friction: humanoid21_seed is frictionless between its own bodies only.
+  EXPECT_EQ(load_shipped_model("humanoid21_seed")->self_contact_friction(), 0.0);
+  EXPECT_FALSE(load_shipped_model("humanoid21")->self_contact_friction().has_value());
+}
+
 // A snapshot taken mid-rollout on humanoid34 with ground and box contacts, restored after other
 // episodes (other props, friction, forces) and into a fresh World, replays 2 s bitwise.
 TEST(WorldSnapshot, RestoredRolloutIsBitwiseTheOriginal) {

@@ -18,10 +18,28 @@ std::string error_path(const Json& config) { return podium::testing::config_erro
 
 TEST(GetupConfig, DefaultsAreTheSeedsSettings) {
   const Settings s = read(Json::object());
-  EXPECT_EQ(s.env.sim_hz, 800.0);
+  // The seed repository's body: humanoid_static.xml at 200 Hz, passive joints, the zero-torque fall.
+  EXPECT_EQ(s.env.model, "humanoid21_seed");
+  EXPECT_EQ(s.env.sim_hz, 200.0);
   EXPECT_EQ(s.env.control_hz, 40.0);
+  EXPECT_TRUE(s.env.passive_joints);
   EXPECT_EQ(s.env.episode_steps, 250);
   EXPECT_EQ(s.env.fall.control_steps, 80);
+  EXPECT_EQ(s.env.fall.action_sigma, 0.0);
+  EXPECT_EQ(s.env.min_strength, 0.4);
+  EXPECT_EQ(s.hold_strength, 0.0);
+  // Its Slower: π_slow at 800 Hz, the reference to one step past a head origin of 1.4 m, the
+  // standing pose, COM 0.80326 m, k_d = k_p/5 and 150 steps standing.
+  const SlowerConfig slower = base::ConfigReader::parse(Json::object(), "getup config", read_slower);
+  EXPECT_EQ(slower.env.sim_hz, 800.0);
+  EXPECT_EQ(slower.env.reference_end_m, 1.4);
+  EXPECT_EQ(slower.env.reference_end_extra_steps, 1);
+  EXPECT_EQ(slower.env.standing_com_m, 0.80326);
+  EXPECT_EQ(slower.env.standing_kd_ratio, 5.0);
+  EXPECT_EQ(slower.env.rise_kd_ratio, 10.0);
+  EXPECT_EQ(slower.env.balance_steps, 150);
+  EXPECT_TRUE(slower.env.seed_standing);
+  EXPECT_EQ(slower.env.standing_pose, seed_standing_pose());
   EXPECT_EQ(s.eval_every, 20000);
   EXPECT_EQ(s.eval_starts, 10);
   EXPECT_EQ(s.curriculum.threshold, 60.0);
@@ -39,6 +57,23 @@ TEST(GetupConfig, PpoIsAChoiceWithItsOwnFields) {
   EXPECT_EQ(spec["config"]["rollout_steps"], 250);
   EXPECT_EQ(error_path({{"algorithm", "td3"}}), "algorithm");
   EXPECT_EQ(error_path({{"ppo", {{"rollout_step", 250}}}}), "ppo");
+}
+
+// Slower's standing target is configurable joint by joint; unknown joints are refused at their path.
+TEST(GetupConfig, TheStandingPoseIsSetPerJoint) {
+  const SlowerConfig c = base::ConfigReader::parse(Json{{"standing_pose", {{"knee_left", -0.5}}}, {"standing_com_m", 0.9}},
+                                                   "getup config", read_slower);
+  for (const auto& [joint, angle] : c.env.standing_pose) {
+    if (joint == "knee_left") {
+      EXPECT_EQ(angle, -0.5);
+    }
+    if (joint == "knee_right") {
+      EXPECT_EQ(angle, -0.39803);
+    }
+  }
+  EXPECT_EQ(c.env.standing_com_m, 0.9);
+  EXPECT_EQ(podium::testing::config_error_path({{"standing_pose", {{"knee", -0.5}}}}, read_slower), "standing_pose.knee");
+  EXPECT_EQ(podium::testing::config_error_path({{"standing_pose", {{"knee_left", 7}}}}, read_slower), "standing_pose.knee_left");
 }
 
 // Table 1: π_slow learns with discount 0.95, π_weak with the preset's 0.97; the rest is shared.

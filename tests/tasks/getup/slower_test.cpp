@@ -4,6 +4,7 @@
 // strategy features on scripted states.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -110,15 +111,15 @@ TEST(SlowerEnv, APolicyThatNeverRisesFailsWithThatReason) {
     env.reset(observation);
     FAIL() << "an untrained π_weak rose within 15 steps";
   } catch (const base::UserError& e) {
-    EXPECT_NE(std::string(e.what()).find("never lifted the head top above 1.2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("never lifted the head origin above 1.4"), std::string::npos) << e.what();
   }
 }
 
-// With τ_fast's end at 0.1 m it ends at its first step (the lying head top is higher), so an
+// With τ_fast's end at 0.01 m it ends at its first steps (the lying head origin is higher), so an
 // untrained π_weak gives a reference: enough to check the episode's mechanics.
 SlowerSettings immediate_rise() {
   SlowerSettings s;
-  s.reference_end_m = 0.1;
+  s.reference_end_m = 0.01;
   s.balance_steps = 12;
   return s;
 }
@@ -150,6 +151,98 @@ TEST(SlowerEnv, AnEpisodeTracksThenStandsAndEndsAtTOverKappaPlusTheBalanceSteps)
   // Every rise step counted, the terminating one too: the whole rise, or the share before the end.
   EXPECT_DOUBLE_EQ(env.tracked_fraction(), std::min(steps, rise_steps) / static_cast<double>(rise_steps));
   EXPECT_DOUBLE_EQ(env.end_com_gap_m(), gap_at_last_rise_step);
+}
+
+// The head origin's height in each frame of τ_fast.
+std::vector<double> head_origins(const FastRollout& fast, const sim::ModelPtr& model) {
+  std::vector<double> heights;
+  sim::CharacterData data(*model);
+  for (const Eigen::VectorXd& q : fast.q) {
+    data.q = q;
+    sim::forward_kinematics(*model, data);
+    heights.push_back(sim::body_point(*model, data, model->head_body(), Eigen::Vector3d::Zero()).z());
+  }
+  return heights;
+}
+
+// τ_fast ends reference_end_extra_steps after the first step whose head origin passes the
+// configured height (the seed repository: 1 step after 1.4 m). The untrained π_weak's head moves
+// about; a height just under a new highest head origin ends τ_fast at that frame plus the extra step.
+TEST(SlowerEnv, TheReferenceEndsAtTheFirstStepPastTheConfiguredHeight) {
+  SlowerSettings wide = immediate_rise();
+  wide.reference_end_extra_steps = 40;  // the first step passes 0.01 m: 41 frames after the fall's end
+  SlowerEnv first(short_falls(), wide, weak_policy(), 1.0, 0.5);
+  first.seed(7);
+  std::vector<double> observation;
+  first.reset(observation);
+  const auto model = first.world().model_ptr();
+  const std::vector<double> h = head_origins(first.reference_motion().fast(), model);
+  ASSERT_EQ(h.size(), 42u);
+  int record = -1;  // the first step k ≥ 2 above every earlier step's head origin
+  for (int k = 2; k < static_cast<int>(h.size()) && record < 0; ++k)
+    if (h[k] > *std::max_element(h.begin() + 1, h.begin() + k)) record = k;
+  ASSERT_GT(record, 0) << "the untrained π_weak's head never rose above its first step's";
+  const double below = *std::max_element(h.begin() + 1, h.begin() + record);
+  for (const int extra : {0, 1}) {
+    SlowerSettings s = immediate_rise();
+    s.reference_end_m = 0.5 * (below + h[record]);
+    s.reference_end_extra_steps = extra;
+    SlowerEnv env(short_falls(), s, weak_policy(), 1.0, 0.5);
+    env.seed(7);  // the same fall, the same π_weak: the same steps
+    env.reset(observation);
+    const std::vector<double> ended = head_origins(env.reference_motion().fast(), model);
+    EXPECT_EQ(env.reference_motion().fast().steps(), record + extra) << "extra " << extra;
+    EXPECT_GT(ended[record], s.reference_end_m);
+    for (int k = 1; k < record; ++k) EXPECT_LE(ended[k], s.reference_end_m) << "step " << k;
+  }
+}
+
+// The standing phase's target pose, COM height and gains are the configured ones, and R_balance
+// reads them: a configured pose (knees bent 0.7 rad) and h'_com reach the reward as given.
+TEST(SlowerEnv, TheStandingPoseAndGainsReachTheBalanceRewardAsConfigured) {
+  SlowerSettings s = immediate_rise();
+  for (auto& [joint, angle] : s.standing_pose)
+    if (joint == "knee_right" || joint == "knee_left") angle = -0.7;
+  s.standing_com_m = 0.75;
+  s.standing_kd_ratio = 4.0;
+  SlowerEnv env(short_falls(), s, weak_policy(), 1.0, 0.8);
+  env.seed(11);
+  std::vector<double> observation;
+  env.reset(observation);
+  const auto model = env.world().model_ptr();
+  const sim::Link& knee = model->link("knee_left");
+  EXPECT_EQ(env.standing_pose()(knee.q_index), -0.7);
+  EXPECT_EQ(env.standing_pose()(model->link("elbow_right").q_index), -1.5795);  // the seed's, unchanged
+  EXPECT_EQ(env.standing_com_m(), 0.75);
+  const std::vector<double> zero(env.action_space().size(), 0.0);
+  learn::StepResult step;
+  int standing_steps = 0, rise_steps = 0;
+  do {
+    const bool standing = env.standing_phase();
+    env.step(zero, step);
+    // The step ran with the phase's gains: k_d = k_p/10 over the rise, k_p/standing_kd_ratio after.
+    const double kp = model->torque_limits()(knee.v_index);
+    EXPECT_DOUBLE_EQ(env.world().gains().kd(knee.v_index), kp / (standing ? 4.0 : 10.0));
+    rise_steps += !standing;
+    if (!env.standing_phase()) continue;
+    ++standing_steps;
+    // The PD target is q̂ (the reference's last frame) and the reward R_balance at q̂, h'_com.
+    EXPECT_EQ(env.reference_motion().clip()->poses.back().tail(model->nq() - 7), env.standing_pose().tail(model->nq() - 7));
+    const sim::Observation& f = env.features();
+    BalanceState b;
+    b.com_velocity_xy = f.com_vel.head<2>();
+    b.torso_up_z = f.torso_up.z();
+    b.com_height_m = f.com.z();
+    b.com_height_error_m = f.com.z() - 0.75;
+    const Eigen::VectorXd& q = env.world().data().q;
+    for (const sim::Link& l : model->links())
+      if (l.joint == sim::JointType::revolute)
+        b.pose_squared_error += (q(l.q_index) - env.standing_pose()(l.q_index)) * (q(l.q_index) - env.standing_pose()(l.q_index));
+    EXPECT_DOUBLE_EQ(step.reward, reward_balance(b));
+  } while (!step.terminated && !step.truncated);
+  // The lying body ends the standing phase at once (h_com < 0.5 m), after its reward was scored.
+  EXPECT_GT(rise_steps, 0);
+  EXPECT_GT(standing_steps, 0) << "the episode ended before its standing phase";
 }
 
 TEST(SlowerEnv, ASavedEpisodeResumesBitwiseInAFreshEnv) {

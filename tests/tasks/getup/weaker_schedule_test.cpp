@@ -3,9 +3,12 @@
 // strength passed), and the export rule's ranking where the curriculum does not decide.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "discover_weaker.h"
+#include "podium/base/rng.h"
 
 namespace podium::tasks::getup {
 namespace {
@@ -84,6 +87,45 @@ TEST(WeakerSchedule, AStateWithoutItsEndIsRefused) {
   old.erase("ended");
   WeakerSchedule t({}, {});
   EXPECT_THROW(t.load_state(old), base::UserError);
+}
+
+// After the curriculum ends, each training episode's strength is clip(N(β, ε), β, 1) with β the last
+// strength passed (the seed repository's main.py update_power and env.py sample_power): 10,000
+// draws of a training GetupEnv never fall below it; during the curriculum they may (floor 0.4).
+TEST(WeakerSchedule, AfterTheCurriculumTheSampledStrengthNeverFallsBelowTheLastPassed) {
+  WeakerSchedule s({}, {});
+  EXPECT_EQ(s.on_test(20'000, 61.0), Decision::advance);
+  EXPECT_EQ(s.on_test(40'000, 61.0), Decision::advance);
+  EnvSettings env;
+  env.fall.control_steps = 1;
+  EXPECT_EQ(strength_floor(s, env.min_strength), 0.4);
+  EXPECT_EQ(s.on_test(40'000 + 300'020, 0.0), Decision::end_curriculum);
+  const double beta = s.strength(), floor = strength_floor(s, env.min_strength);
+  EXPECT_DOUBLE_EQ(beta, 0.95);
+  EXPECT_EQ(floor, beta);
+  GetupEnv trained(env, std::make_shared<double>(beta), true, std::make_shared<double>(floor));
+  base::Rng rng(3);
+  double lowest = 1.0, sum = 0.0;
+  int at_floor = 0;
+  for (int k = 0; k < 10'000; ++k) {
+    trained.begin_episode(rng);
+    lowest = std::min(lowest, trained.strength());
+    sum += trained.strength();
+    at_floor += trained.strength() == beta;
+  }
+  EXPECT_GE(lowest, beta);
+  EXPECT_GT(at_floor, 4'000);  // about half the draws fall below β and are clipped to it
+  EXPECT_LT(at_floor, 6'000);
+  EXPECT_GT(sum / 10'000, beta);
+  // The same draws with the curriculum's floor do go below β.
+  GetupEnv during(env, std::make_shared<double>(beta), true);
+  base::Rng again(3);
+  double lowest_during = 1.0;
+  for (int k = 0; k < 10'000; ++k) {
+    during.begin_episode(again);
+    lowest_during = std::min(lowest_during, during.strength());
+  }
+  EXPECT_LT(lowest_during, beta - 0.1);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -60,6 +61,9 @@ struct Link {
   // at q = 0), N·m·s/rad and N·m/rad; revolute joints only; a World applies it when
   // WorldConfig::passive_joints is set.
   double damping = 0.0, stiffness = 0.0;
+  // Rotor inertia added to the joint-space inertia's diagonal at each of the joint's DoFs
+  // (MuJoCo's joint armature), kg·m²; 0: none.
+  double armature = 0.0;
 };
 
 /// A named rigid body (what observations, recording and contacts talk about).
@@ -102,6 +106,12 @@ class CharacterModel {
   /// Per-DoF passive damping and stiffness (nv, 0 on the root and spherical joints).
   const Eigen::VectorXd& damping() const { return damping_; }
   const Eigen::VectorXd& stiffness() const { return stiffness_; }
+  /// Per-DoF armature (nv, 0 on the root), added to the mass matrix's diagonal by CRBA and MABA.
+  const Eigen::VectorXd& armature() const { return armature_; }
+  bool has_armature() const { return has_armature_; }
+  /// Coulomb μ of contacts between two of the character's own bodies (the file's
+  /// "self_contact_friction"; MuJoCo's condim 1 is 0); nullopt: the bodies' combined μ, as any contact.
+  std::optional<double> self_contact_friction() const { return self_contact_friction_; }
   /// Neutral configuration: root at the origin, identity rotations, zero angles.
   Eigen::VectorXd neutral() const;
   /// The model-file JSON this model was built from.
@@ -117,7 +127,9 @@ class CharacterModel {
   int head_ = 0, torso_ = 0;
   std::vector<int> end_effectors_;
   double total_mass_ = 0.0;
-  Eigen::VectorXd standing_, torque_limits_, kp_, kd_, damping_, stiffness_;
+  Eigen::VectorXd standing_, torque_limits_, kp_, kd_, damping_, stiffness_, armature_;
+  bool has_armature_ = false;
+  std::optional<double> self_contact_friction_;
   base::Json source_;
 };
 

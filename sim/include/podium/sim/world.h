@@ -133,6 +133,7 @@ class World {
   void restore(const WorldSnapshot& snapshot);
   /// Gains for pd / spd_* (defaults to the model's).
   void set_gains(const Gains& gains);
+  const Gains& gains() const { return gains_; }
 
   /// One control period: substeps() simulation steps with the same command.
   StepReport control_step(Control mode, const Eigen::VectorXd& command);

@@ -273,6 +273,9 @@ void ContactSolver::solve_rows() {
   for (int sweep = 0; sweep < config_.iterations; ++sweep) {
     double largest = 0.0;
     for (int r = 0; r < m; ++r) {
+      // A row no joint can move (its Jacobian is zero: the contact's distance is fixed by the
+      // joints) takes no impulse; dividing by its zero diagonal would make the step NaN.
+      if (A(r, r) <= 0.0) continue;
       const double scale = normal_of_[r] >= 0 ? lambda(normal_of_[r]) : 1.0;
       const double next = std::clamp(lambda(r) + (target_[r] - v(r)) / A(r, r), lo_[r] * scale, hi_[r] * scale);
       const double delta = next - lambda(r);

@@ -32,8 +32,8 @@ struct RunupSettings {
   /// The reference run (DeepMimic format); the config reads it from runup_motions/runup_motion.
   std::string motion;
   double sim_hz = 600.0;
-  double control_hz = 30.0;        ///< DeepMimic's 30 Hz
-  double takeoff_time_s = 0.0;     ///< on the reference's clock; 0: reference_takeoff_time
+  double control_hz = 30.0;     ///< DeepMimic's 30 Hz
+  double takeoff_time_s = 0.0;  ///< on the reference's clock; 0: reference_takeoff_time
   /// How long before the take-off the run-up begins (its first frame, and RSI's range); 0: the
   /// reference's first frame (the thesis's whole run).
   double lead_s = 0.0;

@@ -118,7 +118,7 @@ Json presets() {
             {"final_jumps", 20},
             {"checkpoint_every", 10},
             {"vae_epochs", 600},
-            {"runup_lead_s", 1.0}}},
+            {"runup_lead_s", 0.5}}},
           {"paper",
            {{"ppo_preset", "paper"},
             {"ppo", {{"rollout_steps", 256}}},

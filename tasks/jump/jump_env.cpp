@@ -101,10 +101,8 @@ JumpEnv::JumpEnv(const JumpSettings& settings, PosePrior prior)
           out[3] = static_cast<const JumpEnv&>(env).difficulty_m();
         }));
         e.start = std::make_unique<TakeoffStart>(p.takeoff);
-        // CharacterEnv hands its reward a const env, but calls it from its own non-const step: the
-        // env is not a const object, so the episode's trackers may change here.
-        e.reward = [](const CharacterEnv& env, std::span<const double> action, learn::StepResult& out) {
-          const_cast<JumpEnv&>(static_cast<const JumpEnv&>(env)).on_step(action, out);
+        e.reward = [](CharacterEnv& env, std::span<const double> action, learn::StepResult& out) {
+          static_cast<JumpEnv&>(env).on_step(action, out);
         };
         e.info_names = jump_info_names();
         return p;

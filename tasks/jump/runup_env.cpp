@@ -1,5 +1,6 @@
 #include "runup_env.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -31,6 +32,9 @@ RunupSettings read_runup_settings(base::ConfigReader& r, const RunupSettings& ju
       r.number("runup_control_hz", s.control_hz, {.min = 1.0}, "the run-up's control rate (DeepMimic: 30 Hz); divides sim_hz");
   s.takeoff_time_s = r.number("runup_takeoff_time_s", s.takeoff_time_s, {.min = 0.0},
                               "the take-off on the reference's clock; 0: its last single support on takeoff_foot");
+  s.lead_s = r.number("runup_lead_s", s.lead_s, {.min = 0.0},
+                      "how long before the take-off the run-up begins, s (its first frame and RSI's range); 0: the "
+                      "reference's first frame, the thesis's whole run");
   s.handover_window_s = r.number("runup_window_s", s.handover_window_s, {.min = 0.0},
                                  "how early before the take-off time a step on takeoff_foot alone hands over to the jump");
   s.start_noise_rad = r.number("runup_start_noise", s.start_noise_rad, {.min = 0.0}, "RSI joint noise, rad");
@@ -70,6 +74,12 @@ struct RunupEnv::Parts {
 
 namespace {
 
+// The run-up's first frame: lead_s before the take-off (rounded down to a frame), or the first.
+int first_frame(const RunupSettings& s, double takeoff_time_s) {
+  if (s.lead_s <= 0.0) return 0;
+  return std::max(0, static_cast<int>(std::floor((takeoff_time_s - s.lead_s) * s.control_hz + 1e-9)));
+}
+
 int body_of(const sim::CharacterModel& model, const std::string& name, const char* key) {
   const int b = model.find_body(name);
   if (b < 0) throw base::UserError("jump runup: model " + model.name() + " has no body " + name + " (" + key + ")");
@@ -106,12 +116,14 @@ RunupEnv::RunupEnv(const RunupSettings& settings, std::shared_ptr<const characte
         e.observation.push_back(std::make_unique<TaskScalars>(
             1, [](const CharacterEnv& env, std::span<double> out) { out[0] = env.world().data().q(2); }));
         e.observation.push_back(std::make_unique<ReferencePhase>(p.imitation));
-        // RSI over the frames before the take-off: a start at or after it would hand over at once.
+        // RSI over the frames from the run-up's first to the take-off's: a start at or after the
+        // take-off would hand over at once.
         const int last = std::max(0, static_cast<int>(std::floor(p.condition.takeoff_time_s * settings.control_hz + 1e-9)) - 1);
-        if (from_start) e.start = std::make_unique<ReferenceStart>(0.0, false, 0.0);
-        else e.start = std::make_unique<ReferenceStateStart>(settings.start_noise_rad, 0, last);
-        e.reward = [](const CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
-          const_cast<RunupEnv&>(static_cast<const RunupEnv&>(env)).on_step(out);
+        const int first = std::clamp(first_frame(settings, p.condition.takeoff_time_s), 0, last);
+        if (from_start) e.start = std::make_unique<ReferenceStateStart>(0.0, first, first);
+        else e.start = std::make_unique<ReferenceStateStart>(settings.start_noise_rad, first, last);
+        e.reward = [](CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
+          static_cast<RunupEnv&>(env).on_step(out);
         };
         e.info_names = runup_info_names();
         e.reference = reference;
@@ -128,7 +140,8 @@ RunupEnv::RunupEnv(const RunupSettings& settings, Parts p)
       other_(p.other) {
   early_.fall_bodies = character::fall_bodies_except(model(), {settings.takeoff_foot, settings.other_foot});
   early_.max_com_deviation_m = settings.max_com_deviation_m;
-  full_steps_ = static_cast<int>(std::lround(condition_.takeoff_time_s * settings.control_hz));
+  start_time_s_ = std::min(first_frame(settings, condition_.takeoff_time_s) / settings.control_hz, condition_.takeoff_time_s);
+  full_steps_ = std::max(1, static_cast<int>(std::lround((condition_.takeoff_time_s - start_time_s_) * settings.control_hz)));
 }
 
 void RunupEnv::reset(std::vector<double>& observation) {

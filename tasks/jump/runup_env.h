@@ -32,8 +32,11 @@ struct RunupSettings {
   /// The reference run (DeepMimic format); the config reads it from runup_motions/runup_motion.
   std::string motion;
   double sim_hz = 600.0;
-  double control_hz = 30.0;        ///< DeepMimic's 30 Hz
-  double takeoff_time_s = 0.0;     ///< on the reference's clock; 0: reference_takeoff_time
+  double control_hz = 30.0;     ///< DeepMimic's 30 Hz
+  double takeoff_time_s = 0.0;  ///< on the reference's clock; 0: reference_takeoff_time
+  /// How long before the take-off the run-up begins (its first frame, and RSI's range); 0: the
+  /// reference's first frame (the thesis's whole run).
+  double lead_s = 0.0;
   double handover_window_s = 0.2;  ///< TakeoffCondition::window_s
   double start_noise_rad = 0.02;   ///< RSI joint noise
   /// The action: "residual" (the reference pose + Δq, |Δq| ≤ offset_bound_rad, as the get-up's
@@ -46,7 +49,7 @@ struct RunupSettings {
   std::vector<double> takeoff_features;              ///< the strategy's (takeoff_features(kind)'s order)
 };
 
-/// Reads the run-up keys (runup_motion, runup_control_hz, runup_takeoff_time_s, runup_window_s,
+/// Reads the run-up keys (runup_motion, runup_control_hz, runup_takeoff_time_s, runup_lead_s, runup_window_s,
 /// runup_start_noise, runup_actions, runup_offset_bound, runup_max_com_deviation_m); kind, model, takeoff_foot and
 /// sim_hz are the jump's, passed in `jump`.
 RunupSettings read_runup_settings(base::ConfigReader& r, const RunupSettings& jump);
@@ -68,8 +71,10 @@ class RunupEnv final : public character::CharacterEnv {
   const RunupSettings& settings() const { return settings_; }
   const TakeoffCondition& condition() const { return condition_; }
   const RunupTarget& target() const { return target_; }
-  /// Control steps of a whole run-up (from the first frame to the take-off time).
+  /// Control steps of a whole run-up (from its first frame to the take-off time).
   int full_steps() const { return full_steps_; }
+  /// The run-up's first frame on the reference's clock (lead_s before the take-off, or 0).
+  double start_time_s() const { return start_time_s_; }
   bool handed_over() const { return handed_over_; }
   character::Termination termination() const { return termination_; }
   /// The root motion and r_G at the hand-over (valid once handed_over()).
@@ -87,6 +92,7 @@ class RunupEnv final : public character::CharacterEnv {
   TakeoffCondition condition_;
   RunupTarget target_;
   int foot_ = -1, other_ = -1, full_steps_ = 0;
+  double start_time_s_ = 0.0;
   bool handed_over_ = false;
   character::Termination termination_ = character::Termination::none;
   RootMotion end_;

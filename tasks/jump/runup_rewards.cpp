@@ -70,14 +70,18 @@ double reference_takeoff_time(const sim::CharacterModel& model, std::span<const 
   };
   std::vector<double> foot(poses.size()), other(poses.size());
   double ground = std::numeric_limits<double>::infinity();
+  std::size_t apex = 0;  // the frame of the highest root: the captured jump's flight
   for (std::size_t f = 0; f < poses.size(); ++f) {
     d.q = poses[f];
     sim::forward_kinematics(model, d);
     foot[f] = low_point(takeoff_foot), other[f] = low_point(other_foot);
     ground = std::min({ground, foot[f], other[f]});
+    if (poses[f](2) > poses[apex](2)) apex = f;
   }
   constexpr double kContact = 0.03;  // m above the clip's lowest foot point
-  for (std::size_t f = poses.size(); f-- > 0;)
+  // Before the apex: a captured run-up goes on past its take-off (the curved sprint lands and walks
+  // out, its last single support is after the landing), and the run-up ends at the take-off.
+  for (std::size_t f = apex + 1; f-- > 0;)
     if (foot[f] - ground < kContact && other[f] - ground >= kContact) return times_s[f];
   throw base::UserError("jump run-up: the reference run never has " +
                         model.bodies()[static_cast<std::size_t>(takeoff_foot)].name + " alone on the ground");

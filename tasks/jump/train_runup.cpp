@@ -210,10 +210,13 @@ void RunupStage::build(const Json&) {
 }
 
 // The jump's PPO settings, with DeepMimic's discount (γ = 0.95) for the dense imitation reward
-// unless the config sets one.
+// and a smaller action noise (σ 0.2 → 0.05 of the offset bound: the jump's 0.5 of ±1 rad
+// throws a running athlete over in a step) unless the config sets them.
 Json RunupStage::learner_spec() const {
   Json spec = jump::learner_spec(train_);
   if (!spec["config"].contains("gamma")) spec["config"]["gamma"] = 0.95;
+  if (!spec["config"].contains("sigma_start")) spec["config"]["sigma_start"] = 0.2;
+  if (!spec["config"].contains("sigma_end")) spec["config"]["sigma_end"] = 0.05;
   return spec;
 }
 

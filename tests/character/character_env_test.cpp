@@ -382,6 +382,27 @@ TEST(CharacterEnv, HeightMapIsTheRootsHeightAboveTheGround) {
       EXPECT_NEAR(obs[a * 5 + b], (a == 4 && b == 2) ? h - 0.1 : h, 1e-12) << a << " " << b;  // (+0.5, 0): the box
 }
 
+// The reward is handed the env itself (not a const view), so a task may keep per-episode trackers
+// in it: here it moves the reference clock, and the env's next step sees the change.
+TEST(CharacterEnv, TheRewardMayChangeTheEnv) {
+  CharacterEnvParts parts = testing::getup_like_parts(5);
+  std::vector<double> clocks;
+  parts.reward = [&clocks](CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
+    clocks.push_back(env.reference_time_s());
+    env.set_reference_time(10.0 * static_cast<double>(env.step_index()));
+    out.reward = 0.0;
+  };
+  CharacterEnv env(std::move(parts));
+  std::vector<double> obs;
+  env.reset(obs);
+  const std::vector<double> zeros(21, 0.0);
+  learn::StepResult out;
+  env.step(zeros, out);
+  env.step(zeros, out);
+  ASSERT_EQ(clocks.size(), 2u);
+  EXPECT_NEAR(clocks[1], 10.0 * 1 + env.control_dt_s(), 1e-9);  // set after step 1, then one control period on
+}
+
 // CharacterEnv inside learn's VecEnv: copies step on worker threads and their rollout state
 // (each copy's save_state) round-trips through a fresh VecEnv.
 TEST(CharacterEnv, RunsInAVecEnvAndResumesItsRolloutState) {

@@ -40,6 +40,10 @@ TEST(RunupEnv, ReferenceRunsStandOnTheGroundAndTakeOffOnTheRightFoot) {
     EXPECT_GT(env.condition().takeoff_time_s, 0.5) << file;  // a run, not a standing start
     EXPECT_LE(env.condition().takeoff_time_s, clip->duration_s()) << file;
     EXPECT_EQ(env.full_steps(), static_cast<int>(std::lround(env.condition().takeoff_time_s * 30.0)));
+    // The take-off leads into the captured jump's flight: the root rises after it (the curved
+    // sprint lands and walks on after its jump; its last single support is not the take-off).
+    const double t = env.condition().takeoff_time_s;
+    EXPECT_GT(clip->sample(t + 0.3)(2), clip->sample(t)(2) + 0.2) << file;
   }
 }
 
@@ -83,6 +87,31 @@ TEST(RunupEnv, StartsOnTheReferenceAndHandsOverExactlyAtTheTakeoffCondition) {
     EXPECT_DOUBLE_EQ(env.task_reward(),
                      runup_task_reward(env.target(), root_motion(env.world().data().q, env.world().data().qd)));
     EXPECT_NEAR(out.reward, 0.7 * out.info[0] + 0.3 * env.full_steps() * env.task_reward(), 1e-9);
+  }
+}
+
+// runup_lead_s: the run-up begins that long before the take-off (on a frame), evaluation starts
+// there and RSI draws no earlier frame; the hand-over's task term counts the shorter run's steps.
+TEST(RunupEnv, ALeadStartsTheRunUpThatLongBeforeTheTakeoff) {
+  SKIP_WITHOUT_DATA();
+  RunupSettings s = settings("VC5_sprint__curves_03.txt", JumpKind::high_jump);
+  s.lead_s = 1.0;
+  const auto clip = load_reference_run(s);
+  RunupEnv from_start(s, clip, true);
+  const double t_off = from_start.condition().takeoff_time_s;
+  const double first = std::floor((t_off - 1.0) * 30.0 + 1e-9) / 30.0;
+  EXPECT_NEAR(from_start.start_time_s(), first, 1e-9);
+  EXPECT_EQ(from_start.full_steps(), static_cast<int>(std::lround((t_off - first) * 30.0)));
+  std::vector<double> obs;
+  from_start.reset(obs);
+  EXPECT_NEAR(from_start.reference_time_s(), first, 1e-9);
+  EXPECT_LT((from_start.world().data().q - clip->sample(first)).norm(), 1e-9);  // no noise
+  RunupEnv rsi(s, clip, false);
+  for (std::uint64_t seed = 0; seed < 40; ++seed) {
+    rsi.seed(seed);
+    rsi.reset(obs);
+    EXPECT_GE(rsi.reference_time_s(), first - 1e-9);
+    EXPECT_LT(rsi.reference_time_s(), t_off);
   }
 }
 

@@ -1,4 +1,5 @@
-// The run-up stage through the real `podium` binary at the smoke preset: campaigns/highjump.json's
+// The run-up stage through the real `podium` binary at the smoke preset: the task conformance
+// suite on the stage, and campaigns/highjump.json's
 // P-VAE and Stage 1 (cut to 2 samples), then one `runup` trial per Stage 1 trial (inputs "each"):
 // the run-up imitating the authors' curved sprint to that trial's take-off, and the full jump
 // (run-up, then the trial's jump policy) recorded as one motion. Skipped, with the reason, when
@@ -8,11 +9,13 @@
 #include <cstdlib>
 #include <fstream>
 #include <set>
+#include <vector>
 
 #include "finished_campaign.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
 #include "process.h"
+#include "task_conformance.h"
 
 namespace podium::tasks::jump {
 namespace {
@@ -26,6 +29,26 @@ fs::path captured_jump_dir() {
   const fs::path dir = shared ? fs::path(shared) / "data/jump/data" : fs::path();
   return !dir.empty() && fs::exists(dir) ? dir : fs::path();
 }
+
+// The stage in the task conformance suite (determinism, artifacts, cancel, resume from a kill),
+// on the smoke preset toward a fixed target without a jump policy; no case without the reference
+// run (../shared/data/jump).
+std::vector<podium::testing::ConformanceCase> runup_conformance() {
+  const fs::path data = captured_jump_dir();
+  if (data.empty()) return {};
+  return {{.task = "jump",
+           .base_config = {{"stage", "runup"},
+                           {"kind", "high_jump"},
+                           {"runup_motion", (data / "motions/beyond/VC5_sprint__curves_03.txt").string()},
+                           {"takeoff_features", {1.0, -1.0, 0.5, 1.0}}},
+           .long_config = {{"total_samples", 100'000'000}},
+           .resume_config = {{"total_samples", 1024}},
+           .kill_after_metric_points = 24,
+           .resumes_from_checkpoint = true,
+           .artifacts = {"policy", "trajectory"}}};
+}
+using ::podium::testing::TaskConformance;
+INSTANTIATE_TEST_SUITE_P(JumpRunupStage, TaskConformance, ::testing::ValuesIn(runup_conformance()));
 
 TEST(JumpRunup, StageDeclaresItsMetricsAndNeedsAReferenceRun) {
   const auto task = plugins::load_task("jump");

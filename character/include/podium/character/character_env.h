@@ -52,7 +52,9 @@ class Start {
 /// The task's reward and termination for one control step: sets out.reward, out.terminated and
 /// out.info (sized as info_names), and out.truncated when an episode of its own length ends (a
 /// reference-driven one, say); CharacterEnv also truncates at episode_steps and sets the observation.
-using RewardFn = std::function<void(const CharacterEnv& env, std::span<const double> action, learn::StepResult& out)>;
+/// The env is passed mutable, so a task's CharacterEnv subclass may update its episode's trackers
+/// here (a lambda taking `const CharacterEnv&` binds as well).
+using RewardFn = std::function<void(CharacterEnv& env, std::span<const double> action, learn::StepResult& out)>;
 /// Per-episode changes before the start (strength β̂, friction, the reference clip's κ, ...).
 using EpisodeHook = std::function<void(CharacterEnv& env, base::Rng& rng)>;
 

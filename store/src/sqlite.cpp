@@ -81,9 +81,13 @@ std::string file_uri(const std::filesystem::path& path) {
 }
 
 // Opens and reads the schema once (the first read is where a missing -shm shows); the SQLite
-// result code, with the connection closed on failure.
+// result code, with the connection closed on failure. The busy timeout is set before that read:
+// after a writer was killed, the first connection to open the file recovers its WAL under an
+// exclusive lock, and a reader arriving meanwhile (a scheduler restarting beside `podium status`)
+// would otherwise fail at once with "database is locked".
 int try_open(const std::string& name, int flags, sqlite3** db) {
   int rc = sqlite3_open_v2(name.c_str(), db, flags | SQLITE_OPEN_READONLY | SQLITE_OPEN_NOMUTEX, nullptr);
+  if (rc == SQLITE_OK) rc = sqlite3_busy_timeout(*db, 10000);
   if (rc == SQLITE_OK) rc = sqlite3_exec(*db, "SELECT count(*) FROM sqlite_master", nullptr, nullptr, nullptr);
   if (rc != SQLITE_OK) {
     sqlite3_close_v2(*db);

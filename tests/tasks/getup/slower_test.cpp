@@ -31,7 +31,7 @@ EnvSettings short_falls() {
 // once per test process into a folder removed at its exit.
 fs::path untrained_weak_policy() {
   static const podium::testing::TempDir dir;
-  const fs::path path = dir / "weak.pt";
+  fs::path path = dir / "weak.pt";
   if (fs::exists(path)) return path;
   GetupEnv env(short_falls(), std::make_shared<double>(1.0), false);
   const base::Json spec = {{"algorithm", "sac"}, {"preset", "quick"}, {"config", {{"hidden", {8, 8}}}}};

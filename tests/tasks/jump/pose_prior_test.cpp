@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 // An empty folder of this test's own (tests of one binary may run at once).
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("jump_pose_prior_test_" + name + "_" + std::to_string(getpid()));
+  fs::path dir = fs::temp_directory_path() / ("jump_pose_prior_test_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

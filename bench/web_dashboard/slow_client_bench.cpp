@@ -60,7 +60,9 @@ int main(int argc, char** argv) {
   std::printf(" ms\n");
   auto sorted = run.latencies_ms;
   std::sort(sorted.begin(), sorted.end());
-  const auto at = [&](double q) { return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(q * static_cast<double>(sorted.size())))]; };
+  const auto at = [&](double q) {
+    return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(q * static_cast<double>(sorted.size())))];
+  };
   const bool pass = run.answered == load.requests && sorted.back() < 1000.0;
   std::printf("answered %d of %d; p50 %.1f ms, p95 %.1f ms, max %.1f ms; %s (all answered, each within 1 s)\n", run.answered,
               load.requests, at(0.5), at(0.95), sorted.back(), pass ? "PASS" : "FAIL");

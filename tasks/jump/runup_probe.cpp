@@ -180,7 +180,8 @@ int main(int argc, char** argv) {
   const PosePrior prior = load_pose_prior(std::string(PODIUM_JUMP_POLICY_DIR) + "/athlete_pose_vae.pt");
   for (const Strategy& st : strategies)
     for (double t = t_off - 0.2; t <= t_off + 1e-9; t += 1.0 / 30.0) {
-      const Eigen::VectorXd q = clip->sample(t), qd = reference.velocity(t);
+      const Eigen::VectorXd q = clip->sample(t);
+      const Eigen::VectorXd& qd = reference.velocity(t);  // the stored frame's
       const RunupTarget target = runup_target(JumpKind::high_jump, st.takeoff);
       // The reference's take-off with the strategy's ω and lateral speed put in (heading frame → root frame).
       Eigen::VectorXd ideal = qd;

@@ -355,4 +355,20 @@ TEST_P(TaskConformance, WarmStartedTrialTrainsOnAndResumes) {
 }
 
 }  // namespace
+
+Json input_from_smoke(const fs::path& source_dir, const Json& source_result) {
+  Json input = {{"stage", "explore"},
+                {"stage_index", 0},
+                {"trial_index", 0},
+                {"params", Json::object()},
+                {"objectives", source_result["objectives"]},
+                {"features", source_result["features"]},
+                {"strategy", 0},
+                {"artifacts", Json::object()},
+                {"info", source_result["info"]}};
+  for (const auto& a : source_result["artifacts"])
+    input["artifacts"][a["name"].get<std::string>()] = (source_dir / a["path"].get<std::string>()).string();
+  return input;
+}
+
 }  // namespace podium::testing

@@ -49,6 +49,11 @@ struct WarmStartCase {
   int kill_after_metric_points = 0;  ///< as ConformanceCase's, for the warm trial
 };
 
+/// The smoke trial as an input trial of stage "explore" (index 0, strategy 0): its objectives,
+/// features, info, and every artifact at its path under source_dir — what a WarmStartCase's order
+/// hands the warm trial.
+base::Json input_from_smoke(const std::filesystem::path& source_dir, const base::Json& source_result);
+
 struct ConformanceCase {
   std::string task;                                 ///< plugin name
   base::Json base_config = base::Json::object();    ///< on the smoke preset, under every trial's config (e.g. the stage)

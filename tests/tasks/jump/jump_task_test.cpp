@@ -24,17 +24,7 @@ namespace fs = std::filesystem;
 
 // The warm start: a novel trial (Stage 2) handed the explore smoke trial, its policy trained on.
 podium::testing::WarmStartCase::Order novel_from(const fs::path& source, const Json& result) {
-  Json input = {{"stage", "explore"},
-                {"stage_index", 0},
-                {"trial_index", 0},
-                {"params", Json::object()},
-                {"objectives", result["objectives"]},
-                {"features", result["features"]},
-                {"strategy", 0},
-                {"artifacts", Json::object()},
-                {"info", result["info"]}};
-  for (const auto& a : result["artifacts"])
-    input["artifacts"][a["name"].get<std::string>()] = (source / a["path"].get<std::string>()).string();
+  const Json input = podium::testing::input_from_smoke(source, result);
   return {{{"stage", "novel"}, {"total_samples", 1024}}, Json::array({input})};
 }
 PODIUM_TASK_CONFORMANCE(Jump, {.task = "jump",

@@ -14,14 +14,7 @@ namespace fs = std::filesystem;
 
 // The warm start: from the smoke trial's policy, handed over as an input trial.
 podium::testing::WarmStartCase::Order from_policy(const fs::path& source, const Json& result) {
-  const Json input = {{"stage", "explore"},
-                      {"stage_index", 0},
-                      {"trial_index", 0},
-                      {"params", Json::object()},
-                      {"objectives", result["objectives"]},
-                      {"features", result["features"]},
-                      {"strategy", 0},
-                      {"artifacts", {{"policy", (source / result["artifacts"][0]["path"].get<std::string>()).string()}}}};
+  const Json input = podium::testing::input_from_smoke(source, result);
   return {{{"updates", 60}, {"checkpoint_every", 3}}, Json::array({input})};
 }
 PODIUM_TASK_CONFORMANCE(TestPendulum, {.task = "test_pendulum",

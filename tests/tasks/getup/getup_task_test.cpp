@@ -345,8 +345,8 @@ TEST(GetupCampaign, SmokeRunsWeakerSlowerAndEvaluateEndToEnd) {
     }
   }
 
-  // tasks/getup/report.py finds each Weaker trial's trial.log (the store's folder rule) and reads
-  // its wall times from the per-test lines.
+  // tasks/getup/report.py reads the campaign through the CLI and each Weaker trial's wall times
+  // from its time/* metrics.
   const std::string command =
       "/usr/bin/python3 " PODIUM_SOURCE_DIR "/tasks/getup/report.py " + (dir.path() / "podium.db").string() + " getup 2>&1";
   const auto [status, report] = podium::testing::shell(command);

@@ -111,69 +111,124 @@ void summarise(SpeedResult& r, const character::EvaluationReport& report, const 
 
 }  // namespace
 
+namespace {
+
+// What every run of one Evaluate trial shares.
+struct EvaluateInputs {
+  const Settings& s;
+  const SlowerConfig& slower;
+  const WeakPolicy& weak;
+  std::shared_ptr<const learn::FrozenPolicy> teacher;
+  std::vector<std::uint64_t> falls;
+  fs::path work_dir;
+};
+
+// One fast run: π_weak from the same falls SlowerEnv's teacher gets first (its generator's first
+// draw) at `strength`. Without `shown` (π_weak's own strength, whose strategy features are the
+// trial's) it picks the fall every speed's replay shows and keeps only that recording; with it,
+// it records that fall alone.
+struct FastRun {
+  SpeedResult result;
+  std::size_t shown = 0;
+  StrategyFeatures features;
+};
+
+FastRun run_fast(const EvaluateInputs& in, double strength, std::optional<std::size_t> shown) {
+  auto beta = std::make_shared<double>(strength);
+  GetupEnv env(in.s.env, beta, false);
+  check_policy_fits(*in.teacher, env, "getup evaluate: π_weak");
+  character::EvaluationConfig e;
+  for (std::uint64_t f : in.falls) e.start_seeds.push_back(base::Rng(f).next());
+  const double rise_m = in.slower.env.rise_height_m;
+  e.success = [rise_m](const character::CharacterEnv& env) {
+    return static_cast<const GetupEnv&>(env).weak().head_height_m > rise_m;
+  };
+  FallWatch watch(in.falls.size(), rise_m);
+  std::vector<StrategyRecorder> strategies(in.falls.size(), StrategyRecorder(env.model(), env.readings().head_top_m, rise_m));
+  e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
+    watch.observe(fall, ce, static_cast<const GetupEnv&>(ce).weak().head_height_m);
+    if (ce.step_index() > 0) strategies[fall].observe(ce);
+  };
+  FastRun run;
+  char name[32];
+  std::snprintf(name, sizeof name, "fast_b%g", strength);
+  run.result.name = shown ? name : "fast";
+  run.result.strength = strength;
+  record_falls(e, shown, in.work_dir / "rollouts" / run.result.name);
+  auto report = character::evaluate(
+      env, [&](std::span<const double> o, std::span<double> a) { in.teacher->act(o, a, env.action_scale()); }, e);
+  if (!shown) {
+    run.shown = shown_episode(watch.heads, in.s.stand_steps);
+    for (std::size_t i = 0; i < report.trajectories.size(); ++i)
+      if (i != run.shown) fs::remove(report.trajectories[i]);
+    report.trajectories = {report.trajectories.at(run.shown)};
+    std::vector<StrategyFeatures> per_fall;
+    for (const auto& rec : strategies) per_fall.push_back(rec.features());
+    run.features = mean_features(per_fall);
+  }
+  summarise(run.result, report, watch, in.s.stand_steps, env.control_dt_s());
+  return run;
+}
+
+// One slowed run: π_slow at κ, or the paused motion; the shown fall recorded.
+struct SlowRun {
+  std::string name;
+  double kappa;
+  bool pause;
+};
+
+SpeedResult run_slow(const EvaluateInputs& in, const EvaluateConfig& c, const learn::FrozenPolicy& pi_slow, const SlowRun& run,
+                     std::size_t shown) {
+  SlowerEnv env(in.s.env, in.slower.env, in.teacher, in.weak.strength, run.kappa);
+  check_policy_fits(pi_slow, env, "getup evaluate: π_slow");
+  if (run.pause) env.set_rollout_edit([&c](FastRollout f) { return paused(std::move(f), c.pause_at, c.pause_steps); });
+  character::EvaluationConfig e = slower_test(in.slower.env, in.falls);
+  e.measures.push_back({"fast_rise_time_s", [](const character::CharacterEnv& ce) {
+                          return static_cast<const SlowerEnv&>(ce).reference_motion().fast().steps() * ce.control_dt_s();
+                        }});
+  FallWatch watch(in.falls.size(), in.slower.env.rise_height_m);
+  e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
+    watch.observe(fall, ce, static_cast<const SlowerEnv&>(ce).weak().head_height_m);
+  };
+  record_falls(e, shown, in.work_dir / "rollouts" / run.name);
+  const auto report = character::evaluate(
+      env, [&](std::span<const double> o, std::span<double> a) { pi_slow.act(o, a); }, e);
+  SpeedResult r;
+  r.name = run.name;
+  r.kappa = run.kappa;
+  summarise(r, report, watch, in.s.stand_steps, env.control_dt_s());
+  r.com_error_m = report.mean("com_error_m");
+  r.tracked_fraction = report.mean("tracked_fraction");
+  r.end_com_gap_m = report.mean("end_com_gap_m");
+  r.fast_rise_time_s = report.mean("fast_rise_time_s");
+  return r;
+}
+
+}  // namespace
+
 EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, const EvaluateConfig& c, const fs::path& slow_policy,
                              const WeakPolicy& weak, const fs::path& work_dir, const std::atomic<bool>* cancel) {
-  const auto teacher = std::make_shared<const learn::FrozenPolicy>(weak.policy);
-  std::vector<std::uint64_t> falls;
-  for (int k = 0; k < c.falls; ++k) falls.push_back(base::derive_seed(c.falls_seed, static_cast<std::uint64_t>(k)));
+  EvaluateInputs in{s, slower, weak, std::make_shared<const learn::FrozenPolicy>(weak.policy), {}, work_dir};
+  for (int k = 0; k < c.falls; ++k) in.falls.push_back(base::derive_seed(c.falls_seed, static_cast<std::uint64_t>(k)));
   const auto check_cancel = [&] {
     if (cancel && cancel->load()) throw std::runtime_error("getup evaluate: cancelled");
   };
   EvaluateOutcome out;
 
-  // Fast: π_weak from the same falls SlowerEnv's teacher gets first (its generator's first draw),
-  // at its own strength (its strategy features come from these runs) and the further ones.
-  std::size_t shown = 0;  // the fall every speed's replay shows
-  std::vector<double> strengths = {weak.strength};
-  strengths.insert(strengths.end(), c.strengths.begin(), c.strengths.end());
-  for (std::size_t b = 0; b < strengths.size(); ++b) {
-    auto beta = std::make_shared<double>(strengths[b]);
-    GetupEnv env(s.env, beta, false);
-    check_policy_fits(*teacher, env, "getup evaluate: π_weak");
-    character::EvaluationConfig e;
-    for (std::uint64_t f : falls) e.start_seeds.push_back(base::Rng(f).next());
-    const double rise_m = slower.env.rise_height_m;
-    e.success = [rise_m](const character::CharacterEnv& env) {
-      return static_cast<const GetupEnv&>(env).weak().head_height_m > rise_m;
-    };
-    FallWatch watch(falls.size(), rise_m);
-    std::vector<StrategyRecorder> strategies(falls.size(), StrategyRecorder(env.model(), env.readings().head_top_m, rise_m));
-    e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
-      watch.observe(fall, ce, static_cast<const GetupEnv&>(ce).weak().head_height_m);
-      if (ce.step_index() > 0) strategies[fall].observe(ce);
-    };
-    SpeedResult r;
-    char name[32];
-    std::snprintf(name, sizeof name, "fast_b%g", strengths[b]);
-    r.name = b == 0 ? "fast" : name;
-    r.strength = strengths[b];
-    record_falls(e, b == 0 ? std::nullopt : std::optional(shown), work_dir / "rollouts" / r.name);
+  // Fast: π_weak at its own strength (which picks the shown fall), then the further strengths.
+  check_cancel();
+  const FastRun own = run_fast(in, weak.strength, std::nullopt);
+  out.speeds.push_back(own.result);
+  out.features = own.features;
+  for (double strength : c.strengths) {
     check_cancel();
-    auto report = character::evaluate(
-        env, [&](std::span<const double> o, std::span<double> a) { teacher->act(o, a, env.action_scale()); }, e);
-    if (b == 0) {
-      shown = shown_episode(watch.heads, s.stand_steps);
-      for (std::size_t i = 0; i < report.trajectories.size(); ++i)
-        if (i != shown) fs::remove(report.trajectories[i]);
-      report.trajectories = {report.trajectories.at(shown)};
-    }
-    summarise(r, report, watch, s.stand_steps, env.control_dt_s());
-    out.speeds.push_back(r);
-    if (b > 0) continue;
-    std::vector<StrategyFeatures> per_fall;
-    for (const auto& rec : strategies) per_fall.push_back(rec.features());
-    out.features = mean_features(per_fall);
+    out.speeds.push_back(run_fast(in, strength, own.shown).result);
   }
-  out.shown_fall = static_cast<int>(shown);
+  out.shown_fall = static_cast<int>(own.shown);
   if (slow_policy.empty()) return out;
 
   // Slow: π_slow at each κ, and the paused motion.
-  struct Run {
-    std::string name;
-    double kappa;
-    bool pause;
-  };
-  std::vector<Run> runs;
+  std::vector<SlowRun> runs;
   for (double k : c.kappas) {
     char name[32];
     std::snprintf(name, sizeof name, "k%g", k);
@@ -181,31 +236,9 @@ EvaluateOutcome run_evaluate(const Settings& s, const SlowerConfig& slower, cons
   }
   if (c.pause_steps > 0) runs.push_back({"pause", c.pause_kappa, true});
   const learn::FrozenPolicy pi_slow(slow_policy);
-  for (const Run& run : runs) {
+  for (const SlowRun& run : runs) {
     check_cancel();
-    SlowerEnv env(s.env, slower.env, teacher, weak.strength, run.kappa);
-    check_policy_fits(pi_slow, env, "getup evaluate: π_slow");
-    if (run.pause) env.set_rollout_edit([&c](FastRollout f) { return paused(std::move(f), c.pause_at, c.pause_steps); });
-    character::EvaluationConfig e = slower_test(slower.env, falls);
-    e.measures.push_back({"fast_rise_time_s", [](const character::CharacterEnv& ce) {
-                            return static_cast<const SlowerEnv&>(ce).reference_motion().fast().steps() * ce.control_dt_s();
-                          }});
-    FallWatch watch(falls.size(), slower.env.rise_height_m);
-    e.each_step = [&](std::size_t fall, const character::CharacterEnv& ce) {
-      watch.observe(fall, ce, static_cast<const SlowerEnv&>(ce).weak().head_height_m);
-    };
-    record_falls(e, shown, work_dir / "rollouts" / run.name);
-    const auto report = character::evaluate(
-        env, [&](std::span<const double> o, std::span<double> a) { pi_slow.act(o, a); }, e);
-    SpeedResult r;
-    r.name = run.name;
-    r.kappa = run.kappa;
-    summarise(r, report, watch, s.stand_steps, env.control_dt_s());
-    r.com_error_m = report.mean("com_error_m");
-    r.tracked_fraction = report.mean("tracked_fraction");
-    r.end_com_gap_m = report.mean("end_com_gap_m");
-    r.fast_rise_time_s = report.mean("fast_rise_time_s");
-    out.speeds.push_back(r);
+    out.speeds.push_back(run_slow(in, c, pi_slow, run, own.shown));
   }
   return out;
 }

@@ -48,6 +48,13 @@ SprintPreset read_sprint_preset(base::ConfigReader& r) {
   return p;
 }
 
+EpisodeDraw draw_episode(const SprintPreset& preset, base::Rng& rng) {
+  EpisodeDraw d;
+  d.wind_mps = rng.uniform(preset.wind_mps.lo, preset.wind_mps.hi);
+  d.friction = rng.uniform(preset.friction.lo, preset.friction.hi);
+  return d;
+}
+
 std::string sprint_presets_file() { return std::string(PODIUM_SPRINT_DATA_DIR) + "/presets.json"; }
 
 SprintPreset load_sprint_preset(const std::string& name) {

@@ -6,6 +6,7 @@
 
 #include "drag.h"
 #include "podium/base/config.h"
+#include "podium/base/rng.h"
 #include "sprint_rewards.h"
 #include "steps.h"
 #include "track.h"
@@ -24,6 +25,15 @@ struct SprintPreset {
   Range wind_mps{-2.0, 2.0};  ///< wind along the track, U(lo, hi); +2.0 is the record-legal limit
   Range friction{0.8, 1.2};   ///< runway μ, U(lo, hi)
 };
+
+/// One episode's domain-randomisation draw (§2 "Initial State"), recorded with the episode.
+struct EpisodeDraw {
+  double wind_mps = 0.0;  ///< along the track (+: tailwind)
+  double friction = 1.0;  ///< runway μ
+  base::Json to_json() const { return {{"wind_mps", wind_mps}, {"friction", friction}}; }
+};
+/// Draws wind then μ, each uniform in the preset's range.
+EpisodeDraw draw_episode(const SprintPreset& preset, base::Rng& rng);
 
 /// Reads one preset object (every key optional, defaults as above); errors name the JSON path.
 SprintPreset read_sprint_preset(base::ConfigReader& reader);

@@ -15,6 +15,15 @@ double lateral_penalty(double offset_m, double lane_width_m, double weight) {
   return -weight * r * r;  // §2, r_d
 }
 
+BaseReward base_reward(const RewardWeights& w, double x_before_m, double x_after_m, double dt_s, double lateral_offset_m,
+                       double lane_width_m, bool fallen) {
+  BaseReward r;  // §2: r_base = r_f + r_s + r_d
+  r.forward = w.forward * forward_speed(x_before_m, x_after_m, dt_s);
+  r.survival = fallen ? 0.0 : w.survival;
+  r.lateral = lateral_penalty(lateral_offset_m, lane_width_m, w.lateral);
+  return r;
+}
+
 Eigen::Vector3d com_in_heading_frame(const sim::CharacterModel& model, sim::CharacterData& data) {
   sim::forward_kinematics(model, data);
   Eigen::Vector3d com, com_vel;

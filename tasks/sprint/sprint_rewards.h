@@ -35,6 +35,16 @@ double forward_speed(double x_before_m, double x_after_m, double dt_s);
 /// r_d: −w_d (d / (w/2))² for lateral offset d from the lane centre and lane width w.
 double lateral_penalty(double offset_m, double lane_width_m, double weight);
 
+/// r_base = r_f + r_s + r_d (§2), weighted, term by term.
+struct BaseReward {
+  double forward = 0.0, survival = 0.0, lateral = 0.0;
+  double total() const { return forward + survival + lateral; }
+};
+/// r_base of one control step: the root's x before and after it (Δt apart), its lateral offset from
+/// the lane centre, and whether the character has fallen (no survival bonus then).
+BaseReward base_reward(const RewardWeights& weights, double x_before_m, double x_after_m, double dt_s, double lateral_offset_m,
+                       double lane_width_m, bool fallen);
+
 /// The COM relative to the root, in the root's heading frame (character/frames.h), m; runs
 /// forward kinematics on `data` (its q).
 Eigen::Vector3d com_in_heading_frame(const sim::CharacterModel& model, sim::CharacterData& data);

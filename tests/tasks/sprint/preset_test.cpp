@@ -1,6 +1,7 @@
 // The sprint's presets as data (tasks/sprint/data/presets.json) and their errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 
 #include "podium/base/error.h"
@@ -20,6 +21,24 @@ TEST(SprintPreset, ShippedPresetsSetTheTrackLengthAndNNorm) {
   EXPECT_EQ(paper.drag.air_density, 1.2);
   EXPECT_EQ(paper.wind_mps.hi, 2.0);
   EXPECT_EQ(paper.friction.lo, 0.8);
+}
+
+TEST(SprintPreset, EpisodeDrawsStayInTheRangesAndRepeatPerSeed) {
+  const SprintPreset quick = load_sprint_preset("quick");
+  base::Rng a(3), b(3);
+  double wind_lo = 1e9, wind_hi = -1e9;
+  for (int k = 0; k < 2000; ++k) {
+    const EpisodeDraw d = draw_episode(quick, a);
+    EXPECT_EQ(d.to_json(), draw_episode(quick, b).to_json());
+    EXPECT_GE(d.wind_mps, -2.0);
+    EXPECT_LE(d.wind_mps, 2.0);
+    EXPECT_GE(d.friction, 0.8);
+    EXPECT_LE(d.friction, 1.2);
+    wind_lo = std::min(wind_lo, d.wind_mps);
+    wind_hi = std::max(wind_hi, d.wind_mps);
+  }
+  EXPECT_LT(wind_lo, -1.9);  // the whole range is drawn
+  EXPECT_GT(wind_hi, 1.9);
 }
 
 TEST(SprintPreset, BadValuesAreOneLineNamingTheirPath) {

@@ -31,6 +31,21 @@ TEST(SprintRewards, ForwardTermIsTheRootDisplacementOverTheStep) {
   EXPECT_EQ(forward_speed(4.0, 4.0, 1.0 / 30), 0.0);
 }
 
+TEST(SprintRewards, BaseRewardSumsSpeedSurvivalAndLateralTerms) {
+  RewardWeights w;
+  w.forward = 0.5;
+  w.survival = 2.0;
+  w.lateral = 3.0;
+  const BaseReward running = base_reward(w, 10.0, 10.3, 0.1, 0.0, 1.22, false);
+  EXPECT_NEAR(running.forward, 0.5 * 3.0, 1e-12);  // (10.3 − 10) / 0.1 rounds
+  EXPECT_EQ(running.survival, 2.0);
+  EXPECT_EQ(running.lateral, 0.0);
+  EXPECT_NEAR(running.total(), 3.5, 1e-12);
+  const BaseReward fallen = base_reward(w, 10.0, 10.3, 0.1, 0.305, 1.22, true);
+  EXPECT_EQ(fallen.survival, 0.0);
+  EXPECT_DOUBLE_EQ(fallen.lateral, -3.0 * 0.25);  // half-way to the lane's edge
+}
+
 TEST(SprintRewards, LateralPenaltyIsZeroAtTheCentreAndGrowsWithTheOffset) {
   const double w = 1.22;
   EXPECT_EQ(lateral_penalty(0.0, w, 2.0), 0.0);

@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
 #include "podium/base/error.h"
+#include "podium/sim/dynamics.h"
 
 namespace podium::tasks::sprint {
 namespace {
@@ -131,6 +133,24 @@ TEST(SprintTrack, LeavingTheLaneIsACentroidBeyondHalfItsWidth) {
   q(1) = 0.55;  // the left foot (≈ 0.1 m to the left of the root) crosses the line first
   world.set_state(q, Eigen::VectorXd::Zero(model->nv()));
   EXPECT_EQ(body_outside_lane(track, world, watched), b.left_foot);
+}
+
+// What the dip finish exploits: pitching the chest forward brings the torso's front (the chest's
+// sphere) nearer the line than the upright pose does.
+TEST(SprintTrack, LeaningTheChestMovesTheTorsoFrontForward) {
+  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
+  sim::CharacterData data(*model);
+  auto front = [&](double lean) {
+    data.q = model->standing_pose();
+    const Eigen::Quaterniond r(Eigen::AngleAxisd(lean, Eigen::Vector3d::UnitY()));
+    data.q.segment<4>(model->link("chest").q_index) << r.w(), r.x(), r.y(), r.z();
+    sim::forward_kinematics(*model, data);
+    return std::max(body_front_x(*model, data, 0), body_front_x(*model, data, model->torso_body()));
+  };
+  // Upright, the chest's sphere (r 0.1291 m) is the front.
+  EXPECT_NEAR(front(0.0), 0.1291, 1e-12);
+  EXPECT_GT(front(0.5), front(0.25));
+  EXPECT_GT(front(0.25), front(0.0));
 }
 
 TEST(SprintTrack, BodiesAreResolvedByNameOrRefused) {

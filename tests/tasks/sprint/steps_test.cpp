@@ -22,7 +22,7 @@ std::vector<int> feed(StepCounter& counter, const std::string& script) {
   return steps;
 }
 
-TEST(StepCounter, RepeatedTouchdownsOfOneFootCountOnce) {
+TEST(SprintSteps, RepeatedTouchdownsOfOneFootCountOnce) {
   StepCounter counter({.debounce = 2, .n_norm = 10.0});
   counter.reset(false, false);
   feed(counter, "--LLL---LLL--LL-");  // the left foot lands three times
@@ -35,7 +35,7 @@ TEST(StepCounter, RepeatedTouchdownsOfOneFootCountOnce) {
   EXPECT_EQ(counter.steps(), 2);
 }
 
-TEST(StepCounter, ZRisesByOneOverNNormPerAlternatingStep) {
+TEST(SprintSteps, ZRisesByOneOverNNormPerAlternatingStep) {
   const double n_norm = 7.0;
   StepCounter counter({.debounce = 2, .n_norm = n_norm});
   counter.reset(false, false);  // in flight
@@ -55,7 +55,7 @@ TEST(StepCounter, ZRisesByOneOverNNormPerAlternatingStep) {
   EXPECT_DOUBLE_EQ(counter.z(), 12.0 / n_norm);
 }
 
-TEST(StepCounter, FeetDownAtTheStartAndFlickerAreNotSteps) {
+TEST(SprintSteps, FeetDownAtTheStartAndFlickerAreNotSteps) {
   StepCounter counter({.debounce = 3, .n_norm = 10.0});
   counter.reset(true, false);  // left foot in contact at the start
   feed(counter, "LLLLLL");
@@ -69,7 +69,7 @@ TEST(StepCounter, FeetDownAtTheStartAndFlickerAreNotSteps) {
   EXPECT_EQ(counter.steps(), 2);
 }
 
-TEST(StepCounter, BothFeetLandingTogetherCountTheOppositeFootOnly) {
+TEST(SprintSteps, BothFeetLandingTogetherCountTheOppositeFootOnly) {
   StepCounter counter({.debounce = 1, .n_norm = 10.0});
   counter.reset(false, false);
   feed(counter, "-R-");
@@ -78,7 +78,7 @@ TEST(StepCounter, BothFeetLandingTogetherCountTheOppositeFootOnly) {
   EXPECT_EQ(counter.last_foot(), Foot::left);
 }
 
-TEST(StepCounter, StateRoundTripsAndBadConfigIsRefused) {
+TEST(SprintSteps, StateRoundTripsAndBadConfigIsRefused) {
   StepCounter a({.debounce = 2, .n_norm = 10.0});
   a.reset(false, false);
   feed(a, "-LL--R");  // mid-touchdown of the right foot

@@ -1,0 +1,46 @@
+#pragma once
+/// The sprint's preset data (tasks/sprint/data/presets.json): track length, N_norm, reward
+/// weights and kernels, drag, and the per-episode domain-randomisation ranges (sprint seed §2
+/// "Initial State" names wind and runway friction, not their ranges: the ranges are ours).
+#include <string>
+
+#include "drag.h"
+#include "podium/base/config.h"
+#include "podium/base/rng.h"
+#include "sprint_rewards.h"
+#include "steps.h"
+#include "track.h"
+
+namespace podium::tasks::sprint {
+
+struct Range {
+  double lo = 0.0, hi = 0.0;
+};
+
+struct SprintPreset {
+  TrackSpec track;
+  StepCounterConfig steps;
+  RewardWeights rewards;
+  DragConfig drag;
+  Range wind_mps{-2.0, 2.0};  ///< wind along the track, U(lo, hi); +2.0 is the record-legal limit
+  Range friction{0.8, 1.2};   ///< runway μ, U(lo, hi)
+};
+
+/// One episode's domain-randomisation draw (§2 "Initial State"), recorded with the episode.
+struct EpisodeDraw {
+  double wind_mps = 0.0;  ///< along the track (+: tailwind)
+  double friction = 1.0;  ///< runway μ
+  base::Json to_json() const { return {{"wind_mps", wind_mps}, {"friction", friction}}; }
+};
+/// Draws wind then μ, each uniform in the preset's range.
+EpisodeDraw draw_episode(const SprintPreset& preset, base::Rng& rng);
+
+/// Reads one preset object (every key optional, defaults as above); errors name the JSON path.
+SprintPreset read_sprint_preset(base::ConfigReader& reader);
+/// The preset `name` ("smoke", "quick", "paper") of the shipped presets.json. Throws
+/// base::UserError naming the file and the name when it has no such preset.
+SprintPreset load_sprint_preset(const std::string& name);
+/// The shipped presets file.
+std::string sprint_presets_file();
+
+}  // namespace podium::tasks::sprint

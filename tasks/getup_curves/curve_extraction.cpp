@@ -132,8 +132,8 @@ Extraction extract_curve(const character::Clip& clip, const ExtractOptions& opti
   curve.points = options.method == ExtractMethod::samples ? sampled_points(clip, options.height_scale)
                                                           : fitted_points(out.track, curve.duration_s);
   curve.start = {CurveStart::Kind::clip, options.clip_file, 0, true};
-  curve.source = std::string(options.method == ExtractMethod::samples ? "9 samples of " : "least-squares fit to ") +
-                 options.clip_file;
+  curve.source =
+      std::string(options.method == ExtractMethod::samples ? "9 samples of " : "least-squares fit to ") + options.clip_file;
   out.rms = curve_rms(curve, out.track);
   return out;
 }

@@ -44,9 +44,9 @@ struct ExtractOptions {
 };
 
 struct Extraction {
-  StyleCurve curve;         ///< T = the clip's duration
-  Eigen::Vector3d rms;      ///< curve_rms of the curve against the clip's frames
-  FeatureTrack track;       ///< the clip's features, frame by frame
+  StyleCurve curve;     ///< T = the clip's duration
+  Eigen::Vector3d rms;  ///< curve_rms of the curve against the clip's frames
+  FeatureTrack track;   ///< the clip's features, frame by frame
 };
 
 /// Throws base::UserError naming the clip file when the clip has fewer than 9 frames or no duration.

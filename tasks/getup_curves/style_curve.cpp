@@ -77,9 +77,7 @@ Eigen::Matrix<double, kControlPoints, 1> bspline_basis(double s) {
 }
 
 // Curve get-up seed eq. 1; times before the start hold the curve's first value.
-double curve_parameter(double t_s, double t0_s, double duration_s) {
-  return std::clamp((t_s - t0_s) / duration_s, 0.0, 1.0);
-}
+double curve_parameter(double t_s, double t0_s, double duration_s) { return std::clamp((t_s - t0_s) / duration_s, 0.0, 1.0); }
 
 StyleFeatures StyleCurve::at(double s) const { return points * bspline_basis(s); }
 
@@ -105,7 +103,10 @@ base::Json style_curve_json(const StyleCurve& curve) {
   base::Json start = curve.start.kind == CurveStart::Kind::clip
                          ? base::Json{{"clip", curve.start.clip}, {"frame", curve.start.frame}}
                          : base::Json{{"drop", curve.start.supine ? "supine" : "prone"}};
-  return {{"name", curve.name}, {"duration_s", curve.duration_s}, {"control_points", points}, {"start", start},
+  return {{"name", curve.name},
+          {"duration_s", curve.duration_s},
+          {"control_points", points},
+          {"start", start},
           {"source", curve.source}};
 }
 

@@ -32,9 +32,9 @@ double curve_parameter(double t_s, double t0_s, double duration_s);
 struct CurveStart {
   enum class Kind { clip, drop };
   Kind kind = Kind::drop;
-  std::string clip;      ///< Kind::clip: the DeepMimic-format motion file
-  int frame = 0;         ///< Kind::clip: its frame
-  bool supine = true;    ///< Kind::drop: on the back (true) or the front
+  std::string clip;    ///< Kind::clip: the DeepMimic-format motion file, as written (not resolved here)
+  int frame = 0;       ///< Kind::clip: its frame
+  bool supine = true;  ///< Kind::drop: on the back (true) or the front
 };
 
 /// A style curve: what a get-up follows (§4, §5.5).

@@ -50,9 +50,9 @@ StyleRewardTerms style_rewards(const StyleRewardInput& in) {
   r.alpha = standing_phase(in.target(0), in.final_target_h);
   r.velocity = velocity_reward(r.alpha, in.angular_speed_norm);
   r.pose = pose_reward(r.alpha, in.rotation_distance_sum);
-  r.task = r.height * r.torso * r.velocity * r.pose;                                // eq. 4
+  r.task = r.height * r.torso * r.velocity * r.pose;                                   // eq. 4
   r.natural = character::naturalness_reward_from_norm(in.offset_l1, in.offset_scale);  // eq. 3
-  r.total = r.task * r.natural;                                                     // eq. 2
+  r.total = r.task * r.natural;                                                        // eq. 2
   return r;
 }
 

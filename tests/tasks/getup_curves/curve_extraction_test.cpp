@@ -1,6 +1,8 @@
 // Curves from clips (curve get-up seed §4.1): a synthetic sit-up is fitted exactly where a cubic
 // B-spline can be exact; the get-up clips of ../shared/data start lying the right way up and are
 // fitted within the bars (h ≤ 0.06 m, each angle ≤ 12° RMS), the 9-sample curves reported beside.
+#include "curve_extraction.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -9,7 +11,6 @@
 #include <filesystem>
 #include <numbers>
 
-#include "curve_extraction.h"
 #include "podium/base/error.h"
 #include "podium/character/frames.h"
 #include "podium/sim/model.h"
@@ -133,17 +134,17 @@ TEST(CurveExtraction, TheSevenGetUpClipsAreFittedWithinTheBars) {
   if (const std::string missing = missing_data(); !missing.empty()) GTEST_SKIP() << missing;
   // Heights on humanoid34's proportions (the task's character) scale by its standing neck height over the clip skeleton's.
   const double humanoid34_neck = standing_neck_height(*sim::load_shipped_model("humanoid34"));
-  std::printf("%-26s %6s %5s | %-24s | %-24s | %s\n", "clip", "frames", "T s", "fit RMS: h m, θx °, θz °", "9 samples: h m, θx °, θz °",
-              "h m on humanoid34: fit, samples");
+  std::printf("%-26s %6s %5s | %-24s | %-24s | %s\n", "clip", "frames", "T s", "fit RMS: h m, θx °, θz °",
+              "9 samples: h m, θx °, θz °", "h m on humanoid34: fit, samples");
   for (const GetUpClip& c : kClips) {
     const character::Clip clip = load_clip(c);
     const double scale = humanoid34_neck / standing_neck_height(*clip.model);
     const std::string name = std::filesystem::path(c.file).stem().string();
     const Extraction fit = extract_curve(clip, {ExtractMethod::least_squares, name, c.file, 1.0});
     const Extraction samples = extract_curve(clip, {ExtractMethod::samples, name, c.file, 1.0});
-    std::printf("%-26s %6zu %5.2f | %6.3f %6.1f %6.1f     | %6.3f %6.1f %6.1f     | %.3f %.3f (× %.3f)\n", name.c_str(), clip.size(),
-                clip.duration_s(), fit.rms(0), fit.rms(1) / kDeg, fit.rms(2) / kDeg, samples.rms(0), samples.rms(1) / kDeg,
-                samples.rms(2) / kDeg, fit.rms(0) * scale, samples.rms(0) * scale, scale);
+    std::printf("%-26s %6zu %5.2f | %6.3f %6.1f %6.1f     | %6.3f %6.1f %6.1f     | %.3f %.3f (× %.3f)\n", name.c_str(),
+                clip.size(), clip.duration_s(), fit.rms(0), fit.rms(1) / kDeg, fit.rms(2) / kDeg, samples.rms(0),
+                samples.rms(1) / kDeg, samples.rms(2) / kDeg, fit.rms(0) * scale, samples.rms(0) * scale, scale);
     EXPECT_LE(fit.rms(0), 0.06) << name;
     EXPECT_LE(fit.rms(1), 12.0 * kDeg) << name;
     EXPECT_LE(fit.rms(2), 12.0 * kDeg) << name;

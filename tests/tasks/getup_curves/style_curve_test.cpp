@@ -1,5 +1,7 @@
 // Style curves (curve get-up seed §4.1, eq. 1): the clamped cardinal cubic B-spline, and curve
 // files read with errors at their JSON path.
+#include "style_curve.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,7 +10,6 @@
 
 #include "config_errors.h"
 #include "podium/base/rng.h"
-#include "style_curve.h"
 
 namespace podium::tasks::getup_curves {
 namespace {
@@ -80,8 +81,9 @@ TEST(CurveFile, RoundTripsThroughJson) {
   base::Rng rng(7);
   StyleCurve c = random_curve(rng);
   const auto path = std::filesystem::temp_directory_path() / "podium_getup_curves_roundtrip.json";
-  for (const CurveStart& start : {CurveStart{CurveStart::Kind::drop, "", 0, false}, CurveStart{CurveStart::Kind::drop, "", 0, true},
-                                  CurveStart{CurveStart::Kind::clip, "motions/getup.txt", 12, true}}) {
+  for (const CurveStart& start :
+       {CurveStart{CurveStart::Kind::drop, "", 0, false}, CurveStart{CurveStart::Kind::drop, "", 0, true},
+        CurveStart{CurveStart::Kind::clip, "motions/getup.txt", 12, true}}) {
     c.start = start;
     save_style_curve(path, c);
     const StyleCurve back = load_style_curve(path);

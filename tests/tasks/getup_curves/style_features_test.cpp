@@ -1,5 +1,7 @@
 // The style features (curve get-up seed §3.3, §4.2) on humanoid34 poses made by turning the
 // standing pose: upright, on the back, on the front, on the right side.
+#include "style_features.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -8,7 +10,6 @@
 #include "podium/base/error.h"
 #include "podium/character/frames.h"
 #include "podium/sim/model.h"
-#include "style_features.h"
 
 namespace podium::tasks::getup_curves {
 namespace {
@@ -52,10 +53,14 @@ TEST_F(StyleFeaturesTest, StandingGivesNeckHeightAndLevelTorsoVectors) {
 TEST_F(StyleFeaturesTest, LyingOnTheBackFrontAndRightSide) {
   // Forward is +x and right is −y: a quarter turn about y tips the body onto its back (front up)
   // or its front, a quarter turn about x rolls it onto its right side.
-  const StyleFeatures supine = read.at(turned(Eigen::Quaterniond(Eigen::AngleAxisd(-kPi / 2, Eigen::Vector3d::UnitY())), 0.15), scratch);
-  const StyleFeatures prone = read.at(turned(Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY())), 0.15), scratch);
-  const StyleFeatures right = read.at(turned(Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitX())), 0.15), scratch);
-  const StyleFeatures left = read.at(turned(Eigen::Quaterniond(Eigen::AngleAxisd(-kPi / 2, Eigen::Vector3d::UnitX())), 0.15), scratch);
+  const StyleFeatures supine =
+      read.at(turned(Eigen::Quaterniond(Eigen::AngleAxisd(-kPi / 2, Eigen::Vector3d::UnitY())), 0.15), scratch);
+  const StyleFeatures prone =
+      read.at(turned(Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY())), 0.15), scratch);
+  const StyleFeatures right =
+      read.at(turned(Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitX())), 0.15), scratch);
+  const StyleFeatures left =
+      read.at(turned(Eigen::Quaterniond(Eigen::AngleAxisd(-kPi / 2, Eigen::Vector3d::UnitX())), 0.15), scratch);
   EXPECT_NEAR(supine(2), 0.0, 1e-6);
   EXPECT_NEAR(supine(1), kPi / 2, 1e-9);
   EXPECT_NEAR(prone(2), kPi, 1e-6);

@@ -1,5 +1,7 @@
 // The style-curve get-up's rewards (curve get-up seed eqs. 2–9), action filter (§3.4) and early
 // termination (§5.3) on hand-made values.
+#include "style_rewards.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -8,7 +10,6 @@
 #include "podium/character/frames.h"
 #include "podium/sim/model.h"
 #include "style_curve.h"
-#include "style_rewards.h"
 
 namespace podium::tasks::getup_curves {
 namespace {

@@ -95,12 +95,14 @@ struct Ranked {
 
 // One walk of one stage: its first `cap` matching trials in page order, read from an index of
 // the stage in that order, so the campaign's trials are never sorted; a multi-stage page merges
-// the stages' walks. Not covered by an index: order=finished without a state filter (SQLite keeps
-// a top-`cap` sort of the stage) and a state filter with order=objective or a strategy filter with
-// order=index (checked on each row the walk passes).
+// the stages' walks. order=finished without a state filter walks trials_by_finish once per state
+// the stage has trials in (each_state: ?2 bound to it) and merges those too. Not covered by an
+// index: a state filter with order=objective or a strategy filter with order=index or finished
+// (checked on each row the walk passes).
 struct Walk {
   std::string sql;
   std::function<Ranked(const Statement&, std::int64_t stage_position)> rank;
+  bool each_state = false;
 };
 
 std::vector<Walk> walks(const TrialFilter& f) {
@@ -119,10 +121,12 @@ std::vector<Walk> walks(const TrialFilter& f) {
                  return Ranked{1, 0, s.int64(0), s.int64(0)};
                }}};
     case TrialFilter::Order::finished:
-      return {{"SELECT id, finished_at FROM trials " + where + " ORDER BY finished_at" + dir + ", id" + dir + " LIMIT ?4",
+      return {{"SELECT id, finished_at FROM trials " + where + (f.state ? "" : " AND state = ?2") + " ORDER BY finished_at" +
+                   dir + ", id" + dir + " LIMIT ?4",
                [=](const Statement& s, std::int64_t) {
                  return Ranked{0, sign * s.real(1), isign * s.int64(0), s.int64(0)};
-               }}};
+               },
+               !f.state}};
     case TrialFilter::Order::index:
       break;
   }
@@ -310,12 +314,23 @@ TrialPage Queries::trial_page(std::int64_t campaign_id, const TrialFilter& filte
   if (limit == 0 || offset >= page.total) return page;
   // Each walk yields at most `cap` ids; the page is the [offset, cap) slice of their merge.
   std::vector<Ranked> ranked;
+  Statement states(impl_->db, "SELECT state FROM stage_state_counts WHERE stage_id = ? AND trials > 0");
   for (const auto& walk : walks(filter)) {
     Statement s(impl_->db, walk.sql.c_str());
     for (std::size_t position = 0; position < stages.size(); ++position) {
-      bind_stage_filter(s, stages[position].id, filter);
-      s.bind(4, cap);
-      while (s.step()) ranked.push_back(walk.rank(s, static_cast<std::int64_t>(position)));
+      std::vector<std::optional<std::string>> each{std::nullopt};
+      if (walk.each_state) {
+        each.clear();
+        states.reset();
+        states.bind(1, stages[position].id);
+        while (states.step()) each.emplace_back(states.text(0));
+      }
+      for (const auto& state : each) {
+        bind_stage_filter(s, stages[position].id, filter);
+        if (state) s.bind(2, *state);
+        s.bind(4, cap);
+        while (s.step()) ranked.push_back(walk.rank(s, static_cast<std::int64_t>(position)));
+      }
     }
   }
   const auto end = ranked.begin() + std::min<std::int64_t>(cap, static_cast<std::int64_t>(ranked.size()));
@@ -330,6 +345,16 @@ TrialPage Queries::trial_page(std::int64_t campaign_id, const TrialFilter& filte
     page.trials.back().features = read_features(features, it->id);
   }
   return page;
+}
+
+std::vector<Json> Queries::last_events(std::int64_t campaign_id, std::int64_t last_n) const {
+  // Newest first from events_by_campaign, so only the rows returned are read and parsed.
+  Statement s(impl_->db, "SELECT time, kind, payload FROM events WHERE campaign_id = ? ORDER BY id DESC LIMIT ?");
+  s.bind(1, campaign_id).bind(2, last_n);
+  std::vector<Json> out;
+  while (s.step()) out.push_back({{"time", s.real(0)}, {"kind", s.text(1)}, {"payload", parse_json(s.text(2))}});
+  std::reverse(out.begin(), out.end());
+  return out;
 }
 
 namespace {
@@ -359,11 +384,13 @@ void downsample(MetricSeries& m, std::int64_t max_points) {
 
 std::vector<MetricSeries> Queries::metric_series(std::int64_t trial_id, std::int64_t max_points,
                                                  const std::optional<std::string>& name) const {
-  // Ordered as the index (trial_id, name, step) is, so SQLite does not sort; attempts are split here.
-  Statement s(impl_->db,
-              "SELECT name, attempt, step, value FROM metrics WHERE trial_id = ?1 AND (?2 IS NULL OR name = ?2) "
-              "ORDER BY name, step");
-  s.bind(1, trial_id).bind(2, name);
+  // One range of metrics_by_series (trial_id, name, step, attempt, value), in its order, so SQLite
+  // neither sorts nor reads the table; attempts are split here. A name is a separate statement,
+  // so it narrows the range rather than being checked on every point of the trial.
+  Statement s(impl_->db, name ? "SELECT name, attempt, step, value FROM metrics WHERE trial_id = ?1 AND name = ?2 ORDER BY step"
+                              : "SELECT name, attempt, step, value FROM metrics WHERE trial_id = ?1 ORDER BY name, step");
+  s.bind(1, trial_id);
+  if (name) s.bind(2, *name);
   std::vector<MetricSeries> out;
   std::map<int, MetricSeries> attempts;  // of the current name
   const auto flush = [&] {

@@ -172,12 +172,12 @@ bool reads(const std::string& sql, const std::string& table) { return sql.find("
 // "campaign page"), and its other tables: strategies, trial pages by objective and by finishing
 // time, a strategy filter, a trial.
 TEST_F(QueryPlans, CampaignPageNeitherScansNorSorts) {
-  const auto plans = expect_no_scans(
-      {"/api/campaigns/1", "/api/campaigns/1/points", "/api/campaigns/1/trials?limit=1000&order=index&state=done",
-       "/api/campaigns/1/events?last=50", "/api/campaigns/1/trials?offset=0&limit=50&order=index&desc=0",
-       "/api/campaigns/1/strategies", "/api/campaigns/1/trials?limit=50&order=objective&offset=100",
-       "/api/campaigns/1/trials?limit=50&order=finished&desc=1&offset=20", "/api/campaigns/1/trials?limit=50&order=finished&strategy=3",
-       "/api/trials/5"});
+  const auto plans =
+      expect_no_scans({"/api/campaigns/1", "/api/campaigns/1/points", "/api/campaigns/1/trials?limit=1000&order=index&state=done",
+                       "/api/campaigns/1/events?last=50", "/api/campaigns/1/trials?offset=0&limit=50&order=index&desc=0",
+                       "/api/campaigns/1/strategies", "/api/campaigns/1/trials?limit=50&order=objective&offset=100",
+                       "/api/campaigns/1/trials?limit=50&order=finished&desc=1&offset=20",
+                       "/api/campaigns/1/trials?limit=50&order=finished&strategy=3", "/api/trials/5"});
   // The trace saw what the page reads: trials, their features, artifacts, events, labels.
   std::set<std::string> tables;
   for (const auto& [sql, plan] : plans)

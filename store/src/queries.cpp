@@ -189,42 +189,107 @@ std::optional<std::int64_t> Queries::trial_id(std::int64_t stage_id, std::int64_
   return s.int64(0);
 }
 
+namespace {
+
+// The indexes (trials.idx) of a stage's done trials of rank 0, stride, 2 stride, ... in index
+// order, found without walking the done trials: when the stage's indexes are dense (min..max, a
+// trial each) and most of its trials are done, the done trial of rank k has index min + k plus the
+// number of other trials at or below it, and those others are walked instead (trials_by_state, per
+// state). nullopt where a walk of the done trials costs no more, or the indexes have gaps.
+std::optional<std::vector<std::int64_t>> sampled_done_indexes(sqlite3* db, std::int64_t stage_id, std::int64_t done,
+                                                              std::int64_t stride) {
+  Statement states(db, "SELECT state, trials FROM stage_state_counts WHERE stage_id = ? AND trials > 0");
+  states.bind(1, stage_id);
+  std::int64_t trials = 0;
+  std::vector<std::string> other_states;
+  while (states.step()) {
+    trials += states.int64(1);
+    if (states.text(0) != "done") other_states.push_back(states.text(0));
+  }
+  if (stride == 1 || 2 * (trials - done) > done) return std::nullopt;
+  Statement range(db,
+                  "SELECT (SELECT min(idx) FROM trials WHERE stage_id = ?1), (SELECT max(idx) FROM trials WHERE stage_id = ?1)");
+  range.bind(1, stage_id);
+  if (!range.step() || range.is_null(0) || range.int64(0) < 0 || range.int64(1) - range.int64(0) + 1 != trials)
+    return std::nullopt;
+  const std::int64_t first = range.int64(0);
+  std::vector<std::int64_t> others;  // the indexes of the stage's trials that are not done
+  Statement walk(db, "SELECT idx FROM trials WHERE stage_id = ? AND state = ? ORDER BY idx");
+  for (const auto& state : other_states) {
+    walk.reset();
+    walk.bind(1, stage_id).bind(2, state);
+    while (walk.step()) others.push_back(walk.int64(0));
+  }
+  std::sort(others.begin(), others.end());
+  std::vector<std::int64_t> out;
+  std::size_t below = 0;  // others at or below the candidate index
+  for (std::int64_t rank = 0; rank < done; rank += stride) {
+    while (below < others.size() && others[below] <= first + rank + static_cast<std::int64_t>(below)) ++below;
+    out.push_back(first + rank + static_cast<std::int64_t>(below));
+  }
+  return out;
+}
+
+constexpr const char* kPointColumns =
+    "SELECT id, idx, objective, strategy, json_extract(info, '$.step'), finished_at, state FROM trials ";
+
+// The current row of a kPointColumns statement, or nullopt unless the trial is done.
+std::optional<TrialPoint> read_point(const Statement& row, std::int64_t stage_index) {
+  if (row.text(6) != "done") return std::nullopt;
+  TrialPoint p;
+  p.id = row.int64(0);
+  p.stage_index = stage_index;
+  p.index = row.int64(1);
+  p.objective = optional_real(row, 2).value_or(std::nan(""));
+  if (!row.is_null(3)) p.strategy = row.int64(3);
+  p.step = row.text(4);
+  p.finished_at = row.real(5);
+  return p;
+}
+
+}  // namespace
+
 std::vector<TrialPoint> Queries::points(std::int64_t campaign_id, std::int64_t max_points, std::int64_t* total) const {
   const ReadSnapshot snapshot(impl_->db);
   const auto stages = campaign_stages(impl_->db, campaign_id, std::nullopt);
   TrialFilter done;
   done.state = "done";
   if (total) *total = 0;
-  // Walk the done trials' ids in index order (trials_by_state, no row read); read the row and
-  // the features of every stride-th one only. Strided per stage: the dashboard shows one stage at
-  // a time, and a small stage keeps its points beside a large one.
+  // Every stride-th done trial in index order, strided per stage (the dashboard shows one stage at
+  // a time, and a small stage keeps its points beside a large one): found by index seeks where
+  // sampled_done_indexes can, else by a walk of the done trials' ids (trials_by_state, no row
+  // read); only the sampled trials' rows and features are read.
   Statement done_ids(impl_->db, "SELECT id FROM trials WHERE stage_id = ? AND state = 'done' ORDER BY idx");
-  Statement row(impl_->db, "SELECT idx, objective, strategy, json_extract(info, '$.step'), finished_at FROM trials WHERE id = ?");
+  Statement by_id(impl_->db, (std::string(kPointColumns) + "WHERE id = ?").c_str());
+  Statement by_index(impl_->db, (std::string(kPointColumns) + "WHERE stage_id = ? AND idx = ?").c_str());
   Statement features(impl_->db, kTrialFeatures);
   std::vector<TrialPoint> out;
   for (const auto& st : stages) {
     const std::int64_t n = count_matching(impl_->db, {st}, done);
     if (total) *total += n;
     const std::int64_t stride = std::max<std::int64_t>(1, (n + max_points - 1) / std::max<std::int64_t>(1, max_points));
-    std::int64_t i = 0;
-    done_ids.reset();
-    done_ids.bind(1, st.id);
-    for (; done_ids.step(); ++i) {
-      if (i % stride != 0) continue;
-      row.reset();
-      row.bind(1, done_ids.int64(0));
-      if (!row.step()) continue;
-      TrialPoint p;
-      p.id = done_ids.int64(0);
-      p.stage_index = st.index;
-      p.index = row.int64(0);
-      p.objective = optional_real(row, 1).value_or(std::nan(""));
-      if (!row.is_null(2)) p.strategy = row.int64(2);
-      p.step = row.text(3);
-      p.finished_at = row.real(4);
-      p.features = read_features(features, p.id);
-      out.push_back(std::move(p));
+    const std::size_t first = out.size();
+    const auto sample = sampled_done_indexes(impl_->db, st.id, n, stride);
+    bool sampled = sample.has_value();
+    for (std::size_t k = 0; sampled && k < sample->size(); ++k) {
+      by_index.reset();
+      by_index.bind(1, st.id).bind(2, (*sample)[k]);
+      auto p = by_index.step() ? read_point(by_index, st.index) : std::nullopt;
+      sampled = p.has_value();  // else the counts disagree with the rows: walk instead
+      if (p) out.push_back(std::move(*p));
     }
+    if (!sampled) {
+      out.resize(first);
+      done_ids.reset();
+      done_ids.bind(1, st.id);
+      for (std::int64_t i = 0; done_ids.step(); ++i) {
+        if (i % stride != 0) continue;
+        by_id.reset();
+        by_id.bind(1, done_ids.int64(0));
+        if (auto p = by_id.step() ? read_point(by_id, st.index) : std::nullopt) out.push_back(std::move(*p));
+      }
+    }
+    for (std::size_t k = first; k < out.size(); ++k) out[k].features = read_features(features, out[k].id);
   }
   return out;
 }

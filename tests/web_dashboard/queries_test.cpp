@@ -154,6 +154,77 @@ TEST(Queries, PointsAreDoneTrialsStridedWhenCapped) {
   EXPECT_EQ(std::count_if(mixed.begin(), mixed.end(), [](const auto& p) { return p.stage_index == 1; }), 7);
 }
 
+// points() samples a large stage by index seeks where its indexes are dense and most trials are
+// done, else by a walk of the done trials: both give exactly every stride-th done trial in index
+// order, with its row and features, as a brute-force pass over the stage's trials does.
+TEST(Queries, SampledPointsAreEveryStrideThDoneTrialWhateverTheStatesAndGaps) {
+  TempDir dir;
+  const auto db = dir / "p.db";
+  std::int64_t campaign = 0;
+  {
+    auto s = Store::open(db, Store::Access::read_write);
+    NewStage dense{"dense", "landscape", "random"}, gaps{"gaps", "landscape", "random"}, few{"few", "landscape", "random"};
+    campaign = s->add_campaign("p", Json::object(), 1, "", {dense, gaps, few});
+    const auto stages = s->stages(campaign);
+    s->transaction([&] {
+      for (int i = 0; i < 900; ++i) {
+        const int stage = i / 300, k = i % 300;
+        // Stage "gaps" has index gaps (only odd indexes); stage "few" has few done trials.
+        const auto t = s->add_trial(stages[stage].id, stage == 1 ? 2 * k + 1 : k, {{"x", i}}, Json::object(),
+                                    {{"step", k % 2 ? "explore" : "diversity"}}, 1);
+        const int kind = stage == 2 ? (k % 5 == 0 ? 0 : 1 + k % 4) : (k % 7 == 3 ? 1 + k % 4 : 0);
+        if (kind == 1) continue;  // pending
+        s->start_attempt(t, 1, "w", "h");
+        if (kind == 2) continue;  // running
+        if (kind == 3 || kind == 4) {
+          s->set_trial_state(t, kind == 3 ? "failed" : "cancelled", "x");
+          continue;
+        }
+        s->complete_trial(t, {k * 0.5}, {"f0", "f1"}, {double(k), -double(k)}, Json::object(), {});
+        if (k % 3) s->set_trial_strategy(t, k % 4);
+      }
+    });
+  }
+  auto q = Queries::open(db);
+  const auto stages = q->store().stages(campaign);
+  for (const std::int64_t max_points : {1, 7, 40, 99, 150, 299, 1000}) {
+    std::vector<TrialPoint> expected;
+    std::int64_t expected_total = 0;
+    for (const auto& st : stages) {
+      std::vector<TrialRecord> done;
+      for (auto& t : q->store().trials(st.id))
+        if (t.state == "done") done.push_back(std::move(t));
+      const auto n = static_cast<std::int64_t>(done.size());
+      expected_total += n;
+      const std::int64_t stride = std::max<std::int64_t>(1, (n + max_points - 1) / max_points);
+      for (std::int64_t i = 0; i < n; i += stride) {
+        const auto& t = done[static_cast<std::size_t>(i)];
+        TrialPoint p;
+        p.id = t.id;
+        p.stage_index = st.index;
+        p.index = t.index;
+        p.objective = t.objectives[0].get<double>();
+        p.strategy = t.strategy;
+        p.step = t.info.at("step").get<std::string>();
+        p.finished_at = t.finished_at;
+        p.features = t.features;
+        expected.push_back(p);
+      }
+    }
+    std::int64_t total = 0;
+    const auto got = q->points(campaign, max_points, &total);
+    EXPECT_EQ(total, expected_total);
+    ASSERT_EQ(got.size(), expected.size()) << "max_points " << max_points;
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      const auto& a = got[k];
+      const auto& b = expected[k];
+      EXPECT_EQ(std::tie(a.id, a.stage_index, a.index, a.objective, a.strategy, a.step, a.finished_at, a.features),
+                std::tie(b.id, b.stage_index, b.index, b.objective, b.strategy, b.step, b.finished_at, b.features))
+          << "max_points " << max_points << " point " << k;
+    }
+  }
+}
+
 TEST(Queries, TrialIdIsFoundByStageAndIndex) {
   Fixture f;
   auto q = Queries::open(f.db);

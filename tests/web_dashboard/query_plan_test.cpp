@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 #include <regex>
@@ -170,14 +171,14 @@ bool reads(const std::string& sql, const std::string& table) { return sql.find("
 
 // The five requests the campaign page makes at once (static/campaign.js; the latency bench's
 // "campaign page"), and its other tables: strategies, trial pages by objective and by finishing
-// time, a strategy filter, a trial.
+// time, a strategy filter, a trial, a scatter sampled from a larger stage.
 TEST_F(QueryPlans, CampaignPageNeitherScansNorSorts) {
-  const auto plans =
-      expect_no_scans({"/api/campaigns/1", "/api/campaigns/1/points", "/api/campaigns/1/trials?limit=1000&order=index&state=done",
-                       "/api/campaigns/1/events?last=50", "/api/campaigns/1/trials?offset=0&limit=50&order=index&desc=0",
-                       "/api/campaigns/1/strategies", "/api/campaigns/1/trials?limit=50&order=objective&offset=100",
-                       "/api/campaigns/1/trials?limit=50&order=finished&desc=1&offset=20",
-                       "/api/campaigns/1/trials?limit=50&order=finished&strategy=3", "/api/trials/5"});
+  const auto plans = expect_no_scans(
+      {"/api/campaigns/1", "/api/campaigns/1/points", "/api/campaigns/1/trials?limit=1000&order=index&state=done",
+       "/api/campaigns/1/events?last=50", "/api/campaigns/1/trials?offset=0&limit=50&order=index&desc=0",
+       "/api/campaigns/1/strategies", "/api/campaigns/1/trials?limit=50&order=objective&offset=100",
+       "/api/campaigns/1/trials?limit=50&order=finished&desc=1&offset=20",
+       "/api/campaigns/1/trials?limit=50&order=finished&strategy=3", "/api/trials/5", "/api/campaigns/1/points?max_points=40"});
   // The trace saw what the page reads: trials, their features, artifacts, events, labels.
   std::set<std::string> tables;
   for (const auto& [sql, plan] : plans)
@@ -192,6 +193,10 @@ TEST_F(QueryPlans, CampaignPageNeitherScansNorSorts) {
       EXPECT_NE(joined(plan).find("COVERING INDEX trials_by_strategy_finish"), std::string::npos) << sql << joined(plan);
     }
   EXPECT_TRUE(labels);
+  // The scatter of a stage larger than max_points seeks its sampled trials by index.
+  EXPECT_TRUE(std::any_of(plans.begin(), plans.end(), [](const auto& p) {
+    return reads(p.first, "trials") && p.first.find("stage_id = ? AND idx = ?") != std::string::npos;
+  }));
 }
 
 // The metric plot (the latency bench's 100,000-point series), with and without a name: one range

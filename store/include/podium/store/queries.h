@@ -8,8 +8,9 @@
 /// blocked. One object per thread at a time.
 ///
 /// Costs (schema v3): counts and summaries read the count rows the store's triggers keep and
-/// min/max index probes, never all trials; pages and the scatter walk an index, not the table.
-/// Schema v6: a metric series is read from an index alone, events from their campaign's.
+/// min/max index probes, never all trials; pages and the scatter walk an index, not the table
+/// (a large stage's scatter seeks its samples by index instead). Schema v6: a metric series is
+/// read from an index alone, strategy labels are a probe per strategy, events their campaign's.
 #include <cstdint>
 #include <filesystem>
 #include <map>

@@ -111,7 +111,7 @@ std::string joined(const std::vector<std::string>& lines) {
 // Two stages (300 and 40 trials; a failed trial every 25th), strategies, features, two artifacts
 // per done trial, events, and two metric series on one trial (two attempts, a NaN).
 std::filesystem::path build_campaign(const std::filesystem::path& dir) {
-  const auto db = dir / "plans.db";
+  auto db = dir / "plans.db";
   auto store = store::Store::open(db, store::Store::Access::read_write);
   store::NewStage a{"explore", "landscape", "bds"}, b{"refine", "landscape", "random"};
   a.description = b.description = {{"features", {{{"name", "f0"}}, {{"name", "f1"}}}}, {"objectives", {"objective"}}};
@@ -160,7 +160,7 @@ class QueryPlans : public ::testing::Test {
 
   // Every query the requests ran, with its plan; each fails the test if it grows with the trials.
   static std::vector<std::pair<std::string, std::vector<std::string>>> expect_no_scans(const std::vector<std::string>& paths) {
-    const auto plans = query_plans(*db_, statements_of(*db_, paths));
+    auto plans = query_plans(*db_, statements_of(*db_, paths));
     for (const auto& [sql, plan] : plans)
       for (const auto& line : plan) EXPECT_FALSE(grows_with_trials(line)) << sql << joined(plan);
     return plans;

@@ -95,12 +95,14 @@ struct Ranked {
 
 // One walk of one stage: its first `cap` matching trials in page order, read from an index of
 // the stage in that order, so the campaign's trials are never sorted; a multi-stage page merges
-// the stages' walks. Not covered by an index: order=finished without a state filter (SQLite keeps
-// a top-`cap` sort of the stage) and a state filter with order=objective or a strategy filter with
-// order=index (checked on each row the walk passes).
+// the stages' walks. order=finished without a state filter walks trials_by_finish once per state
+// the stage has trials in (each_state: ?2 bound to it) and merges those too. Not covered by an
+// index: a state filter with order=objective or a strategy filter with order=index or finished
+// (checked on each row the walk passes).
 struct Walk {
   std::string sql;
   std::function<Ranked(const Statement&, std::int64_t stage_position)> rank;
+  bool each_state = false;
 };
 
 std::vector<Walk> walks(const TrialFilter& f) {
@@ -119,10 +121,12 @@ std::vector<Walk> walks(const TrialFilter& f) {
                  return Ranked{1, 0, s.int64(0), s.int64(0)};
                }}};
     case TrialFilter::Order::finished:
-      return {{"SELECT id, finished_at FROM trials " + where + " ORDER BY finished_at" + dir + ", id" + dir + " LIMIT ?4",
+      return {{"SELECT id, finished_at FROM trials " + where + (f.state ? "" : " AND state = ?2") + " ORDER BY finished_at" +
+                   dir + ", id" + dir + " LIMIT ?4",
                [=](const Statement& s, std::int64_t) {
                  return Ranked{0, sign * s.real(1), isign * s.int64(0), s.int64(0)};
-               }}};
+               },
+               !f.state}};
     case TrialFilter::Order::index:
       break;
   }
@@ -185,51 +189,139 @@ std::optional<std::int64_t> Queries::trial_id(std::int64_t stage_id, std::int64_
   return s.int64(0);
 }
 
+namespace {
+
+// The indexes (trials.idx) of a stage's done trials of rank 0, stride, 2 stride, ... in index
+// order, found without walking the done trials: when the stage's indexes are dense (min..max, a
+// trial each) and most of its trials are done, the done trial of rank k has index min + k plus the
+// number of other trials at or below it, and those others are walked instead (trials_by_state, per
+// state). nullopt where a walk of the done trials costs no more, or the indexes have gaps.
+std::optional<std::vector<std::int64_t>> sampled_done_indexes(sqlite3* db, std::int64_t stage_id, std::int64_t done,
+                                                              std::int64_t stride) {
+  Statement states(db, "SELECT state, trials FROM stage_state_counts WHERE stage_id = ? AND trials > 0");
+  states.bind(1, stage_id);
+  std::int64_t trials = 0;
+  std::vector<std::string> other_states;
+  while (states.step()) {
+    trials += states.int64(1);
+    if (states.text(0) != "done") other_states.push_back(states.text(0));
+  }
+  if (stride == 1 || 2 * (trials - done) > done) return std::nullopt;
+  Statement range(db,
+                  "SELECT (SELECT min(idx) FROM trials WHERE stage_id = ?1), (SELECT max(idx) FROM trials WHERE stage_id = ?1)");
+  range.bind(1, stage_id);
+  if (!range.step() || range.is_null(0) || range.int64(0) < 0 || range.int64(1) - range.int64(0) + 1 != trials)
+    return std::nullopt;
+  const std::int64_t first = range.int64(0);
+  std::vector<std::int64_t> others;  // the indexes of the stage's trials that are not done
+  Statement walk(db, "SELECT idx FROM trials WHERE stage_id = ? AND state = ? ORDER BY idx");
+  for (const auto& state : other_states) {
+    walk.reset();
+    walk.bind(1, stage_id).bind(2, state);
+    while (walk.step()) others.push_back(walk.int64(0));
+  }
+  std::sort(others.begin(), others.end());
+  std::vector<std::int64_t> out;
+  std::size_t below = 0;  // others at or below the candidate index
+  for (std::int64_t rank = 0; rank < done; rank += stride) {
+    while (below < others.size() && others[below] <= first + rank + static_cast<std::int64_t>(below)) ++below;
+    out.push_back(first + rank + static_cast<std::int64_t>(below));
+  }
+  return out;
+}
+
+constexpr const char* kPointColumns =
+    "SELECT id, idx, objective, strategy, json_extract(info, '$.step'), finished_at, state FROM trials ";
+
+// The current row of a kPointColumns statement, or nullopt unless the trial is done.
+std::optional<TrialPoint> read_point(const Statement& row, std::int64_t stage_index) {
+  if (row.text(6) != "done") return std::nullopt;
+  TrialPoint p;
+  p.id = row.int64(0);
+  p.stage_index = stage_index;
+  p.index = row.int64(1);
+  p.objective = optional_real(row, 2).value_or(std::nan(""));
+  if (!row.is_null(3)) p.strategy = row.int64(3);
+  p.step = row.text(4);
+  p.finished_at = row.real(5);
+  return p;
+}
+
+}  // namespace
+
 std::vector<TrialPoint> Queries::points(std::int64_t campaign_id, std::int64_t max_points, std::int64_t* total) const {
   const ReadSnapshot snapshot(impl_->db);
   const auto stages = campaign_stages(impl_->db, campaign_id, std::nullopt);
   TrialFilter done;
   done.state = "done";
   if (total) *total = 0;
-  // Walk the done trials' ids in index order (trials_by_state, no row read); read the row and
-  // the features of every stride-th one only. Strided per stage: the dashboard shows one stage at
-  // a time, and a small stage keeps its points beside a large one.
+  // Every stride-th done trial in index order, strided per stage (the dashboard shows one stage at
+  // a time, and a small stage keeps its points beside a large one): found by index seeks where
+  // sampled_done_indexes can, else by a walk of the done trials' ids (trials_by_state, no row
+  // read); only the sampled trials' rows and features are read.
   Statement done_ids(impl_->db, "SELECT id FROM trials WHERE stage_id = ? AND state = 'done' ORDER BY idx");
-  Statement row(impl_->db, "SELECT idx, objective, strategy, json_extract(info, '$.step'), finished_at FROM trials WHERE id = ?");
+  Statement by_id(impl_->db, (std::string(kPointColumns) + "WHERE id = ?").c_str());
+  Statement by_index(impl_->db, (std::string(kPointColumns) + "WHERE stage_id = ? AND idx = ?").c_str());
   Statement features(impl_->db, kTrialFeatures);
   std::vector<TrialPoint> out;
   for (const auto& st : stages) {
     const std::int64_t n = count_matching(impl_->db, {st}, done);
     if (total) *total += n;
     const std::int64_t stride = std::max<std::int64_t>(1, (n + max_points - 1) / std::max<std::int64_t>(1, max_points));
-    std::int64_t i = 0;
-    done_ids.reset();
-    done_ids.bind(1, st.id);
-    for (; done_ids.step(); ++i) {
-      if (i % stride != 0) continue;
-      row.reset();
-      row.bind(1, done_ids.int64(0));
-      if (!row.step()) continue;
-      TrialPoint p;
-      p.id = done_ids.int64(0);
-      p.stage_index = st.index;
-      p.index = row.int64(0);
-      p.objective = optional_real(row, 1).value_or(std::nan(""));
-      if (!row.is_null(2)) p.strategy = row.int64(2);
-      p.step = row.text(3);
-      p.finished_at = row.real(4);
-      p.features = read_features(features, p.id);
-      out.push_back(std::move(p));
+    const std::size_t first = out.size();
+    const auto sample = sampled_done_indexes(impl_->db, st.id, n, stride);
+    bool sampled = sample.has_value();
+    for (std::size_t k = 0; sampled && k < sample->size(); ++k) {
+      by_index.reset();
+      by_index.bind(1, st.id).bind(2, (*sample)[k]);
+      auto p = by_index.step() ? read_point(by_index, st.index) : std::nullopt;
+      sampled = p.has_value();  // else the counts disagree with the rows: walk instead
+      if (p) out.push_back(std::move(*p));
     }
+    if (!sampled) {
+      out.resize(first);
+      done_ids.reset();
+      done_ids.bind(1, st.id);
+      for (std::int64_t i = 0; done_ids.step(); ++i) {
+        if (i % stride != 0) continue;
+        by_id.reset();
+        by_id.bind(1, done_ids.int64(0));
+        if (auto p = by_id.step() ? read_point(by_id, st.index) : std::nullopt) out.push_back(std::move(*p));
+      }
+    }
+    for (std::size_t k = first; k < out.size(); ++k) out[k].features = read_features(features, out[k].id);
   }
   return out;
 }
 
+namespace {
+
+// How many of a stage's `done` trials finished at or after `since`: counted on whichever side of
+// `since` in trials_by_finish is shorter (the other side is `done` minus it), in rounds of growing
+// length on both sides, so the cost follows the shorter side (a little over twice its length at
+// most) rather than the recent side: a stage that finished 100,000 trials within the minute counts
+// none of them.
+std::int64_t done_since(sqlite3* db, std::int64_t stage_id, std::int64_t done, double since) {
+  Statement s(db,
+              "SELECT (SELECT count(*) FROM (SELECT 1 FROM trials WHERE stage_id = ?1 AND state = 'done' AND finished_at >= ?2 "
+              "LIMIT ?3)), (SELECT count(*) FROM (SELECT 1 FROM trials WHERE stage_id = ?1 AND state = 'done' AND "
+              "finished_at < ?2 LIMIT ?3))");
+  for (std::int64_t cap = 1024;; cap *= 4) {
+    s.reset();
+    s.bind(1, stage_id).bind(2, since).bind(3, cap);
+    if (!s.step()) return 0;
+    if (s.int64(0) < cap) return s.int64(0);
+    if (s.int64(1) < cap) return std::max<std::int64_t>(0, done - s.int64(1));
+  }
+}
+
+}  // namespace
+
 CampaignSummary Queries::summary(std::int64_t campaign_id, double now_unix_s) const {
   const ReadSnapshot snapshot(impl_->db);
   // Counts from the v3 count rows; the rest are min/max probes of an index per stage, so the cost
-  // does not grow with the number of trials, except done_last_minute: an index range as long as
-  // that count (100,000 when a whole campaign finished within the minute, as in the bench).
+  // does not grow with the number of trials, and done_last_minute, a count of the shorter side of
+  // the minute's start in trials_by_finish (done_since).
   CampaignSummary out;
   Statement counts(impl_->db,
                    "SELECT c.stage_id, c.state, c.trials FROM stages st JOIN stage_state_counts c ON c.stage_id = st.id "
@@ -243,18 +335,19 @@ CampaignSummary Queries::summary(std::int64_t campaign_id, double now_unix_s) co
   Statement probe(impl_->db,
                   "SELECT (SELECT max(objective) FROM trials WHERE stage_id = ?1), "
                   "(SELECT min(finished_at) FROM trials WHERE stage_id = ?1 AND state = 'done'), "
-                  "(SELECT max(finished_at) FROM trials WHERE stage_id = ?1 AND state = 'done'), "
-                  "(SELECT count(*) FROM trials WHERE stage_id = ?1 AND state = 'done' AND finished_at >= ?2)");
+                  "(SELECT max(finished_at) FROM trials WHERE stage_id = ?1 AND state = 'done')");
   for (const auto& st : campaign_stages(impl_->db, campaign_id, std::nullopt)) {
     probe.reset();
-    probe.bind(1, st.id).bind(2, now_unix_s - 60.0);
+    probe.bind(1, st.id);
     probe.step();
     if (const auto best = optional_real(probe, 0)) out.best_objective = std::max(*best, out.best_objective.value_or(*best));
     if (!probe.is_null(1)) {
       out.first_finished_at = out.first_finished_at > 0 ? std::min(out.first_finished_at, probe.real(1)) : probe.real(1);
       out.last_finished_at = std::max(out.last_finished_at, probe.real(2));
     }
-    out.done_last_minute += probe.int64(3);
+    const auto stage = out.stage_counts.find(st.id);
+    if (stage != out.stage_counts.end() && stage->second.done > 0)
+      out.done_last_minute += done_since(impl_->db, st.id, stage->second.done, now_unix_s - 60.0);
   }
   out.strategy_table = strategies(campaign_id);
   return out;
@@ -310,12 +403,23 @@ TrialPage Queries::trial_page(std::int64_t campaign_id, const TrialFilter& filte
   if (limit == 0 || offset >= page.total) return page;
   // Each walk yields at most `cap` ids; the page is the [offset, cap) slice of their merge.
   std::vector<Ranked> ranked;
+  Statement states(impl_->db, "SELECT state FROM stage_state_counts WHERE stage_id = ? AND trials > 0");
   for (const auto& walk : walks(filter)) {
     Statement s(impl_->db, walk.sql.c_str());
     for (std::size_t position = 0; position < stages.size(); ++position) {
-      bind_stage_filter(s, stages[position].id, filter);
-      s.bind(4, cap);
-      while (s.step()) ranked.push_back(walk.rank(s, static_cast<std::int64_t>(position)));
+      std::vector<std::optional<std::string>> each{std::nullopt};
+      if (walk.each_state) {
+        each.clear();
+        states.reset();
+        states.bind(1, stages[position].id);
+        while (states.step()) each.emplace_back(states.text(0));
+      }
+      for (const auto& state : each) {
+        bind_stage_filter(s, stages[position].id, filter);
+        if (state) s.bind(2, *state);
+        s.bind(4, cap);
+        while (s.step()) ranked.push_back(walk.rank(s, static_cast<std::int64_t>(position)));
+      }
     }
   }
   const auto end = ranked.begin() + std::min<std::int64_t>(cap, static_cast<std::int64_t>(ranked.size()));
@@ -330,6 +434,16 @@ TrialPage Queries::trial_page(std::int64_t campaign_id, const TrialFilter& filte
     page.trials.back().features = read_features(features, it->id);
   }
   return page;
+}
+
+std::vector<Json> Queries::last_events(std::int64_t campaign_id, std::int64_t last_n) const {
+  // Newest first from events_by_campaign, so only the rows returned are read and parsed.
+  Statement s(impl_->db, "SELECT time, kind, payload FROM events WHERE campaign_id = ? ORDER BY id DESC LIMIT ?");
+  s.bind(1, campaign_id).bind(2, last_n);
+  std::vector<Json> out;
+  while (s.step()) out.push_back({{"time", s.real(0)}, {"kind", s.text(1)}, {"payload", parse_json(s.text(2))}});
+  std::reverse(out.begin(), out.end());
+  return out;
 }
 
 namespace {
@@ -359,11 +473,13 @@ void downsample(MetricSeries& m, std::int64_t max_points) {
 
 std::vector<MetricSeries> Queries::metric_series(std::int64_t trial_id, std::int64_t max_points,
                                                  const std::optional<std::string>& name) const {
-  // Ordered as the index (trial_id, name, step) is, so SQLite does not sort; attempts are split here.
-  Statement s(impl_->db,
-              "SELECT name, attempt, step, value FROM metrics WHERE trial_id = ?1 AND (?2 IS NULL OR name = ?2) "
-              "ORDER BY name, step");
-  s.bind(1, trial_id).bind(2, name);
+  // One range of metrics_by_series (trial_id, name, step, attempt, value), in its order, so SQLite
+  // neither sorts nor reads the table; attempts are split here. A name is a separate statement,
+  // so it narrows the range rather than being checked on every point of the trial.
+  Statement s(impl_->db, name ? "SELECT name, attempt, step, value FROM metrics WHERE trial_id = ?1 AND name = ?2 ORDER BY step"
+                              : "SELECT name, attempt, step, value FROM metrics WHERE trial_id = ?1 ORDER BY name, step");
+  s.bind(1, trial_id);
+  if (name) s.bind(2, *name);
   std::vector<MetricSeries> out;
   std::map<int, MetricSeries> attempts;  // of the current name
   const auto flush = [&] {

@@ -6,7 +6,7 @@
 
 namespace podium::store {
 
-inline constexpr std::array<const char*, 5> kMigrations = {
+inline constexpr std::array<const char*, 6> kMigrations = {
     // Version 1: campaigns, stages, trials, attempts, metrics, features, artifacts, events.
     R"sql(
 CREATE TABLE schema_version (version INTEGER NOT NULL);
@@ -190,6 +190,20 @@ ALTER TABLE stages ADD COLUMN error TEXT NOT NULL DEFAULT '';
 ALTER TABLE stages ADD COLUMN told INTEGER NOT NULL DEFAULT 0;
 UPDATE stages SET told = (SELECT count(*) FROM trials
                           WHERE trials.stage_id = stages.id AND trials.state IN ('done', 'failed', 'cancelled'));
+)sql",
+    // Version 6, the dashboard's campaign page and metric plots without table lookups or scans
+    // (indexes only: no data changes; written to run again harmlessly on a database that has them):
+    // - metrics_by_series covers a metric series (attempt and value too), so a 100,000-point plot
+    //   is one index range, not 100,000 row lookups; it replaces metrics_by_trial (its prefix).
+    // - trials_by_strategy_finish: each strategy's first done trial in finishing order is one
+    //   probe (strategy labels), not a walk of the stage's done trials until every strategy shows.
+    // - artifacts and events by their trial and campaign: they were scanned whole per lookup.
+    R"sql(
+CREATE INDEX IF NOT EXISTS metrics_by_series ON metrics (trial_id, name, step, attempt, value);
+DROP INDEX IF EXISTS metrics_by_trial;
+CREATE INDEX IF NOT EXISTS trials_by_strategy_finish ON trials (stage_id, strategy, state, finished_at, idx);
+CREATE INDEX IF NOT EXISTS artifacts_by_trial ON artifacts (trial_id);
+CREATE INDEX IF NOT EXISTS events_by_campaign ON events (campaign_id);
 )sql",
 };
 

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <tuple>
 
 #include "podium/base/error.h"
 #include "podium/base/suggest.h"
@@ -377,16 +378,24 @@ std::vector<TrialOutcome> Store::done_trials(std::int64_t stage_id) const {
 }
 
 StrategyLabels Store::strategy_labels(std::int64_t stage_id) const {
-  Statement count(impl_->db, "SELECT count(*) FROM stage_strategy_counts WHERE stage_id = ? AND trials > 0");
-  count.bind(1, stage_id);
-  const std::size_t strategies = count.step() ? static_cast<std::size_t>(count.int64(0)) : 0;
+  // The order strategies were first found is the order of their first done trials in finishing
+  // order (finished_at, idx): one probe of trials_by_strategy_finish per strategy the stage's
+  // counts hold, however late a strategy was found (a walk of the done trials until every
+  // strategy showed read up to all of them).
+  Statement list(impl_->db, "SELECT strategy FROM stage_strategy_counts WHERE stage_id = ? AND trials > 0");
+  list.bind(1, stage_id);
+  Statement first(impl_->db,
+                  "SELECT finished_at, idx FROM trials WHERE stage_id = ?1 AND strategy = ?2 AND state = 'done' "
+                  "ORDER BY finished_at, idx LIMIT 1");
+  std::vector<std::tuple<double, std::int64_t, std::int64_t>> found;  // (finished_at, idx, strategy)
+  while (list.step()) {
+    first.reset();
+    first.bind(1, stage_id).bind(2, list.int64(0));
+    if (first.step()) found.emplace_back(first.real(0), first.int64(1), list.int64(0));
+  }
+  std::sort(found.begin(), found.end());
   StrategyLabels labels;
-  if (strategies == 0) return labels;
-  Statement s(impl_->db,
-              "SELECT strategy FROM trials WHERE stage_id = ? AND state = 'done' AND strategy IS NOT NULL "
-              "ORDER BY finished_at, idx");
-  s.bind(1, stage_id);
-  while (labels.size() < strategies && s.step()) labels.emplace(s.int64(0), static_cast<std::int64_t>(labels.size()) + 1);
+  for (const auto& f : found) labels.emplace(std::get<2>(f), static_cast<std::int64_t>(labels.size()) + 1);
   return labels;
 }
 

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <fstream>
+#include <iterator>
+#include <sstream>
 
 #include "podium/base/error.h"
 #include "process.h"
@@ -308,6 +310,117 @@ TEST(StoreMigration, SavedVersion3DatabaseMigratesToLatest) {
     EXPECT_EQ(st.told, store->stage_trial_counts(st.id).done + store->stage_trial_counts(st.id).failed +
                            store->stage_trial_counts(st.id).cancelled);
   }
+}
+
+// The indexes a schema-v6 database has beyond v5's (and v5's metrics_by_trial, which v6 replaces).
+std::string v6_indexes(const std::filesystem::path& path) {
+  return rows(path,
+              "SELECT name FROM sqlite_master WHERE type = 'index' AND name IN ('metrics_by_series', "
+              "'trials_by_strategy_finish', 'artifacts_by_trial', 'events_by_campaign', 'metrics_by_trial') ORDER BY name");
+}
+
+// Strategy labels as a walk of the stage's done trials in finishing order (finished_at, idx)
+// numbers them: what Store::strategy_labels must give.
+StrategyLabels labels_by_walk(const std::filesystem::path& path, std::int64_t stage_id) {
+  const std::string sql = "SELECT strategy FROM trials WHERE stage_id = " + std::to_string(stage_id) +
+                          " AND state = 'done' AND strategy IS NOT NULL ORDER BY finished_at, idx";
+  StrategyLabels labels;
+  std::istringstream lines(rows(path, sql.c_str()));
+  for (std::string line; std::getline(lines, line);)
+    labels.emplace(std::stoll(line), static_cast<std::int64_t>(labels.size()) + 1);
+  return labels;
+}
+
+// schema_v5.db: a two-stage campaign written by the v5 store, with failed trials, strategies,
+// features, two artifacts per done trial, metric series (two names, a NaN, a second attempt) and
+// events. v6 adds indexes only: every row reads back the same, the typed reads agree, and the
+// migration runs again harmlessly (a database whose version says 5 but has the v6 indexes).
+TEST(StoreMigration, SavedVersion5DatabaseMigratesToLatestWithItsRowsUnchanged) {
+  expect_migrates("schema_v5.db", 5, "saved-v5", 11);
+  const auto saved = std::filesystem::path(PODIUM_STORE_TESTDATA) / "schema_v5.db";
+  TempDir dir;
+  const auto path = dir / "v5.db";
+  std::filesystem::copy_file(saved, path);
+  EXPECT_EQ(v6_indexes(path), "metrics_by_trial\n");
+  const char* contents[] = {"SELECT * FROM metrics ORDER BY rowid", "SELECT * FROM artifacts ORDER BY id",
+                            "SELECT * FROM events ORDER BY id", "SELECT * FROM trials ORDER BY id",
+                            "SELECT * FROM features ORDER BY trial_id, idx"};
+  std::vector<std::string> before;
+  for (const char* sql : contents) before.push_back(rows(path, sql));
+  EXPECT_NE(before[0], "");
+  {
+    auto store = Store::open(path, Store::Access::read_write);
+    EXPECT_EQ(store->schema_version(), 6);
+  }
+  const std::string indexes = "artifacts_by_trial\nevents_by_campaign\nmetrics_by_series\ntrials_by_strategy_finish\n";
+  EXPECT_EQ(v6_indexes(path), indexes);
+  for (std::size_t i = 0; i < std::size(contents); ++i) EXPECT_EQ(rows(path, contents[i]), before[i]) << contents[i];
+  const std::string schema = rows(path, "SELECT type, name, sql FROM sqlite_master ORDER BY name");
+  // Again from version 5 on a database that already has the v6 indexes: no error, same schema.
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    EXPECT_EQ(sqlite3_exec(db, "UPDATE schema_version SET version = 5", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(db);
+  }
+  auto store = Store::open(path, Store::Access::read_write);
+  EXPECT_EQ(store->schema_version(), 6);
+  EXPECT_EQ(rows(path, "SELECT type, name, sql FROM sqlite_master ORDER BY name"), schema);
+  for (std::size_t i = 0; i < std::size(contents); ++i) EXPECT_EQ(rows(path, contents[i]), before[i]) << contents[i];
+  // The typed reads through the new indexes.
+  const auto campaign = store->campaigns().at(0).id;
+  const auto stages = store->stages(campaign);
+  ASSERT_EQ(stages.size(), 2u);
+  for (const auto& st : stages) EXPECT_EQ(store->strategy_labels(st.id), labels_by_walk(path, st.id));
+  EXPECT_EQ(store->strategy_labels(stages[0].id), (StrategyLabels{{0, 1}, {1, 2}, {2, 3}}));
+  EXPECT_EQ(store->events(campaign).size(), 4u);  // started, two trials failed, done
+  const auto trials = store->trials(stages[0].id);
+  EXPECT_EQ(store->artifacts(trials[0].id).size(), 2u);
+  EXPECT_EQ(store->artifacts(trials[3].id).size(), 0u);  // failed
+  const auto points = store->metrics(trials[5].id);
+  EXPECT_EQ(points.size(), 12u);  // return 0..5 (attempt 1), 6..8 (attempt 2), loss x3
+  EXPECT_EQ(std::count_if(points.begin(), points.end(), [](const MetricPoint& p) { return p.attempt == 2; }), 3);
+}
+
+// Labels are the order strategies were first found, however late in the stage: a strategy found
+// by the last trial to finish, one whose only trials failed (no label), ties on the finishing
+// time broken by the lower index.
+TEST(Store, StrategyLabelsFollowTheFirstDoneTrialOfEachStrategy) {
+  TempDir dir;
+  const auto path = dir / "l.db";
+  auto store = Store::open(path, Store::Access::read_write);
+  const auto stage = store->stages(store->add_campaign("c", Json::object(), 1, "", {one_stage()}))[0].id;
+  std::vector<std::int64_t> t;
+  store->transaction([&] {
+    for (int i = 0; i < 40; ++i) t.push_back(store->add_trial(stage, i, Json::object(), Json::object(), Json::object(), 1));
+  });
+  EXPECT_TRUE(store->strategy_labels(stage).empty());
+  store->transaction([&] {
+    for (int i = 39; i >= 0; --i) {  // finish in reverse index order
+      if (i == 7) {
+        store->set_trial_state(t[i], "failed", "boom");
+        store->set_trial_strategy(t[i], 99);  // a strategy with no done trial
+        continue;
+      }
+      store->complete_trial(t[i], {double(i)}, {}, {}, Json::object(), {});
+      store->set_trial_strategy(t[i], i == 0 ? 5 : i % 4);  // strategy 5: only the last trial to finish
+    }
+  });
+  {
+    sqlite3* db = nullptr;
+    // Finishing times made exact: reverse index order, but trials 10, 20 and 21 first and together.
+    ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+    EXPECT_EQ(sqlite3_exec(db,
+                           "UPDATE trials SET finished_at = 2e9 - idx; "
+                           "UPDATE trials SET finished_at = 1e9 WHERE idx IN (10, 20, 21)",
+                           nullptr, nullptr, nullptr),
+              SQLITE_OK);
+    sqlite3_close(db);
+  }
+  const auto labels = store->strategy_labels(stage);
+  EXPECT_EQ(labels, labels_by_walk(path, stage));
+  // Trials 10, 20, 21 (strategies 2, 0, 1) in index order, then 39 (strategy 3), ..., then 0.
+  EXPECT_EQ(labels, (StrategyLabels{{2, 1}, {0, 2}, {1, 3}, {3, 4}, {5, 5}}));
 }
 
 TEST(Store, SearchStateIsSavedWithHowManyTrialsWereTold) {

@@ -154,6 +154,77 @@ TEST(Queries, PointsAreDoneTrialsStridedWhenCapped) {
   EXPECT_EQ(std::count_if(mixed.begin(), mixed.end(), [](const auto& p) { return p.stage_index == 1; }), 7);
 }
 
+// points() samples a large stage by index seeks where its indexes are dense and most trials are
+// done, else by a walk of the done trials: both give exactly every stride-th done trial in index
+// order, with its row and features, as a brute-force pass over the stage's trials does.
+TEST(Queries, SampledPointsAreEveryStrideThDoneTrialWhateverTheStatesAndGaps) {
+  TempDir dir;
+  const auto db = dir / "p.db";
+  std::int64_t campaign = 0;
+  {
+    auto s = Store::open(db, Store::Access::read_write);
+    NewStage dense{"dense", "landscape", "random"}, gaps{"gaps", "landscape", "random"}, few{"few", "landscape", "random"};
+    campaign = s->add_campaign("p", Json::object(), 1, "", {dense, gaps, few});
+    const auto stages = s->stages(campaign);
+    s->transaction([&] {
+      for (int i = 0; i < 900; ++i) {
+        const int stage = i / 300, k = i % 300;
+        // Stage "gaps" has index gaps (only odd indexes); stage "few" has few done trials.
+        const auto t = s->add_trial(stages[stage].id, stage == 1 ? 2 * k + 1 : k, {{"x", i}}, Json::object(),
+                                    {{"step", k % 2 ? "explore" : "diversity"}}, 1);
+        const int kind = stage == 2 ? (k % 5 == 0 ? 0 : 1 + k % 4) : (k % 7 == 3 ? 1 + k % 4 : 0);
+        if (kind == 1) continue;  // pending
+        s->start_attempt(t, 1, "w", "h");
+        if (kind == 2) continue;  // running
+        if (kind == 3 || kind == 4) {
+          s->set_trial_state(t, kind == 3 ? "failed" : "cancelled", "x");
+          continue;
+        }
+        s->complete_trial(t, {k * 0.5}, {"f0", "f1"}, {double(k), -double(k)}, Json::object(), {});
+        if (k % 3) s->set_trial_strategy(t, k % 4);
+      }
+    });
+  }
+  auto q = Queries::open(db);
+  const auto stages = q->store().stages(campaign);
+  for (const std::int64_t max_points : {1, 7, 40, 99, 150, 299, 1000}) {
+    std::vector<TrialPoint> expected;
+    std::int64_t expected_total = 0;
+    for (const auto& st : stages) {
+      std::vector<TrialRecord> done;
+      for (auto& t : q->store().trials(st.id))
+        if (t.state == "done") done.push_back(std::move(t));
+      const auto n = static_cast<std::int64_t>(done.size());
+      expected_total += n;
+      const std::int64_t stride = std::max<std::int64_t>(1, (n + max_points - 1) / max_points);
+      for (std::int64_t i = 0; i < n; i += stride) {
+        const auto& t = done[static_cast<std::size_t>(i)];
+        TrialPoint p;
+        p.id = t.id;
+        p.stage_index = st.index;
+        p.index = t.index;
+        p.objective = t.objectives[0].get<double>();
+        p.strategy = t.strategy;
+        p.step = t.info.at("step").get<std::string>();
+        p.finished_at = t.finished_at;
+        p.features = t.features;
+        expected.push_back(p);
+      }
+    }
+    std::int64_t total = 0;
+    const auto got = q->points(campaign, max_points, &total);
+    EXPECT_EQ(total, expected_total);
+    ASSERT_EQ(got.size(), expected.size()) << "max_points " << max_points;
+    for (std::size_t k = 0; k < got.size(); ++k) {
+      const auto& a = got[k];
+      const auto& b = expected[k];
+      EXPECT_EQ(std::tie(a.id, a.stage_index, a.index, a.objective, a.strategy, a.step, a.finished_at, a.features),
+                std::tie(b.id, b.stage_index, b.index, b.objective, b.strategy, b.step, b.finished_at, b.features))
+          << "max_points " << max_points << " point " << k;
+    }
+  }
+}
+
 TEST(Queries, TrialIdIsFoundByStageAndIndex) {
   Fixture f;
   auto q = Queries::open(f.db);
@@ -185,6 +256,40 @@ TEST(Queries, StrategiesPickTheBestTrialAsRepresentative) {
   EXPECT_EQ(summary.best_objective, 29.0);
   EXPECT_EQ(summary.counts.failed, 3);
   EXPECT_EQ(summary.done_last_minute, 27);
+}
+
+// done_last_minute counts the shorter side of the minute's start: the same count as a recount
+// wherever the minute starts (no trial in it, a few, half, all of a 3,000-trial stage), failed
+// trials excluded, over two stages.
+TEST(Queries, DoneLastMinuteEqualsARecountWhereverTheMinuteStarts) {
+  TempDir dir;
+  const auto db = dir / "m.db";
+  std::int64_t campaign = 0;
+  {
+    auto s = Store::open(db, Store::Access::read_write);
+    NewStage a{"a", "landscape", "random"}, b{"b", "landscape", "random"};
+    campaign = s->add_campaign("m", Json::object(), 1, "", {a, b});
+    const auto stages = s->stages(campaign);
+    s->transaction([&] {
+      for (int i = 0; i < 3100; ++i) {
+        const auto t = s->add_trial(stages[i < 3000 ? 0 : 1].id, i, Json::object(), Json::object(), Json::object(), 1);
+        s->start_attempt(t, 1, "w", "h");
+        if (i % 97 == 5) s->set_trial_state(t, "failed", "boom");
+        else s->complete_trial(t, {1.0}, {}, {}, Json::object(), {});
+      }
+    });
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(db.c_str(), &raw), SQLITE_OK);  // finishing times 1000 + index, exactly
+    EXPECT_EQ(sqlite3_exec(raw, "UPDATE trials SET finished_at = 1000 + idx", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(raw);
+  }
+  auto q = Queries::open(db);
+  const auto all = q->store().campaign_trials(campaign);
+  for (const double start : {-5.0, 0.0, 1.0, 700.0, 1500.0, 2047.5, 2999.0, 3050.0, 3099.0, 4000.0}) {
+    const auto recount = std::count_if(
+        all.begin(), all.end(), [&](const TrialRecord& t) { return t.state == "done" && t.finished_at >= 1000.0 + start; });
+    EXPECT_EQ(q->summary(campaign, 1060.0 + start).done_last_minute, recount) << "minute from " << start;
+  }
 }
 
 TEST(Queries, MetricDownsamplingKeepsEveryBucketsMinAndMax) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string_view>
 #include <type_traits>
@@ -436,9 +437,7 @@ Json comparison_document(const Queries& q, SummaryCache& cache, const std::strin
 }
 
 Json campaign_events(const Queries& q, std::int64_t campaign_id, std::size_t last_n) {
-  auto events = q.store().events(campaign_id);
-  const std::size_t skip = events.size() > last_n ? events.size() - last_n : 0;
-  return Json(std::vector<Json>(events.begin() + static_cast<std::ptrdiff_t>(skip), events.end()));
+  return Json(q.last_events(campaign_id, static_cast<std::int64_t>(std::min<std::size_t>(last_n, INT64_MAX))));
 }
 
 Json trial_detail(const Queries& q, std::int64_t trial_id) {

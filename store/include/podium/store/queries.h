@@ -8,7 +8,9 @@
 /// blocked. One object per thread at a time.
 ///
 /// Costs (schema v3): counts and summaries read the count rows the store's triggers keep and
-/// min/max index probes, never all trials; pages and the scatter walk an index, not the table.
+/// min/max index probes, never all trials; pages and the scatter walk an index, not the table
+/// (a large stage's scatter seeks its samples by index instead). Schema v6: a metric series is
+/// read from an index alone, strategy labels are a probe per strategy, events their campaign's.
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -117,6 +119,8 @@ class Queries {
   /// Every metric (or only `name`) of a trial, each downsampled (see MetricSeries).
   std::vector<MetricSeries> metric_series(std::int64_t trial_id, std::int64_t max_points,
                                           const std::optional<std::string>& name) const;
+  /// The campaign's last `last_n` events, oldest first (Store::events' entries: time, kind, payload).
+  std::vector<Json> last_events(std::int64_t campaign_id, std::int64_t last_n) const;
 
  private:
   struct Impl;

@@ -171,8 +171,8 @@ class Store {
   /// A stage's done trials in index order, lean (TrialOutcome): one walk of an index, no JSON
   /// parsed but the result info of trials whose info holds a per-task table.
   std::vector<TrialOutcome> done_trials(std::int64_t stage_id) const;
-  /// The stage's strategy labels (StrategyLabels): a walk of its done trials in finishing order
-  /// that stops once every strategy the stage's counts hold has its label.
+  /// The stage's strategy labels (StrategyLabels): per strategy the stage's counts hold, its first
+  /// done trial in finishing order (one index probe each, schema v6).
   StrategyLabels strategy_labels(std::int64_t stage_id) const;
   TrialCounts trial_counts(std::int64_t campaign_id) const;
   /// Text that changes whenever a campaign's summary (store/summary.h) may: the campaign's state,

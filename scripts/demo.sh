@@ -18,7 +18,7 @@ db="$PWD/runs/demo.db"
 set_args=()
 captured="${PODIUM_SHARED_DIR:-$PWD/../shared}/data/jump/data/motions/beyond"
 if [ "$spec" = campaigns/getup_demo.json ] && [ -d "$captured" ]; then
-  set_args=(--set "stages[1].config.captured_motions=$(cd "$captured" && pwd)")
+  set_args=(--set "stages[2].config.captured_motions=$(cd "$captured" && pwd)")
 fi
 id=$(build/bin/podium submit "$spec" "${set_args[@]}" --db "$db")
 echo "demo: submitted $spec as campaign $id in $db"

@@ -14,9 +14,9 @@ podium=build/bin/podium
 campaign=getup-demo
 trial=$("$podium" trials "$campaign" --db "$db" --json | /usr/bin/python3 -c '
 import json, sys
-ids = [t["id"] for t in json.load(sys.stdin) if t["name"] == "standing/0" and t["state"] == "done"]
+ids = [t["id"] for t in json.load(sys.stdin) if t["name"] == "slowed/0" and t["state"] == "done"]
 print(ids[0] if ids else "")')
-[ -n "$trial" ] || { echo "screenshot: $db: campaign $campaign has no done trial standing/0" >&2; exit 2; }
+[ -n "$trial" ] || { echo "screenshot: $db: campaign $campaign has no done trial slowed/0" >&2; exit 2; }
 campaign_id=$("$podium" status "$campaign" --db "$db" --json | /usr/bin/python3 -c 'import json, sys; print(json.load(sys.stdin)["id"])')
 
 tmp=$(mktemp -d)

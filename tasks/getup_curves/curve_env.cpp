@@ -16,7 +16,7 @@ namespace podium::tasks::getup_curves {
 
 namespace {
 
-constexpr double kMapSpacingM = 0.25;                     // §3.2: a 1 m × 1 m grid at 25 cm
+constexpr double kMapSpacingM = 0.25;                         // §3.2: a 1 m × 1 m grid at 25 cm
 constexpr std::array<double, 4> kAheadS{0.0, 0.1, 0.2, 0.3};  // §3.3.2: targets 0, 100, 200, 300 ms ahead
 
 const CurveGetupEnv& curve_env(const character::CharacterEnv& env) { return static_cast<const CurveGetupEnv&>(env); }
@@ -90,9 +90,10 @@ class CurveEpisodeStart final : public character::Start {
 };
 
 std::vector<std::string> curve_env_info_names() {
-  return {"r_h", "r_theta",        "alpha",          "r_v",            "r_p",            "r_task",          "r_natural",
-          "h",   "theta_x",        "theta_z",        "target_h",       "target_theta_x", "target_theta_z",  "head_on_ground",
-          "low_task_steps",        "head_down_steps", "success"};
+  std::vector<std::string> names{"r_h", "r_theta", "alpha", "r_v", "r_p", "r_task", "r_natural"};  // eqs. 3–9
+  for (const char* n : {"h", "theta_x", "theta_z", "target_h", "target_theta_x", "target_theta_z"}) names.emplace_back(n);
+  for (const char* n : {"head_on_ground", "low_task_steps", "head_down_steps", "success"}) names.emplace_back(n);
+  return names;
 }
 
 std::shared_ptr<const CurveSet> make_curve_set(std::vector<StyleCurve> curves, const sim::ModelPtr& model,
@@ -154,7 +155,8 @@ CurveGetupEnv::Parts CurveGetupEnv::make_parts(const CurveEnvSettings& s, const 
   e.world.control_hz = s.control_hz;
   // The longest curve's length; each episode ends at its own curve's (on_step).
   e.episode_steps = 1;
-  for (const StyleCurve& c : set.curves) e.episode_steps = std::max(e.episode_steps, control_steps(c.duration_s + s.stand_s, s.control_hz));
+  for (const StyleCurve& c : set.curves)
+    e.episode_steps = std::max(e.episode_steps, control_steps(c.duration_s + s.stand_s, s.control_hz));
   e.action = make_action_map(s, model);
   const auto add = [&](std::string name, std::unique_ptr<character::ObservationPart> part) {
     const std::size_t at = p.blocks.empty() ? 0 : p.blocks.back().offset + p.blocks.back().size;
@@ -189,7 +191,8 @@ CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<c
       termination_(control_dt_s()),
       blocks_(std::move(parts.blocks)),
       success_steps_(control_steps(settings.success_window_s, settings.control_hz)) {
-  if (!(settings.stand_s >= 0.0)) throw base::UserError("curve get-up env: stand_s " + std::to_string(settings.stand_s) + " is not ≥ 0");
+  if (!(settings.stand_s >= 0.0))
+    throw base::UserError("curve get-up env: stand_s " + std::to_string(settings.stand_s) + " is not ≥ 0");
   episode_length_ = length_of(curve());
 }
 
@@ -237,7 +240,8 @@ void CurveGetupEnv::step(std::span<const double> action, learn::StepResult& out)
     CharacterEnv::step(action, out);  // throws, naming both sizes
     return;
   }
-  const Eigen::VectorXd& y = filter_.step(Eigen::Map<const Eigen::VectorXd>(action.data(), static_cast<Eigen::Index>(action.size())));
+  const Eigen::VectorXd& y =
+      filter_.step(Eigen::Map<const Eigen::VectorXd>(action.data(), static_cast<Eigen::Index>(action.size())));
   CharacterEnv::step(std::span<const double>(y.data(), static_cast<std::size_t>(y.size())), out);
 }
 
@@ -280,11 +284,13 @@ void CurveGetupEnv::on_step(std::span<const double> y, learn::StepResult& out) {
   const bool last = step_index() >= episode_length_;
   out.truncated = last;  // CharacterEnv keeps it only when not terminated
   success_ = last && !out.terminated && standing_steps_ >= success_steps_;
-  out.info = {terms_.height,   terms_.torso,     terms_.alpha,     terms_.velocity, terms_.pose,
-              terms_.task,     terms_.natural,   in.achieved(0),   in.achieved(1),  in.achieved(2),
-              in.target(0),    in.target(1),     in.target(2),     head_down ? 1.0 : 0.0,
-              static_cast<double>(termination_.low_reward_steps()), static_cast<double>(termination_.head_down_steps()),
-              success_ ? 1.0 : 0.0};
+  out.info = {terms_.height, terms_.torso, terms_.alpha, terms_.velocity, terms_.pose, terms_.task, terms_.natural};
+  for (int f = 0; f < 3; ++f) out.info.push_back(in.achieved(f));
+  for (int f = 0; f < 3; ++f) out.info.push_back(in.target(f));
+  out.info.push_back(head_down ? 1.0 : 0.0);
+  out.info.push_back(termination_.low_reward_steps());
+  out.info.push_back(termination_.head_down_steps());
+  out.info.push_back(success_ ? 1.0 : 0.0);
 }
 
 std::optional<base::Json> CurveGetupEnv::save_state() const {

@@ -79,9 +79,9 @@ struct CurveEnvSettings {
   /// §5.3's rule; off, episodes always run their full length (evaluation replays, an ablation)
   /// while the info still counts both conditions.
   bool early_termination = true;
-  double success_window_s = 1.0;          ///< h must stay up through this last part of the episode
-  double success_height_fraction = 0.9;   ///< ... at or above this fraction of p_h(1)
-  double clip_start_noise_rad = 0.05;     ///< joint noise of a clip start (character::ReferenceStart)
+  double success_window_s = 1.0;            ///< h must stay up through this last part of the episode
+  double success_height_fraction = 0.9;     ///< ... at or above this fraction of p_h(1)
+  double clip_start_noise_rad = 0.05;       ///< joint noise of a clip start (character::ReferenceStart)
   sim::RagdollStart drop = passive_drop();  ///< a drop start's fall; its `lying` is the curve's
 
   /// §5.2: "a passive rag-doll model" dropped: zero torques, 2 s at 30 Hz to land and settle.

@@ -286,8 +286,9 @@ TEST(CurveGetupEnv, CurveFilesLoadAndABadClipIsNamed) {
 
 TEST(CurveGetupEnv, AClipStartBeginsInItsFrameOnTheBack) {
   const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  const std::filesystem::path clip = shared ? std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_getup_faceup.txt"
-                                            : std::filesystem::path();
+  const std::filesystem::path clip =
+      shared ? std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_getup_faceup.txt"
+             : std::filesystem::path();
   if (clip.empty() || !std::filesystem::exists(clip)) GTEST_SKIP() << "PODIUM_SHARED_DIR or humanoid3d_getup_faceup.txt absent";
   const sim::ModelPtr model = humanoid();
   podium::testing::TempDir dir;

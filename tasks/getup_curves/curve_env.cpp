@@ -16,7 +16,8 @@ namespace podium::tasks::getup_curves {
 
 namespace {
 
-constexpr double kMapSpacingM = 0.25;                         // §3.2: a 1 m × 1 m grid at 25 cm
+constexpr double kMapSpacingM = 0.25;  // §3.2: a 1 m × 1 m grid at 25 cm
+constexpr int kDropAttempts = 10;
 constexpr std::array<double, 4> kAheadS{0.0, 0.1, 0.2, 0.3};  // §3.3.2: targets 0, 100, 200, 300 ms ahead
 
 const CurveGetupEnv& curve_env(const character::CharacterEnv& env) { return static_cast<const CurveGetupEnv&>(env); }
@@ -223,9 +224,13 @@ void CurveGetupEnv::begin_episode(base::Rng& rng) {
     character::ReferenceStart(settings_.clip_start_noise_rad, false, clip->times_s.at(static_cast<std::size_t>(start.frame)))
         .begin(*this, rng);
   } else {
-    // §5.2: a passive rag-doll dropped prone or supine (at the origin, turned uniformly).
-    using Lying = character::RagdollDrop::Lying;
-    character::RagdollDrop(settings_.drop, start.supine ? Lying::supine : Lying::prone).begin(*this, rng);
+    // §5.2: a passive rag-doll dropped prone or supine. A drop whose random pose blows up (at
+    // 600 Hz, 1 of 30 seeds each way) is drawn again; should every attempt fail, the first step
+    // ends the episode as CharacterEnv does for any non-finite state.
+    sim::RagdollStart fall = settings_.drop;
+    fall.lying = start.supine ? sim::RagdollStart::Lying::supine : sim::RagdollStart::Lying::prone;
+    for (int attempt = 0; attempt < kDropAttempts; ++attempt)
+      if (sim::ragdoll_start(world(), rng, fall).ok) break;
   }
   // y_0: the action that holds the start's pose (the "targets" map: its pose within the box).
   const std::vector<double> pose = bridge_.pose(world().data().q);

@@ -84,11 +84,13 @@ struct CurveEnvSettings {
   double clip_start_noise_rad = 0.05;       ///< joint noise of a clip start (character::ReferenceStart)
   sim::RagdollStart drop = passive_drop();  ///< a drop start's fall; its `lying` is the curve's
 
-  /// §5.2: "a passive rag-doll model" dropped: zero torques, 2 s at 30 Hz to land and settle.
+  /// §5.2: "a passive rag-doll model" dropped: zero torques, 2 s at 30 Hz to land and settle, at
+  /// the origin turned uniformly about the vertical.
   static sim::RagdollStart passive_drop() {
     sim::RagdollStart fall;
     fall.action_sigma = 0.0;
     fall.control_steps = 60;
+    fall.random_yaw = true;
     return fall;
   }
 };

@@ -179,7 +179,7 @@ CurveGetupEnv::Parts CurveGetupEnv::make_parts(const CurveEnvSettings& s, const 
   return p;
 }
 
-CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<const CurveSet> curves)
+CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, const std::shared_ptr<const CurveSet>& curves)
     : CurveGetupEnv(settings, curves, make_parts(settings, checked(curves))) {}
 
 CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<const CurveSet> curves, Parts parts)

@@ -112,7 +112,7 @@ class CurveEpisodeStart;
 class CurveGetupEnv final : public character::CharacterEnv {
  public:
   /// Throws base::UserError for an empty curve set or an unknown `actions`.
-  CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<const CurveSet> curves);
+  CurveGetupEnv(const CurveEnvSettings& settings, const std::shared_ptr<const CurveSet>& curves);
 
   /// Filters the action (§3.4) and steps with y_t.
   void step(std::span<const double> action, learn::StepResult& out) override;

@@ -86,4 +86,12 @@ bool EarlyTermination::step(double task_reward, bool head_on_ground) {
   return low_steps_ >= limit_ || head_steps_ >= limit_;
 }
 
+void EarlyTermination::restore(int low_reward_steps, int head_down_steps) {
+  if (low_reward_steps < 0 || head_down_steps < 0)
+    throw base::UserError("early termination: run lengths " + std::to_string(low_reward_steps) + ", " +
+                          std::to_string(head_down_steps) + " are not ≥ 0");
+  low_steps_ = low_reward_steps;
+  head_steps_ = head_down_steps;
+}
+
 }  // namespace podium::tasks::getup_curves

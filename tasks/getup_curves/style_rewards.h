@@ -1,6 +1,6 @@
 #pragma once
 /// The style-curve get-up's rewards, action filter and early termination as pure parts (curve
-/// get-up seed §3.4, §5.1, §5.3); the environment that feeds them comes later.
+/// get-up seed §3.4, §5.1, §5.3); curve_env.h feeds them.
 #include <Eigen/Core>
 
 #include "podium/sim/model.h"
@@ -68,6 +68,8 @@ class EarlyTermination {
   bool step(double task_reward, bool head_on_ground);
   int low_reward_steps() const { return low_steps_; }
   int head_down_steps() const { return head_steps_; }
+  /// For resuming an episode: the two run lengths as low_reward_steps() and head_down_steps() gave them.
+  void restore(int low_reward_steps, int head_down_steps);
 
  private:
   int limit_;  // the first run length longer than sustain_s

@@ -1,0 +1,344 @@
+#include "curve_env.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+
+#include "podium/base/error.h"
+#include "podium/character/actions.h"
+#include "podium/character/frames.h"
+#include "podium/character/observations.h"
+#include "podium/character/starts.h"
+
+namespace podium::tasks::getup_curves {
+
+namespace {
+
+constexpr double kMapSpacingM = 0.25;  // §3.2: a 1 m × 1 m grid at 25 cm
+constexpr int kDropAttempts = 10;
+constexpr std::array<double, 4> kAheadS{0.0, 0.1, 0.2, 0.3};  // §3.3.2: targets 0, 100, 200, 300 ms ahead
+
+const CurveGetupEnv& curve_env(const character::CharacterEnv& env) { return static_cast<const CurveGetupEnv&>(env); }
+
+// §3.3.1's q: every body's rotation in the heading frame as a unit quaternion (w, x, y, z), the
+// sign chosen with w ≥ 0 (a quaternion and its negative are one rotation).
+class LinkQuaternions final : public character::ObservationPart {
+ public:
+  std::size_t size(const sim::CharacterModel& model) const override { return 4 * model.bodies().size(); }
+  void write(const character::CharacterEnv& env, std::span<double> out) const override {
+    const sim::CharacterData& d = env.world().data();
+    const Eigen::Matrix3d to_heading = character::heading_rotation(character::heading_yaw(d.links[0].R)).transpose();
+    std::size_t at = 0;
+    for (const sim::Body& body : env.model().bodies()) {
+      Eigen::Quaterniond r(Eigen::Matrix3d(to_heading * d.links[static_cast<std::size_t>(body.link)].R));
+      r.normalize();
+      if (r.w() < 0.0) r.coeffs() = -r.coeffs();
+      out[at++] = r.w(), out[at++] = r.x(), out[at++] = r.y(), out[at++] = r.z();
+    }
+  }
+};
+
+// §3.3.1's w.
+void write_features(const character::CharacterEnv& env, std::span<double> out) {
+  const StyleFeatures w = curve_env(env).achieved();
+  for (int f = 0; f < 3; ++f) out[static_cast<std::size_t>(f)] = w(f);
+}
+
+// §3.3.2's t = [t_h t_θx t_θz], each at the four times ahead.
+void write_targets(const character::CharacterEnv& env, std::span<double> out) {
+  const CurveGetupEnv& e = curve_env(env);
+  for (std::size_t k = 0; k < kAheadS.size(); ++k) {
+    const StyleFeatures p = e.curve().target(e.curve_time_s() + kAheadS[k]);
+    for (std::size_t f = 0; f < 3; ++f) out[f * kAheadS.size() + k] = p(static_cast<Eigen::Index>(f));
+  }
+}
+
+// §3.3.1's y_{t−1}: the filter's value as the step left it (y_0 after a reset).
+void write_previous_action(const character::CharacterEnv& env, std::span<double> out) {
+  const Eigen::VectorXd& y = curve_env(env).filtered_action();
+  for (Eigen::Index k = 0; k < y.size(); ++k) out[static_cast<std::size_t>(k)] = y(k);
+}
+
+// How a filtered action becomes PD targets (§3.4); the C-VAE's map joins here once it is trained.
+std::unique_ptr<character::ActionMap> make_action_map(const CurveEnvSettings& s, const sim::ModelPtr& model) {
+  if (s.actions == "targets") return std::make_unique<character::TargetActions>(model, s.control);
+  throw base::UserError("curve get-up env: actions \"" + s.actions +
+                        "\" is not one of: targets (the C-VAE's action space comes once the C-VAE is trained)");
+}
+
+int control_steps(double seconds, double control_hz) { return std::max(1, static_cast<int>(std::lround(seconds * control_hz))); }
+
+const CurveSet& checked(const std::shared_ptr<const CurveSet>& set) {
+  if (!set || set->curves.empty()) throw base::UserError("curve get-up env: no curves");
+  if (!set->model) throw base::UserError("curve get-up env: the curve set has no model");
+  if (set->clips.size() != set->curves.size())
+    throw base::UserError("curve get-up env: the curve set has " + std::to_string(set->clips.size()) + " start clips for " +
+                          std::to_string(set->curves.size()) + " curves");
+  for (std::size_t k = 0; k < set->curves.size(); ++k)
+    if (set->curves[k].start.kind == CurveStart::Kind::clip && !set->clips[k])
+      throw base::UserError("curve get-up env: curve \"" + set->curves[k].name + "\" starts in a clip the set has not read");
+  return *set;
+}
+
+}  // namespace
+
+// The env's Start: draws the episode's curve and begins its start (CurveGetupEnv::begin_episode).
+class CurveEpisodeStart final : public character::Start {
+ public:
+  void begin(character::CharacterEnv& env, base::Rng& rng) const override { static_cast<CurveGetupEnv&>(env).begin_episode(rng); }
+};
+
+std::vector<std::string> curve_env_info_names() {
+  std::vector<std::string> names{"r_h", "r_theta", "alpha", "r_v", "r_p", "r_task", "r_natural"};  // eqs. 3–9
+  for (const char* n : {"h", "theta_x", "theta_z", "target_h", "target_theta_x", "target_theta_z"}) names.emplace_back(n);
+  for (const char* n : {"head_on_ground", "low_task_steps", "head_down_steps", "success"}) names.emplace_back(n);
+  return names;
+}
+
+std::shared_ptr<const CurveSet> make_curve_set(std::vector<StyleCurve> curves, const sim::ModelPtr& model,
+                                               const std::filesystem::path& base_dir) {
+  if (!model) throw base::UserError("curve set: no model");
+  auto set = std::make_shared<CurveSet>();
+  set->model = model;
+  std::map<std::filesystem::path, std::shared_ptr<const character::Clip>> read;  // a clip shared by several curves, once
+  for (const StyleCurve& curve : curves) {
+    std::shared_ptr<const character::Clip> clip;
+    if (curve.start.kind == CurveStart::Kind::clip) {
+      const std::filesystem::path file = std::filesystem::path(curve.start.clip).is_absolute() || base_dir.empty()
+                                             ? std::filesystem::path(curve.start.clip)
+                                             : base_dir / curve.start.clip;
+      const std::string where = "curve \"" + curve.name + "\": start.clip: \"" + curve.start.clip + "\"";
+      if (!std::filesystem::is_regular_file(file)) throw base::UserError(where + " is not a file (" + file.string() + ")");
+      auto& slot = read[file];
+      if (!slot) slot = std::make_shared<const character::Clip>(character::read_deepmimic_clip(model, file));
+      clip = slot;
+      if (curve.start.frame >= static_cast<int>(clip->size()))
+        throw base::UserError("curve \"" + curve.name + "\": start.frame: " + std::to_string(curve.start.frame) +
+                              " is past the last frame " + std::to_string(clip->size() - 1) + " of " + file.string());
+    }
+    set->clips.push_back(std::move(clip));
+  }
+  set->curves = std::move(curves);
+  return set;
+}
+
+std::shared_ptr<const CurveSet> load_curve_set(const std::vector<std::filesystem::path>& files, const sim::ModelPtr& model) {
+  if (files.empty()) throw base::UserError("curve set: no curve files");
+  auto set = std::make_shared<CurveSet>();
+  set->model = model;
+  for (const std::filesystem::path& file : files) {
+    try {
+      auto one = make_curve_set({load_style_curve(file)}, model, file.parent_path());
+      set->curves.push_back(one->curves.front());
+      set->clips.push_back(one->clips.front());
+    } catch (const base::ConfigError&) {
+      throw;  // already "<file>: <JSON path>: <value> ..."
+    } catch (const base::UserError& e) {
+      throw base::UserError(file.string() + ": " + e.what());
+    }
+  }
+  return set;
+}
+
+struct CurveGetupEnv::Parts {
+  character::CharacterEnvParts env;
+  std::vector<ObservationBlock> blocks;
+};
+
+CurveGetupEnv::Parts CurveGetupEnv::make_parts(const CurveEnvSettings& s, const CurveSet& set) {
+  Parts p;
+  character::CharacterEnvParts& e = p.env;
+  const sim::ModelPtr& model = set.model;
+  e.model = model;
+  e.world.sim_hz = s.sim_hz;
+  e.world.control_hz = s.control_hz;
+  // The longest curve's length; each episode ends at its own curve's (on_step).
+  e.episode_steps = 1;
+  for (const StyleCurve& c : set.curves)
+    e.episode_steps = std::max(e.episode_steps, control_steps(c.duration_s + s.stand_s, s.control_hz));
+  e.action = make_action_map(s, model);
+  const auto add = [&](std::string name, std::unique_ptr<character::ObservationPart> part) {
+    const std::size_t at = p.blocks.empty() ? 0 : p.blocks.back().offset + p.blocks.back().size;
+    p.blocks.push_back({std::move(name), at, part->size(*model)});
+    e.observation.push_back(std::move(part));
+  };
+  add("q", std::make_unique<LinkQuaternions>());
+  add("p_v_omega", std::make_unique<character::LinkStates>(
+                       character::LinkStates::Blocks{.positions = true, .rotations = false, .velocities = true}));
+  add("w", std::make_unique<character::TaskScalars>(3, write_features));
+  add("height_map", std::make_unique<character::HeightMap>(kMapSpacingM));
+  add("targets", std::make_unique<character::TaskScalars>(3 * kAheadS.size(), write_targets));
+  add("previous_action", std::make_unique<character::TaskScalars>(e.action->space(*model).size(), write_previous_action));
+  e.start = std::make_unique<CurveEpisodeStart>();
+  e.reward = [](character::CharacterEnv& env, std::span<const double> y, learn::StepResult& out) {
+    static_cast<CurveGetupEnv&>(env).on_step(y, out);
+  };
+  e.info_names = curve_env_info_names();
+  return p;
+}
+
+CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, const std::shared_ptr<const CurveSet>& curves)
+    : CurveGetupEnv(settings, curves, make_parts(settings, checked(curves))) {}
+
+CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<const CurveSet> curves, Parts parts)
+    : CharacterEnv(std::move(parts.env)),
+      settings_(settings),
+      curves_(std::move(curves)),
+      features_reader_(model()),
+      bridge_(curves_->model),
+      filter_(static_cast<Eigen::Index>(action_space().size()), settings.filter_beta),
+      termination_(control_dt_s()),
+      blocks_(std::move(parts.blocks)),
+      success_steps_(control_steps(settings.success_window_s, settings.control_hz)) {
+  if (!(settings.stand_s >= 0.0))
+    throw base::UserError("curve get-up env: stand_s " + std::to_string(settings.stand_s) + " is not ≥ 0");
+  episode_length_ = length_of(curve());
+}
+
+int CurveGetupEnv::length_of(const StyleCurve& curve) const {
+  return control_steps(curve.duration_s + settings_.stand_s, settings_.control_hz);
+}
+
+void CurveGetupEnv::use_curve(int index) {
+  if (index < -1 || index >= static_cast<int>(curves_->curves.size()))
+    throw base::UserError("curve get-up env: curve " + std::to_string(index) + " is not one of the " +
+                          std::to_string(curves_->curves.size()) + " curves (−1: drawn)");
+  fixed_curve_ = index;
+}
+
+void CurveGetupEnv::begin_episode(base::Rng& rng) {
+  const int n = static_cast<int>(curves_->curves.size());
+  curve_ = fixed_curve_ >= 0 ? fixed_curve_ : static_cast<int>(rng.integer(0, n - 1));
+  episode_length_ = length_of(curve());
+  termination_.reset();
+  standing_steps_ = 0;
+  success_ = false;
+  terms_ = StyleRewardTerms{};
+  const CurveStart& start = curve().start;
+  const std::shared_ptr<const character::Clip>& clip = curves_->clips[static_cast<std::size_t>(curve_)];
+  set_reference(clip);
+  if (start.kind == CurveStart::Kind::clip) {
+    // §5.5: "the initial posture of each reference motion is used to initialize the character".
+    character::ReferenceStart(settings_.clip_start_noise_rad, false, clip->times_s.at(static_cast<std::size_t>(start.frame)))
+        .begin(*this, rng);
+  } else {
+    // §5.2: a passive rag-doll dropped prone or supine. A drop whose random pose blows up (at
+    // 600 Hz, 1 of 30 seeds each way) is drawn again; should every attempt fail, the first step
+    // ends the episode as CharacterEnv does for any non-finite state.
+    sim::RagdollStart fall = settings_.drop;
+    fall.lying = start.supine ? sim::RagdollStart::Lying::supine : sim::RagdollStart::Lying::prone;
+    for (int attempt = 0; attempt < kDropAttempts; ++attempt)
+      if (sim::ragdoll_start(world(), rng, fall).ok) break;
+  }
+  // y_0: the action that holds the start's pose (the "targets" map: its pose within the box).
+  const std::vector<double> pose = bridge_.pose(world().data().q);
+  const learn::BoxSpace box = action_space();
+  Eigen::VectorXd y(static_cast<Eigen::Index>(pose.size()));
+  for (std::size_t k = 0; k < pose.size(); ++k) y(static_cast<Eigen::Index>(k)) = std::clamp(pose[k], box.low[k], box.high[k]);
+  filter_.set_value(y);
+}
+
+void CurveGetupEnv::step(std::span<const double> action, learn::StepResult& out) {
+  if (action.size() != action_space().size()) {
+    CharacterEnv::step(action, out);  // throws, naming both sizes
+    return;
+  }
+  const Eigen::VectorXd& y =
+      filter_.step(Eigen::Map<const Eigen::VectorXd>(action.data(), static_cast<Eigen::Index>(action.size())));
+  CharacterEnv::step(std::span<const double>(y.data(), static_cast<std::size_t>(y.size())), out);
+}
+
+double CurveGetupEnv::ground_height_m() const {
+  const sim::LinkData& root = world().data().links[0];
+  const auto map = world().terrain().height_map(root.p.x(), root.p.y(), character::heading_yaw(root.R), kMapSpacingM, 0.0);
+  double sum = 0.0;
+  for (double z : map) sum += z;
+  return sum / static_cast<double>(map.size());
+}
+
+StyleFeatures CurveGetupEnv::achieved() const { return features_reader_(world().data(), ground_height_m()); }
+
+double CurveGetupEnv::angular_speed_norm() const {
+  std::vector<Eigen::Vector3d> omega, velocity;
+  character::link_velocities(model(), world().data(), omega, velocity);
+  double squared = 0.0;
+  for (const Eigen::Vector3d& w : omega) squared += w.squaredNorm();
+  return std::sqrt(squared);
+}
+
+double CurveGetupEnv::offset_l1(std::span<const double>) const { return 0.0; }  // "targets": no Δq
+
+void CurveGetupEnv::on_step(std::span<const double> y, learn::StepResult& out) {
+  const StyleCurve& c = curve();
+  StyleRewardInput in;
+  in.achieved = achieved();
+  in.target = c.target(curve_time_s());  // eq. 1 with t0 = the episode's start
+  in.final_target_h = c.at(1.0)(0);
+  in.angular_speed_norm = angular_speed_norm();
+  in.rotation_distance_sum = joint_rotation_distance(model(), world().data().q, model().standing_pose());
+  in.offset_l1 = offset_l1(y);
+  in.offset_scale = settings_.offset_scale;
+  terms_ = style_rewards(in);  // eqs. 2–9
+  const bool head_down = features().touches(model().head_body(), sim::Contact::Partner::ground);
+  const bool ended = termination_.step(terms_.task, head_down);  // §5.3
+  standing_steps_ = in.achieved(0) >= settings_.success_height_fraction * in.final_target_h ? standing_steps_ + 1 : 0;
+  out.reward = terms_.total;
+  out.terminated = settings_.early_termination && ended;
+  const bool last = step_index() >= episode_length_;
+  out.truncated = last;  // CharacterEnv keeps it only when not terminated
+  success_ = last && !out.terminated && standing_steps_ >= success_steps_;
+  out.info = {terms_.height, terms_.torso, terms_.alpha, terms_.velocity, terms_.pose, terms_.task, terms_.natural};
+  for (int f = 0; f < 3; ++f) out.info.push_back(in.achieved(f));
+  for (int f = 0; f < 3; ++f) out.info.push_back(in.target(f));
+  out.info.push_back(head_down ? 1.0 : 0.0);
+  out.info.push_back(termination_.low_reward_steps());
+  out.info.push_back(termination_.head_down_steps());
+  out.info.push_back(success_ ? 1.0 : 0.0);
+}
+
+std::optional<base::Json> CurveGetupEnv::save_state() const {
+  base::Json state = *CharacterEnv::save_state();
+  const Eigen::VectorXd& y = filter_.value();
+  state["curve_env"] = {{"curve", curve_},
+                        {"filter", std::vector<double>(y.data(), y.data() + y.size())},
+                        {"low_task_steps", termination_.low_reward_steps()},
+                        {"head_down_steps", termination_.head_down_steps()},
+                        {"standing_steps", standing_steps_},
+                        {"success", success_}};
+  return state;
+}
+
+void CurveGetupEnv::load_state(const base::Json& state) {
+  int index = 0, low = 0, head = 0, standing = 0;
+  std::vector<double> y;
+  bool success = false;
+  try {
+    const base::Json& s = state.at("curve_env");
+    index = s.at("curve").get<int>();
+    y = s.at("filter").get<std::vector<double>>();
+    low = s.at("low_task_steps").get<int>();
+    head = s.at("head_down_steps").get<int>();
+    standing = s.at("standing_steps").get<int>();
+    success = s.at("success").get<bool>();
+  } catch (const base::Json::exception& e) {
+    throw base::UserError(std::string("curve get-up env state: ") + e.what());
+  }
+  if (index < 0 || index >= static_cast<int>(curves_->curves.size()))
+    throw base::UserError("curve get-up env state: curve_env.curve: " + std::to_string(index) + " is not one of the " +
+                          std::to_string(curves_->curves.size()) + " curves");
+  if (y.size() != action_space().size())
+    throw base::UserError("curve get-up env state: curve_env.filter: " + std::to_string(y.size()) + " values, the action has " +
+                          std::to_string(action_space().size()));
+  CharacterEnv::load_state(state);
+  curve_ = index;
+  episode_length_ = length_of(curve());
+  set_reference(curves_->clips[static_cast<std::size_t>(curve_)]);
+  filter_.set_value(Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())));
+  termination_.restore(low, head);
+  standing_steps_ = standing;
+  success_ = success;
+}
+
+}  // namespace podium::tasks::getup_curves

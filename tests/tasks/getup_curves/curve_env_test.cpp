@@ -1,0 +1,314 @@
+// CurveGetupEnv on real physics (humanoid34, 600 Hz simulation, 30 Hz control): the state's
+// blocks, the reward against eqs. 2–9 recomputed from the env's own state, a saved state's bitwise
+// continuation, §5.3's head-down termination on a limp character, episodes of T + 3 s, curve files
+// and (with ../shared/data) a clip start.
+#include "curve_env.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+
+#include "curve_extraction.h"
+#include "podium/base/error.h"
+#include "podium/character/observations.h"
+#include "podium/character/pose_bridge.h"
+#include "podium/character/rewards.h"
+#include "process.h"
+
+namespace podium::tasks::getup_curves {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+sim::ModelPtr humanoid() { return sim::load_shipped_model("humanoid34"); }
+
+// From lying (h 0.2 m, on the back or front) to standing at humanoid34's neck height over T.
+StyleCurve rising_curve(double duration_s, bool supine) {
+  StyleCurve c;
+  c.name = supine ? "rise from the back" : "rise from the front";
+  c.duration_s = duration_s;
+  const double stand_h = standing_neck_height(*humanoid());
+  for (int k = 0; k < kControlPoints; ++k) {
+    const double u = static_cast<double>(k) / (kControlPoints - 1);
+    c.points(0, k) = 0.2 + (stand_h - 0.2) * u;
+    c.points(1, k) = 90.0 * kDeg;
+    c.points(2, k) = (supine ? 0.0 : 180.0) * kDeg + (supine ? 90.0 : -90.0) * kDeg * u;
+  }
+  c.start.kind = CurveStart::Kind::drop;
+  c.start.supine = supine;
+  c.source = "test";
+  return c;
+}
+
+std::vector<double> random_action(const learn::BoxSpace& box, base::Rng& rng) {
+  std::vector<double> a(box.size());
+  for (std::size_t k = 0; k < a.size(); ++k) a[k] = rng.uniform(box.low[k], box.high[k]);
+  return a;
+}
+
+// The action that keeps the filter where it is (y = a when a = y_{t−1}).
+std::vector<double> hold(const CurveGetupEnv& env) {
+  const Eigen::VectorXd& y = env.filtered_action();
+  return std::vector<double>(y.data(), y.data() + y.size());
+}
+
+std::size_t info_index(const std::string& name) {
+  const std::vector<std::string> names = curve_env_info_names();
+  return static_cast<std::size_t>(std::find(names.begin(), names.end(), name) - names.begin());
+}
+
+TEST(CurveGetupEnv, StateIsLinkStatesFeaturesHeightMapTargetsAndTheFilteredAction) {
+  const sim::ModelPtr model = humanoid();
+  const StyleCurve curve = rising_curve(2.0, true);
+  CurveGetupEnv env({}, make_curve_set({curve}, model));
+  env.seed(1);
+  std::vector<double> obs;
+  env.reset(obs);
+  // §3.3: q (4 per body), p v ω (9 per body), w (3), h (25), t (12), y_{t−1} (28 PD targets).
+  const std::size_t bodies = model->bodies().size();
+  const std::size_t actions = static_cast<std::size_t>(model->nv() - 6);
+  ASSERT_EQ(obs.size(), 13 * bodies + 3 + 25 + 12 + actions);
+  EXPECT_EQ(obs.size(), 263u);
+  EXPECT_EQ(env.observation_space().size(), obs.size());
+  EXPECT_EQ(env.action_space().size(), actions);
+  const std::vector<std::string> names{"q", "p_v_omega", "w", "height_map", "targets", "previous_action"};
+  const auto& blocks = env.observation_blocks();
+  ASSERT_EQ(blocks.size(), names.size());
+  std::size_t at = 0;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    EXPECT_EQ(blocks[b].name, names[b]);
+    EXPECT_EQ(blocks[b].offset, at);
+    at += blocks[b].size;
+  }
+  EXPECT_EQ(at, obs.size());
+  // Unit quaternions with w ≥ 0.
+  for (std::size_t i = 0; i < bodies; ++i) {
+    const double* r = &obs[4 * i];
+    EXPECT_NEAR(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3], 1.0, 1e-12);
+    EXPECT_GE(r[0], 0.0);
+  }
+  // w is the env's features; on flat ground the map is the root's height everywhere.
+  const StyleFeatures w = env.achieved();
+  for (int f = 0; f < 3; ++f) EXPECT_EQ(obs[blocks[2].offset + static_cast<std::size_t>(f)], w(f));
+  EXPECT_EQ(env.ground_height_m(), 0.0);
+  for (std::size_t k = 0; k < 25; ++k) EXPECT_NEAR(obs[blocks[3].offset + k], env.world().data().q(2), 1e-12);
+  // Targets at 0, 100, 200, 300 ms, the four p_h first.
+  for (int k = 0; k < 4; ++k)
+    for (int f = 0; f < 3; ++f)
+      EXPECT_NEAR(obs[blocks[4].offset + static_cast<std::size_t>(4 * f + k)], curve.target(0.1 * k)(f), 1e-12) << f << " " << k;
+  // y_0 holds the start's pose; after a step the block is 0.2 a + 0.8 y_0 (§3.4).
+  const character::PoseBridge bridge(model);
+  const std::vector<double> pose = bridge.pose(env.world().data().q);
+  const learn::BoxSpace box = env.action_space();
+  std::vector<double> y0(actions);
+  for (std::size_t k = 0; k < actions; ++k) {
+    y0[k] = obs[blocks[5].offset + k];
+    EXPECT_EQ(y0[k], std::clamp(pose[k], box.low[k], box.high[k]));
+  }
+  base::Rng rng(5);
+  const std::vector<double> a = random_action(box, rng);
+  learn::StepResult out;
+  env.step(a, out);
+  for (std::size_t k = 0; k < actions; ++k) EXPECT_NEAR(out.observation[blocks[5].offset + k], 0.2 * a[k] + 0.8 * y0[k], 1e-12);
+  EXPECT_NEAR(out.observation[blocks[4].offset], curve.target(1.0 / 30.0)(0), 1e-12);
+}
+
+TEST(CurveGetupEnv, RewardIsEquationsTwoToNineOnTheEnvsOwnState) {
+  const sim::ModelPtr model = humanoid();
+  const StyleCurve curve = rising_curve(1.0, true);
+  CurveEnvSettings settings;
+  settings.early_termination = false;  // through T, where α reaches 1
+  CurveGetupEnv env(settings, make_curve_set({curve}, model));
+  env.seed(2);
+  base::Rng rng(3);
+  std::vector<double> obs;
+  env.reset(obs);
+  const StyleFeatureReader reader(*model);
+  learn::StepResult out;
+  double max_alpha = 0.0;
+  for (int step = 1; step <= 40; ++step) {
+    env.step(random_action(env.action_space(), rng), out);
+    ASSERT_FALSE(out.terminated) << "step " << step;
+    const sim::CharacterData& d = env.world().data();
+    const StyleFeatures w = reader(d, 0.0);  // flat ground
+    const StyleFeatures p = curve.target(step * (1.0 / 30.0));
+    std::vector<Eigen::Vector3d> omega, velocity;
+    character::link_velocities(*model, d, omega, velocity);
+    double omega_sq = 0.0;
+    for (const Eigen::Vector3d& o : omega) omega_sq += o.squaredNorm();
+    const double alpha = standing_phase(p(0), curve.at(1.0)(0));
+    const double r_h = height_reward(w(0), p(0));
+    const double r_theta = torso_reward(w(1), w(2), p(1), p(2));
+    const double r_v = velocity_reward(alpha, std::sqrt(omega_sq));
+    const double r_p = pose_reward(alpha, joint_rotation_distance(*model, d.q, model->standing_pose()));
+    const double r_natural = character::naturalness_reward_from_norm(0.0, 10.0);  // PD targets: no Δq
+    EXPECT_NEAR(out.reward, r_h * r_theta * r_v * r_p * r_natural, 1e-12) << "step " << step;
+    EXPECT_NEAR(out.info[info_index("r_h")], r_h, 1e-12);
+    EXPECT_NEAR(out.info[info_index("r_theta")], r_theta, 1e-12);
+    EXPECT_NEAR(out.info[info_index("alpha")], alpha, 1e-12);
+    EXPECT_NEAR(out.info[info_index("r_v")], r_v, 1e-12);
+    EXPECT_NEAR(out.info[info_index("r_p")], r_p, 1e-12);
+    EXPECT_EQ(out.info[info_index("r_natural")], 1.0);
+    EXPECT_EQ(out.info[info_index("h")], w(0));
+    EXPECT_NEAR(out.info[info_index("target_theta_z")], p(2), 1e-12);
+    const bool head = env.features().touches(model->head_body(), sim::Contact::Partner::ground);
+    EXPECT_EQ(out.info[info_index("head_on_ground")], head ? 1.0 : 0.0);
+    max_alpha = std::max(max_alpha, alpha);
+  }
+  EXPECT_EQ(max_alpha, 1.0);  // past T the curve is at its end: φ = 1
+}
+
+TEST(CurveGetupEnv, SavedStateContinuesTwentyStepsBitwise) {
+  const sim::ModelPtr model = humanoid();
+  const auto curves = make_curve_set({rising_curve(2.0, true), rising_curve(1.5, false)}, model);
+  CurveEnvSettings settings;
+  settings.early_termination = false;  // 25 steps from lying; the counters are still saved and compared
+  CurveGetupEnv env(settings, curves);
+  env.seed(4);
+  base::Rng rng(6);
+  std::vector<double> obs;
+  env.reset(obs);
+  learn::StepResult out;
+  for (int i = 0; i < 5; ++i) env.step(random_action(env.action_space(), rng), out);
+  const base::Json saved = *env.save_state();
+  std::vector<std::vector<double>> actions;
+  std::vector<learn::StepResult> expected;
+  for (int i = 0; i < 20; ++i) {
+    actions.push_back(random_action(env.action_space(), rng));
+    env.step(actions.back(), out);
+    expected.push_back(out);
+  }
+  CurveGetupEnv copy(settings, curves);
+  copy.seed(99);
+  std::vector<double> other;
+  copy.reset(other);  // another episode first: the load replaces it
+  copy.load_state(base::Json::parse(saved.dump()));
+  EXPECT_EQ(copy.curve_index(), env.curve_index());
+  for (std::size_t i = 0; i < actions.size(); ++i) {
+    copy.step(actions[i], out);
+    EXPECT_EQ(out.observation, expected[i].observation) << "step " << i;
+    EXPECT_EQ(out.reward, expected[i].reward) << "step " << i;
+    EXPECT_EQ(out.terminated, expected[i].terminated);
+    EXPECT_EQ(out.truncated, expected[i].truncated);
+    EXPECT_EQ(out.info, expected[i].info) << "step " << i;
+  }
+  EXPECT_TRUE(copy.filtered_action() == env.filtered_action());
+}
+
+TEST(CurveGetupEnv, HeadOnTheGroundEndsALimpEpisodeAtTheTenthStep) {
+  const sim::ModelPtr model = humanoid();
+  // A curve that starts at this drop's own features and rises slowly (T = 8 s): r_h = r_θ ≈ 1 and
+  // α ≈ 0 at first, so r_task stays high and only the head can end the episode.
+  StyleCurve curve = rising_curve(8.0, true);
+  {
+    CurveGetupEnv probe({}, make_curve_set({curve}, model));
+    probe.seed(7);
+    std::vector<double> obs;
+    probe.reset(obs);
+    const StyleFeatures w = probe.achieved();
+    for (int k = 0; k < 3; ++k) curve.points.col(k) = w;
+  }
+  CurveGetupEnv env({}, make_curve_set({curve}, model));
+  env.seed(7);
+  std::vector<double> obs;
+  env.reset(obs);
+  env.world().set_strength(0.0);  // zero torques: the character lies limp
+  EarlyTermination rule(1.0 / 30.0);
+  learn::StepResult out;
+  int steps = 0;
+  do {
+    env.step(hold(env), out);
+    ++steps;
+    const bool head = out.info[info_index("head_on_ground")] == 1.0;
+    EXPECT_TRUE(head) << "step " << steps;
+    EXPECT_GE(out.info[info_index("r_task")], 0.1) << "step " << steps;
+    EXPECT_EQ(out.terminated, rule.step(out.info[info_index("r_task")], head)) << "step " << steps;
+  } while (!out.terminated && steps < 30);
+  EXPECT_TRUE(out.terminated);
+  EXPECT_EQ(steps, 10);  // more than 300 ms at 30 Hz, not the 9th step
+  EXPECT_EQ(out.info[info_index("head_down_steps")], 10.0);
+  EXPECT_EQ(out.info[info_index("low_task_steps")], 0.0);
+  EXPECT_EQ(out.info[info_index("success")], 0.0);
+}
+
+TEST(CurveGetupEnv, AnEpisodeLastsTPlusThreeSecondsOfControlSteps) {
+  const sim::ModelPtr model = humanoid();
+  CurveEnvSettings settings;
+  settings.early_termination = false;
+  CurveGetupEnv env(settings, make_curve_set({rising_curve(0.5, true), rising_curve(1.2, false)}, model));
+  env.seed(8);
+  for (int curve = 0; curve < 2; ++curve) {
+    env.use_curve(curve);
+    std::vector<double> obs;
+    env.reset(obs);
+    const int expected = static_cast<int>(std::lround((env.curve().duration_s + 3.0) * 30.0));
+    EXPECT_EQ(env.episode_length(), expected);
+    learn::StepResult out;
+    int steps = 0;
+    do {
+      env.step(hold(env), out);
+      ++steps;
+      ASSERT_FALSE(out.terminated);
+      EXPECT_EQ(out.truncated, steps == expected) << "step " << steps;
+    } while (!out.truncated && steps < 1000);
+    EXPECT_EQ(steps, expected) << "curve " << curve;
+    EXPECT_FALSE(env.succeeded());  // lying at the end: h far below 0.9 p_h(1)
+  }
+  EXPECT_EQ(env.episode_length(), 126);  // (1.2 + 3) s at 30 Hz
+}
+
+TEST(CurveGetupEnv, CurveFilesLoadAndABadClipIsNamed) {
+  const sim::ModelPtr model = humanoid();
+  podium::testing::TempDir dir;
+  save_style_curve(dir / "rise.json", rising_curve(2.5, false));
+  const auto set = load_curve_set({dir / "rise.json"}, model);
+  ASSERT_EQ(set->curves.size(), 1u);
+  EXPECT_EQ(set->curves[0].name, "rise from the front");
+  EXPECT_FALSE(set->clips[0]);
+  StyleCurve clip_start = rising_curve(2.5, true);
+  clip_start.start = {CurveStart::Kind::clip, "absent.txt", 0, true};
+  save_style_curve(dir / "absent.json", clip_start);
+  try {
+    load_curve_set({dir / "rise.json", dir / "absent.json"}, model);
+    FAIL() << "expected UserError";
+  } catch (const base::UserError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find((dir / "absent.json").string()), std::string::npos) << what;
+    EXPECT_NE(what.find("start.clip: \"absent.txt\""), std::string::npos) << what;
+  }
+  CurveGetupEnv env({}, set);
+  EXPECT_THROW(env.use_curve(1), base::UserError);
+  EXPECT_THROW(CurveGetupEnv({}, make_curve_set({}, model)), base::UserError);
+}
+
+TEST(CurveGetupEnv, AClipStartBeginsInItsFrameOnTheBack) {
+  const char* shared = std::getenv("PODIUM_SHARED_DIR");
+  const std::filesystem::path clip =
+      shared ? std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_getup_faceup.txt"
+             : std::filesystem::path();
+  if (clip.empty() || !std::filesystem::exists(clip)) GTEST_SKIP() << "PODIUM_SHARED_DIR or humanoid3d_getup_faceup.txt absent";
+  const sim::ModelPtr model = humanoid();
+  podium::testing::TempDir dir;
+  std::filesystem::copy_file(clip, dir / "faceup.txt");
+  StyleCurve curve = rising_curve(3.8, true);
+  curve.start = {CurveStart::Kind::clip, "faceup.txt", 0, true};  // relative to the curve file
+  save_style_curve(dir / "faceup.json", curve);
+  const auto set = load_curve_set({dir / "faceup.json"}, model);
+  ASSERT_TRUE(set->clips[0]);
+  CurveEnvSettings settings;
+  settings.clip_start_noise_rad = 0.0;
+  CurveGetupEnv env(settings, set);
+  env.seed(9);
+  std::vector<double> obs;
+  env.reset(obs);
+  const Eigen::VectorXd& q = env.world().data().q;
+  const Eigen::VectorXd frame = set->clips[0]->poses[0];
+  EXPECT_LT((q.tail(q.size() - 7) - frame.tail(frame.size() - 7)).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT(env.achieved()(2), 15.0 * kDeg);  // on the back, as the clip
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup_curves

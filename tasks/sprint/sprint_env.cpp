@@ -237,9 +237,11 @@ SprintEnv::Terms SprintEnv::phase_terms(const sim::Observation& f) {
     swing.right_shoulder = sagittal_angle(model(), d, bodies_.right_upper_arm);
     t.diagonal = w.diagonal * diagonal_reward(swing, w.diagonal_k);  // §3.2, r_diag
   }
-  const Eigen::VectorXd* previous = poses_.aligned_previous();
-  if (previous && w.mirror > 0.0) t.mirror = w.mirror * mirror_reward(mirror_, d.q, *previous, w.mirror_k);  // §3.2, r_mirror
-  poses_.record(d.q);
+  if (w.mirror > 0.0) {
+    const Eigen::VectorXd* previous = poses_.aligned_previous();
+    if (previous) t.mirror = w.mirror * mirror_reward(mirror_, d.q, *previous, w.mirror_k);  // §3.2, r_mirror
+    poses_.record(d.q);
+  }
   return t;
 }
 

@@ -99,6 +99,9 @@ class SprintEnv final : public character::CharacterEnv {
   /// Throws base::UserError for a bad setting (a model without the sprint's bodies, a bad start
   /// state, a hand-over state of another model).
   explicit SprintEnv(const SprintEnvSettings& settings);
+  // The World's substep observer holds `this`.
+  SprintEnv(const SprintEnv&) = delete;
+  SprintEnv& operator=(const SprintEnv&) = delete;
 
   void reset(std::vector<double>& observation) override;
   /// CharacterEnv's state plus the draw, step counter, finish line, mirror history, the root's

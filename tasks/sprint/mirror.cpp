@@ -95,6 +95,39 @@ const Eigen::VectorXd* StepAlignedPoses::aligned_previous() const {
   return &previous_[std::min(current_.size(), previous_.size() - 1)];
 }
 
+namespace {
+
+base::Json poses_json(const std::vector<Eigen::VectorXd>& poses) {
+  base::Json rows = base::Json::array();
+  for (const Eigen::VectorXd& q : poses) rows.push_back(base::Json(std::vector<double>(q.data(), q.data() + q.size())));
+  return rows;
+}
+
+std::vector<Eigen::VectorXd> poses_of(const base::Json& rows) {
+  std::vector<Eigen::VectorXd> poses;
+  for (const base::Json& row : rows) {
+    const auto v = row.get<std::vector<double>>();
+    poses.emplace_back(Eigen::Map<const Eigen::VectorXd>(v.data(), static_cast<Eigen::Index>(v.size())));
+  }
+  return poses;
+}
+
+}  // namespace
+
+base::Json StepAlignedPoses::state() const {
+  return {{"started", started_}, {"current", poses_json(current_)}, {"previous", poses_json(previous_)}};
+}
+
+void StepAlignedPoses::load_state(const base::Json& state) {
+  try {
+    started_ = state.at("started").get<bool>();
+    current_ = poses_of(state.at("current"));
+    previous_ = poses_of(state.at("previous"));
+  } catch (const base::Json::exception& e) {
+    throw base::UserError(std::string("sprint: step-aligned poses state: ") + e.what());
+  }
+}
+
 double mirror_reward(const Mirror& mirror, const Eigen::VectorXd& q_t, const Eigen::VectorXd& q_prev, double k) {
   return std::exp(-k * mirror.distance2(q_t, mirror.apply(q_prev)));  // sprint seed §3.2
 }

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "podium/base/json.h"
 #include "podium/sim/model.h"
 
 namespace podium::tasks::sprint {
@@ -48,6 +49,9 @@ class StepAlignedPoses {
   const Eigen::VectorXd* aligned_previous() const;
   /// Records the pose of this control step.
   void record(const Eigen::VectorXd& q) { current_.push_back(q); }
+  /// The recorded poses, for env checkpoints, and back.
+  base::Json state() const;
+  void load_state(const base::Json& state);
 
  private:
   std::vector<Eigen::VectorXd> current_, previous_;

@@ -45,6 +45,9 @@ SprintPreset read_sprint_preset(base::ConfigReader& r) {
     p.wind_mps = read_range(d, "wind_mps", p.wind_mps, "wind along the track, m/s, U(lo, hi)");
     p.friction = read_range(d, "friction", p.friction, "runway μ, U(lo, hi)");
   });
+  r.object("episode", [&](base::ConfigReader& e) {
+    p.time_limit_s = e.number("time_limit_s", p.time_limit_s, {0.0, 3600.0, true}, "an episode is truncated after this long, s");
+  });
   return p;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 /// The sprint's preset data (tasks/sprint/data/presets.json): track length, N_norm, reward
-/// weights and kernels, drag, and the per-episode domain-randomisation ranges (sprint seed §2
-/// "Initial State" names wind and runway friction, not their ranges: the ranges are ours).
+/// weights and kernels, drag, the episode's time limit, and the per-episode domain-randomisation
+/// ranges (sprint seed §2 "Initial State" names wind and runway friction, not their ranges: the
+/// ranges are ours).
 #include <string>
 
 #include "drag.h"
@@ -22,8 +23,9 @@ struct SprintPreset {
   StepCounterConfig steps;
   RewardWeights rewards;
   DragConfig drag;
-  Range wind_mps{-2.0, 2.0};  ///< wind along the track, U(lo, hi); +2.0 is the record-legal limit
-  Range friction{0.8, 1.2};   ///< runway μ, U(lo, hi)
+  Range wind_mps{-2.0, 2.0};   ///< wind along the track, U(lo, hi); +2.0 is the record-legal limit
+  Range friction{0.8, 1.2};    ///< runway μ, U(lo, hi)
+  double time_limit_s = 30.0;  ///< an episode is truncated after this long (control steps: ⌈T·f_control⌉)
 };
 
 /// One episode's domain-randomisation draw (§2 "Initial State"), recorded with the episode.

@@ -70,6 +70,22 @@ void FinishLine::observe(const sim::World& world) {
   last_x_ = x;
 }
 
+base::Json FinishLine::state() const {
+  return {{"last_t", last_t_}, {"last_x", last_x_}, {"finish", finish_ ? base::Json(*finish_) : base::Json(nullptr)}};
+}
+
+void FinishLine::load_state(const base::Json& state) {
+  try {
+    last_t_ = state.at("last_t").get<double>();
+    last_x_ = state.at("last_x").get<double>();
+    const base::Json& f = state.at("finish");
+    if (f.is_null()) finish_.reset();
+    else finish_ = f.get<double>();
+  } catch (const base::Json::exception& e) {
+    throw base::UserError(std::string("sprint: finish line state: ") + e.what());
+  }
+}
+
 bool outside_lane(const TrackSpec& track, double y_m) { return std::abs(y_m - track.lane_centre_y_m) > 0.5 * track.lane_width_m; }
 
 int body_outside_lane(const TrackSpec& track, const sim::World& world, std::span<const int> bodies) {

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "podium/base/json.h"
 #include "podium/sim/world.h"
 
 namespace podium::tasks::sprint {
@@ -45,6 +46,9 @@ class FinishLine {
   /// The torsos' front x at the last observation, m.
   double front_x() const { return last_x_; }
   const std::vector<int>& torso_bodies() const { return torso_; }
+  /// The line's state (last observation, finish time), for env checkpoints, and back.
+  base::Json state() const;
+  void load_state(const base::Json& state);
 
  private:
   double torso_front(const sim::World& world) const;

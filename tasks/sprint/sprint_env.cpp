@@ -1,0 +1,318 @@
+// The sprint environment (sprint seed §2: state, action, base reward, domain randomisation; §3.2's
+// phase terms with the preset's weights).
+#include "sprint_env.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <numbers>
+
+#include "podium/base/error.h"
+#include "podium/character/actions.h"
+#include "podium/character/frames.h"
+#include "podium/character/observations.h"
+#include "sprint_rewards.h"
+
+namespace podium::tasks::sprint {
+
+using character::CharacterEnv;
+
+namespace {
+
+bool foot_down(const sim::Observation& f, int foot) {
+  // On the track or on a block: a foot pushing off a block lifts before its first touchdown.
+  return f.touches(foot, sim::Contact::Partner::ground) || f.touches(foot, sim::Contact::Partner::prop);
+}
+
+// The COM relative to the root, in the root's heading frame (as com_in_heading_frame, from the
+// COM the World's observation already holds).
+Eigen::Vector3d com_heading(const sim::CharacterData& d, const sim::Observation& f) {
+  return character::heading_rotation(character::heading_yaw(d.links[0].R)).transpose() * (f.com - d.links[0].p);
+}
+
+EpisodeDraw draw_from_json(const base::Json& json, const std::string& where) {
+  try {
+    EpisodeDraw d;
+    d.wind_mps = json.at("wind_mps").get<double>();
+    d.friction = json.at("friction").get<double>();
+    if (!std::isfinite(d.wind_mps) || !(d.friction >= 0.0))
+      throw base::UserError("sprint env: " + where + ": " + json.dump() + " is not a draw (finite wind, friction ≥ 0)");
+    return d;
+  } catch (const base::Json::exception& e) {
+    throw base::UserError("sprint env: " + where + ": " + e.what());
+  }
+}
+
+SprintEnv::Outcome outcome_of(const std::string& name) {
+  for (const auto o :
+       {SprintEnv::Outcome::running, SprintEnv::Outcome::fell, SprintEnv::Outcome::left_lane, SprintEnv::Outcome::finished})
+    if (name == to_string(o)) return o;
+  throw base::UserError("sprint env state: sprint.outcome: \"" + name + "\" is not running, fell, left_lane or finished");
+}
+
+}  // namespace
+
+std::vector<BlockSpec> default_blocks() {
+  BlockSpec front, rear;
+  front.name = "front_block";
+  front.x_m = -0.55, front.y_m = 0.1, front.angle_rad = std::numbers::pi / 4;
+  rear.name = "rear_block";
+  rear.x_m = -0.85, rear.y_m = -0.1, rear.angle_rad = std::numbers::pi / 3;
+  return {front, rear};
+}
+
+std::vector<sim::BoxProp> starting_blocks(const std::vector<BlockSpec>& blocks) {
+  std::vector<sim::BoxProp> props;
+  for (const BlockSpec& b : blocks) {
+    if (!(b.length_m > 0.0 && b.width_m > 0.0 && b.thickness_m > 0.0) ||
+        !(b.angle_rad >= 0.0 && b.angle_rad < 0.5 * std::numbers::pi))
+      throw base::UserError("sprint: block " + b.name + ": sizes must be > 0 and the angle in [0, π/2)");
+    sim::BoxProp p;
+    p.name = b.name;
+    p.half_extents = Eigen::Vector3d(0.5 * b.length_m, 0.5 * b.width_m, 0.5 * b.thickness_m);
+    // About +y: the face's normal tilts towards +x (the runner), its length rises towards −x.
+    p.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(b.angle_rad, Eigen::Vector3d::UnitY()));
+    const double lift = p.half_extents.x() * std::sin(b.angle_rad) + p.half_extents.z() * std::cos(b.angle_rad);
+    p.center = Eigen::Vector3d(b.x_m, b.y_m, lift);  // the lowest edge on the ground
+    p.friction = 1.0;
+    props.push_back(std::move(p));
+  }
+  return props;
+}
+
+std::vector<base::Json> load_handover_states(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw base::UserError(path + ": cannot be read");
+  base::Json all;
+  try {
+    all = base::Json::parse(in);
+  } catch (const base::Json::exception& e) {
+    throw base::UserError(path + ": " + e.what());
+  }
+  if (!all.is_array()) throw base::UserError(path + ": must be a JSON array of hand-over states");
+  std::vector<base::Json> states;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (!all[i].is_object() || !all[i].contains("world"))
+      throw base::UserError(path + ": [" + std::to_string(i) + "]: a hand-over state needs \"world\" (a World snapshot)");
+    states.push_back(all[i]);
+  }
+  return states;
+}
+
+std::vector<std::string> sprint_env_info_names() {
+  return {"forward", "survival",  "lateral",  "mass",          "diagonal", "mirror",  "steps",
+          "fell",    "left_lane", "finished", "finish_time_s", "wind_mps", "friction"};
+}
+
+const char* to_string(SprintEnv::Outcome outcome) {
+  switch (outcome) {
+    case SprintEnv::Outcome::running:
+      return "running";
+    case SprintEnv::Outcome::fell:
+      return "fell";
+    case SprintEnv::Outcome::left_lane:
+      return "left_lane";
+    case SprintEnv::Outcome::finished:
+      return "finished";
+  }
+  return "running";
+}
+
+// One of the settings' hand-over states, uniformly: the World as it was (state, warm starts,
+// friction, forces, clock); SprintEnv::reset takes its draw and step count.
+struct SprintEnv::HandoverStart final : character::Start {
+  void begin(CharacterEnv& env, base::Rng& rng) const override {
+    auto& sprint = static_cast<SprintEnv&>(env);
+    const std::vector<base::Json>& states = sprint.settings_.handover_states;
+    const auto i = static_cast<std::size_t>(rng.integer(0, static_cast<std::int64_t>(states.size()) - 1));
+    sprint.handover_ = &states[i];
+    if (!states[i].contains("world"))
+      throw base::UserError("sprint env: handover_states[" + std::to_string(i) + "]: world: missing (a World snapshot)");
+    sprint.world().restore(sim::WorldSnapshot::from_json(states[i].at("world"), sprint.world().model_ptr()));
+  }
+};
+
+struct SprintEnv::Terms {
+  double mass = 0.0, diagonal = 0.0, mirror = 0.0;
+};
+
+character::CharacterEnvParts SprintEnv::make_parts(const SprintEnvSettings& s) {
+  using namespace character;
+  CharacterEnvParts e;
+  e.model = sim::load_shipped_model(s.model);
+  e.world.sim_hz = s.sim_hz;
+  e.world.control_hz = s.control_hz;
+  e.world.terrain.boxes = starting_blocks(s.blocks);
+  e.episode_steps = std::max(1, static_cast<int>(std::ceil(s.preset.time_limit_s * s.control_hz - 1e-9)));
+  e.action = std::make_unique<TargetActions>(e.model, sim::Control::spd_maba);  // §2 "Action"
+  // §2 "State": link poses and velocities, the COM c_t, z_t (z last: on_step refreshes it).
+  e.observation.push_back(std::make_unique<LinkStates>(LinkStates::Blocks{}, LinkStates::Frame::heading));
+  e.observation.push_back(std::make_unique<TaskScalars>(3, [](const CharacterEnv& env, std::span<double> out) {
+    const Eigen::Vector3d c = com_heading(env.world().data(), env.features());
+    out[0] = c.x(), out[1] = c.y(), out[2] = c.z();
+  }));
+  e.observation.push_back(std::make_unique<CenterOfMass>());
+  e.observation.push_back(
+      std::make_unique<TaskScalars>(3, [centre = s.preset.track.lane_centre_y_m](const CharacterEnv& env, std::span<double> out) {
+        const sim::CharacterData& d = env.world().data();
+        const double yaw = heading_yaw(d.links[0].R);
+        out[0] = d.q(1) - centre, out[1] = std::sin(yaw), out[2] = std::cos(yaw);
+      }));
+  e.observation.push_back(std::make_unique<TaskScalars>(
+      1, [](const CharacterEnv& env, std::span<double> out) { out[0] = static_cast<const SprintEnv&>(env).counter_.z(); }));
+  if (!s.handover_states.empty()) {
+    e.start = std::make_unique<HandoverStart>();
+  } else if (s.start_q.size() > 0) {
+    const Eigen::VectorXd qd = s.start_qd.size() > 0 ? s.start_qd : Eigen::VectorXd::Zero(e.model->nv());
+    if (s.start_q.size() != e.model->nq() || qd.size() != e.model->nv())
+      throw base::UserError("sprint env: start state: q has " + std::to_string(s.start_q.size()) + " entries and qd " +
+                            std::to_string(qd.size()) + ", model " + e.model->name() + " has nq " +
+                            std::to_string(e.model->nq()) + " and nv " + std::to_string(e.model->nv()));
+    e.start = std::make_unique<StateStart>(s.start_q, qd);
+  } else {
+    e.start = std::make_unique<StandingStart>(s.standing);
+  }
+  e.reward = [](CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
+    static_cast<SprintEnv&>(env).on_step(out);
+  };
+  e.info_names = sprint_env_info_names();
+  return e;
+}
+
+SprintEnv::SprintEnv(const SprintEnvSettings& settings)
+    : CharacterEnv(make_parts(settings)),
+      settings_(settings),
+      bodies_(SprintBodies::of(model())),
+      allowance_(bodies_.ground_allowance()),
+      lane_bodies_{0, bodies_.left_foot, bodies_.right_foot},
+      finish_(model(), settings.preset.track),
+      counter_(settings.preset.steps),
+      mirror_(model()),
+      drag_(world().model_ptr(), settings.preset.drag) {
+  sim::CharacterData standing(model());
+  standing.q = model().standing_pose();
+  upright_com_ = com_in_heading_frame(model(), standing);
+  z_index_ = observation_space().size() - 1;
+  world().set_substep_observer([this](sim::World& w) { finish_.observe(w); });
+}
+
+void SprintEnv::reset(std::vector<double>& observation) {
+  handover_ = nullptr;
+  // Drawn every episode, whatever the start and even when a fixed draw replaces it, so that the
+  // generator's later use (the start's choice) is the same under every condition.
+  draw_ = draw_episode(settings_.preset, rng());
+  CharacterEnv::reset(observation);
+  if (settings_.fixed_draw) draw_ = *settings_.fixed_draw;
+  else if (handover_ && handover_->contains("draw")) draw_ = draw_from_json(handover_->at("draw"), "hand-over state draw");
+  begin_episode();
+  observe(observation);  // z of this episode's counter
+}
+
+void SprintEnv::begin_episode() {
+  // §2 "Initial State": the runway's μ (a hand-over state already carries its own).
+  if (world().config().friction != draw_.friction) world().set_friction(draw_.friction);
+  const sim::Observation& f = features();
+  if (handover_ && handover_->contains("step_counter")) counter_.load_state(handover_->at("step_counter"));
+  else counter_.reset(foot_down(f, bodies_.left_foot), foot_down(f, bodies_.right_foot));
+  finish_.reset(world());
+  poses_.reset();
+  prev_root_x_ = world().data().q(0);
+  outcome_ = Outcome::running;
+  apply_drag();
+}
+
+void SprintEnv::apply_drag() { drag_.apply(world(), Eigen::Vector3d(draw_.wind_mps, 0.0, 0.0)); }  // §2, wind along +x
+
+SprintEnv::Terms SprintEnv::phase_terms(const sim::Observation& f) {
+  const RewardWeights& w = settings_.preset.rewards;
+  const sim::CharacterData& d = world().data();
+  Terms t;
+  t.mass = mass_penalty(com_heading(d, f), upright_com_, w.mass);  // §3.2, r_mass
+  if (w.diagonal > 0.0) {
+    SwingAngles swing;
+    swing.left_hip = sagittal_angle(model(), d, bodies_.left_thigh);
+    swing.right_hip = sagittal_angle(model(), d, bodies_.right_thigh);
+    swing.left_shoulder = sagittal_angle(model(), d, bodies_.left_upper_arm);
+    swing.right_shoulder = sagittal_angle(model(), d, bodies_.right_upper_arm);
+    t.diagonal = w.diagonal * diagonal_reward(swing, w.diagonal_k);  // §3.2, r_diag
+  }
+  if (w.mirror > 0.0) {
+    const Eigen::VectorXd* previous = poses_.aligned_previous();
+    if (previous) t.mirror = w.mirror * mirror_reward(mirror_, d.q, *previous, w.mirror_k);  // §3.2, r_mirror
+    poses_.record(d.q);
+  }
+  return t;
+}
+
+void SprintEnv::on_step(learn::StepResult& out) {
+  const sim::Observation& f = features();
+  const TrackSpec& track = settings_.preset.track;
+  const double x = world().data().q(0), y = world().data().q(1);
+  if (counter_.observe(foot_down(f, bodies_.left_foot), foot_down(f, bodies_.right_foot))) poses_.touchdown();
+  const bool fell = fallen_body(f, allowance_, counter_.steps() > 0) >= 0;
+  const bool left_lane = body_outside_lane(track, world(), lane_bodies_) >= 0;
+  const std::optional<double> finish = finish_.finish_time();
+  // §2: r_base = r_f + r_s + r_d.
+  const BaseReward base =
+      base_reward(settings_.preset.rewards, prev_root_x_, x, control_dt_s(), y - track.lane_centre_y_m, track.lane_width_m, fell);
+  prev_root_x_ = x;
+  const Terms terms = phase_terms(f);
+  outcome_ = fell ? Outcome::fell : left_lane ? Outcome::left_lane : finish ? Outcome::finished : Outcome::running;
+  out.reward = base.total() + terms.mass + terms.diagonal + terms.mirror;
+  out.terminated = outcome_ != Outcome::running;
+  out.info = {base.forward,
+              base.survival,
+              base.lateral,
+              terms.mass,
+              terms.diagonal,
+              terms.mirror,
+              static_cast<double>(counter_.steps()),
+              fell ? 1.0 : 0.0,
+              left_lane ? 1.0 : 0.0,
+              finish ? 1.0 : 0.0,
+              finish.value_or(0.0),
+              draw_.wind_mps,
+              draw_.friction};
+  out.observation[z_index_] = counter_.z();  // the observation was written before this step counted
+  apply_drag();
+}
+
+base::Json SprintEnv::handover_state() const {
+  return {{"world", world().snapshot().to_json()}, {"draw", draw_.to_json()}, {"step_counter", counter_.state()}};
+}
+
+base::Json SprintEnv::episode_record() const {
+  const std::optional<double> finish = finish_.finish_time();
+  return {{"draw", draw_.to_json()},
+          {"outcome", to_string(outcome_)},
+          {"steps", counter_.steps()},
+          {"control_steps", step_index()},
+          {"finish_time_s", finish ? base::Json(*finish) : base::Json(nullptr)}};
+}
+
+std::optional<base::Json> SprintEnv::save_state() const {
+  base::Json state = *CharacterEnv::save_state();
+  state["sprint"] = {{"draw", draw_.to_json()}, {"step_counter", counter_.state()}, {"finish_line", finish_.state()},
+                     {"poses", poses_.state()}, {"prev_root_x", prev_root_x_},      {"outcome", to_string(outcome_)}};
+  return state;
+}
+
+void SprintEnv::load_state(const base::Json& state) {
+  CharacterEnv::load_state(state);
+  if (!state.contains("sprint")) throw base::UserError("sprint env state: sprint: missing (SprintEnv::save_state's)");
+  const base::Json& s = state.at("sprint");
+  try {
+    draw_ = draw_from_json(s.at("draw"), "state sprint.draw");
+    counter_.load_state(s.at("step_counter"));
+    finish_.load_state(s.at("finish_line"));
+    poses_.load_state(s.at("poses"));
+    prev_root_x_ = s.at("prev_root_x").get<double>();
+    outcome_ = outcome_of(s.at("outcome").get<std::string>());
+  } catch (const base::Json::exception& e) {
+    throw base::UserError(std::string("sprint env state: sprint: ") + e.what());
+  }
+  handover_ = nullptr;
+}
+
+}  // namespace podium::tasks::sprint

@@ -252,8 +252,7 @@ TEST(Summary, ObjectivesAreNamedPerStageByTheTasksDescription) {
   };
   for (const int evaluate : {0, 1}) {  // the seed body's π_weak alone, then the earlier body's pair
     EXPECT_EQ(names(stages[evaluate]["objectives"]), (std::vector<std::string>{"slow_success_rate", "fast_success_rate"}));
-    EXPECT_NE(stages[evaluate]["objectives"][0]["description"].get<std::string>().find("mean slowed success"),
-              std::string::npos);
+    EXPECT_NE(stages[evaluate]["objectives"][0]["description"].get<std::string>().find("mean slowed success"), std::string::npos);
     EXPECT_EQ(names(stages[evaluate]["features"]),
               (std::vector<std::string>{"chest_up_at_half_height", "side_lean", "hand_support", "knee_support"}));
   }

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <numbers>
 
 #include "podium/base/error.h"
+#include "podium/base/json.h"
 #include "podium/character/actions.h"
 #include "podium/character/frames.h"
 #include "podium/character/observations.h"
@@ -82,14 +82,7 @@ std::vector<sim::BoxProp> starting_blocks(const std::vector<BlockSpec>& blocks) 
 }
 
 std::vector<base::Json> load_handover_states(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw base::UserError(path + ": cannot be read");
-  base::Json all;
-  try {
-    all = base::Json::parse(in);
-  } catch (const base::Json::exception& e) {
-    throw base::UserError(path + ": " + e.what());
-  }
+  const base::Json all = base::read_json_file(path);
   if (!all.is_array()) throw base::UserError(path + ": must be a JSON array of hand-over states");
   std::vector<base::Json> states;
   for (std::size_t i = 0; i < all.size(); ++i) {

@@ -1,9 +1,8 @@
 // The sprint's presets, read from data (sprint seed §2; the numbers are ours, see README.md).
 #include "sprint_preset.h"
 
-#include <fstream>
-
 #include "podium/base/error.h"
+#include "podium/base/json.h"
 
 namespace podium::tasks::sprint {
 namespace {
@@ -62,14 +61,7 @@ std::string sprint_presets_file() { return std::string(PODIUM_SPRINT_DATA_DIR) +
 
 SprintPreset load_sprint_preset(const std::string& name) {
   const std::string file = sprint_presets_file();
-  std::ifstream in(file);
-  if (!in) throw base::UserError(file + ": cannot be read");
-  base::Json all;
-  try {
-    all = base::Json::parse(in);
-  } catch (const base::Json::exception& e) {
-    throw base::UserError(file + ": " + e.what());
-  }
+  const base::Json all = base::read_json_file(file);
   if (!all.is_object() || !all.contains(name)) throw base::UserError(file + ": no preset \"" + name + "\"");
   base::ConfigReader reader(all.at(name), name, file);
   SprintPreset preset = read_sprint_preset(reader);

@@ -70,6 +70,11 @@ std::unique_ptr<character::ActionMap> make_action_map(const CurveEnvSettings& s,
 
 int control_steps(double seconds, double control_hz) { return std::max(1, static_cast<int>(std::lround(seconds * control_hz))); }
 
+// Control steps of an episode on `curve`: round((T + T_stand)·control rate).
+int curve_episode_steps(const StyleCurve& curve, const CurveEnvSettings& s) {
+  return control_steps(curve.duration_s + s.stand_s, s.control_hz);
+}
+
 const CurveSet& checked(const std::shared_ptr<const CurveSet>& set) {
   if (!set || set->curves.empty()) throw base::UserError("curve get-up env: no curves");
   if (!set->model) throw base::UserError("curve get-up env: the curve set has no model");
@@ -97,42 +102,52 @@ std::vector<std::string> curve_env_info_names() {
   return names;
 }
 
+namespace {
+
+using ClipCache = std::map<std::filesystem::path, std::shared_ptr<const character::Clip>>;
+
+// Appends `curve` and its start clip (read once per file however many curves start in it; a
+// relative path resolves against `base_dir`) to `set`.
+void add_curve(CurveSet& set, StyleCurve curve, const std::filesystem::path& base_dir, ClipCache& read) {
+  std::shared_ptr<const character::Clip> clip;
+  if (curve.start.kind == CurveStart::Kind::clip) {
+    const std::filesystem::path file = std::filesystem::path(curve.start.clip).is_absolute() || base_dir.empty()
+                                           ? std::filesystem::path(curve.start.clip)
+                                           : base_dir / curve.start.clip;
+    const std::string where = "curve \"" + curve.name + "\": start.clip: \"" + curve.start.clip + "\"";
+    if (!std::filesystem::is_regular_file(file)) throw base::UserError(where + " is not a file (" + file.string() + ")");
+    auto& slot = read[file];
+    if (!slot) slot = std::make_shared<const character::Clip>(character::read_deepmimic_clip(set.model, file));
+    clip = slot;
+    if (curve.start.frame >= static_cast<int>(clip->size()))
+      throw base::UserError("curve \"" + curve.name + "\": start.frame: " + std::to_string(curve.start.frame) +
+                            " is past the last frame " + std::to_string(clip->size() - 1) + " of " + file.string());
+  }
+  set.clips.push_back(std::move(clip));
+  set.curves.push_back(std::move(curve));
+}
+
+}  // namespace
+
 std::shared_ptr<const CurveSet> make_curve_set(std::vector<StyleCurve> curves, const sim::ModelPtr& model,
                                                const std::filesystem::path& base_dir) {
   if (!model) throw base::UserError("curve set: no model");
   auto set = std::make_shared<CurveSet>();
   set->model = model;
-  std::map<std::filesystem::path, std::shared_ptr<const character::Clip>> read;  // a clip shared by several curves, once
-  for (const StyleCurve& curve : curves) {
-    std::shared_ptr<const character::Clip> clip;
-    if (curve.start.kind == CurveStart::Kind::clip) {
-      const std::filesystem::path file = std::filesystem::path(curve.start.clip).is_absolute() || base_dir.empty()
-                                             ? std::filesystem::path(curve.start.clip)
-                                             : base_dir / curve.start.clip;
-      const std::string where = "curve \"" + curve.name + "\": start.clip: \"" + curve.start.clip + "\"";
-      if (!std::filesystem::is_regular_file(file)) throw base::UserError(where + " is not a file (" + file.string() + ")");
-      auto& slot = read[file];
-      if (!slot) slot = std::make_shared<const character::Clip>(character::read_deepmimic_clip(model, file));
-      clip = slot;
-      if (curve.start.frame >= static_cast<int>(clip->size()))
-        throw base::UserError("curve \"" + curve.name + "\": start.frame: " + std::to_string(curve.start.frame) +
-                              " is past the last frame " + std::to_string(clip->size() - 1) + " of " + file.string());
-    }
-    set->clips.push_back(std::move(clip));
-  }
-  set->curves = std::move(curves);
+  ClipCache read;
+  for (StyleCurve& curve : curves) add_curve(*set, std::move(curve), base_dir, read);
   return set;
 }
 
 std::shared_ptr<const CurveSet> load_curve_set(const std::vector<std::filesystem::path>& files, const sim::ModelPtr& model) {
   if (files.empty()) throw base::UserError("curve set: no curve files");
+  if (!model) throw base::UserError("curve set: no model");
   auto set = std::make_shared<CurveSet>();
   set->model = model;
+  ClipCache read;  // across files: curves authored on one clip share it
   for (const std::filesystem::path& file : files) {
     try {
-      auto one = make_curve_set({load_style_curve(file)}, model, file.parent_path());
-      set->curves.push_back(one->curves.front());
-      set->clips.push_back(one->clips.front());
+      add_curve(*set, load_style_curve(file), file.parent_path(), read);
     } catch (const base::ConfigError&) {
       throw;  // already "<file>: <JSON path>: <value> ..."
     } catch (const base::UserError& e) {
@@ -156,8 +171,7 @@ CurveGetupEnv::Parts CurveGetupEnv::make_parts(const CurveEnvSettings& s, const 
   e.world.control_hz = s.control_hz;
   // The longest curve's length; each episode ends at its own curve's (on_step).
   e.episode_steps = 1;
-  for (const StyleCurve& c : set.curves)
-    e.episode_steps = std::max(e.episode_steps, control_steps(c.duration_s + s.stand_s, s.control_hz));
+  for (const StyleCurve& c : set.curves) e.episode_steps = std::max(e.episode_steps, curve_episode_steps(c, s));
   e.action = make_action_map(s, model);
   const auto add = [&](std::string name, std::unique_ptr<character::ObservationPart> part) {
     const std::size_t at = p.blocks.empty() ? 0 : p.blocks.back().offset + p.blocks.back().size;
@@ -194,11 +208,7 @@ CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<c
       success_steps_(control_steps(settings.success_window_s, settings.control_hz)) {
   if (!(settings.stand_s >= 0.0))
     throw base::UserError("curve get-up env: stand_s " + std::to_string(settings.stand_s) + " is not ≥ 0");
-  episode_length_ = length_of(curve());
-}
-
-int CurveGetupEnv::length_of(const StyleCurve& curve) const {
-  return control_steps(curve.duration_s + settings_.stand_s, settings_.control_hz);
+  episode_length_ = curve_episode_steps(curve(), settings_);
 }
 
 void CurveGetupEnv::use_curve(int index) {
@@ -211,7 +221,7 @@ void CurveGetupEnv::use_curve(int index) {
 void CurveGetupEnv::begin_episode(base::Rng& rng) {
   const int n = static_cast<int>(curves_->curves.size());
   curve_ = fixed_curve_ >= 0 ? fixed_curve_ : static_cast<int>(rng.integer(0, n - 1));
-  episode_length_ = length_of(curve());
+  episode_length_ = curve_episode_steps(curve(), settings_);
   termination_.reset();
   standing_steps_ = 0;
   success_ = false;
@@ -333,7 +343,7 @@ void CurveGetupEnv::load_state(const base::Json& state) {
                           std::to_string(action_space().size()));
   CharacterEnv::load_state(state);
   curve_ = index;
-  episode_length_ = length_of(curve());
+  episode_length_ = curve_episode_steps(curve(), settings_);
   set_reference(curves_->clips[static_cast<std::size_t>(curve_)]);
   filter_.set_value(Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())));
   termination_.restore(low, head);

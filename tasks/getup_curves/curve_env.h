@@ -154,7 +154,6 @@ class CurveGetupEnv final : public character::CharacterEnv {
   CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<const CurveSet> curves, Parts parts);
   void begin_episode(base::Rng& rng);
   void on_step(std::span<const double> y, learn::StepResult& out);
-  int length_of(const StyleCurve& curve) const;
 
   CurveEnvSettings settings_;
   std::shared_ptr<const CurveSet> curves_;

@@ -296,8 +296,12 @@ TEST(CurveGetupEnv, AClipStartBeginsInItsFrameOnTheBack) {
   StyleCurve curve = rising_curve(3.8, true);
   curve.start = {CurveStart::Kind::clip, "faceup.txt", 0, true};  // relative to the curve file
   save_style_curve(dir / "faceup.json", curve);
-  const auto set = load_curve_set({dir / "faceup.json"}, model);
+  StyleCurve slower = curve;
+  slower.duration_s = 5.0;
+  save_style_curve(dir / "faceup_slow.json", slower);
+  const auto set = load_curve_set({dir / "faceup.json", dir / "faceup_slow.json"}, model);
   ASSERT_TRUE(set->clips[0]);
+  EXPECT_EQ(set->clips[1], set->clips[0]);  // two curve files on one clip: read once
   CurveEnvSettings settings;
   settings.clip_start_noise_rad = 0.0;
   CurveGetupEnv env(settings, set);

@@ -255,7 +255,7 @@ std::array<Key, 7> keyframes(ArmAction arms) {
   k[3] = {0.0, 60.0, 25.0, -15.0, {0.0, 10.0}, {0.0, 120.0}, {0.0, -10.0}, {55.0, -55.0}, elbow};  // mid-swing
   k[4] = {0.0, 50.0, 15.0, -10.0, {0.0, 60.0}, {0.0, 110.0}, {0.0, -10.0}, {70.0, -60.0}, elbow};  // take-off
   k[5] = {0.0, 45.0, 10.0, 0.0, {-35.0, 45.0}, {80.0, 70.0}, {20.0, 0.0}, {50.0, -40.0}, elbow};   // mid-flight
-  k[6] = {0.0, 42.0, 8.0, 0.0, {-30.0, 15.0}, {100.0, 25.0}, {20.0, 0.0}, {45.0, -40.0}, elbow};   // landing
+  k[6] = {0.0, 42.0, 8.0, 0.0, {-30.0, 30.0}, {100.0, 65.0}, {20.0, 0.0}, {45.0, -40.0}, elbow};   // landing
   return k;
 }
 
@@ -292,8 +292,15 @@ character::Clip crouch_start_clip(const sim::ModelPtr& model, const CrouchStartS
     throw base::UserError("sprint crouch start: landing_x_m " + std::to_string(spec.landing_x_m) +
                           " leaves no flight after the take-off (the root leaves the blocks at x = " + std::to_string(p2.x()) +
                           ")");
-  // The flight: as long as the take-off speed needs, rounded up to whole control periods.
-  const int frames = static_cast<int>(std::ceil((t2 + (p3.x() - p2.x()) / v2.x()) * control_hz - 1e-9));
+  // The flight: ballistic from the take-off's vertical speed down to the landing's root height
+  // (rounded up to whole control periods, the vertical speed adjusted to it), the horizontal
+  // distance made up by a constant acceleration.
+  const double rise = v2.y() * v2.y() - 2.0 * kGravity * (p3.y() - p2.y());
+  if (rise < 0.0)
+    throw base::UserError("sprint crouch start: the landing's root height " + std::to_string(p3.y()) +
+                          " m is above the flight's apex (take-off at " + std::to_string(p2.y()) + " m)");
+  const double descent = (v2.y() + std::sqrt(rise)) / kGravity;
+  const int frames = static_cast<int>(std::ceil((t2 + descent) * control_hz - 1e-9));
   const double t3 = frames / control_hz, flight = t3 - t2;
   const double ax = (p3.x() - p2.x() - v2.x() * flight) / (flight * flight);
   const double vz = (p3.y() - p2.y()) / flight + 0.5 * kGravity * flight;
@@ -342,6 +349,13 @@ std::vector<CrouchStart> crouch_start_set(const sim::ModelPtr& model, double con
       set.push_back(std::move(s));
     }
   return set;
+}
+
+std::vector<StartReference> crouch_start_references(const sim::ModelPtr& model, double control_hz, const StartPreset& start) {
+  CrouchStartSpec base;
+  base.landing_x_m = start.landing_x_m;
+  const std::vector<CrouchStart> set = crouch_start_set(model, control_hz, base);
+  return {set.begin(), set.end()};
 }
 
 }  // namespace podium::tasks::sprint

@@ -13,7 +13,8 @@
 ///   block phase (to `block_time_s`): the root from rest to the front foot's take-off with
 ///     constant acceleration (x and z quadratic in t), the front foot held on its block by the
 ///     same solve until then, the rear one until `rear_off_s`; the rear leg swings forward;
-///   flight: the root ballistic (gravity 9.81 m/s²) to the landing;
+///   flight: the root ballistic (gravity 9.81 m/s²) from the take-off's vertical speed down to the
+///     landing's height, the distance to the landing made up by a constant horizontal acceleration;
 ///   landing (the last frame): the rear-block foot flat on the ground with its sole's centre at
 ///     `landing_x_m`, the other leg trailing.
 /// Angles other than the solved ones come from a handful of keyframes (set, rear foot off, take-
@@ -23,9 +24,11 @@
 ///
 /// The seed says the start "lasts about 2.5 meters (i.e. the first step after the departure)". A
 /// first landing that far out cannot follow a push from these blocks: the constant-acceleration
-/// push over the root's 0.45 m in the blocks leaves at about 2.5 m/s, and a flight on to 2.5 m
-/// would last about 0.85 s and rise about 0.9 m. So the landing distance is a setting (preset data,
-/// `start.landing_x_m`), 0.6 m by default: athletics' first touchdown about half a metre past the line.
+/// push over the root's 0.37 m in the blocks leaves at about 2.1 m/s, whose flight comes down
+/// about 0.4 m past the line; a landing at 2.5 m would need some 1 s in the air or, as the flight
+/// is built here, a large horizontal acceleration in the air. So the landing distance is a setting
+/// (preset data, `start.landing_x_m`), 0.5 m by default: athletics' first touchdown, about half a
+/// metre past the line.
 #include <memory>
 #include <string>
 #include <vector>
@@ -43,19 +46,16 @@ const char* to_string(ArmAction arms);
 struct CrouchStartSpec {
   Foot front = Foot::left;               ///< the foot in the front block
   ArmAction arms = ArmAction::straight;  ///< the elbow's crook
-  double landing_x_m = 0.6;              ///< the first landing's sole centre (the rear-block foot), m past the line
+  double landing_x_m = 0.5;              ///< the first landing's sole centre (the rear-block foot), m past the line
   double block_time_s = 0.36;            ///< set to the front foot's take-off, s
   double rear_off_s = 0.16;              ///< set to the rear foot's take-off, s
-  double takeoff_lean_rad = 0.87;        ///< the front leg's lean from vertical at its take-off (≈ 50°)
+  double takeoff_lean_rad = 0.70;        ///< the front leg's lean from vertical at its take-off (≈ 40°)
 };
 
-/// A reference of the set: its name ("left_straight", ...), settings, the blocks it starts from
-/// (front block first) and its clip.
-struct CrouchStart {
-  std::string name;
+/// A reference of the set (SprintEnv's StartReference: its name — "left_straight", ... —, the
+/// blocks it starts from, front block first, and its clip) with its settings.
+struct CrouchStart : StartReference {
   CrouchStartSpec spec;
-  std::vector<BlockSpec> blocks;
-  std::shared_ptr<const character::Clip> clip;
 };
 
 /// The blocks for a front foot: `left_front` (front block first, as default_blocks()) itself for
@@ -72,5 +72,7 @@ character::Clip crouch_start_clip(const sim::ModelPtr& model, const CrouchStartS
 /// timings and landing distance.
 std::vector<CrouchStart> crouch_start_set(const sim::ModelPtr& model, double control_hz, const CrouchStartSpec& base = {},
                                           const std::vector<BlockSpec>& left_front = default_blocks());
+/// The set as SprintEnv's Start-mode references, with the preset's landing distance.
+std::vector<StartReference> crouch_start_references(const sim::ModelPtr& model, double control_hz, const StartPreset& start);
 
 }  // namespace podium::tasks::sprint

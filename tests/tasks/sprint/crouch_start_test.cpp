@@ -42,7 +42,7 @@ std::pair<Eigen::Vector3d, double> hand_sphere(const sim::CharacterModel& m, con
 std::string side(Foot f) { return f == Foot::left ? "left_" : "right_"; }
 Foot other(Foot f) { return f == Foot::left ? Foot::right : Foot::left; }
 
-TEST(CrouchStart, TheSetHasFourStartsLeftAndRightFootTimesTwoArmActions) {
+TEST(SprintCrouchStart, TheSetHasFourStartsLeftAndRightFootTimesTwoArmActions) {
   const std::vector<CrouchStart> set = crouch_start_set(humanoid(), kHz);
   ASSERT_EQ(set.size(), 4u);
   EXPECT_EQ(set[0].name, "left_straight");
@@ -54,7 +54,7 @@ TEST(CrouchStart, TheSetHasFourStartsLeftAndRightFootTimesTwoArmActions) {
   EXPECT_EQ(set[2].blocks[0].y_m, -set[0].blocks[0].y_m);
 }
 
-TEST(CrouchStart, TheSetPositionPutsEachFootOnItsBlockAndBothHandsOnTheGroundBehindTheLine) {
+TEST(SprintCrouchStart, TheSetPositionPutsEachFootOnItsBlockAndBothHandsOnTheGroundBehindTheLine) {
   const sim::ModelPtr model = humanoid();
   for (const CrouchStart& s : crouch_start_set(model, kHz)) {
     SCOPED_TRACE(s.name);
@@ -83,7 +83,7 @@ TEST(CrouchStart, TheSetPositionPutsEachFootOnItsBlockAndBothHandsOnTheGroundBeh
   }
 }
 
-TEST(CrouchStart, TheLastFrameIsTheFirstLandingOfTheRearBlockFootAtTheSetDistance) {
+TEST(SprintCrouchStart, TheLastFrameIsTheFirstLandingOfTheRearBlockFootAtTheSetDistance) {
   const sim::ModelPtr model = humanoid();
   for (const double landing : {0.6, 2.5}) {  // ours and the seed's "about 2.5 m"
     CrouchStartSpec base;
@@ -109,7 +109,7 @@ TEST(CrouchStart, TheLastFrameIsTheFirstLandingOfTheRearBlockFootAtTheSetDistanc
   }
 }
 
-TEST(CrouchStart, FramesAreAtTheControlRateWithinTheJointLimits) {
+TEST(SprintCrouchStart, FramesAreAtTheControlRateWithinTheJointLimits) {
   const sim::ModelPtr model = humanoid();
   for (const CrouchStart& s : crouch_start_set(model, kHz)) {
     SCOPED_TRACE(s.name);
@@ -140,7 +140,7 @@ TEST(CrouchStart, FramesAreAtTheControlRateWithinTheJointLimits) {
   }
 }
 
-TEST(CrouchStart, BadSettingsAreRefusedWithTheirName) {
+TEST(SprintCrouchStart, BadSettingsAreRefusedWithTheirName) {
   CrouchStartSpec spec;
   spec.landing_x_m = -0.2;  // behind the take-off
   EXPECT_THROW(crouch_start_clip(humanoid(), spec, kHz), base::UserError);

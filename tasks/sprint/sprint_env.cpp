@@ -200,7 +200,7 @@ character::CharacterEnvParts SprintEnv::make_parts(const SprintEnvSettings& s) {
       const auto& sprint = static_cast<const SprintEnv&>(env);
       std::fill(out.begin(), out.end(), 0.0);
       out[0] = std::min(1.0, env.reference_time_s() / env.reference()->duration_s());
-      out[1 + static_cast<std::size_t>(sprint.reference_)] = 1.0;
+      if (sprint.reference_ >= 0) out[1 + static_cast<std::size_t>(sprint.reference_)] = 1.0;  // none before a reset
     }));
   }
   e.observation.push_back(std::make_unique<TaskScalars>(

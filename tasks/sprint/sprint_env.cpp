@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <numbers>
 
 #include "podium/base/error.h"
@@ -45,10 +46,20 @@ EpisodeDraw draw_from_json(const base::Json& json, const std::string& where) {
 }
 
 SprintEnv::Outcome outcome_of(const std::string& name) {
-  for (const auto o :
-       {SprintEnv::Outcome::running, SprintEnv::Outcome::fell, SprintEnv::Outcome::left_lane, SprintEnv::Outcome::finished})
+  using O = SprintEnv::Outcome;
+  for (const auto o : {O::running, O::fell, O::left_lane, O::finished, O::landed, O::deviated})
     if (name == to_string(o)) return o;
-  throw base::UserError("sprint env state: sprint.outcome: \"" + name + "\" is not running, fell, left_lane or finished");
+  throw base::UserError("sprint env state: sprint.outcome: \"" + name +
+                        "\" is not running, fell, left_lane, finished, landed or deviated");
+}
+
+bool same_props(const std::vector<sim::BoxProp>& a, const std::vector<sim::BoxProp>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].name != b[i].name || a[i].center != b[i].center || a[i].half_extents != b[i].half_extents ||
+        a[i].rotation.coeffs() != b[i].rotation.coeffs() || a[i].friction != b[i].friction)
+      return false;
+  return true;
 }
 
 }  // namespace
@@ -93,9 +104,17 @@ std::vector<base::Json> load_handover_states(const std::string& path) {
   return states;
 }
 
-std::vector<std::string> sprint_env_info_names() {
-  return {"forward", "survival",  "lateral",  "mass",          "diagonal", "mirror",  "steps",
-          "fell",    "left_lane", "finished", "finish_time_s", "wind_mps", "friction"};
+void save_handover_states(const std::string& path, const std::vector<base::Json>& states) {
+  std::ofstream out(path);
+  out << base::Json(states).dump() << '\n';
+  if (!out) throw base::UserError(path + ": cannot write the hand-over states");
+}
+
+std::vector<std::string> sprint_env_info_names(bool start_mode) {
+  std::vector<std::string> names = {"forward", "survival",  "lateral",  "mass",          "diagonal", "mirror",  "steps",
+                                    "fell",    "left_lane", "finished", "finish_time_s", "wind_mps", "friction"};
+  if (start_mode) names.insert(names.end(), {"imitation", "landed", "deviated", "reference"});
+  return names;
 }
 
 const char* to_string(SprintEnv::Outcome outcome) {
@@ -108,6 +127,10 @@ const char* to_string(SprintEnv::Outcome outcome) {
       return "left_lane";
     case SprintEnv::Outcome::finished:
       return "finished";
+    case SprintEnv::Outcome::landed:
+      return "landed";
+    case SprintEnv::Outcome::deviated:
+      return "deviated";
   }
   return "running";
 }
@@ -123,6 +146,25 @@ struct SprintEnv::HandoverStart final : character::Start {
     if (!states[i].contains("world"))
       throw base::UserError("sprint env: handover_states[" + std::to_string(i) + "]: world: missing (a World snapshot)");
     sprint.world().restore(sim::WorldSnapshot::from_json(states[i].at("world"), sprint.world().model_ptr()));
+  }
+};
+
+// The Start mode's start (§3.1): a reference drawn uniformly, its blocks, its first frame (pose
+// and frame velocity, no noise), the reference clock at 0.
+struct SprintEnv::ReferenceSetStart final : character::Start {
+  void begin(CharacterEnv& env, base::Rng& rng) const override {
+    auto& sprint = static_cast<SprintEnv&>(env);
+    const std::vector<StartReference>& refs = sprint.settings_.start_references;
+    sprint.reference_ = static_cast<int>(rng.integer(0, static_cast<std::int64_t>(refs.size()) - 1));
+    const StartReference& ref = refs[static_cast<std::size_t>(sprint.reference_)];
+    env.set_reference(ref.clip);
+    const std::vector<sim::BoxProp> blocks = starting_blocks(ref.blocks);
+    if (!same_props(env.world().config().terrain.boxes, blocks)) {
+      sim::TerrainConfig terrain = env.world().config().terrain;
+      terrain.boxes = blocks;
+      env.world().set_terrain(terrain);
+    }
+    character::ReferenceStateStart(0.0, 0, 0).begin(env, rng);
   }
 };
 
@@ -152,9 +194,30 @@ character::CharacterEnvParts SprintEnv::make_parts(const SprintEnvSettings& s) {
         const double yaw = heading_yaw(d.links[0].R);
         out[0] = d.q(1) - centre, out[1] = std::sin(yaw), out[2] = std::cos(yaw);
       }));
+  const std::size_t references = s.start_references.size();
+  if (references > 0) {  // the reference's phase and which it is, before z
+    e.observation.push_back(std::make_unique<TaskScalars>(1 + references, [](const CharacterEnv& env, std::span<double> out) {
+      const auto& sprint = static_cast<const SprintEnv&>(env);
+      std::fill(out.begin(), out.end(), 0.0);
+      out[0] = std::min(1.0, env.reference_time_s() / env.reference()->duration_s());
+      if (sprint.reference_ >= 0) out[1 + static_cast<std::size_t>(sprint.reference_)] = 1.0;  // none before a reset
+    }));
+  }
   e.observation.push_back(std::make_unique<TaskScalars>(
       1, [](const CharacterEnv& env, std::span<double> out) { out[0] = static_cast<const SprintEnv&>(env).counter_.z(); }));
-  if (!s.handover_states.empty()) {
+  if (references > 0) {
+    double longest = 0.0;
+    for (const StartReference& r : s.start_references) {
+      if (!r.clip || r.clip->model->name() != e.model->name() || r.clip->size() < 2)
+        throw base::UserError("sprint env: start reference " + r.name + ": needs a clip of 2 frames or more on " +
+                              e.model->name());
+      longest = std::max(longest, r.clip->duration_s());
+    }
+    e.episode_steps =
+        std::min(e.episode_steps, static_cast<int>(std::ceil((longest + s.preset.start.extra_time_s) * s.control_hz)));
+    e.reference = s.start_references.front().clip;
+    e.start = std::make_unique<ReferenceSetStart>();
+  } else if (!s.handover_states.empty()) {
     e.start = std::make_unique<HandoverStart>();
   } else if (s.start_q.size() > 0) {
     const Eigen::VectorXd qd = s.start_qd.size() > 0 ? s.start_qd : Eigen::VectorXd::Zero(e.model->nv());
@@ -169,7 +232,7 @@ character::CharacterEnvParts SprintEnv::make_parts(const SprintEnvSettings& s) {
   e.reward = [](CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
     static_cast<SprintEnv&>(env).on_step(out);
   };
-  e.info_names = sprint_env_info_names();
+  e.info_names = sprint_env_info_names(references > 0);
   return e;
 }
 
@@ -187,11 +250,17 @@ SprintEnv::SprintEnv(const SprintEnvSettings& settings)
   standing.q = model().standing_pose();
   upright_com_ = com_in_heading_frame(model(), standing);
   z_index_ = observation_space().size() - 1;
+  for (const StartReference& r : settings.start_references)
+    imitations_.push_back(std::make_shared<const character::ImitationReference>(r.clip, settings.preset.start.weights));
+  early_.max_com_deviation_m = settings.preset.start.max_com_deviation_m;  // falls: the sprint's own rule
+  early_.min_pose_reward = settings.preset.start.min_pose_reward;
   world().set_substep_observer([this](sim::World& w) { finish_.observe(w); });
 }
 
 void SprintEnv::reset(std::vector<double>& observation) {
   handover_ = nullptr;
+  reference_ = -1;
+  landing_.reset();
   // Drawn every episode, whatever the start and even when a fixed draw replaces it, so that the
   // generator's later use (the start's choice) is the same under every condition.
   draw_ = draw_episode(settings_.preset, rng());
@@ -238,11 +307,33 @@ SprintEnv::Terms SprintEnv::phase_terms(const sim::Observation& f) {
   return t;
 }
 
+const character::ImitationReference& SprintEnv::imitation() const {
+  if (reference_ < 0) throw base::UserError("sprint env: no start reference (not the Start mode, or before a reset)");
+  return *imitations_[static_cast<std::size_t>(reference_)];
+}
+
+character::TrackingErrors SprintEnv::tracking_errors() const { return imitation().errors(*this); }
+
+character::ImitationTerms SprintEnv::imitation_terms() const {
+  return character::imitation_terms(tracking_errors(), imitation().weights());
+}
+
+// §3.1: λ_i·r_I, early termination, and the first landing (a counted touchdown on the ground).
+double SprintEnv::start_terms(const sim::Observation& f, bool counted, bool& landed, bool& deviated) {
+  const character::TrackingErrors errors = tracking_errors();
+  const character::ImitationTerms terms = character::imitation_terms(errors, imitation().weights());
+  deviated = character::early_termination(early_, f, errors, terms) == character::Termination::deviated;
+  const int foot = counter_.last_foot() == Foot::left ? bodies_.left_foot : bodies_.right_foot;
+  landed = counted && f.touches(foot, sim::Contact::Partner::ground);
+  return settings_.preset.start.imitation_weight * terms.total;
+}
+
 void SprintEnv::on_step(learn::StepResult& out) {
   const sim::Observation& f = features();
   const TrackSpec& track = settings_.preset.track;
   const double x = world().data().q(0), y = world().data().q(1);
-  if (counter_.observe(foot_down(f, bodies_.left_foot), foot_down(f, bodies_.right_foot))) poses_.touchdown();
+  const bool counted = counter_.observe(foot_down(f, bodies_.left_foot), foot_down(f, bodies_.right_foot));
+  if (counted) poses_.touchdown();
   const bool fell = fallen_body(f, allowance_, counter_.steps() > 0) >= 0;
   const bool left_lane = body_outside_lane(track, world(), lane_bodies_) >= 0;
   const std::optional<double> finish = finish_.finish_time();
@@ -251,8 +342,15 @@ void SprintEnv::on_step(learn::StepResult& out) {
       base_reward(settings_.preset.rewards, prev_root_x_, x, control_dt_s(), y - track.lane_centre_y_m, track.lane_width_m, fell);
   prev_root_x_ = x;
   const Terms terms = phase_terms(f);
-  outcome_ = fell ? Outcome::fell : left_lane ? Outcome::left_lane : finish ? Outcome::finished : Outcome::running;
-  out.reward = base.total() + terms.mass + terms.diagonal + terms.mirror;
+  bool landed = false, deviated = false;
+  const double imitation = start_mode() ? start_terms(f, counted, landed, deviated) : 0.0;
+  outcome_ = fell        ? Outcome::fell
+             : left_lane ? Outcome::left_lane
+             : deviated  ? Outcome::deviated
+             : landed    ? Outcome::landed
+             : finish    ? Outcome::finished
+                         : Outcome::running;
+  out.reward = base.total() + terms.mass + terms.diagonal + terms.mirror + imitation;
   out.terminated = outcome_ != Outcome::running;
   out.info = {base.forward,
               base.survival,
@@ -267,8 +365,11 @@ void SprintEnv::on_step(learn::StepResult& out) {
               finish.value_or(0.0),
               draw_.wind_mps,
               draw_.friction};
+  if (start_mode())
+    out.info.insert(out.info.end(), {imitation, landed ? 1.0 : 0.0, deviated ? 1.0 : 0.0, static_cast<double>(reference_)});
   out.observation[z_index_] = counter_.z();  // the observation was written before this step counted
   apply_drag();
+  if (outcome_ == Outcome::landed) landing_ = handover_state();  // with the drag the next step feels
 }
 
 base::Json SprintEnv::handover_state() const {
@@ -278,6 +379,8 @@ base::Json SprintEnv::handover_state() const {
 base::Json SprintEnv::episode_record() const {
   const std::optional<double> finish = finish_.finish_time();
   return {{"draw", draw_.to_json()},
+          {"reference", reference_ >= 0 ? base::Json(settings_.start_references[static_cast<std::size_t>(reference_)].name)
+                                        : base::Json(nullptr)},
           {"outcome", to_string(outcome_)},
           {"steps", counter_.steps()},
           {"control_steps", step_index()},
@@ -286,8 +389,10 @@ base::Json SprintEnv::episode_record() const {
 
 std::optional<base::Json> SprintEnv::save_state() const {
   base::Json state = *CharacterEnv::save_state();
-  state["sprint"] = {{"draw", draw_.to_json()}, {"step_counter", counter_.state()}, {"finish_line", finish_.state()},
-                     {"poses", poses_.state()}, {"prev_root_x", prev_root_x_},      {"outcome", to_string(outcome_)}};
+  state["sprint"] = {{"draw", draw_.to_json()},        {"step_counter", counter_.state()},
+                     {"finish_line", finish_.state()}, {"poses", poses_.state()},
+                     {"prev_root_x", prev_root_x_},    {"outcome", to_string(outcome_)},
+                     {"reference", reference_},        {"landing", landing_ ? *landing_ : base::Json(nullptr)}};
   return state;
 }
 
@@ -302,6 +407,13 @@ void SprintEnv::load_state(const base::Json& state) {
     poses_.load_state(s.at("poses"));
     prev_root_x_ = s.at("prev_root_x").get<double>();
     outcome_ = outcome_of(s.at("outcome").get<std::string>());
+    reference_ = s.value("reference", -1);
+    if (reference_ >= static_cast<int>(settings_.start_references.size()))
+      throw base::UserError("sprint env state: sprint.reference: " + std::to_string(reference_) + " is not one of the " +
+                            std::to_string(settings_.start_references.size()) + " start references");
+    if (reference_ >= 0) set_reference(settings_.start_references[static_cast<std::size_t>(reference_)].clip);
+    landing_.reset();
+    if (s.contains("landing") && !s.at("landing").is_null()) landing_ = s.at("landing");
   } catch (const base::Json::exception& e) {
     throw base::UserError(std::string("sprint env state: sprint: ") + e.what());
   }

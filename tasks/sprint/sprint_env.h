@@ -32,7 +32,20 @@
 /// step), and is truncated at the preset's time limit. It starts standing with the root on the
 /// start line, in a given pose, or at one of a set of hand-over states (handover_state(): a World
 /// snapshot with its draw and step count, e.g. the Start phase's first landings for stage 2).
+///
+/// The Start mode (§3.1; SprintEnvSettings::start_references not empty): each episode starts at
+/// the first frame of a reference drawn uniformly from the set ("periodically alter a new
+/// reference"), on that reference's blocks (the World's props are moved when they differ), at the
+/// frame's pose and velocity with the reference clock at 0. The reward adds λ_i·r_I, DeepMimic's
+/// imitation terms (character/imitation.h) against that reference with the preset's weights and
+/// kernels; the episode also ends on a large deviation from it (EarlyTermination: the COM, r_p;
+/// the falls are the sprint's rule above) and at the first landing — the StepCounter's first
+/// counted touchdown, on the ground — whose hand-over state (handover_state(), with the episode's
+/// draw) landing_state() keeps for stage 2. The observation adds, before z, the reference's phase
+/// (its clock over its duration, at most 1) and a one-hot of the reference drawn (the policy cannot
+/// tell the arm action from the state).
 #include <Eigen/Core>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,6 +54,8 @@
 #include "mirror.h"
 #include "podium/base/json.h"
 #include "podium/character/character_env.h"
+#include "podium/character/imitation.h"
+#include "podium/character/motion.h"
 #include "podium/character/starts.h"
 #include "sprint_preset.h"
 #include "steps.h"
@@ -66,6 +81,15 @@ std::vector<BlockSpec> default_blocks();
 /// The blocks as sim props (BoxProp, friction multiplier 1).
 std::vector<sim::BoxProp> starting_blocks(const std::vector<BlockSpec>& blocks);
 
+/// A reference of the Start phase (crouch_start.h builds ours): its name, the blocks it starts
+/// from (front block first, as default_blocks()) and its clip (on the env's model, at its
+/// control rate, starting in the blocks).
+struct StartReference {
+  std::string name;
+  std::vector<BlockSpec> blocks;
+  std::shared_ptr<const character::Clip> clip;
+};
+
 struct SprintEnvSettings {
   SprintPreset preset;  ///< track, N_norm, reward weights, drag, DR ranges, time limit
   std::string model = "humanoid34";
@@ -82,19 +106,24 @@ struct SprintEnvSettings {
   /// When set, every episode takes this draw (evaluation at set conditions); otherwise a
   /// hand-over state's recorded draw, else a fresh draw from the preset's ranges.
   std::optional<EpisodeDraw> fixed_draw;
+  /// When not empty, the Start mode: each episode imitates one of these (the preset's `start`).
+  std::vector<StartReference> start_references;
 };
 
 /// Reads a JSON array of hand-over states; errors name the file.
 std::vector<base::Json> load_handover_states(const std::string& path);
+/// Writes them as load_handover_states reads them (exact doubles); errors name the file.
+void save_handover_states(const std::string& path, const std::vector<base::Json>& states);
 
 /// StepResult::info of SprintEnv, in order: forward, survival, lateral (r_f, r_s, r_d, weighted),
 /// mass, diagonal, mirror (weighted), steps, fell, left_lane, finished (0/1), finish_time_s (on
-/// the World's clock, 0 before the finish), wind_mps, friction (the episode's draw).
-std::vector<std::string> sprint_env_info_names();
+/// the World's clock, 0 before the finish), wind_mps, friction (the episode's draw); in the Start
+/// mode also imitation (λ_i·r_I), landed, deviated (0/1) and reference (the index drawn).
+std::vector<std::string> sprint_env_info_names(bool start_mode = false);
 
 class SprintEnv final : public character::CharacterEnv {
  public:
-  enum class Outcome { running, fell, left_lane, finished };
+  enum class Outcome { running, fell, left_lane, finished, landed, deviated };
 
   /// Throws base::UserError for a bad setting (a model without the sprint's bodies, a bad start
   /// state, a hand-over state of another model).
@@ -122,14 +151,27 @@ class SprintEnv final : public character::CharacterEnv {
   const SprintDrag& drag() const { return drag_; }
   Outcome outcome() const { return outcome_; }
 
+  /// Start mode: whether it is on, the reference drawn this episode (−1 before a reset), its
+  /// imitation reference, and the tracking errors and r_I of the current state at the reference
+  /// clock (what the reward uses).
+  bool start_mode() const { return !settings_.start_references.empty(); }
+  int reference_index() const { return reference_; }
+  const character::ImitationReference& imitation() const;
+  character::TrackingErrors tracking_errors() const;
+  character::ImitationTerms imitation_terms() const;
+  /// The hand-over state at this episode's first landing (Start mode), else nullopt.
+  const std::optional<base::Json>& landing_state() const { return landing_; }
+
  private:
   struct HandoverStart;
+  struct ReferenceSetStart;
   struct Terms;
   static character::CharacterEnvParts make_parts(const SprintEnvSettings& settings);
   void begin_episode();
   void on_step(learn::StepResult& out);
   Terms phase_terms(const sim::Observation& features);
   void apply_drag();
+  double start_terms(const sim::Observation& features, bool counted, bool& landed, bool& deviated);
 
   SprintEnvSettings settings_;
   SprintBodies bodies_;
@@ -146,6 +188,11 @@ class SprintEnv final : public character::CharacterEnv {
   double prev_root_x_ = 0.0;
   Outcome outcome_ = Outcome::running;
   std::size_t z_index_ = 0;  // z's entry in the observation
+  // Start mode
+  std::vector<std::shared_ptr<const character::ImitationReference>> imitations_;
+  character::EarlyTermination early_;
+  int reference_ = -1;
+  std::optional<base::Json> landing_;
 };
 
 const char* to_string(SprintEnv::Outcome outcome);

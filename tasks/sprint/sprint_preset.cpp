@@ -13,6 +13,25 @@ Range read_range(base::ConfigReader& r, const std::string& key, Range fallback, 
   return {v[0], v[1]};
 }
 
+void read_start(base::ConfigReader& r, StartPreset& s) {
+  s.imitation_weight = r.number("imitation_weight", s.imitation_weight, {0.0, 1e3}, "λ_i: the reward is r_base + λ_i·r_I");
+  character::ImitationWeights& w = s.weights;
+  w.pose = r.number("pose", w.pose, {0.0, 1e3}, "w_p of r_I (joint rotations)");
+  w.velocity = r.number("velocity", w.velocity, {0.0, 1e3}, "w_v of r_I (joint rates)");
+  w.end_effector = r.number("end_effector", w.end_effector, {0.0, 1e3}, "w_e of r_I (end effectors)");
+  w.com = r.number("com", w.com, {0.0, 1e3}, "w_c of r_I (centre of mass)");
+  w.pose_scale = r.number("pose_scale", w.pose_scale, {0.0, 1e4}, "r_p = exp(−this·Σ‖q̂ ⊖ q‖²), per rad²");
+  w.velocity_scale = r.number("velocity_scale", w.velocity_scale, {0.0, 1e4}, "r_v's kernel, per (rad/s)²");
+  w.end_effector_scale = r.number("end_effector_scale", w.end_effector_scale, {0.0, 1e4}, "r_e's kernel, per m²");
+  w.com_scale = r.number("com_scale", w.com_scale, {0.0, 1e4}, "r_c's kernel, per m²");
+  s.max_com_deviation_m = r.number("max_com_deviation_m", s.max_com_deviation_m, {0.0, 100.0, true},
+                                   "early termination: the COM this far from the reference's, m");
+  s.min_pose_reward =
+      r.number("min_pose_reward", s.min_pose_reward, {0.0, 1.0}, "early termination: r_p at most this (0: never)");
+  s.landing_x_m = r.number("landing_x_m", s.landing_x_m, {0.0, 10.0, true}, "the references' first landing, m past the line");
+  s.extra_time_s = r.number("extra_time_s", s.extra_time_s, {0.0, 60.0}, "an episode's limit beyond the longest reference, s");
+}
+
 }  // namespace
 
 SprintPreset read_sprint_preset(base::ConfigReader& r) {
@@ -47,6 +66,7 @@ SprintPreset read_sprint_preset(base::ConfigReader& r) {
   r.object("episode", [&](base::ConfigReader& e) {
     p.time_limit_s = e.number("time_limit_s", p.time_limit_s, {0.0, 3600.0, true}, "an episode is truncated after this long, s");
   });
+  r.object("start", [&](base::ConfigReader& s) { read_start(s, p.start); });
   return p;
 }
 

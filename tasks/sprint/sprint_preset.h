@@ -8,6 +8,7 @@
 #include "drag.h"
 #include "podium/base/config.h"
 #include "podium/base/rng.h"
+#include "podium/character/imitation.h"
 #include "sprint_rewards.h"
 #include "steps.h"
 #include "track.h"
@@ -18,6 +19,18 @@ struct Range {
   double lo = 0.0, hi = 0.0;
 };
 
+/// The Start phase (§3.1): the imitation term's weight λ_i and r_I's weights and kernels
+/// (character/imitation.h; DeepMimic's by default), early termination, and the references' first
+/// landing (crouch_start.h).
+struct StartPreset {
+  double imitation_weight = 1.0;  ///< λ_i: reward r_base + λ_i·r_I
+  character::ImitationWeights weights;
+  double max_com_deviation_m = 0.5;  ///< ends the episode when the COM is this far from the reference's
+  double min_pose_reward = 0.0;      ///< ends it when r_p falls to this (0: never)
+  double landing_x_m = 0.5;          ///< the references' first landing, m past the line
+  double extra_time_s = 0.5;         ///< an episode's limit: the longest reference's duration plus this
+};
+
 struct SprintPreset {
   TrackSpec track;
   StepCounterConfig steps;
@@ -26,6 +39,7 @@ struct SprintPreset {
   Range wind_mps{-2.0, 2.0};   ///< wind along the track, U(lo, hi); +2.0 is the record-legal limit
   Range friction{0.8, 1.2};    ///< runway μ, U(lo, hi)
   double time_limit_s = 30.0;  ///< an episode is truncated after this long (control steps: ⌈T·f_control⌉)
+  StartPreset start;
 };
 
 /// One episode's domain-randomisation draw (§2 "Initial State"), recorded with the episode.

@@ -41,6 +41,17 @@ TEST(SprintPreset, EpisodeDrawsStayInTheRangesAndRepeatPerSeed) {
   EXPECT_GT(wind_hi, 1.9);
 }
 
+TEST(SprintPreset, TheStartPhasesImitationSettingsAreData) {
+  for (const char* name : {"smoke", "quick", "paper"}) {
+    const StartPreset start = load_sprint_preset(name).start;
+    EXPECT_EQ(start.imitation_weight, 1.0) << name;  // λ_i
+    EXPECT_EQ(start.weights.pose, 0.65) << name;     // DeepMimic's r_I
+    EXPECT_EQ(start.weights.end_effector_scale, 40.0) << name;
+    EXPECT_EQ(start.max_com_deviation_m, 0.5) << name;
+    EXPECT_EQ(start.landing_x_m, 0.5) << name;
+  }
+}
+
 TEST(SprintPreset, BadValuesAreOneLineNamingTheirPath) {
   auto error = [](const base::Json& preset) {
     try {
@@ -57,6 +68,8 @@ TEST(SprintPreset, BadValuesAreOneLineNamingTheirPath) {
   const std::string unknown = error(base::Json::parse(R"({"steps": {"n_nrom": 5}})"));
   EXPECT_NE(unknown.find("n_nrom"), std::string::npos) << unknown;
   EXPECT_EQ(unknown.find('\n'), std::string::npos);
+  const std::string lambda = error(base::Json::parse(R"({"start": {"imitation_weight": -1}})"));
+  EXPECT_NE(lambda.find("presets.json: start.imitation_weight: -1"), std::string::npos) << lambda;
   try {
     load_sprint_preset("marathon");
     FAIL() << "no error";

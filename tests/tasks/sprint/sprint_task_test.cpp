@@ -1,0 +1,73 @@
+// The sprint plugin through the real `podium` binary at the smoke preset: the task conformance
+// suite on its start stage (determinism, artifacts, cancel, resume from a kill), its description,
+// and campaigns/sprint.json end to end, each trial's landing states read back as stage 2's start
+// set.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include "finished_campaign.h"
+#include "podium/base/json.h"
+#include "podium/plugins/loader.h"
+#include "process.h"
+#include "sprint_env.h"
+#include "task_conformance.h"
+
+namespace podium::tasks::sprint {
+namespace {
+
+using base::Json;
+namespace fs = std::filesystem;
+
+PODIUM_TASK_CONFORMANCE(SprintStartStage, {.task = "sprint",
+                                           .base_config = {{"stage", "start"}},
+                                           .long_config = {{"total_samples", 100'000'000}},
+                                           .resume_config = {{"total_samples", 1024}},
+                                           .kill_after_metric_points = 24,
+                                           .resumes_from_checkpoint = true,
+                                           .artifacts = {"policy", "landings", "trajectory"}});
+
+TEST(SprintTask, TheStartStageDeclaresItsMetricsObjectivesAndPresets) {
+  const auto task = plugins::load_task("sprint");
+  const Json d = task->describe({{"stage", "start"}});
+  EXPECT_TRUE(d["params"].empty());
+  EXPECT_EQ(d["objectives"], Json({"landing_rate", "minus_tracking_error_rad"}));
+  std::set<std::string> metrics;
+  for (const Json& m : d["metrics"]) metrics.insert(m["name"].get<std::string>());
+  for (const char* m : {"start/landing_rate", "start/tracking_error_rad", "start/com_speed_ratio", "start/final_landing_rate"})
+    EXPECT_TRUE(metrics.count(m)) << m;
+  for (const char* p : {"smoke", "quick", "paper"}) EXPECT_TRUE(d["presets"].contains(p)) << p;
+  EXPECT_EQ(d["presets"]["quick"]["track"], "quick");
+}
+
+TEST(SprintTask, SmokeCampaignRunsTheStartStageEndToEnd) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/sprint.json");
+  for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  ASSERT_EQ(campaign.trials.at("start").size(), 2u);
+  for (const auto& t : campaign.trials.at("start")) {
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "landings", "trajectory"}));
+    const auto metrics = campaign.metric_names(t);
+    for (const char* m : {"start/return", "start/landing_rate", "start/tracking_error_rad", "start/final_landing_rate"})
+      EXPECT_TRUE(metrics.count(m)) << m;
+    ASSERT_EQ(t.objectives.size(), 2u);
+    EXPECT_GE(t.objectives[0], 0.0);
+    EXPECT_LE(t.objectives[0], 1.0);
+    EXPECT_LE(t.objectives[1], 0.0);
+    // The landings: a set of hand-over states stage 2 reads (as many as the final landings).
+    std::string path;
+    for (const auto& a : campaign.store->artifacts(t.id))
+      if (a.name == "landings") path = a.path;
+    const fs::path file = fs::path(path).is_absolute() ? fs::path(path) : dir.path() / path;
+    const std::vector<Json> states = load_handover_states(file.string());
+    EXPECT_EQ(static_cast<double>(states.size()), t.result_info["landings"].get<double>());
+    for (const Json& s : states) EXPECT_TRUE(s.contains("draw") && s.contains("step_counter"));
+  }
+}
+
+}  // namespace
+}  // namespace podium::tasks::sprint

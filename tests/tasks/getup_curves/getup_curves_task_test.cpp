@@ -1,8 +1,13 @@
-// The getup_curves plugin through the real `podium` binary: the task conformance suite (its resume
-// case kills a smoke trial mid-run and checks the resumed attempt's result and metrics equal an
-// uninterrupted run's) and bad configs named at their JSON path.
+// The getup_curves plugin through the real `podium` binary: the task
+// conformance suite (its resume case kills a smoke trial mid-run and checks the
+// resumed attempt's result and metrics equal an uninterrupted run's), bad
+// configs named at their JSON path, and campaigns/getup_curves.json at the
+// smoke preset end to end.
 #include <gtest/gtest.h>
 
+#include <set>
+
+#include "finished_campaign.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
 #include "process.h"
@@ -66,6 +71,56 @@ TEST(GetupCurvesTask, ABadConfigIsNamedAtItsPathWithItsValue) {
   EXPECT_NE(e.find("ppo"), std::string::npos) << e;
   e = describe_error({{"stage", "pose"}});
   EXPECT_NE(e.find("stage: \"pose\" is not one of"), std::string::npos) << e;
+}
+
+TEST(GetupCurvesTask, ABadCampaignConfigIsRejectedAtSubmitWithTheFileAndPath) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  spec["stages"][0]["config"]["copies"] = 0;
+  podium::testing::TempDir dir;
+  podium::testing::write_file(dir / "spec.json", spec.dump());
+  const auto run = podium::testing::run_podium({"submit", (dir / "spec.json").string()}, dir.path());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("stages[0].config.copies: 0 is not"), std::string::npos) << run.err;
+}
+
+// campaigns/getup_curves.json at the smoke preset through the real CLI: two
+// trained trials, each with its policy, a recorded motion per shipped curve and
+// their target-vs-achieved features.
+TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  ASSERT_EQ(campaign.trials.at("train").size(), 2u);
+  for (const auto& t : campaign.trials.at("train")) {
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory", "trajectory_1", "curves"}));
+    const auto metrics = campaign.metric_names(t);
+    for (const char* m : {"test/return", "test/success_rate", "test/mean_r_task", "test/episode_s", "final/success_rate"})
+      EXPECT_TRUE(metrics.count(m)) << m;
+    ASSERT_EQ(t.objectives.size(), 2u);
+    EXPECT_GE(t.objectives[0], 0.0);
+    EXPECT_LE(t.objectives[0], 1.0);
+    EXPECT_GT(t.objectives[1], 0.0);  // r_task > 0 at every step an episode runs
+    EXPECT_LE(t.objectives[1], 1.0);
+    EXPECT_EQ(t.result_info["recorded_curves"], Json({"faceup", "facedown"}));
+    EXPECT_EQ(t.result_info["table"]["rows"].size(), 2u);
+    std::string curves;
+    for (const auto& a : campaign.store->artifacts(t.id))
+      if (a.name == "curves") curves = a.path;
+    const Json series = base::read_json_file(fs::path(curves).is_absolute() ? fs::path(curves) : dir / curves);
+    ASSERT_EQ(series["episodes"].size(), 2u);
+    for (const Json& e : series["episodes"]) {
+      const std::size_t n = e["t_s"].size();
+      EXPECT_GT(n, 1u);
+      for (const char* block : {"target", "achieved"})
+        for (const char* f : {"h_m", "theta_x_deg", "theta_z_deg"}) EXPECT_EQ(e[block][f].size(), n) << block << " " << f;
+    }
+    // The curves start lying as their names say: faceup on the back (θ_z near
+    // 0), facedown on the front.
+    EXPECT_LT(series["episodes"][0]["target"]["theta_z_deg"][0].get<double>(), 30.0);
+    EXPECT_GT(series["episodes"][1]["target"]["theta_z_deg"][0].get<double>(), 150.0);
+  }
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
-// The style-curve get-up task plugin (curve get-up seed). One stage so far, chosen by the config key
-// `stage`: "train" — one PPO policy follows the configured style curves from lying to standing
-// (train_curves.h). The presets are data (data/presets.json); README.md gives the metrics.
+// The style-curve get-up task plugin (curve get-up seed). Two stages, chosen by the config key
+// `stage`: "pose_cvae" — the pose C-VAE of §3.5 (pose_cvae.h); "train" — one PPO policy follows the
+// configured style curves from lying to standing (train_curves.h), acting on PD targets or, with
+// actions "cvae", through a pose_cvae trial's C-VAE. The presets are data (data/presets.json);
+// README.md gives the metrics.
 
 #include "podium/base/json.h"
 #include "podium/plugins/export.h"
+#include "pose_cvae.h"
 #include "train_curves.h"
 
 namespace podium::tasks::getup_curves {
@@ -15,14 +18,18 @@ namespace {
 struct TaskConfig {
   std::string stage = "train";
   TrainSettings train;
+  PoseCvaeSettings cvae;
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice("stage", c.stage, {"train"},
-                     "train: PPO on the curve set (§5), one policy for every curve; the trial's policy, motions and "
-                     "target-vs-achieved features");
+  c.stage = r.choice("stage", c.stage, {"pose_cvae", "train"},
+                     "pose_cvae: trains the pose C-VAE (§3.5) on pose_clips, labelled by their style features; train: PPO on "
+                     "the curve set (§5), one policy for every curve (with actions \"cvae\": through one input pose_cvae "
+                     "trial's C-VAE); the trial's policy, motions and target-vs-achieved features");
   c.train = read_train_settings(r);
+  c.cvae = read_pose_cvae_settings(r);
+  if (c.stage == "pose_cvae" && c.cvae.clips.empty()) r.fail("pose_clips", "is empty: the pose_cvae stage needs clips");
   return c;
 }
 
@@ -62,6 +69,41 @@ Json metrics() {
   return m;
 }
 
+Json describe_cvae_stage() {
+  const plugins::MetricShape epochs{.x = {"epochs", ""}}, final_value{.x = {"epochs", ""}, .evaluation = true};
+  Json d = {
+      {"params", Json::array()},
+      {"features", Json::array()},
+      {"metrics",
+       {plugins::metric_entry("pose_cvae_loss", "", "mean C-VAE loss (MSE + β·KL) per epoch", epochs),
+        plugins::metric_entry("pose_cvae_rmse_rad", "rad", "reconstruction RMSE over the training poses", final_value),
+        plugins::metric_entry("pose_cvae_heldout_rmse_rad", "rad", "reconstruction RMSE over the held-out frames", final_value),
+        plugins::metric_entry("pose_cvae_mean_pose_rmse_rad", "rad",
+                              "RMSE of the training mean pose over the held-out frames (the baseline)", final_value)}}};
+  plugins::set_objectives(
+      d,
+      Json::array({plugins::objective_entry("heldout_fit", "rad", "minus the C-VAE's reconstruction RMSE on held-out frames")}));
+  return d;
+}
+
+plugins::RunResult run_pose_cvae(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  if (!request.inputs.empty()) throw base::UserError("getup_curves pose_cvae: takes no input trials");
+  const PoseCvaeOutcome out = train_pose_cvae(
+      c.cvae, request.work_dir, request.seed, request.cancel,
+      [&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
+      [&sink](double fraction) { sink.progress(fraction); });
+  if (out.cancelled) throw std::runtime_error("getup_curves pose_cvae: cancelled");
+  plugins::RunResult result;
+  result.objectives = {-out.heldout_rmse_rad};
+  result.artifacts = {{"pose_cvae", out.file}};
+  result.info = out.to_json();
+  result.info["summary"] = {{"poses", out.train_poses},
+                            {"held-out RMSE rad", out.heldout_rmse_rad},
+                            {"mean-pose RMSE rad", out.mean_pose_rmse_rad},
+                            {"PCA components for 85%", out.pca_components_85}};
+  return result;
+}
+
 Json describe_stage() {
   Json d = {{"params", Json::array()}, {"features", Json::array()}, {"metrics", metrics()}};
   plugins::set_objectives(
@@ -72,12 +114,30 @@ Json describe_stage() {
 }
 
 plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
-  if (!request.inputs.empty()) throw base::UserError("getup_curves train: takes no input trials");
+  TrainSettings train = c.train;
+  std::filesystem::path cvae_file;
+  if (train.env.actions == "cvae") {  // §3.4: the policy acts through the pose_cvae stage's C-VAE
+    if (request.inputs.size() != 1 || !request.inputs.front().artifacts.count("pose_cvae"))
+      throw base::UserError(
+          "getup_curves train: actions \"cvae\" needs exactly one input trial of a pose_cvae stage (its "
+          "artifact pose_cvae), got " +
+          std::to_string(request.inputs.size()) + " input trials");
+    cvae_file = request.inputs.front().artifacts.at("pose_cvae");
+    train.env.cvae = std::shared_ptr<const learn::PoseVae>(learn::PoseVae::from_file(cvae_file));
+  } else if (!request.inputs.empty()) {
+    throw base::UserError(
+        "getup_curves train: takes no input trials with actions \"targets\" (\"cvae\" takes a pose_cvae trial)");
+  }
   const TrainOutcome out =
-      run_curve_training(c.train, {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
+      run_curve_training(train, {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
   plugins::RunResult result;
   result.objectives = {out.final.success_rate, out.final.mean_task_reward};
   result.artifacts = {{"policy", out.policy}};
+  if (!cvae_file.empty()) {  // handed on with the policy that acts through it
+    const auto copy = request.work_dir / "pose_cvae.pt";
+    std::filesystem::copy_file(cvae_file, copy, std::filesystem::copy_options::overwrite_existing);
+    result.artifacts.push_back({"pose_cvae", copy});
+  }
   for (std::size_t k = 0; k < out.trajectories.size(); ++k)
     result.artifacts.push_back({k == 0 ? "trajectory" : "trajectory_" + std::to_string(k), out.trajectories[k]});
   if (!out.curves.empty()) result.artifacts.push_back({"curves", out.curves});
@@ -98,9 +158,9 @@ plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& req
 class GetupCurvesTask final : public plugins::Task {
  public:
   Json describe(const Json& config) const override {
-    config_from(config);
+    const TaskConfig c = config_from(config);
     const Json accepted = base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); });
-    Json d = describe_stage();
+    Json d = c.stage == "pose_cvae" ? describe_cvae_stage() : describe_stage();
     d["presets"] = presets();
     d["config"] = accepted;
     d["config_defaults"] = base::ConfigReader::defaults(accepted);
@@ -109,7 +169,7 @@ class GetupCurvesTask final : public plugins::Task {
 
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const TaskConfig c = config_from(request.config);
-    return run_train(c, request, sink);
+    return c.stage == "pose_cvae" ? run_pose_cvae(c, request, sink) : run_train(c, request, sink);
   }
 };
 

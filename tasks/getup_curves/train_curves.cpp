@@ -35,6 +35,11 @@ void read_env_settings(base::ConfigReader& r, CurveEnvSettings& e) {
   e.stand_s = r.number("stand_s", e.stand_s, {.min = 0.0, .max = 60.0}, "T_stand: an episode lasts T + T_stand (§5.5: 3 s)");
   e.early_termination =
       r.boolean("early_termination", e.early_termination, "§5.3's rule: r_task < 0.1 or the head down for more than 300 ms");
+  e.actions = r.choice("actions", e.actions, {"targets", "cvae"},
+                       "targets: the policy's filtered action is the PD target pose (§6.4's no-pose-VAE ablation); cvae: "
+                       "[z Δq] through the pose C-VAE (§3.4), handed over by one input trial of a pose_cvae stage");
+  e.latent_bound = r.number("latent_bound", e.latent_bound, {.min = 0.0, .exclusive_min = true}, "cvae: the latent box ±, σ");
+  e.offset_bound = r.number("offset_bound", e.offset_bound, {.min = 0.0}, "cvae: the per-entry offset box ±, rad");
   e.clip_start_noise_rad =
       r.number("clip_start_noise_rad", e.clip_start_noise_rad, {.min = 0.0, .max = 1.0}, "joint noise of a clip start, rad");
 }

@@ -5,7 +5,9 @@
 // smoke preset end to end.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <set>
+#include <string>
 
 #include "finished_campaign.h"
 #include "podium/base/json.h"
@@ -121,6 +123,53 @@ TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
     EXPECT_LT(series["episodes"][0]["target"]["theta_z_deg"][0].get<double>(), 30.0);
     EXPECT_GT(series["episodes"][1]["target"]["theta_z_deg"][0].get<double>(), 150.0);
   }
+}
+
+// DeepMimic's two get-up clips on their skeleton as pose_clips, or empty (with the reason) when
+// ../shared/data is absent.
+Json deepmimic_getup_clips(std::string& missing) {
+  const char* shared = std::getenv("PODIUM_SHARED_DIR");
+  const fs::path data = shared ? fs::path(shared) / "data/deepmimic/data" : fs::path();
+  if (data.empty() || !fs::exists(data / "characters/humanoid3d.txt")) {
+    missing = "../shared/data/deepmimic absent (PODIUM_SHARED_DIR): no clips for the C-VAE";
+    return Json::array();
+  }
+  Json clips = Json::array();
+  for (const char* way : {"faceup", "facedown"})
+    clips.push_back({{"clip", (data / ("motions/humanoid3d_getup_" + std::string(way) + ".txt")).string()},
+                     {"character", (data / "characters/humanoid3d.txt").string()}});
+  return clips;
+}
+
+// The C-VAE path at the smoke preset: a pose_cvae trial on DeepMimic's get-up clips, then the
+// campaign's train stage acting through its C-VAE (actions "cvae", the pose_cvae trial as input).
+TEST(GetupCurvesCampaign, SmokeTrainsThroughAPoseCvaeTrial) {
+  std::string missing;
+  const Json clips = deepmimic_getup_clips(missing);
+  if (!missing.empty()) GTEST_SKIP() << missing;
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  Json train = spec["stages"][0];
+  train["preset"] = "smoke";
+  train["config"]["actions"] = "cvae";
+  train["budget"]["trials"] = 1;
+  train["inputs"] = {{"stage", "pose_cvae"}, {"select", "all"}, {"per_trial", "each"}};
+  spec["stages"] = Json::array({{{"name", "pose_cvae"},
+                                 {"task", "getup_curves"},
+                                 {"preset", "smoke"},
+                                 {"config", {{"stage", "pose_cvae"}, {"pose_clips", clips}}},
+                                 {"search", {{"algorithm", "random"}}},
+                                 {"budget", {{"trials", 1}}}},
+                                train});
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  const auto& cvae = campaign.trials.at("pose_cvae").at(0);
+  EXPECT_EQ(campaign.artifact_names(cvae), (std::set<std::string>{"pose_cvae"}));
+  EXPECT_GT(cvae.result_info["heldout_poses"].get<int>(), 0);
+  EXPECT_TRUE(campaign.metric_names(cvae).count("pose_cvae_loss"));
+  const auto& t = campaign.trials.at("train").at(0);
+  EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "pose_cvae", "trajectory", "trajectory_1", "curves"}));
+  EXPECT_TRUE(campaign.metric_names(t).count("test/mean_r_task"));
 }
 
 }  // namespace

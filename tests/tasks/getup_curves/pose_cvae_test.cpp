@@ -111,8 +111,8 @@ TEST(PoseCvaeActions, AMissingOrMisshapenCvaeIsRefused) {
 TEST(PoseCvae, PrincipalComponentsAndTheMeanPoseBaselineOnHandMadePoses) {
   learn::PoseDataset d;
   d.dof_names = {"a", "b", "c"};
-  // Poses on a line through (1, 1, 1): one component holds all the variance; the mean pose is
-  // (1, 1, 1) and lies √(2/3) rad RMS from (0, 0, 0) and (2, 2, 2)... per entry: 1 rad.
+  // Poses on a line along (1, 1, 1): one component holds all the variance. Their mean pose is
+  // (1, 1, 1), 1 rad from (0, 0, 0) and from (2, 2, 2) in every entry.
   for (double t : {-1.0, 0.0, 1.0}) d.poses.push_back({1.0 + t, 1.0 + t, 1.0 + t});
   EXPECT_EQ(principal_components_for(d, 0.85), 1);
   learn::PoseDataset ends = d;

@@ -61,11 +61,19 @@ void write_previous_action(const character::CharacterEnv& env, std::span<double>
   for (Eigen::Index k = 0; k < y.size(); ++k) out[static_cast<std::size_t>(k)] = y(k);
 }
 
-// How a filtered action becomes PD targets (§3.4); the C-VAE's map joins here once it is trained.
+// How a filtered action becomes PD targets (§3.4).
 std::unique_ptr<character::ActionMap> make_action_map(const CurveEnvSettings& s, const sim::ModelPtr& model) {
   if (s.actions == "targets") return std::make_unique<character::TargetActions>(model, s.control);
-  throw base::UserError("curve get-up env: actions \"" + s.actions +
-                        "\" is not one of: targets (the C-VAE's action space comes once the C-VAE is trained)");
+  if (s.actions != "cvae") throw base::UserError("curve get-up env: actions \"" + s.actions + "\" is not one of: targets, cvae");
+  if (!s.cvae) throw base::UserError("curve get-up env: actions \"cvae\" needs a trained C-VAE (a pose_cvae trial's pose_cvae)");
+  const character::PoseBridge bridge(model);
+  if (s.cvae->pose_size() != bridge.size() || s.cvae->condition_size() != 3)
+    throw base::UserError("curve get-up env: the C-VAE decodes " + std::to_string(s.cvae->pose_size()) + " pose entries from " +
+                          std::to_string(s.cvae->condition_size()) + " conditions; " + model->name() + " needs " +
+                          std::to_string(bridge.size()) + " from 3 (h, θ_x, θ_z)");
+  // §3.4: c = (p_h, p_θx, p_θz) at the current s.
+  return std::make_unique<character::VaeActions>(s.cvae, bridge, s.control, s.latent_bound, s.offset_bound,
+                                                 [](const character::CharacterEnv& env) { return curve_env(env).condition(); });
 }
 
 int control_steps(double seconds, double control_hz) { return std::max(1, static_cast<int>(std::lround(seconds * control_hz))); }
@@ -242,8 +250,13 @@ void CurveGetupEnv::begin_episode(base::Rng& rng) {
     for (int attempt = 0; attempt < kDropAttempts; ++attempt)
       if (sim::ragdoll_start(world(), rng, fall).ok) break;
   }
-  // y_0: the action that holds the start's pose (the "targets" map: its pose within the box).
-  const std::vector<double> pose = bridge_.pose(world().data().q);
+  // y_0: the action that holds the start's pose ("targets": its pose; "cvae": its encoding, Δq = 0), within the box.
+  std::vector<double> pose = bridge_.pose(world().data().q);
+  if (settings_.cvae && settings_.actions == "cvae") {
+    std::vector<double> z = settings_.cvae->encode(pose, condition());
+    z.resize(action_space().size(), 0.0);
+    pose = std::move(z);
+  }
   const learn::BoxSpace box = action_space();
   Eigen::VectorXd y(static_cast<Eigen::Index>(pose.size()));
   for (std::size_t k = 0; k < pose.size(); ++k) y(static_cast<Eigen::Index>(k)) = std::clamp(pose[k], box.low[k], box.high[k]);
@@ -278,7 +291,24 @@ double CurveGetupEnv::angular_speed_norm() const {
   return std::sqrt(squared);
 }
 
-double CurveGetupEnv::offset_l1(std::span<const double>) const { return 0.0; }  // "targets": no Δq
+double CurveGetupEnv::offset_l1(std::span<const double> y) const {
+  if (settings_.actions != "cvae") return 0.0;  // "targets": no Δq
+  double sum = 0.0;
+  for (std::size_t k = settings_.cvae->latent_size(); k < y.size(); ++k) sum += std::abs(y[k]);
+  return sum;
+}
+
+std::vector<double> CurveGetupEnv::condition() const {
+  const StyleFeatures p = curve().target(curve_time_s());
+  return {p(0), p(1), p(2)};
+}
+
+std::vector<double> CurveGetupEnv::target_pose(std::span<const double> y) const {
+  if (settings_.actions == "cvae") return learn::pose_action_to_target(*settings_.cvae, y, condition());
+  std::vector<double> pose(y.begin(), y.end());
+  for (std::size_t k = 0; k < pose.size(); ++k) pose[k] = std::clamp(pose[k], bridge_.lower()[k], bridge_.upper()[k]);
+  return pose;
+}
 
 void CurveGetupEnv::on_step(std::span<const double> y, learn::StepResult& out) {
   const StyleCurve& c = curve();

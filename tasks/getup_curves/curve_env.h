@@ -24,10 +24,11 @@
 /// Action (§3.4): the policy's a is filtered, y_t = 0.2 a_t + 0.8 y_{t−1}, and y_t is mapped to PD
 /// targets by the `actions` choice: "targets" — y is the target pose itself (the bridge's z-up
 /// pose: hinge angles, ball exponential maps, within the joint limits), the §6.4 "no pose VAE"
-/// ablation, which has no Δq and so r_natural = 1. The C-VAE action space (y = [z Δq], q̄ =
-/// DECODER(z, c) + Δq, character::VaeActions) is to be added as a second choice once the C-VAE
-/// is trained. y_0 (the filter after the start) is the action that holds the start's pose (ours:
-/// the seed does not say; y_0 = 0 would pull every joint toward zero for the first steps).
+/// ablation, which has no Δq and so r_natural = 1; "cvae" — y = [z Δq], q̄ = DECODER(z, c) + Δq
+/// (character::VaeActions, clamped to the joint limits) with c = the curves' targets p(s) now.
+/// y_0 (the filter after the start) is the action that holds the start's pose (ours: the seed
+/// does not say; y_0 = 0 would pull every joint toward zero for the first steps): with "cvae",
+/// z = the encoder's mean for the start's pose and c, and Δq = 0.
 ///
 /// Episodes (§5.2–5.3, §5.5): a curve drawn uniformly, its start (a passive ragdoll drop landing
 /// supine or prone, or its clip frame with joint noise), T + T_stand control time (T_stand = 3 s),
@@ -44,6 +45,7 @@
 #include "podium/character/character_env.h"
 #include "podium/character/motion.h"
 #include "podium/character/pose_bridge.h"
+#include "podium/learn/vae.h"
 #include "podium/sim/starts.h"
 #include "style_curve.h"
 #include "style_rewards.h"
@@ -72,10 +74,14 @@ struct CurveEnvSettings {
   double sim_hz = 600.0;     ///< the seed's 60 Hz needs PD inside the velocity solve (see the file comment)
   double control_hz = 30.0;  ///< §5.6
   sim::Control control = sim::Control::spd_maba;
-  std::string actions = "targets";  ///< how y becomes PD targets; "targets" only, for now
-  double filter_beta = 0.2;         ///< β of §3.4
-  double offset_scale = 10.0;       ///< c of eq. 3
-  double stand_s = 3.0;             ///< T_stand: an episode lasts T + T_stand
+  /// How y becomes PD targets: "targets" (y is the target pose) or "cvae" (y = [z Δq] through `cvae`).
+  std::string actions = "targets";
+  std::shared_ptr<const learn::PoseVae> cvae;  ///< "cvae": the pose C-VAE (pose_cvae.h), shared read-only
+  double latent_bound = 3.0;                   ///< "cvae": z ∈ ±this (±3σ of the prior; ours)
+  double offset_bound = 1.0;                   ///< "cvae": Δq ∈ ±this per pose entry, rad (ours; the seed gives none)
+  double filter_beta = 0.2;                    ///< β of §3.4
+  double offset_scale = 10.0;                  ///< c of eq. 3
+  double stand_s = 3.0;                        ///< T_stand: an episode lasts T + T_stand
   /// §5.3's rule; off, episodes always run their full length (evaluation replays, an ablation)
   /// while the info still counts both conditions.
   bool early_termination = true;
@@ -138,6 +144,11 @@ class CurveGetupEnv final : public character::CharacterEnv {
   double angular_speed_norm() const;
   /// ‖Δq‖₁ of eq. 3 for a filtered action y (0 with "targets", which has no offsets).
   double offset_l1(std::span<const double> y) const;
+  /// The C-VAE's condition c now: the curve's targets p(s) (h m, θ_x rad, θ_z rad).
+  std::vector<double> condition() const;
+  /// The PD target pose q̄ (the bridge's layout) a filtered action y gives now: "targets" y within
+  /// the joint limits, "cvae" DECODER(z, c) + Δq within them.
+  std::vector<double> target_pose(std::span<const double> y) const;
   /// The filter's y (after a step: y_t; after a reset: y_0).
   const Eigen::VectorXd& filtered_action() const { return filter_.value(); }
   const StyleRewardTerms& reward_terms() const { return terms_; }

@@ -1,0 +1,178 @@
+// The style-curve get-up task plugin (curve get-up seed). Two stages, chosen by the config key
+// `stage`: "pose_cvae" — the pose C-VAE of §3.5 (pose_cvae.h); "train" — one PPO policy follows the
+// configured style curves from lying to standing (train_curves.h), acting on PD targets or, with
+// actions "cvae", through a pose_cvae trial's C-VAE. The presets are data (data/presets.json);
+// README.md gives the metrics.
+
+#include "podium/base/json.h"
+#include "podium/plugins/export.h"
+#include "pose_cvae.h"
+#include "train_curves.h"
+
+namespace podium::tasks::getup_curves {
+
+using base::Json;
+
+namespace {
+
+struct TaskConfig {
+  std::string stage = "train";
+  TrainSettings train;
+  PoseCvaeSettings cvae;
+};
+
+TaskConfig read_task_config(base::ConfigReader& r) {
+  TaskConfig c;
+  c.stage = r.choice("stage", c.stage, {"pose_cvae", "train"},
+                     "pose_cvae: trains the pose C-VAE (§3.5) on pose_clips, labelled by their style features; train: PPO on "
+                     "the curve set (§5), one policy for every curve (with actions \"cvae\": through one input pose_cvae "
+                     "trial's C-VAE); the trial's policy, motions and target-vs-achieved features");
+  c.train = read_train_settings(r);
+  c.cvae = read_pose_cvae_settings(r);
+  if (c.stage == "pose_cvae" && c.cvae.clips.empty()) r.fail("pose_clips", "is empty: the pose_cvae stage needs clips");
+  return c;
+}
+
+TaskConfig config_from(const Json& config) { return base::ConfigReader::parse(config, "getup_curves config", read_task_config); }
+
+// The shipped presets (data/presets.json: "smoke", "quick", "paper"; its "notes" say where each
+// value comes from).
+Json presets() {
+  const std::string file = std::string(PODIUM_GETUP_CURVES_DATA_DIR) + "/presets.json";
+  const Json all = base::read_json_file(file);
+  Json out = Json::object();
+  for (const char* name : {"smoke", "quick", "paper"}) {
+    if (!all.contains(name) || !all[name].is_object()) throw base::UserError(file + ": " + name + ": missing or not an object");
+    out[name] = all[name];
+  }
+  return out;
+}
+
+Json metrics() {
+  const plugins::MetricShape steps{.x = {"control steps", ""}}, steps_rate{.x = {"control steps", ""}, .rate = true};
+  const plugins::MetricShape final_rate{.x = {"control steps", ""}, .evaluation = true, .rate = true},
+      final_value{.x = {"control steps", ""}, .evaluation = true};
+  Json m = {
+      plugins::metric_entry("test/return", "", "mean return (eq. 2 summed) of the deterministic policy over the test starts",
+                            steps),
+      plugins::metric_entry("test/success_rate", "",
+                            "test episodes that ran their full T + T_stand and kept h ≥ 0.9·p_h(1) through the last second",
+                            steps_rate),
+      plugins::metric_entry("test/mean_r_task", "", "r_task (eq. 4) averaged over every control step of the test episodes",
+                            steps_rate),
+      plugins::metric_entry("test/episode_s", "s", "mean length of the test episodes (§5.3's early termination shortens them)",
+                            steps),
+      plugins::metric_entry("train/return", "", "mean return of the training episodes that ended since the previous test", steps),
+      plugins::metric_entry("final/success_rate", "", "the exported policy's success over the test starts", final_rate),
+      plugins::metric_entry("final/mean_r_task", "", "the exported policy's mean r_task over the test starts", final_value)};
+  for (const Json& t : character::time_metric_entries()) m.push_back(t);
+  return m;
+}
+
+Json describe_cvae_stage() {
+  const plugins::MetricShape epochs{.x = {"epochs", ""}}, final_value{.x = {"epochs", ""}, .evaluation = true};
+  Json d = {
+      {"params", Json::array()},
+      {"features", Json::array()},
+      {"metrics",
+       {plugins::metric_entry("pose_cvae_loss", "", "mean C-VAE loss (MSE + β·KL) per epoch", epochs),
+        plugins::metric_entry("pose_cvae_rmse_rad", "rad", "reconstruction RMSE over the training poses", final_value),
+        plugins::metric_entry("pose_cvae_heldout_rmse_rad", "rad", "reconstruction RMSE over the held-out frames", final_value),
+        plugins::metric_entry("pose_cvae_mean_pose_rmse_rad", "rad",
+                              "RMSE of the training mean pose over the held-out frames (the baseline)", final_value)}}};
+  plugins::set_objectives(
+      d,
+      Json::array({plugins::objective_entry("heldout_fit", "rad", "minus the C-VAE's reconstruction RMSE on held-out frames")}));
+  return d;
+}
+
+plugins::RunResult run_pose_cvae(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  if (!request.inputs.empty()) throw base::UserError("getup_curves pose_cvae: takes no input trials");
+  const PoseCvaeOutcome out = train_pose_cvae(
+      c.cvae, request.work_dir, request.seed, request.cancel,
+      [&sink](const std::string& name, double step, double value) { sink.metric(name, step, value); },
+      [&sink](double fraction) { sink.progress(fraction); });
+  if (out.cancelled) throw std::runtime_error("getup_curves pose_cvae: cancelled");
+  plugins::RunResult result;
+  result.objectives = {-out.heldout_rmse_rad};
+  result.artifacts = {{"pose_cvae", out.file}};
+  result.info = out.to_json();
+  result.info["summary"] = {{"poses", out.train_poses},
+                            {"held-out RMSE rad", out.heldout_rmse_rad},
+                            {"mean-pose RMSE rad", out.mean_pose_rmse_rad},
+                            {"PCA components for 85%", out.pca_components_85}};
+  return result;
+}
+
+Json describe_stage() {
+  Json d = {{"params", Json::array()}, {"features", Json::array()}, {"metrics", metrics()}};
+  plugins::set_objectives(
+      d, Json::array({plugins::objective_entry("success_rate", "", "the exported policy's success over the test starts"),
+                      plugins::objective_entry("mean_r_task", "",
+                                               "the exported policy's r_task (eq. 4) averaged over its test episodes' steps")}));
+  return d;
+}
+
+plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  TrainSettings train = c.train;
+  std::filesystem::path cvae_file;
+  if (train.env.actions == "cvae") {  // §3.4: the policy acts through the pose_cvae stage's C-VAE
+    if (request.inputs.size() != 1 || !request.inputs.front().artifacts.count("pose_cvae"))
+      throw base::UserError(
+          "getup_curves train: actions \"cvae\" needs exactly one input trial of a pose_cvae stage (its "
+          "artifact pose_cvae), got " +
+          std::to_string(request.inputs.size()) + " input trials");
+    cvae_file = request.inputs.front().artifacts.at("pose_cvae");
+    train.env.cvae = std::shared_ptr<const learn::PoseVae>(learn::PoseVae::from_file(cvae_file));
+  } else if (!request.inputs.empty()) {
+    throw base::UserError(
+        "getup_curves train: takes no input trials with actions \"targets\" (\"cvae\" takes a pose_cvae trial)");
+  }
+  const TrainOutcome out =
+      run_curve_training(train, {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
+  plugins::RunResult result;
+  result.objectives = {out.final.success_rate, out.final.mean_task_reward};
+  result.artifacts = {{"policy", out.policy}};
+  if (!cvae_file.empty()) {  // handed on with the policy that acts through it
+    const auto copy = request.work_dir / "pose_cvae.pt";
+    std::filesystem::copy_file(cvae_file, copy, std::filesystem::copy_options::overwrite_existing);
+    result.artifacts.push_back({"pose_cvae", copy});
+  }
+  for (std::size_t k = 0; k < out.trajectories.size(); ++k)
+    result.artifacts.push_back({k == 0 ? "trajectory" : "trajectory_" + std::to_string(k), out.trajectories[k]});
+  if (!out.curves.empty()) result.artifacts.push_back({"curves", out.curves});
+  result.info = out.to_json();
+  result.info["summary"] = {
+      {"success", out.final.success_rate}, {"mean r_task", out.final.mean_task_reward}, {"episode s", out.final.mean_episode_s}};
+  Json rows = Json::array();
+  const auto& names = out.final.curve_success;
+  for (std::size_t k = 0; k < names.size(); ++k) rows.push_back(Json::array({c.train.curves.at(k), out.final.curve_success[k]}));
+  result.info["table"] =
+      plugins::result_table("success per curve over " + std::to_string(c.train.test_starts) + " test starts",
+                            Json::array({plugins::table_column("curve"), plugins::table_column("success")}), rows);
+  return result;
+}
+
+}  // namespace
+
+class GetupCurvesTask final : public plugins::Task {
+ public:
+  Json describe(const Json& config) const override {
+    const TaskConfig c = config_from(config);
+    const Json accepted = base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); });
+    Json d = c.stage == "pose_cvae" ? describe_cvae_stage() : describe_stage();
+    d["presets"] = presets();
+    d["config"] = accepted;
+    d["config_defaults"] = base::ConfigReader::defaults(accepted);
+    return d;
+  }
+
+  plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
+    const TaskConfig c = config_from(request.config);
+    return c.stage == "pose_cvae" ? run_pose_cvae(c, request, sink) : run_train(c, request, sink);
+  }
+};
+
+}  // namespace podium::tasks::getup_curves
+
+PODIUM_EXPORT_TASK(podium::tasks::getup_curves::GetupCurvesTask, "getup_curves")

@@ -1,0 +1,72 @@
+#pragma once
+/// The style-curve get-up's `train` stage (curve get-up seed §5, §5.6): PPO on copies of
+/// CurveGetupEnv over a curve set, on character's training-stage driver. Tests run the learner's
+/// deterministic policy from fixed starts on every curve; the exported policy is the best tested
+/// (by success rate, then return), and after training it is recorded on the first curves with
+/// its target and achieved features at control rate.
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "curve_env.h"
+#include "podium/base/config.h"
+#include "podium/character/evaluator.h"
+#include "podium/character/training_stage.h"
+
+namespace podium::tasks::getup_curves {
+
+/// The train stage's settings (the task config's keys; README.md lists them).
+struct TrainSettings {
+  /// Curve files: a name without a folder or extension is a shipped curve (data/curves/<name>.json),
+  /// anything else a path (absolute, or relative to the working directory).
+  std::vector<std::string> curves = {"faceup", "facedown"};
+  CurveEnvSettings env;
+  std::string ppo_preset = "quick";       ///< learn's PpoConfig preset under `ppo`
+  base::Json ppo = base::Json::object();  ///< PpoConfig fields over the preset
+  int copies = 2, threads = 1;            ///< env copies stepped together, and threads stepping them
+  std::int64_t total_steps = 100'000;     ///< control steps (environment steps of every copy)
+  double train_minutes = 0.0;             ///< wall budget of training and tests; 0: none
+  int test_every = 10;                    ///< PPO iterations between tests
+  int test_starts = 2;                    ///< test episodes per curve (fixed starts)
+  std::uint64_t test_seed = 7;            ///< the fixed starts' seed (the same for every trial)
+  int record_curves = 2;                  ///< the first curves recorded after training, one episode each
+  int checkpoint_every = 10;              ///< PPO iterations between checkpoints
+};
+
+/// Reads the settings; errors name the JSON path and the value (base::ConfigError).
+TrainSettings read_train_settings(base::ConfigReader& r);
+/// The curve files `settings.curves` names, resolved (shipped names to the shipped folder).
+std::vector<std::filesystem::path> curve_files(const TrainSettings& settings);
+/// The folder of the shipped curves.
+std::filesystem::path shipped_curve_dir();
+
+/// A test: the deterministic policy from `starts` fixed starts on every curve.
+struct CurveTest {
+  double mean_return = 0.0;
+  double success_rate = 0.0;
+  double mean_task_reward = 0.0;      ///< r_task (eq. 4) averaged over every control step of every episode
+  double mean_episode_s = 0.0;        ///< control time of an episode (early termination shortens it)
+  std::vector<double> curve_success;  ///< per curve
+};
+/// Episodes with `policy` on each curve of `env` (use_curve), seeds derived from `seed`; the
+/// env's curve choice is drawn again afterwards.
+CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed);
+
+/// The train stage's outcome.
+struct TrainOutcome {
+  CurveTest final;  ///< the exported policy's test (as at its export)
+  std::filesystem::path policy;
+  std::vector<std::filesystem::path> trajectories;  ///< recorded episodes, one per recorded curve
+  std::vector<std::string> recorded_curves;         ///< their curves' names
+  std::filesystem::path curves;                     ///< targets and achieved features of those episodes (JSON)
+  std::int64_t env_steps = 0;
+  std::string stopped_by;
+  base::Json to_json() const;
+};
+
+/// Runs the stage in `run.work_dir` (resuming from its checkpoint).
+TrainOutcome run_curve_training(const TrainSettings& settings, const character::StageRun& run);
+
+}  // namespace podium::tasks::getup_curves

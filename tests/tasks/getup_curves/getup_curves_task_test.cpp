@@ -1,0 +1,176 @@
+// The getup_curves plugin through the real `podium` binary: the task
+// conformance suite (its resume case kills a smoke trial mid-run and checks the
+// resumed attempt's result and metrics equal an uninterrupted run's), bad
+// configs named at their JSON path, and campaigns/getup_curves.json at the
+// smoke preset end to end.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <set>
+#include <string>
+
+#include "finished_campaign.h"
+#include "podium/base/json.h"
+#include "podium/plugins/loader.h"
+#include "process.h"
+#include "task_conformance.h"
+
+namespace podium::tasks::getup_curves {
+namespace {
+
+using base::Json;
+namespace fs = std::filesystem;
+
+PODIUM_TASK_CONFORMANCE(GetupCurves, {.task = "getup_curves",
+                                      .long_config = {{"total_steps", 100'000'000}},
+                                      .resume_config = {{"total_steps", 1024}},
+                                      .kill_after_metric_points = 20,
+                                      .resumes_from_checkpoint = true,
+                                      .artifacts = {"policy", "trajectory", "curves"}});
+
+TEST(GetupCurvesTask, DescribesItsObjectivesAndShippedCurves) {
+  const auto task = plugins::load_task("getup_curves");
+  const Json d = task->describe(Json::object());
+  EXPECT_EQ(d["objectives"], Json({"success_rate", "mean_r_task"}));
+  EXPECT_TRUE(d["features"].empty());
+  EXPECT_EQ(d["config_defaults"]["curves"], Json({"faceup", "facedown"}));
+  // The paper preset carries §5.6's settings.
+  const Json paper = d["presets"]["paper"];
+  EXPECT_EQ(paper["ppo"]["hidden"], Json({256, 256}));
+  EXPECT_EQ(paper["ppo"]["minibatch_size"], 256);
+  EXPECT_DOUBLE_EQ(paper["ppo"]["policy_lr_start"].get<double>(), 1e-4);
+  EXPECT_DOUBLE_EQ(paper["ppo"]["sigma_end"].get<double>(), 0.3);
+  EXPECT_EQ(paper["copies"], 16);
+}
+
+// One line naming the JSON path and the value.
+std::string describe_error(const Json& config) {
+  try {
+    plugins::load_task("getup_curves")->describe(config);
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(GetupCurvesTask, ABadConfigIsNamedAtItsPathWithItsValue) {
+  std::string e = describe_error({{"curves", {"faceup", "no_such_curve"}}});
+  EXPECT_NE(e.find("curves[1]: \"no_such_curve\" is not a curve file"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  // A curve file with a bad entry: both files and both paths on one line.
+  podium::testing::TempDir dir;
+  Json curve = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "tasks/getup_curves/data/curves/faceup.json");
+  curve["duration_s"] = -1.0;
+  podium::testing::write_file(dir / "bad.json", curve.dump());
+  e = describe_error({{"curves", {(dir / "bad.json").string()}}});
+  EXPECT_NE(e.find("curves[0]: "), std::string::npos) << e;
+  EXPECT_NE(e.find("bad.json: duration_s: -1.0 is not"), std::string::npos) << e;
+  EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  e = describe_error({{"sim_hz", 100.0}});
+  EXPECT_NE(e.find("sim_hz"), std::string::npos) << e;
+  EXPECT_NE(e.find("100"), std::string::npos) << e;
+  e = describe_error({{"ppo", {{"hidden", "wide"}}}});
+  EXPECT_NE(e.find("ppo"), std::string::npos) << e;
+  e = describe_error({{"stage", "pose"}});
+  EXPECT_NE(e.find("stage: \"pose\" is not one of"), std::string::npos) << e;
+}
+
+TEST(GetupCurvesTask, ABadCampaignConfigIsRejectedAtSubmitWithTheFileAndPath) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  spec["stages"][0]["config"]["copies"] = 0;
+  podium::testing::TempDir dir;
+  podium::testing::write_file(dir / "spec.json", spec.dump());
+  const auto run = podium::testing::run_podium({"submit", (dir / "spec.json").string()}, dir.path());
+  EXPECT_EQ(run.exit_code, 2);
+  EXPECT_NE(run.err.find("stages[0].config.copies: 0 is not"), std::string::npos) << run.err;
+}
+
+// campaigns/getup_curves.json at the smoke preset through the real CLI: two
+// trained trials, each with its policy, a recorded motion per shipped curve and
+// their target-vs-achieved features.
+TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  ASSERT_EQ(campaign.trials.at("train").size(), 2u);
+  for (const auto& t : campaign.trials.at("train")) {
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory", "trajectory_1", "curves"}));
+    const auto metrics = campaign.metric_names(t);
+    for (const char* m : {"test/return", "test/success_rate", "test/mean_r_task", "test/episode_s", "final/success_rate"})
+      EXPECT_TRUE(metrics.count(m)) << m;
+    ASSERT_EQ(t.objectives.size(), 2u);
+    EXPECT_GE(t.objectives[0], 0.0);
+    EXPECT_LE(t.objectives[0], 1.0);
+    EXPECT_GT(t.objectives[1], 0.0);  // r_task > 0 at every step an episode runs
+    EXPECT_LE(t.objectives[1], 1.0);
+    EXPECT_EQ(t.result_info["recorded_curves"], Json({"faceup", "facedown"}));
+    EXPECT_EQ(t.result_info["table"]["rows"].size(), 2u);
+    std::string curves;
+    for (const auto& a : campaign.store->artifacts(t.id))
+      if (a.name == "curves") curves = a.path;
+    const Json series = base::read_json_file(fs::path(curves).is_absolute() ? fs::path(curves) : dir / curves);
+    ASSERT_EQ(series["episodes"].size(), 2u);
+    for (const Json& e : series["episodes"]) {
+      const std::size_t n = e["t_s"].size();
+      EXPECT_GT(n, 1u);
+      for (const char* block : {"target", "achieved"})
+        for (const char* f : {"h_m", "theta_x_deg", "theta_z_deg"}) EXPECT_EQ(e[block][f].size(), n) << block << " " << f;
+    }
+    // The curves start lying as their names say: faceup on the back (θ_z near
+    // 0), facedown on the front.
+    EXPECT_LT(series["episodes"][0]["target"]["theta_z_deg"][0].get<double>(), 30.0);
+    EXPECT_GT(series["episodes"][1]["target"]["theta_z_deg"][0].get<double>(), 150.0);
+  }
+}
+
+// DeepMimic's two get-up clips on their skeleton as pose_clips, or empty (with the reason) when
+// ../shared/data is absent.
+Json deepmimic_getup_clips(std::string& missing) {
+  const char* shared = std::getenv("PODIUM_SHARED_DIR");
+  const fs::path data = shared ? fs::path(shared) / "data/deepmimic/data" : fs::path();
+  if (data.empty() || !fs::exists(data / "characters/humanoid3d.txt")) {
+    missing = "../shared/data/deepmimic absent (PODIUM_SHARED_DIR): no clips for the C-VAE";
+    return Json::array();
+  }
+  Json clips = Json::array();
+  for (const char* way : {"faceup", "facedown"})
+    clips.push_back({{"clip", (data / ("motions/humanoid3d_getup_" + std::string(way) + ".txt")).string()},
+                     {"character", (data / "characters/humanoid3d.txt").string()}});
+  return clips;
+}
+
+// The C-VAE path at the smoke preset: a pose_cvae trial on DeepMimic's get-up clips, then the
+// campaign's train stage acting through its C-VAE (actions "cvae", the pose_cvae trial as input).
+TEST(GetupCurvesCampaign, SmokeTrainsThroughAPoseCvaeTrial) {
+  std::string missing;
+  const Json clips = deepmimic_getup_clips(missing);
+  if (!missing.empty()) GTEST_SKIP() << missing;
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  Json train = spec["stages"][0];
+  train["preset"] = "smoke";
+  train["config"]["actions"] = "cvae";
+  train["budget"]["trials"] = 1;
+  train["inputs"] = {{"stage", "pose_cvae"}, {"select", "all"}, {"per_trial", "each"}};
+  spec["stages"] = Json::array({{{"name", "pose_cvae"},
+                                 {"task", "getup_curves"},
+                                 {"preset", "smoke"},
+                                 {"config", {{"stage", "pose_cvae"}, {"pose_clips", clips}}},
+                                 {"search", {{"algorithm", "random"}}},
+                                 {"budget", {{"trials", 1}}}},
+                                train});
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  const auto& cvae = campaign.trials.at("pose_cvae").at(0);
+  EXPECT_EQ(campaign.artifact_names(cvae), (std::set<std::string>{"pose_cvae"}));
+  EXPECT_GT(cvae.result_info["heldout_poses"].get<int>(), 0);
+  EXPECT_TRUE(campaign.metric_names(cvae).count("pose_cvae_loss"));
+  const auto& t = campaign.trials.at("train").at(0);
+  EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "pose_cvae", "trajectory", "trajectory_1", "curves"}));
+  EXPECT_TRUE(campaign.metric_names(t).count("test/mean_r_task"));
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup_curves

@@ -40,10 +40,31 @@ void CharacterEnv::observe(std::vector<double>& observation) {
   }
 }
 
+void CharacterEnv::note_start_state(std::span<const double> action) {
+  if (!parts_.record_start_transitions) return;
+  std::vector<double> observation;
+  observe(observation);
+  if (start_noted_) {
+    learn::StepResult result;
+    result.info.assign(parts_.info_names.size(), 0.0);
+    result.observation = observation;
+    parts_.reward(*this, action, result);
+    start_transitions_.push_back({.observation = std::move(start_state_),
+                                  .action = std::vector<double>(action.begin(), action.end()),
+                                  .reward = result.reward,
+                                  .next_observation = observation,
+                                  .terminated = result.terminated});
+  }
+  start_state_ = std::move(observation);
+  start_noted_ = true;
+}
+
 void CharacterEnv::reset(std::vector<double>& observation) {
   step_ = 0;
   reference_time_s_ = 0.0;
   last_action_.clear();
+  start_transitions_.clear();
+  start_noted_ = false;
   if (parts_.before_episode) parts_.before_episode(*this, rng_);
   parts_.start->begin(*this, rng_);
   observe(observation);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "podium/base/error.h"
+#include "podium/character/actions.h"
 #include "podium/character/frames.h"
 #include "podium/sim/dynamics.h"
 
@@ -41,7 +42,22 @@ void RagdollDrop::begin(CharacterEnv& env, base::Rng& rng) const {
   fall.lying = lying_;
   fall.x_m = at_.x_m, fall.y_m = at_.y_m, fall.yaw_rad = at_.yaw_rad;
   fall.random_yaw = random_yaw_;
-  sim::ragdoll_start(env.world(), rng, fall);  // a non-finite state: the env's first step reports it
+  if (!env.records_start_transitions()) {
+    sim::ragdoll_start(env.world(), rng, fall);  // a non-finite state: the env's first step reports it
+    return;
+  }
+  // Each step a transition under the action TorqueActions maps to its torques.
+  if (!dynamic_cast<const TorqueActions*>(&env.action_map()))
+    throw base::UserError("character starts: a recorded fall needs torque actions (TorqueActions)");
+  const sim::CharacterModel& model = env.model();
+  const double strength = env.world().config().strength;
+  std::vector<double> action(env.action_space().size(), 0.0);
+  sim::ragdoll_start(env.world(), rng, fall, [&](const Eigen::VectorXd* tau) {
+    if (!tau) return env.note_start_state({});
+    for (int i = 6; i < model.nv(); ++i)
+      action[std::size_t(i - 6)] = std::clamp((*tau)(i) / (model.torque_limits()(i) * strength), -1.0, 1.0);
+    env.note_start_state(action);
+  });
 }
 
 void ReferenceStart::begin(CharacterEnv& env, base::Rng& rng) const {

@@ -333,8 +333,22 @@ void Sac::train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCal
   std::vector<double> copy_bounds(static_cast<std::size_t>(K));
   TrainStats stats;
   std::int64_t next_log = (m.env_steps / m.config.log_interval_steps + 1) * m.config.log_interval_steps;
+  // The transitions each new episode's start took (the get-up seed's fall), stored as they come:
+  // not environment steps, so neither the step count nor the updates owed change.
+  std::vector<float> start_action(static_cast<std::size_t>(m.n_act));
+  const auto store_starts = [&] {
+    for (std::size_t i = 0; i < std::size_t(K); ++i)
+      for (const Transition& t : envs.take_start_transitions(i)) {
+        PODIUM_CHECK(std::int64_t(t.action.size()) == m.n_act && std::int64_t(t.observation.size()) == m.n_obs &&
+                         std::int64_t(t.next_observation.size()) == m.n_obs,
+                     "sac: a start transition's sizes");
+        for (std::size_t j = 0; j < start_action.size(); ++j) start_action[j] = float((t.action[j] - m.center[j]) / m.half[j]);
+        m.store(t.observation, t.next_observation, start_action.data(), t.reward, t.terminated, float(envs.action_scale(i)));
+      }
+  };
   while (m.env_steps < total_env_steps) {
     const auto t0 = std::chrono::steady_clock::now();
+    store_starts();
     std::vector<double> raw;
     for (std::int64_t i = 0; i < K; ++i) {
       obs[static_cast<std::size_t>(i)] = envs.observation(static_cast<std::size_t>(i));
@@ -369,6 +383,7 @@ void Sac::train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCal
       m.store(obs[static_cast<std::size_t>(i)], r.observation, ap + i * m.n_act, r.reward, r.terminated,
               scales[static_cast<std::size_t>(i)]);
     }
+    store_starts();
     m.env_steps += K;
     const auto t1 = std::chrono::steady_clock::now();
     if (m.env_steps >= m.config.warmup_steps && m.buf_size >= m.config.batch_size) {

@@ -19,6 +19,7 @@ VecEnv::VecEnv(std::vector<std::unique_ptr<Env>> envs, int num_threads, std::uin
   observations_.resize(n);
   results_.resize(n);
   running_returns_.assign(n, 0.0);
+  fresh_start_.assign(n, 1);
   for (std::size_t i = 0; i < n; ++i) {
     if (envs_[i]->observation_space().size() != observation_space_.size() ||
         envs_[i]->action_space().size() != action_space_.size())
@@ -82,6 +83,7 @@ void VecEnv::step(const std::vector<double>& actions) {
     running_returns_[i] += r.reward;
     if (r.terminated || r.truncated) {
       envs_[i]->reset(observations_[i]);
+      fresh_start_[i] = 1;
     } else {
       observations_[i] = r.observation;
     }
@@ -93,6 +95,12 @@ void VecEnv::step(const std::vector<double>& actions) {
       running_returns_[i] = 0.0;
     }
   }
+}
+
+std::span<const Transition> VecEnv::take_start_transitions(std::size_t i) {
+  if (!fresh_start_.at(i)) return {};
+  fresh_start_[i] = 0;
+  return envs_[i]->start_transitions();
 }
 
 std::vector<double> VecEnv::take_finished_returns() {
@@ -122,6 +130,7 @@ void VecEnv::load_state(const base::Json& state) {
   for (const auto& e : envs) all_saved = all_saved && !e.is_null();
   if (!all_saved) return;  // environments without state support: keep the fresh episodes
   for (std::size_t i = 0; i < envs_.size(); ++i) envs_[i]->load_state(envs[i]);
+  fresh_start_.assign(envs_.size(), 0);
   observations_ = state.at("observations").get<std::vector<std::vector<double>>>();
   running_returns_ = state.at("running_returns").get<std::vector<double>>();
   finished_returns_ = state.at("finished_returns").get<std::vector<double>>();

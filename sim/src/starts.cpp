@@ -32,7 +32,7 @@ Eigen::VectorXd random_pose(const CharacterModel& model, base::Rng& rng, double 
 
 void standing_start(World& world) { world.reset(world.model().standing_pose(), Eigen::VectorXd::Zero(world.model().nv())); }
 
-StepReport ragdoll_start(World& world, base::Rng& rng, const RagdollStart& options) {
+StepReport ragdoll_start(World& world, base::Rng& rng, const RagdollStart& options, const FallObserver& observer) {
   const CharacterModel& model = world.model();
   Eigen::VectorXd q = random_pose(model, rng, options.drop_height_m);
   if (options.lying != RagdollStart::Lying::any) {
@@ -58,11 +58,13 @@ StepReport ragdoll_start(World& world, base::Rng& rng, const RagdollStart& optio
   const double low = lowest_geom_point(model, scratch) - ground;
   if (low < 0.05) q(2) += 0.05 - low;
   world.reset(q, Eigen::VectorXd::Zero(model.nv()));
+  if (observer) observer(nullptr);
   Eigen::VectorXd tau = Eigen::VectorXd::Zero(model.nv());
   StepReport report;
   for (int k = 0; k < options.control_steps && report.ok; ++k) {
     for (int i = 6; i < model.nv(); ++i) tau(i) = rng.normal(0.0, options.action_sigma) * model.torque_limits()(i);
     report = world.control_step(Control::torque, tau);
+    if (report.ok && observer) observer(&tau);
   }
   return report;
 }

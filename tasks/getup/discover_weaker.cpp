@@ -43,6 +43,9 @@ Settings read_settings(base::ConfigReader& r) {
       r.number("fall_sigma", e.fall.action_sigma, {.min = 0.0, .max = 10.0},
                "σ of the fall's random actions, in torque limits (the seed repository's env.py reset: 0, zero torques, its "
                "N(0, 0.1) commented out; §7's text: 0.1)");
+  e.fall_transitions = r.boolean("fall_transitions", e.fall_transitions,
+                                 "store the fall's control steps in SAC's replay buffer as transitions with their actions "
+                                 "and reward, not counted as steps (the seed repository's env.py reset: 80 per episode)");
   e.strength_sigma =
       r.number("strength_sigma", e.strength_sigma, {.min = 0.0, .max = 1.0}, "ε: per-episode β̂ ~ N(β^i, ε) (§5: 0.04)");
   e.passive_joints = r.boolean("passive_joints", e.passive_joints,

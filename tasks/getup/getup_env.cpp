@@ -25,6 +25,7 @@ character::CharacterEnvParts parts_for(const EnvSettings& s, const sim::ModelPtr
   p.observation.push_back(std::make_unique<TaskScalars>(
       1, [](const CharacterEnv& env, std::span<double> out) { out[0] = static_cast<const GetupEnv&>(env).strength(); }));
   p.start = std::make_unique<RagdollDrop>(s.fall, RagdollDrop::Lying::any);
+  p.record_start_transitions = s.fall_transitions;
   // §7: no early termination in Discover and Weaker.
   p.reward = [](const CharacterEnv& env, std::span<const double>, learn::StepResult& out) {
     out.reward = reward_weak(static_cast<const GetupEnv&>(env).weak());

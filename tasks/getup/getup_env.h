@@ -36,6 +36,10 @@ struct EnvSettings {
   /// The fall (§7: 1.5 m, 80 control steps); its actions are zero torques as in the seed
   /// repository's env.py reset (the N(0, 0.1) line is commented out there).
   sim::RagdollStart fall = zero_torque_fall();
+  /// The fall's control steps join SAC's replay buffer as transitions (the fall's actions, zero
+  /// in the seed's fall, with their R_weak), as the seed repository's env.py reset stores them;
+  /// they are not training steps.
+  bool fall_transitions = true;
   double strength_sigma = 0.04;  ///< ε of §5
   /// Lower clip of β̂ during the curriculum: the seed repository's power_end (main.py: 0.4).
   double min_strength = 0.4;

@@ -1,8 +1,10 @@
 #include "podium/learn/sac.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "podium/base/error.h"
@@ -203,6 +205,102 @@ TEST(Sac, TemperatureAdaptsAndReplayFills) {
   sac.train_until(envs, 300);
   EXPECT_EQ(sac.replay_size(), 300);
   EXPECT_NE(sac.alpha(), c.initial_alpha);
+}
+
+// A pendulum whose every reset offers kStart transitions of its own (as the get-up's fall does),
+// each under a zero torque, rewarded −1.
+class FallingPendulum final : public Env {
+ public:
+  static constexpr int kStart = 3;
+  BoxSpace observation_space() const override { return inner_.observation_space(); }
+  BoxSpace action_space() const override { return inner_.action_space(); }
+  void seed(std::uint64_t seed) override { inner_.seed(seed); }
+  void reset(std::vector<double>& observation) override {
+    inner_.reset(observation);
+    starts_.assign(kStart, {.observation = observation, .action = {0.0}, .reward = -1.0, .next_observation = observation});
+  }
+  void step(std::span<const double> action, StepResult& out) override { inner_.step(action, out); }
+  std::span<const Transition> start_transitions() const override { return starts_; }
+  std::optional<base::Json> save_state() const override { return inner_.save_state(); }
+  void load_state(const base::Json& state) override { inner_.load_state(state); }
+
+ private:
+  Pendulum inner_;
+  std::vector<Transition> starts_;
+};
+
+VecEnv falling_pendulums(std::uint64_t seed, int copies = 1) {
+  std::vector<std::unique_ptr<Env>> envs;
+  for (int i = 0; i < copies; ++i) envs.push_back(std::make_unique<FallingPendulum>());
+  return VecEnv(std::move(envs), 1, seed);
+}
+
+TEST(VecEnv, GivesEachEpisodesStartTransitionsOnceAndNoneAfterALoad) {
+  auto envs = falling_pendulums(1, 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto starts = envs.take_start_transitions(i);
+    ASSERT_EQ(starts.size(), std::size_t(FallingPendulum::kStart));
+    EXPECT_EQ(starts.back().next_observation, envs.observation(i));
+    EXPECT_TRUE(envs.take_start_transitions(i).empty());
+  }
+  const std::vector<double> actions(2, 0.0);
+  for (int t = 0; t < Pendulum::kEpisodeSteps - 1; ++t) envs.step(actions);
+  EXPECT_TRUE(envs.take_start_transitions(0).empty());
+  envs.step(actions);  // both episodes end and the copies reset
+  EXPECT_EQ(envs.take_start_transitions(0).size(), std::size_t(FallingPendulum::kStart));
+  auto other = falling_pendulums(2, 2);
+  other.load_state(envs.save_state());
+  EXPECT_TRUE(other.take_start_transitions(0).empty());
+  EXPECT_TRUE(other.take_start_transitions(1).empty());
+}
+
+TEST(Sac, StoresEachEpisodesStartTransitionsOnceWithoutCountingThemAsSteps) {
+  FallingPendulum probe;
+  SacConfig c;
+  c.warmup_steps = 64;
+  c.batch_size = 32;
+  Sac sac(c, probe.observation_space(), probe.action_space(), 3);
+  auto envs = falling_pendulums(3, 2);
+  // Pendulum episodes are 200 steps: per copy, 300 steps begin 2 episodes (at 0 and 200), 450
+  // steps 3.
+  sac.train_until(envs, 2 * 300);
+  EXPECT_EQ(sac.env_steps(), 600);
+  EXPECT_EQ(sac.replay_size(), 600 + 2 * 2 * FallingPendulum::kStart);
+  sac.train_until(envs, 2 * 450);
+  EXPECT_EQ(sac.env_steps(), 900);
+  EXPECT_EQ(sac.replay_size(), 900 + 2 * 3 * FallingPendulum::kStart);
+  // The updates owed follow the environment steps alone: as many as without the starts.
+  Sac plain(c, probe.observation_space(), probe.action_space(), 3);
+  std::vector<std::unique_ptr<Env>> two;
+  for (int i = 0; i < 2; ++i) two.push_back(std::make_unique<Pendulum>());
+  VecEnv plain_envs(std::move(two), 1, 3);
+  plain.train_until(plain_envs, 2 * 450);
+  EXPECT_EQ(sac.updates(), plain.updates());
+  EXPECT_EQ(plain.replay_size(), 900);
+}
+
+TEST(Sac, ResumeWithStartTransitionsEqualsTheUninterruptedRun) {
+  FallingPendulum probe;
+  SacConfig c;
+  c.warmup_steps = 64;
+  c.batch_size = 32;
+  const auto dir = std::filesystem::temp_directory_path() / ("podium_sac_starts_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  Sac whole(c, probe.observation_space(), probe.action_space(), 5);
+  auto envs_whole = falling_pendulums(5);
+  whole.train_until(envs_whole, 450);
+
+  Sac first(c, probe.observation_space(), probe.action_space(), 5);
+  auto envs_first = falling_pendulums(5);
+  first.train_until(envs_first, 250);  // an episode began at step 200: its start is stored
+  first.save_checkpoint(dir / "sac.pt", envs_first, base::Json::object());
+  Sac resumed(c, probe.observation_space(), probe.action_space(), 99);
+  auto envs_resumed = falling_pendulums(77);  // fresh episodes, replaced by the checkpoint's
+  resumed.load_checkpoint(dir / "sac.pt", envs_resumed);
+  resumed.train_until(envs_resumed, 450);
+  EXPECT_EQ(resumed.replay_size(), whole.replay_size());
+  EXPECT_EQ(resumed.parameters(), whole.parameters());
+  std::filesystem::remove_all(dir);
 }
 
 // Haarnoja et al. 2018b eq. 18: α rises while the policy's entropy is below the target and falls

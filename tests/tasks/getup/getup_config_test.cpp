@@ -26,6 +26,7 @@ TEST(GetupConfig, DefaultsAreTheSeedsSettings) {
   EXPECT_EQ(s.env.episode_steps, 250);
   EXPECT_EQ(s.env.fall.control_steps, 80);
   EXPECT_EQ(s.env.fall.action_sigma, 0.0);
+  EXPECT_TRUE(s.env.fall_transitions);  // env.py reset stores the fall's 80 steps
   EXPECT_EQ(s.env.min_strength, 0.4);
   EXPECT_EQ(s.hold_strength, 0.0);
   // Its Slower: π_slow at 800 Hz, the reference to one step past a head origin of 1.4 m, the
@@ -105,6 +106,8 @@ TEST(GetupConfig, BadValuesAreReportedAtTheirPath) {
   EXPECT_EQ(error_path({{"sac", {{"hiden", {8}}}}}), "sac");
   EXPECT_EQ(error_path({{"sac", {{"log_interval_steps", 5}}}}), "sac");
   EXPECT_EQ(error_path({{"no_such_key", 1}}), "no_such_key");
+  EXPECT_EQ(error_path({{"fall_transitions", 1}}), "fall_transitions");
+  EXPECT_FALSE(read({{"fall_transitions", false}}).env.fall_transitions);
   EXPECT_EQ(error_path({{"copies", 2}, {"threads", 2}, {"eval_every", 20000}}), "(accepted)");
 }
 

@@ -133,6 +133,59 @@ TEST(GetupEnv, ASavedEpisodeStartReplaysBitwise) {
   }
 }
 
+// The seed repository's env.py reset: each of the fall's control steps is a transition under a
+// zero action with its reward, from the release to the episode's first state.
+TEST(GetupEnv, TheFallsStepsAreTransitionsUnderZeroActions) {
+  GetupEnv env(EnvSettings{}, std::make_shared<double>(0.8), true);
+  env.seed(21);
+  std::vector<double> observation;
+  env.reset(observation);
+  const auto fall = env.start_transitions();
+  ASSERT_EQ(fall.size(), 80u);
+  EXPECT_EQ(fall.back().next_observation, observation);
+  const double first_head = fall.front().observation[21 + 21 + 6];  // the head height, after q, q̇, root velocity
+  EXPECT_GT(first_head, 0.9);                                       // released with the root at 1.5 m
+  EXPECT_LT(observation[21 + 21 + 6], 0.6);                         // lying at the end
+  for (std::size_t k = 0; k < fall.size(); ++k) {
+    EXPECT_EQ(fall[k].action, std::vector<double>(env.action_space().size(), 0.0)) << k;
+    EXPECT_FALSE(fall[k].terminated) << k;
+    EXPECT_GE(fall[k].reward, 0.0) << k;
+    EXPECT_LE(fall[k].reward, 1.0) << k;
+    if (k > 0) {
+      EXPECT_EQ(fall[k].observation, fall[k - 1].next_observation) << k;
+    }
+  }
+  EXPECT_DOUBLE_EQ(fall.back().reward, reward_weak(env.weak()));  // R_weak of the state it ends in
+  // Recording changes nothing in the episode: the same fall without it ends in the same state.
+  EnvSettings quiet;
+  quiet.fall_transitions = false;
+  GetupEnv other(quiet, std::make_shared<double>(0.8), true);
+  other.seed(21);
+  std::vector<double> other_observation;
+  other.reset(other_observation);
+  EXPECT_TRUE(other.start_transitions().empty());
+  EXPECT_EQ(other_observation, observation);
+}
+
+// §7's text's fall, a ~ N(0, 0.1) in torque limits: each transition carries the action it applied.
+TEST(GetupEnv, ANoisyFallsTransitionsCarryItsActions) {
+  EnvSettings noisy;
+  noisy.fall.action_sigma = 0.1;
+  GetupEnv env(noisy, std::make_shared<double>(1.0), true);
+  env.seed(22);
+  std::vector<double> observation;
+  env.reset(observation);
+  double sum_sq = 0.0;
+  std::size_t n = 0;
+  for (const learn::Transition& t : env.start_transitions())
+    for (double a : t.action) {
+      EXPECT_LE(std::abs(a), 1.0);
+      sum_sq += a * a, ++n;
+    }
+  ASSERT_EQ(n, 80u * env.action_space().size());
+  EXPECT_NEAR(std::sqrt(sum_sq / double(n)), 0.1, 0.01);  // 1680 draws of N(0, 0.1)
+}
+
 }  // namespace
 }  // namespace podium::tasks::getup
 

@@ -71,6 +71,9 @@ struct CharacterEnvParts {
   /// The reference motion, for residual actions, reference observations and clip starts; its
   /// clock advances one control period per step from the time the start sets.
   std::shared_ptr<const Clip> reference;
+  /// Keep the start's control steps as learn::Transitions (start_transitions()) for an
+  /// off-policy learner to store, rewarded by `reward` (get-up seed repository: the fall's).
+  bool record_start_transitions = false;
 };
 
 class CharacterEnv : public learn::Env {
@@ -95,9 +98,19 @@ class CharacterEnv : public learn::Env {
   /// and for tasks that edit the state mid-episode).
   void observe(std::vector<double>& observation);
 
+  /// The start's transitions of this episode (with CharacterEnvParts::record_start_transitions).
+  std::span<const learn::Transition> start_transitions() const override { return start_transitions_; }
+  bool records_start_transitions() const { return parts_.record_start_transitions; }
+  /// For a Start that steps the World: the first call of an episode notes the state the start
+  /// begins from; each later one adds the transition from the previously noted state to the
+  /// current one under `action` (in action_space()), rewarded by the task's reward. Does nothing
+  /// unless the env records start transitions.
+  void note_start_state(std::span<const double> action);
+
   sim::World& world() { return *world_; }
   const sim::World& world() const { return *world_; }
   const sim::CharacterModel& model() const { return *parts_.model; }
+  const ActionMap& action_map() const { return *parts_.action; }
   /// sim::World::observe() of the current state (refreshed after every reset and step).
   const sim::Observation& features() const { return features_; }
   /// Control steps taken in this episode.
@@ -123,6 +136,9 @@ class CharacterEnv : public learn::Env {
   base::Rng rng_;
   int step_ = 0;
   double reference_time_s_ = 0.0;
+  std::vector<learn::Transition> start_transitions_;
+  std::vector<double> start_state_;  // the last noted start state's observation
+  bool start_noted_ = false;
 };
 
 }  // namespace podium::character

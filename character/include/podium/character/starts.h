@@ -29,6 +29,8 @@ class StandingStart : public Start {
 /// torques a ~ N(0, σ)·limits for 80 control steps), with the torso turned before the release so
 /// that the character lands on its back (supine) or front (prone) when asked, at a placement
 /// (yaw uniform when `random_yaw`); `lying`, `at` and `random_yaw` replace those of `options`.
+/// In an env that records start transitions (with TorqueActions), each of the fall's control steps
+/// is one, under the action that maps to its torques (zero for the seed repository's fall).
 class RagdollDrop : public Start {
  public:
   using Lying = sim::RagdollStart::Lying;

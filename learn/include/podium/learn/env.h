@@ -31,6 +31,17 @@ struct StepResult {
   std::vector<double> info;  ///< extra per-step numbers, named by info_names()
 };
 
+/// A transition an environment took by itself while starting an episode, before reset() returned
+/// the first observation (get-up seed: the fall's control steps, which the seed repository's
+/// env.py reset adds to the replay buffer with their zero actions). `action` is in action_space().
+struct Transition {
+  std::vector<double> observation;
+  std::vector<double> action;
+  double reward = 0.0;
+  std::vector<double> next_observation;
+  bool terminated = false;
+};
+
 class Env {
  public:
   virtual ~Env() = default;
@@ -44,6 +55,9 @@ class Env {
   virtual void reset(std::vector<double>& observation) = 0;
   /// Applies `action` (inside action_space()) for one control step.
   virtual void step(std::span<const double> action, StepResult& out) = 0;
+  /// The transitions the last reset() took before its first observation (none by default). An
+  /// off-policy learner stores them; they are not environment steps (no step budget counts them).
+  virtual std::span<const Transition> start_transitions() const { return {}; }
   /// This copy's action bound s for the current episode, as a fraction of the normalised box:
   /// SAC acts β·s·tanh(u) for it (get-up seed §5 and Algorithm 1: a per-episode torque
   /// multiplier β̂ ~ N(β^i, ε), drawn at each reset, which the observation should also carry).

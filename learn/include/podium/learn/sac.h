@@ -4,7 +4,9 @@
 /// policy whose bound β can change during training (§5: actions in [−β^i, β^i] for the
 /// strong-to-weak torque curriculum, a = β·tanh(u)), times a per-copy, per-episode scale s
 /// (Env::action_scale(), Algorithm 1's β̂) kept with each transition, a replay buffer, uniform
-/// warm-up and a fractional update-to-data ratio.
+/// warm-up and a fractional update-to-data ratio. Each episode's start transitions
+/// (Env::start_transitions(): the get-up seed's fall) join the replay buffer too, as the seed
+/// repository's env.py reset adds them; they are not environment steps.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -78,6 +80,7 @@ class Sac final : public Learner {
   void set_action_bound(double beta);
   double action_bound() const;
   double alpha() const;
+  /// Transitions in the replay buffer: environment steps and start transitions, up to its capacity.
   std::int64_t replay_size() const;
   /// Network updates done so far (⌊updates_per_step × env steps since updates began⌋).
   std::int64_t updates() const;

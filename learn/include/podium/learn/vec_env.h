@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <thread>
 #include <vector>
 
@@ -35,6 +36,11 @@ class VecEnv {
   /// Results of the last step, one per copy.
   const StepResult& result(std::size_t i) const { return results_[i]; }
 
+  /// Copy i's Env::start_transitions() when its current episode began after the last call for i,
+  /// else none: a learner that calls this after every step() stores each start once. load_state()
+  /// clears them (a restored episode's were taken before the checkpoint).
+  std::span<const Transition> take_start_transitions(std::size_t i);
+
   /// Copy i's Env::action_scale() for its current episode.
   double action_scale(std::size_t i) const { return envs_[i]->action_scale(); }
 
@@ -56,6 +62,7 @@ class VecEnv {
   std::vector<StepResult> results_;
   std::vector<double> running_returns_;
   std::vector<double> finished_returns_;
+  std::vector<char> fresh_start_;  // copy i reset since take_start_transitions(i)
 
   // Persistent workers: each generation runs `work_` on the copies i ≡ worker (mod threads).
   std::vector<std::thread> workers_;

@@ -1,5 +1,7 @@
 #pragma once
 /// Episode starts: standing, the get-up seed's ragdoll drop (§7), and random poses.
+#include <functional>
+
 #include "podium/base/rng.h"
 #include "podium/sim/world.h"
 
@@ -32,7 +34,11 @@ struct RagdollStart {
 /// get-up seed §7: release from `drop_height_m` in a random pose (turned to lie as asked), apply
 /// torque actions a ~ N(0, σ)·torque limits for `control_steps` control steps. Returns the
 /// last step's report (stops at the first non-finite state). The root is raised if needed so
-/// that no geom starts below 5 cm above the terrain under the root.
-StepReport ragdoll_start(World& world, base::Rng& rng, const RagdollStart& options = {});
+/// that no geom starts below 5 cm above the terrain under the root. `observer`, when given, is
+/// called at the release (with null) and after each control step that leaves a finite state (with
+/// the step's joint torques, nv values), to record the fall: the get-up seed repository stores its
+/// steps as transitions.
+using FallObserver = std::function<void(const Eigen::VectorXd* tau)>;
+StepReport ragdoll_start(World& world, base::Rng& rng, const RagdollStart& options = {}, const FallObserver& observer = {});
 
 }  // namespace podium::sim

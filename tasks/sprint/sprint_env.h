@@ -137,7 +137,7 @@ class SprintEnv final : public character::CharacterEnv {
 
   void reset(std::vector<double>& observation) override;
   /// CharacterEnv's state plus the draw, step counter, finish line, mirror history, the root's
-  /// last x and the outcome: loaded into an env of the same settings, it continues bitwise.
+  /// last and starting x and the outcome: loaded into an env of the same settings, it continues bitwise.
   std::optional<base::Json> save_state() const override;
   void load_state(const base::Json& state) override;
 

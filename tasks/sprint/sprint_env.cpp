@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <fstream>
 #include <numbers>
+#include <utility>
 
 #include "podium/base/error.h"
 #include "podium/base/json.h"
@@ -258,6 +259,7 @@ SprintEnv::SprintEnv(const SprintEnvSettings& settings)
 }
 
 void SprintEnv::reset(std::vector<double>& observation) {
+  if (settings_.log_distances && step_index() > 0) distances_.push_back(prev_root_x_ - start_root_x_);
   handover_ = nullptr;
   reference_ = -1;
   landing_.reset();
@@ -279,10 +281,12 @@ void SprintEnv::begin_episode() {
   else counter_.reset(foot_down(f, bodies_.left_foot), foot_down(f, bodies_.right_foot));
   finish_.reset(world());
   poses_.reset();
-  prev_root_x_ = world().data().q(0);
+  prev_root_x_ = start_root_x_ = world().data().q(0);
   outcome_ = Outcome::running;
   apply_drag();
 }
+
+std::vector<double> SprintEnv::take_episode_distances() { return std::exchange(distances_, {}); }
 
 void SprintEnv::apply_drag() { drag_.apply(world(), Eigen::Vector3d(draw_.wind_mps, 0.0, 0.0)); }  // §2, wind along +x
 
@@ -391,7 +395,8 @@ std::optional<base::Json> SprintEnv::save_state() const {
   base::Json state = *CharacterEnv::save_state();
   state["sprint"] = {{"draw", draw_.to_json()},        {"step_counter", counter_.state()},
                      {"finish_line", finish_.state()}, {"poses", poses_.state()},
-                     {"prev_root_x", prev_root_x_},    {"outcome", to_string(outcome_)},
+                     {"prev_root_x", prev_root_x_},    {"start_root_x", start_root_x_},
+                     {"outcome", to_string(outcome_)},
                      {"reference", reference_},        {"landing", landing_ ? *landing_ : base::Json(nullptr)}};
   return state;
 }
@@ -406,6 +411,7 @@ void SprintEnv::load_state(const base::Json& state) {
     finish_.load_state(s.at("finish_line"));
     poses_.load_state(s.at("poses"));
     prev_root_x_ = s.at("prev_root_x").get<double>();
+    start_root_x_ = s.value("start_root_x", prev_root_x_);
     outcome_ = outcome_of(s.at("outcome").get<std::string>());
     reference_ = s.value("reference", -1);
     if (reference_ >= static_cast<int>(settings_.start_references.size()))

@@ -108,6 +108,9 @@ struct SprintEnvSettings {
   std::optional<EpisodeDraw> fixed_draw;
   /// When not empty, the Start mode: each episode imitates one of these (the preset's `start`).
   std::vector<StartReference> start_references;
+  /// Keep each ended episode's distance (the root's x at its last step minus at its start), read
+  /// with take_episode_distances(): training copies log them, as the learner reports only returns.
+  bool log_distances = false;
 };
 
 /// Reads a JSON array of hand-over states; errors name the file.
@@ -134,7 +137,7 @@ class SprintEnv final : public character::CharacterEnv {
 
   void reset(std::vector<double>& observation) override;
   /// CharacterEnv's state plus the draw, step counter, finish line, mirror history, the root's
-  /// last x and the outcome: loaded into an env of the same settings, it continues bitwise.
+  /// last and starting x and the outcome: loaded into an env of the same settings, it continues bitwise.
   std::optional<base::Json> save_state() const override;
   void load_state(const base::Json& state) override;
 
@@ -162,6 +165,10 @@ class SprintEnv final : public character::CharacterEnv {
   /// The hand-over state at this episode's first landing (Start mode), else nullopt.
   const std::optional<base::Json>& landing_state() const { return landing_; }
 
+  /// The distances of the episodes ended since the last call (log_distances), m, in order; an
+  /// episode ends here when the next one resets.
+  std::vector<double> take_episode_distances();
+
  private:
   struct HandoverStart;
   struct ReferenceSetStart;
@@ -186,6 +193,8 @@ class SprintEnv final : public character::CharacterEnv {
   EpisodeDraw draw_;
   const base::Json* handover_ = nullptr;  // the hand-over state this episode started at
   double prev_root_x_ = 0.0;
+  double start_root_x_ = 0.0;  // the root's x at this episode's start
+  std::vector<double> distances_;
   Outcome outcome_ = Outcome::running;
   std::size_t z_index_ = 0;  // z's entry in the observation
   // Start mode

@@ -28,6 +28,9 @@ struct RewardWeights {
   double mirror_k = 1.0;    ///< k of r_mirror, per rad²
   double diagonal = 0.5;    ///< w_diag
   double diagonal_k = 2.0;  ///< k_diag, per rad²
+  /// w_primitive of §3.2's r_primitive (a β-VAE sport primitive over strides). Not built: the
+  /// presets hold it at 0 and the reader refuses any other value until the term exists.
+  double primitive = 0.0;
 };
 
 /// r_f: the root's forward displacement over the control step's duration, m/s (unweighted).

@@ -1,8 +1,10 @@
-// The sprint task plugin (sprint seed 002, "Learn to Sprint 100 Metres"). One stage so far, chosen
-// by the config key `stage`: "start" (§3.1: PPO imitating our keyframed crouch starts, from the
-// blocks to the first landing; its landing states are stage 2's start set). README.md gives the
-// metrics and presets.
+// The sprint task plugin (sprint seed 002, "Learn to Sprint 100 Metres"). Stages, chosen by the
+// config key `stage`: "start" (§3.1: PPO imitating our keyframed crouch starts, from the blocks to
+// the first landing; its landing states are stage 2's start set) and "accelerate" (§3.2: one PPO
+// policy from those landings to the line; its snapshots before the line are the dip stage's).
+// README.md gives the metrics and presets.
 #include "podium/plugins/export.h"
+#include "train_accelerate.h"
 #include "train_start.h"
 
 namespace podium::tasks::sprint {
@@ -14,13 +16,18 @@ namespace {
 struct TaskConfig {
   std::string stage = "start";
   StartTrainSettings start;
+  AccelerateSettings accelerate;
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice("stage", c.stage, {"start"},
-                     "start: the Start phase (§3.1), PPO on r_base + λ_i·r_imitation of our crouch starts to the first landing");
+  c.stage = r.choice("stage", c.stage, {"start", "accelerate"},
+                     "start: the Start phase (§3.1), PPO on r_base + λ_i·r_imitation of our crouch starts to the first landing; "
+                     "accelerate: Acceleration + Top Speed (§3.2), PPO from the start trial's landings to the line on r_base + "
+                     "r_mass + r_diag + r_mirror");
   c.start = read_start_train_settings(r);
+  c.accelerate.train = c.start;
+  read_accelerate_settings(r, c.accelerate);
   return c;
 }
 
@@ -106,18 +113,99 @@ plugins::RunResult run_start(const TaskConfig& c, const plugins::RunRequest& req
   return result;
 }
 
+Json accelerate_metrics() {
+  const plugins::MetricShape samples{.x = {"samples", ""}}, rate{.x = {"samples", ""}, .rate = true};
+  const plugins::MetricShape final_value{.x = {"samples", ""}, .evaluation = true},
+      final_rate{.x = {"samples", ""}, .evaluation = true, .rate = true};
+  Json m = {
+      plugins::metric_entry("accelerate/train_distance_m", "m", "mean distance of the training episodes ended in the iteration",
+                            samples),
+      plugins::metric_entry("accelerate/return", "", "mean return of the test runs (deterministic policy)", samples),
+      plugins::metric_entry("accelerate/finish_rate", "", "test runs over the track without a fall or leaving the lane", rate),
+      plugins::metric_entry("accelerate/distance_m", "m", "mean distance the root covered in a test run", samples),
+      plugins::metric_entry("accelerate/first_speed_mps", "m/s", "mean speed over the first 10 m (a third of a shorter track)",
+                            samples),
+      plugins::metric_entry("accelerate/last_speed_mps", "m/s",
+                            "finishers' mean speed over the last 10 m (a third of a shorter track)", samples),
+      plugins::metric_entry("accelerate/rise_distance_m", "m",
+                            "mean x where the trunk's lean from vertical drops below 20° for good (runs that rose)", samples),
+      plugins::metric_entry("accelerate/flight_rate", "", "test runs that finished with a flight phase in every stride of the last segment",
+                            rate),
+      plugins::metric_entry("accelerate/final_finish_rate", "", "the exported policy's finish rate over final_episodes runs",
+                            final_rate),
+      plugins::metric_entry("accelerate/final_last_speed_mps", "m/s", "the exported policy's speed over the last segment",
+                            final_value),
+      plugins::metric_entry("accelerate/final_rise_distance_m", "m", "the exported policy's rise distance", final_value)};
+  for (const Json& t : character::time_metric_entries()) m.push_back(t);
+  return m;
+}
+
+// The start set: the input start trial's landings; when it landed nowhere (or no start trial is
+// given) the documented fallback, the crouch starts' last frames just past the line.
+std::vector<Json> accelerate_starts(const TaskConfig& c, const plugins::RunRequest& request, std::string& source) {
+  if (request.inputs.size() > 1)
+    throw base::UserError("sprint accelerate: takes at most one input trial (a start trial's landings), got " +
+                          std::to_string(request.inputs.size()));
+  if (!request.inputs.empty()) {
+    const plugins::InputTrial& in = request.inputs.front();
+    if (!in.artifacts.count("landings"))
+      throw base::UserError("sprint accelerate: input trial " + in.stage + "/" + std::to_string(in.trial_index) +
+                            " has no artifact landings (is it a sprint start trial?)");
+    std::vector<Json> states = load_handover_states(in.artifacts.at("landings").string());
+    if (!states.empty()) {
+      source = "landings of " + in.stage + "/" + std::to_string(in.trial_index);
+      return states;
+    }
+  }
+  source = request.inputs.empty() ? "fallback: no start trial given" : "fallback: the start trial landed in no final episode";
+  return fallback_starts(c.start.track, c.start.sim_hz);
+}
+
+plugins::RunResult run_accelerate(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  std::string source;
+  std::vector<Json> starts = accelerate_starts(c, request, source);
+  const std::size_t count = starts.size();
+  const AccelerateOutcome out = run_accelerate_trial(c.accelerate, std::move(starts),
+                                                     {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
+  plugins::RunResult result;
+  result.objectives = {out.final.finish_rate, out.final.distance_m};
+  result.artifacts = {{"policy", out.policy}, {"dip_starts", out.handovers}};
+  if (std::filesystem::exists(out.trajectory)) result.artifacts.push_back({"trajectory", out.trajectory});
+  result.info = out.final.to_json();
+  result.info["samples"] = out.samples;
+  result.info["starts"] = {{"source", source}, {"fallback", source.starts_with("fallback")}, {"count", count}};
+  result.info["train_distance_first_tenth_m"] = out.distances.first_tenth();
+  result.info["train_distance_last_tenth_m"] = out.distances.last_tenth();
+  result.info["summary"] = {{"finish rate", out.final.finish_rate},
+                            {"distance m", out.final.distance_m},
+                            {"speed first / last segment m/s", Json::array({out.final.first_speed_mps, out.final.last_speed_mps})},
+                            {"rise distance m", out.final.rise_distance_m},
+                            {"flight in every last-segment stride", out.final.flight_rate},
+                            {"training distance first / last tenth m",
+                             Json::array({out.distances.first_tenth(), out.distances.last_tenth()})},
+                            {"starts", source},
+                            {"dip snapshots", out.final.handovers.size()}};
+  return result;
+}
+
 }  // namespace
 
 class SprintTask final : public plugins::Task {
  public:
   Json describe(const Json& config) const override {
-    config_from(config);  // checks it
+    const TaskConfig c = config_from(config);
     const Json accepted = base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); });
-    Json d = {{"params", Json::array()}, {"features", Json::array()}, {"metrics", start_metrics()}};
-    plugins::set_objectives(
-        d, Json::array({plugins::objective_entry("landing_rate", "", "the exported policy's starts that reach the first landing"),
-                        plugins::objective_entry("minus_tracking_error_rad", "rad",
-                                                 "minus its mean per-joint rotation error against the reference")}));
+    const bool start = c.stage == "start";
+    Json d = {{"params", Json::array()}, {"features", Json::array()}, {"metrics", start ? start_metrics() : accelerate_metrics()}};
+    if (start)
+      plugins::set_objectives(
+          d, Json::array({plugins::objective_entry("landing_rate", "", "the exported policy's starts that reach the first landing"),
+                          plugins::objective_entry("minus_tracking_error_rad", "rad",
+                                                   "minus its mean per-joint rotation error against the reference")}));
+    else
+      plugins::set_objectives(
+          d, Json::array({plugins::objective_entry("finish_rate", "", "the exported policy's runs over the track without a fall"),
+                          plugins::objective_entry("distance_m", "m", "the mean distance its runs covered")}));
     d["presets"] = presets();
     d["config"] = accepted;
     d["config_defaults"] = base::ConfigReader::defaults(accepted);
@@ -126,7 +214,7 @@ class SprintTask final : public plugins::Task {
 
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const TaskConfig c = config_from(request.config);
-    return run_start(c, request, sink);
+    return c.stage == "start" ? run_start(c, request, sink) : run_accelerate(c, request, sink);
   }
 };
 

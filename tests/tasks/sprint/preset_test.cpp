@@ -68,6 +68,11 @@ TEST(SprintPreset, BadValuesAreOneLineNamingTheirPath) {
   const std::string unknown = error(base::Json::parse(R"({"steps": {"n_nrom": 5}})"));
   EXPECT_NE(unknown.find("n_nrom"), std::string::npos) << unknown;
   EXPECT_EQ(unknown.find('\n'), std::string::npos);
+  // r_primitive is not built: its weight stays 0 in every shipped preset and no other is read.
+  for (const char* name : {"smoke", "quick", "paper"}) EXPECT_EQ(load_sprint_preset(name).rewards.primitive, 0.0) << name;
+  const std::string primitive = error(base::Json::parse(R"({"rewards": {"primitive": 0.5}})"));
+  EXPECT_NE(primitive.find("rewards.primitive"), std::string::npos) << primitive;
+  EXPECT_NE(primitive.find("not built"), std::string::npos) << primitive;
   const std::string lambda = error(base::Json::parse(R"({"start": {"imitation_weight": -1}})"));
   EXPECT_NE(lambda.find("presets.json: start.imitation_weight: -1"), std::string::npos) << lambda;
   try {

@@ -4,6 +4,7 @@
 // set.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -28,6 +29,14 @@ PODIUM_TASK_CONFORMANCE(SprintStartStage, {.task = "sprint",
                                            .kill_after_metric_points = 24,
                                            .resumes_from_checkpoint = true,
                                            .artifacts = {"policy", "landings", "trajectory"}});
+// Without an input trial the accelerate stage runs from the fallback starts.
+PODIUM_TASK_CONFORMANCE(SprintAccelerateStage, {.task = "sprint",
+                                                .base_config = {{"stage", "accelerate"}},
+                                                .long_config = {{"total_samples", 100'000'000}},
+                                                .resume_config = {{"total_samples", 1024}},
+                                                .kill_after_metric_points = 24,
+                                                .resumes_from_checkpoint = true,
+                                                .artifacts = {"policy", "dip_starts", "trajectory"}});
 
 TEST(SprintTask, TheStartStageDeclaresItsMetricsObjectivesAndPresets) {
   const auto task = plugins::load_task("sprint");
@@ -42,13 +51,32 @@ TEST(SprintTask, TheStartStageDeclaresItsMetricsObjectivesAndPresets) {
   EXPECT_EQ(d["presets"]["quick"]["track"], "quick");
 }
 
-TEST(SprintTask, SmokeCampaignRunsTheStartStageEndToEnd) {
+TEST(SprintTask, TheAccelerateStageDeclaresItsMetricsAndObjectives) {
+  const auto task = plugins::load_task("sprint");
+  const Json d = task->describe({{"stage", "accelerate"}});
+  EXPECT_EQ(d["objectives"], Json({"finish_rate", "distance_m"}));
+  std::set<std::string> metrics;
+  for (const Json& m : d["metrics"]) metrics.insert(m["name"].get<std::string>());
+  for (const char* m : {"accelerate/train_distance_m", "accelerate/finish_rate", "accelerate/first_speed_mps",
+                        "accelerate/last_speed_mps", "accelerate/rise_distance_m", "accelerate/flight_rate"})
+    EXPECT_TRUE(metrics.count(m)) << m;
+}
+
+std::string artifact_file(const podium::testing::FinishedCampaign& campaign, const fs::path& root, std::int64_t trial,
+                          const std::string& name) {
+  for (const auto& a : campaign.store->artifacts(trial))
+    if (a.name == name) return (fs::path(a.path).is_absolute() ? fs::path(a.path) : root / a.path).string();
+  return "";
+}
+
+TEST(SprintTask, SmokeCampaignRunsStartThenAccelerateEndToEnd) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/sprint.json");
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
   spec["trial_timeout_s"] = 120;
   podium::testing::TempDir dir;
   const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
   ASSERT_EQ(campaign.trials.at("start").size(), 2u);
+  std::size_t landings = 0;
   for (const auto& t : campaign.trials.at("start")) {
     EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "landings", "trajectory"}));
     const auto metrics = campaign.metric_names(t);
@@ -59,13 +87,39 @@ TEST(SprintTask, SmokeCampaignRunsTheStartStageEndToEnd) {
     EXPECT_LE(t.objectives[0], 1.0);
     EXPECT_LE(t.objectives[1], 0.0);
     // The landings: a set of hand-over states stage 2 reads (as many as the final landings).
-    std::string path;
-    for (const auto& a : campaign.store->artifacts(t.id))
-      if (a.name == "landings") path = a.path;
-    const fs::path file = fs::path(path).is_absolute() ? fs::path(path) : dir.path() / path;
-    const std::vector<Json> states = load_handover_states(file.string());
+    const std::vector<Json> states = load_handover_states(artifact_file(campaign, dir.path(), t.id, "landings"));
     EXPECT_EQ(static_cast<double>(states.size()), t.result_info["landings"].get<double>());
     for (const Json& s : states) EXPECT_TRUE(s.contains("draw") && s.contains("step_counter"));
+    landings = std::max(landings, states.size());
+  }
+  // Stage 2 from the best start trial's landings, or (none landed: the untrained smoke policy
+  // rarely does) from the fallback, which its info says.
+  ASSERT_EQ(campaign.trials.at("accelerate").size(), 2u);
+  for (const auto& t : campaign.trials.at("accelerate")) {
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "dip_starts", "trajectory"}));
+    const auto metrics = campaign.metric_names(t);
+    for (const char* m : {"accelerate/train_distance_m", "accelerate/finish_rate", "accelerate/distance_m",
+                          "accelerate/first_speed_mps", "accelerate/rise_distance_m", "accelerate/final_finish_rate"})
+      EXPECT_TRUE(metrics.count(m)) << m;
+    ASSERT_EQ(t.objectives.size(), 2u);
+    EXPECT_GE(t.objectives[0], 0.0);
+    EXPECT_LE(t.objectives[0], 1.0);
+    const Json& starts = t.result_info["starts"];
+    EXPECT_GE(starts["count"].get<int>(), 1);
+    if (starts["fallback"].get<bool>()) {
+      EXPECT_EQ(starts["count"], 4) << starts;  // the four crouch starts' last frames
+    } else {
+      EXPECT_NE(starts["source"].get<std::string>().find("landings of start/"), std::string::npos) << starts;
+    }
+    if (landings == 0) {
+      EXPECT_TRUE(starts["fallback"].get<bool>()) << starts;
+    }
+    for (const char* k : {"train_distance_first_tenth_m", "train_distance_last_tenth_m", "rise_distance_m", "flight_rate"})
+      EXPECT_TRUE(t.result_info.contains(k)) << k;
+    // The dip stage's start set: hand-over states with their draws, one per run that got there.
+    const std::vector<Json> dip = load_handover_states(artifact_file(campaign, dir.path(), t.id, "dip_starts"));
+    EXPECT_EQ(static_cast<double>(dip.size()), t.result_info["handovers"].get<double>());
+    for (const Json& s : dip) EXPECT_TRUE(s.contains("draw") && s.contains("world"));
   }
 }
 

@@ -10,8 +10,8 @@ namespace podium::tasks::sprint {
 
 std::optional<double> rise_distance(const std::vector<double>& x_m, const std::vector<double>& lean_rad, double threshold_rad) {
   if (x_m.size() != lean_rad.size())
-    throw base::UserError("rise distance: " + std::to_string(x_m.size()) + " positions but " +
-                          std::to_string(lean_rad.size()) + " leans");
+    throw base::UserError("rise distance: " + std::to_string(x_m.size()) + " positions but " + std::to_string(lean_rad.size()) +
+                          " leans");
   std::optional<double> rise;
   for (std::size_t i = 0; i < x_m.size(); ++i) {
     if (lean_rad[i] >= threshold_rad) rise.reset();
@@ -22,8 +22,8 @@ std::optional<double> rise_distance(const std::vector<double>& x_m, const std::v
 
 bool flight_in_every_stride(const std::vector<double>& x_m, const std::vector<FootContacts>& contacts, double from_x_m) {
   if (x_m.size() != contacts.size())
-    throw base::UserError("flight check: " + std::to_string(x_m.size()) + " positions but " +
-                          std::to_string(contacts.size()) + " contact samples");
+    throw base::UserError("flight check: " + std::to_string(x_m.size()) + " positions but " + std::to_string(contacts.size()) +
+                          " contact samples");
   std::vector<std::size_t> touchdowns;
   for (std::size_t i = 1; i < contacts.size(); ++i)
     if ((contacts[i].left && !contacts[i - 1].left) || (contacts[i].right && !contacts[i - 1].right)) touchdowns.push_back(i);

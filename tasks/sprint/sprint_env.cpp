@@ -393,11 +393,15 @@ base::Json SprintEnv::episode_record() const {
 
 std::optional<base::Json> SprintEnv::save_state() const {
   base::Json state = *CharacterEnv::save_state();
-  state["sprint"] = {{"draw", draw_.to_json()},        {"step_counter", counter_.state()},
-                     {"finish_line", finish_.state()}, {"poses", poses_.state()},
-                     {"prev_root_x", prev_root_x_},    {"start_root_x", start_root_x_},
+  state["sprint"] = {{"draw", draw_.to_json()},
+                     {"step_counter", counter_.state()},
+                     {"finish_line", finish_.state()},
+                     {"poses", poses_.state()},
+                     {"prev_root_x", prev_root_x_},
+                     {"start_root_x", start_root_x_},
                      {"outcome", to_string(outcome_)},
-                     {"reference", reference_},        {"landing", landing_ ? *landing_ : base::Json(nullptr)}};
+                     {"reference", reference_},
+                     {"landing", landing_ ? *landing_ : base::Json(nullptr)}};
   return state;
 }
 

@@ -129,8 +129,8 @@ Json accelerate_metrics() {
                             "finishers' mean speed over the last 10 m (a third of a shorter track)", samples),
       plugins::metric_entry("accelerate/rise_distance_m", "m",
                             "mean x where the trunk's lean from vertical drops below 20° for good (runs that rose)", samples),
-      plugins::metric_entry("accelerate/flight_rate", "", "test runs that finished with a flight phase in every stride of the last segment",
-                            rate),
+      plugins::metric_entry("accelerate/flight_rate", "",
+                            "test runs that finished with a flight phase in every stride of the last segment", rate),
       plugins::metric_entry("accelerate/final_finish_rate", "", "the exported policy's finish rate over final_episodes runs",
                             final_rate),
       plugins::metric_entry("accelerate/final_last_speed_mps", "m/s", "the exported policy's speed over the last segment",
@@ -165,8 +165,8 @@ plugins::RunResult run_accelerate(const TaskConfig& c, const plugins::RunRequest
   std::string source;
   std::vector<Json> starts = accelerate_starts(c, request, source);
   const std::size_t count = starts.size();
-  const AccelerateOutcome out = run_accelerate_trial(c.accelerate, std::move(starts),
-                                                     {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
+  const AccelerateOutcome out = run_accelerate_trial(
+      c.accelerate, std::move(starts), {request.seed, request.work_dir, request.cancel, character::Reporter::to(sink)});
   plugins::RunResult result;
   result.objectives = {out.final.finish_rate, out.final.distance_m};
   result.artifacts = {{"policy", out.policy}, {"dip_starts", out.handovers}};
@@ -176,15 +176,15 @@ plugins::RunResult run_accelerate(const TaskConfig& c, const plugins::RunRequest
   result.info["starts"] = {{"source", source}, {"fallback", source.starts_with("fallback")}, {"count", count}};
   result.info["train_distance_first_tenth_m"] = out.distances.first_tenth();
   result.info["train_distance_last_tenth_m"] = out.distances.last_tenth();
-  result.info["summary"] = {{"finish rate", out.final.finish_rate},
-                            {"distance m", out.final.distance_m},
-                            {"speed first / last segment m/s", Json::array({out.final.first_speed_mps, out.final.last_speed_mps})},
-                            {"rise distance m", out.final.rise_distance_m},
-                            {"flight in every last-segment stride", out.final.flight_rate},
-                            {"training distance first / last tenth m",
-                             Json::array({out.distances.first_tenth(), out.distances.last_tenth()})},
-                            {"starts", source},
-                            {"dip snapshots", out.final.handovers.size()}};
+  result.info["summary"] = {
+      {"finish rate", out.final.finish_rate},
+      {"distance m", out.final.distance_m},
+      {"speed first / last segment m/s", Json::array({out.final.first_speed_mps, out.final.last_speed_mps})},
+      {"rise distance m", out.final.rise_distance_m},
+      {"flight in every last-segment stride", out.final.flight_rate},
+      {"training distance first / last tenth m", Json::array({out.distances.first_tenth(), out.distances.last_tenth()})},
+      {"starts", source},
+      {"dip snapshots", out.final.handovers.size()}};
   return result;
 }
 
@@ -196,12 +196,14 @@ class SprintTask final : public plugins::Task {
     const TaskConfig c = config_from(config);
     const Json accepted = base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); });
     const bool start = c.stage == "start";
-    Json d = {{"params", Json::array()}, {"features", Json::array()}, {"metrics", start ? start_metrics() : accelerate_metrics()}};
+    Json d = {
+        {"params", Json::array()}, {"features", Json::array()}, {"metrics", start ? start_metrics() : accelerate_metrics()}};
     if (start)
       plugins::set_objectives(
-          d, Json::array({plugins::objective_entry("landing_rate", "", "the exported policy's starts that reach the first landing"),
-                          plugins::objective_entry("minus_tracking_error_rad", "rad",
-                                                   "minus its mean per-joint rotation error against the reference")}));
+          d,
+          Json::array({plugins::objective_entry("landing_rate", "", "the exported policy's starts that reach the first landing"),
+                       plugins::objective_entry("minus_tracking_error_rad", "rad",
+                                                "minus its mean per-joint rotation error against the reference")}));
     else
       plugins::set_objectives(
           d, Json::array({plugins::objective_entry("finish_rate", "", "the exported policy's runs over the track without a fall"),

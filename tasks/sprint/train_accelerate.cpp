@@ -19,10 +19,12 @@ using base::Json;
 namespace fs = std::filesystem;
 
 void read_accelerate_settings(base::ConfigReader& r, AccelerateSettings& s) {
-  s.handover_before_line_m = r.number("handover_before_line_m", s.handover_before_line_m, {0.0, 1000.0},
-                                      "accelerate: the dip stage's snapshots are taken when the root first passes this far before the line, m");
-  s.rise_lean_deg = r.number("rise_lean_deg", s.rise_lean_deg, {0.0, 90.0, true},
-                             "accelerate: the rise distance is where the trunk's lean from vertical drops below this for good, degrees");
+  s.handover_before_line_m =
+      r.number("handover_before_line_m", s.handover_before_line_m, {0.0, 1000.0},
+               "accelerate: the dip stage's snapshots are taken when the root first passes this far before the line, m");
+  s.rise_lean_deg =
+      r.number("rise_lean_deg", s.rise_lean_deg, {0.0, 90.0, true},
+               "accelerate: the rise distance is where the trunk's lean from vertical drops below this for good, degrees");
 }
 
 std::vector<Json> fallback_starts(const std::string& track, double sim_hz) {
@@ -44,9 +46,9 @@ std::vector<Json> fallback_starts(const std::string& track, double sim_hz) {
 }
 
 Json RunEvaluation::to_json() const {
-  return {{"finish_rate", finish_rate},         {"distance_m", distance_m},       {"first_speed_mps", first_speed_mps},
-          {"last_speed_mps", last_speed_mps},   {"segment_m", segment_m},         {"rise_distance_m", rise_distance_m},
-          {"rise_rate", rise_rate},             {"flight_rate", flight_rate},     {"return", return_mean},
+  return {{"finish_rate", finish_rate},       {"distance_m", distance_m},   {"first_speed_mps", first_speed_mps},
+          {"last_speed_mps", last_speed_mps}, {"segment_m", segment_m},     {"rise_distance_m", rise_distance_m},
+          {"rise_rate", rise_rate},           {"flight_rate", flight_rate}, {"return", return_mean},
           {"handovers", handovers.size()}};
 }
 
@@ -217,7 +219,8 @@ character::Figures AccelerateStage::test(const character::TestRound& round, lear
 std::optional<character::ExportReason> AccelerateStage::export_rule(const character::ExportRecord& tested,
                                                                     const character::ExportRecord* exported) {
   if (!exported) return character::ExportReason::best;
-  const double rate = character::figure(tested.figures, "finish_rate"), best = character::figure(exported->figures, "finish_rate");
+  const double rate = character::figure(tested.figures, "finish_rate"),
+               best = character::figure(exported->figures, "finish_rate");
   if (rate > best ||
       (rate == best && character::figure(tested.figures, "distance_m") > character::figure(exported->figures, "distance_m")))
     return character::ExportReason::best;

@@ -17,7 +17,7 @@
 namespace podium::tasks::sprint {
 
 struct AccelerateSettings {
-  StartTrainSettings train;        ///< track, simulation rate, PPO, copies, budget, tests (the start stage's keys)
+  StartTrainSettings train;             ///< track, simulation rate, PPO, copies, budget, tests (the start stage's keys)
   double handover_before_line_m = 8.0;  ///< the dip stage's snapshots: this far before the line (§3.3)
   double rise_lean_deg = 20.0;          ///< the rise: the trunk's lean from vertical below this for good
 };

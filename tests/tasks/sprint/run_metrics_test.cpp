@@ -1,12 +1,13 @@
 // The Acceleration + Top Speed stage's measures on scripted sequences: the rise distance on lean
 // sequences, the flight-phase check on contact sequences, the segment speeds on runs of known pace.
+#include "run_metrics.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
 #include "podium/base/error.h"
-#include "run_metrics.h"
 
 namespace podium::tasks::sprint {
 namespace {

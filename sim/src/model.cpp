@@ -557,6 +557,16 @@ ModelPtr edit_model(const ModelPtr& model, const ModelEdits& edits) {
     }
     if (!found) throw UserError("sim: edits: \"" + joint + "\" is not a joint of model " + model->name());
   }
+  if (edits.mass_scale != 1.0) {
+    if (!(edits.mass_scale > 0.0) || !std::isfinite(edits.mass_scale))
+      throw UserError("sim: edits: mass_scale " + show(edits.mass_scale) + " is not a finite number > 0");
+    for (Json& body : json["bodies"]) {
+      if (body.contains("mass") && body["mass"].is_number()) body["mass"] = body["mass"].get<double>() * edits.mass_scale;
+      else body["density"] = body.value("density", 1000.0) * edits.mass_scale;
+    }
+    if (json.contains("hinge_link") && json["hinge_link"].contains("mass") && json["hinge_link"]["mass"].is_number())
+      json["hinge_link"]["mass"] = json["hinge_link"]["mass"].get<double>() * edits.mass_scale;
+  }
   return CharacterModel::from_json(json, "model " + model->name() + " with edits");
 }
 

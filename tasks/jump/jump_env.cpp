@@ -27,6 +27,13 @@ std::vector<std::string> jump_info_names() {
   return {"success", "outcome", "head_first", "mean_root_speed", "mean_offset_l1", "up_angle_rad", "difficulty_m"};
 }
 
+sim::ModelEdits variation_edits(const JumpSettings& s) {
+  sim::ModelEdits edits;
+  edits.joints = s.joint_edits;
+  edits.mass_scale = s.mass_scale;
+  return edits;
+}
+
 JumpSettings read_jump_settings(base::ConfigReader& r) {
   JumpSettings s;
   s.kind = parse_jump_kind(
@@ -50,6 +57,28 @@ JumpSettings read_jump_settings(base::ConfigReader& r) {
   s.offset_bound = r.number("offset_bound", s.offset_bound, {.min = 0.0}, "per-joint offset box, rad");
   s.novelty_threshold_rad = r.number("novelty_threshold_rad", s.novelty_threshold_rad, {.min = 0.0, .exclusive_min = true},
                                      "eq. 3.12's d_threshold (§3.6.2: π/2)");
+  s.gravity_mps2 = r.number("gravity_mps2", s.gravity_mps2, {.min = 0.0, .max = 100.0},
+                            "gravity's magnitude, m/s² (Earth 9.81; the thesis's Mars jump, Fig. 3.9: 3.711)");
+  s.strength = r.number("strength", s.strength, {.min = 0.0, .max = 10.0, .exclusive_min = true},
+                        "every torque limit × this (a weaker athlete below 1)");
+  s.mass_scale = r.number("mass_scale", s.mass_scale, {.min = 0.0, .max = 10.0, .exclusive_min = true},
+                          "every body's mass and inertia × this (the geometry unchanged)");
+  const base::Json edits = r.raw_object("joint_edits",
+                                        "per joint name, model-file keys merged into its entry (§3.7's variations, Fig. 3.8: "
+                                        "{\"right_knee\": {\"lock\": -0.3}} for a cast, \"range\"/\"swing\"/\"twist\" for a "
+                                        "stiffer joint, \"torque_limit\" for a weaker one; sim/README.md)");
+  for (const auto& [joint, keys] : edits.items()) {
+    if (!keys.is_object())
+      r.fail("joint_edits", "entry \"" + joint + "\" is " + keys.dump() + ", not an object of model-file keys");
+    s.joint_edits.emplace_back(joint, keys);
+  }
+  if (!s.joint_edits.empty() || s.mass_scale != 1.0) {
+    try {
+      (void)sim::edit_model(sim::load_shipped_model(s.model), variation_edits(s));
+    } catch (const base::UserError& e) {
+      r.fail("joint_edits", e.what());
+    }
+  }
   if (!s.takeoff_features.empty() && s.takeoff_features.size() != takeoff_features(s.kind).size())
     r.fail("takeoff_features", "has " + std::to_string(s.takeoff_features.size()) + " values; " + jump_kind_name(s.kind) +
                                    " explores " + std::to_string(takeoff_features(s.kind).size()));
@@ -69,7 +98,7 @@ JumpEnv::JumpEnv(const JumpSettings& settings, PosePrior prior)
     : JumpEnv(settings, [&] {
         using namespace character;
         Parts p;
-        const sim::ModelPtr model = sim::load_shipped_model(settings.model);
+        const sim::ModelPtr model = sim::edit_model(sim::load_shipped_model(settings.model), variation_edits(settings));
         p.foot = model->find_body(settings.takeoff_foot);
         if (p.foot < 0)
           throw base::UserError("jump env: model " + model->name() + " has no body " + settings.takeoff_foot + " (takeoff_foot)");
@@ -85,6 +114,8 @@ JumpEnv::JumpEnv(const JumpSettings& settings, PosePrior prior)
         e.world.sim_hz = settings.sim_hz;
         e.world.control_hz = control_hz_for(difficulty_ratio(settings.kind, settings.difficulty_m), settings.sim_hz);
         e.world.terrain = p.suite.terrain;
+        e.world.gravity = Eigen::Vector3d(0.0, 0.0, -settings.gravity_mps2);
+        e.world.strength = settings.strength;
         // The last step reaches the time limit, where the rules end the episode (never truncated).
         e.episode_steps = static_cast<int>(std::ceil(settings.rules.time_limit_s * e.world.control_hz - 1e-9));
         if (prior.vae) {

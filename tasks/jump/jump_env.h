@@ -50,14 +50,26 @@ struct JumpSettings {
   double latent_bound = 3.0;                            ///< P-VAE latent box ±3σ
   double offset_bound = 2.0;                            ///< per-joint offsets, rad (authors' repository: offset scale 2)
   double novelty_threshold_rad = std::numbers::pi / 2;  ///< d_threshold of eq. 3.12 (§3.6.2: π/2)
+  /// The thesis's variations (§3.7, Figs. 3.8–3.9: a weaker take-off leg at 60% torque, an
+  /// inflexible spine, a cast knee, a jump on Mars): the jump policy trains on the changed body or
+  /// world from the same take-off state. Gravity's magnitude, m/s² (Mars: 3.711).
+  double gravity_mps2 = 9.81;
+  double strength = 1.0;    ///< every torque limit × this (the World's strength)
+  double mass_scale = 1.0;  ///< every body's mass and inertia × this
+  /// Per joint, model-file keys merged into its entry (sim::ModelEdits: "lock" for a cast,
+  /// "range"/"swing"/"twist" for a stiffer joint, "torque_limit" for a weaker one).
+  std::vector<std::pair<std::string, base::Json>> joint_edits;
 };
 
 /// Reads JumpSettings' keys (all optional: kind, model, takeoff_foot, difficulty_m (0, the
 /// default: Table 3.1's z_min for the kind), sim_hz,
 /// takeoff_state, takeoff_features, approach_angle_rad, wall_distance_m, obstacle_distance_m,
-/// clearance_m, time_limit_s, latent_bound, offset_bound, novelty_threshold_rad) for a plugin's
-/// config; errors name the key.
+/// clearance_m, time_limit_s, latent_bound, offset_bound, novelty_threshold_rad, gravity_mps2,
+/// strength, mass_scale, joint_edits) for a plugin's config; errors name the key.
 JumpSettings read_jump_settings(base::ConfigReader& r);
+
+/// The model edits of the settings' variations (joint_edits, mass_scale; none by default).
+sim::ModelEdits variation_edits(const JumpSettings& s);
 
 /// A trained pose prior for composite targets; without one the env uses plain targets.
 struct PosePrior {

@@ -414,6 +414,27 @@ TEST(WorldJoints, LimbRemovedWithItsSubtree) {
   EXPECT_THROW(edit_model(model, bad), base::UserError);
 }
 
+// The thesis's body variations: every mass and inertia × s, the geometry and joints as they were.
+TEST(WorldJoints, MassScaleMultipliesEveryMassAndInertia) {
+  for (const char* name : {"athlete", "humanoid34", "humanoid21"}) {
+    const ModelPtr model = load_shipped_model(name);
+    ModelEdits edits;
+    edits.mass_scale = 1.25;
+    const ModelPtr heavier = edit_model(model, edits);
+    EXPECT_NEAR(heavier->total_mass(), 1.25 * model->total_mass(), 1e-9 * model->total_mass()) << name;
+    ASSERT_EQ(heavier->links().size(), model->links().size());
+    for (std::size_t i = 0; i < model->links().size(); ++i) {
+      const Link &a = model->links()[i], &b = heavier->links()[i];
+      EXPECT_NEAR(b.mass, 1.25 * a.mass, 1e-9) << name << " link " << a.name;
+      EXPECT_LT((b.inertia - 1.25 * a.inertia).norm(), 1e-9) << name << " link " << a.name;
+      EXPECT_LT((b.com - a.com).norm(), 1e-12) << name << " link " << a.name;
+    }
+  }
+  ModelEdits bad;
+  bad.mass_scale = 0.0;
+  EXPECT_THROW(edit_model(load_shipped_model("athlete"), bad), base::UserError);
+}
+
 // A free-floating body and an arm on one hinge with passive damping d and stiffness k (MuJoCo's
 // joint damping and stiffness), no gravity, released at rest at 0.5 rad.
 ModelPtr sprung_arm(double damping, double stiffness) {

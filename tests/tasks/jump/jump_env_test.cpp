@@ -237,5 +237,44 @@ TEST(JumpEnv, SettingsReadFromConfig) {
   EXPECT_EQ(s.sim_hz, 600.0);
 }
 
+// §3.7's variations reach the World: Mars gravity, a weaker athlete, a heavier body, a cast knee.
+TEST(JumpEnv, VariationsChangeTheWorldAndTheBody) {
+  const base::Json config = {
+      {"gravity_mps2", 3.711}, {"strength", 0.6}, {"mass_scale", 1.2}, {"joint_edits", {{"right_knee", {{"lock", -0.3}}}}}};
+  const JumpSettings s = base::ConfigReader::parse(config, "jump config", read_jump_settings);
+  JumpEnv env(s), earth(settings());
+  EXPECT_EQ(env.world().config().gravity, Eigen::Vector3d(0.0, 0.0, -3.711));
+  EXPECT_EQ(env.world().config().strength, 0.6);
+  EXPECT_NEAR(env.model().total_mass(), 1.2 * earth.model().total_mass(), 1e-9);
+  const int knee = env.model().find_link("right_knee");
+  ASSERT_GE(knee, 0);
+  EXPECT_TRUE(env.model().links()[std::size_t(knee)].locked);
+  // The same take-off state and actions, gravity alone changed: the COM rises faster on Mars.
+  JumpSettings mars_settings = settings();
+  mars_settings.gravity_mps2 = 3.711;
+  JumpEnv mars(mars_settings);
+  base::Rng rng(5);
+  std::vector<double> obs, earth_obs;
+  mars.reset(obs);
+  earth.reset(earth_obs);
+  learn::StepResult a, b;
+  for (int t = 0; t < 3; ++t) {  // 0.15 s: the random actions throw Earth's athlete down by the fifth
+    const auto action = random_action(mars.action_space(), rng);
+    mars.step(action, a);
+    earth.step(action, b);
+    ASSERT_FALSE(a.terminated || b.terminated) << "step " << t;
+  }
+  EXPECT_GT(mars.features().com_vel.z(), earth.features().com_vel.z() + 0.5);
+  for (const base::Json& bad : {base::Json{{"joint_edits", {{"tail", {{"lock", 0.0}}}}}},
+                                base::Json{{"joint_edits", {{"right_knee", 1.0}}}}, base::Json{{"mass_scale", 0.0}}}) {
+    try {
+      base::ConfigReader::parse(bad, "jump config", read_jump_settings);
+      FAIL() << bad.dump();
+    } catch (const base::UserError& e) {
+      EXPECT_NE(std::string(e.what()).find(bad.begin().key()), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace podium::tasks::jump

@@ -137,11 +137,14 @@ using ModelPtr = std::shared_ptr<const CharacterModel>;
 
 /// Changes to a model made when a World is built (WorldConfig::edits), in model-file terms:
 /// `remove` bodies with their subtrees (the file's top-level "remove"), and per joint name the
-/// keys merged into its joint entry ("lock", "swing", "twist", "axis", "range"; sim/README.md).
+/// keys merged into its joint entry ("lock", "swing", "twist", "axis", "range"; sim/README.md),
+/// and `mass_scale`, which multiplies every body's mass (a body's "mass", else its "density", and
+/// the hinge links'), so each inertia scales with it (the geometry is unchanged).
 struct ModelEdits {
   std::vector<std::string> remove;
   std::vector<std::pair<std::string, base::Json>> joints;
-  bool empty() const { return remove.empty() && joints.empty(); }
+  double mass_scale = 1.0;
+  bool empty() const { return remove.empty() && joints.empty() && mass_scale == 1.0; }
 };
 
 /// The model with `edits` applied (the model itself when there are none). Throws

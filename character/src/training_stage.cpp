@@ -23,6 +23,18 @@ double figure(const Figures& figures, const std::string& name) {
   return it->second;
 }
 
+std::optional<ExportReason> best_by(const ExportRecord& tested, const ExportRecord* exported,
+                                    const std::vector<RankBy>& ranking) {
+  if (!exported) return ExportReason::best;
+  for (const RankBy& r : ranking) {
+    const double t = figure(tested.figures, r.name), e = figure(exported->figures, r.name);
+    if (t == e) continue;
+    if ((t > e) == r.higher_is_better) return ExportReason::best;
+    return std::nullopt;
+  }
+  return std::nullopt;
+}
+
 std::string to_string(ExportReason reason) {
   switch (reason) {
     case ExportReason::passed:

@@ -346,9 +346,9 @@ void Sac::train_until(VecEnv& envs, std::int64_t total_env_steps, const TrainCal
         m.store(t.observation, t.next_observation, start_action.data(), t.reward, t.terminated, float(envs.action_scale(i)));
       }
   };
+  store_starts();  // the episodes begun before this call (the VecEnv's first resets); later ones after each step
   while (m.env_steps < total_env_steps) {
     const auto t0 = std::chrono::steady_clock::now();
-    store_starts();
     std::vector<double> raw;
     for (std::int64_t i = 0; i < K; ++i) {
       obs[static_cast<std::size_t>(i)] = envs.observation(static_cast<std::size_t>(i));

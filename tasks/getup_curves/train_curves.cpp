@@ -188,11 +188,7 @@ class CurveTrainStage final : public character::TrainingStage {
   // The best tested: the higher success rate, then the higher return.
   std::optional<character::ExportReason> export_rule(const character::ExportRecord& tested,
                                                      const character::ExportRecord* exported) override {
-    if (!exported) return character::ExportReason::best;
-    const double s = character::figure(tested.figures, "success_rate"), s0 = character::figure(exported->figures, "success_rate");
-    if (s > s0 || (s == s0 && character::figure(tested.figures, "return") > character::figure(exported->figures, "return")))
-      return character::ExportReason::best;
-    return std::nullopt;
+    return character::best_by(tested, exported, {{"success_rate"}, {"return"}});
   }
 
   void record(const character::Recording& r) override;

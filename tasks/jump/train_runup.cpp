@@ -239,9 +239,7 @@ character::Figures RunupStage::test(const character::TestRound& round, learn::Le
 
 std::optional<character::ExportReason> RunupStage::export_rule(const character::ExportRecord& tested,
                                                                const character::ExportRecord* exported) {
-  if (!exported || character::figure(tested.figures, "return") > character::figure(exported->figures, "return"))
-    return character::ExportReason::best;
-  return std::nullopt;
+  return character::best_by(tested, exported, {{"return"}});
 }
 
 void RunupStage::record(const character::Recording& r) {

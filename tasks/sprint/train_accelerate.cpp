@@ -218,13 +218,7 @@ character::Figures AccelerateStage::test(const character::TestRound& round, lear
 
 std::optional<character::ExportReason> AccelerateStage::export_rule(const character::ExportRecord& tested,
                                                                     const character::ExportRecord* exported) {
-  if (!exported) return character::ExportReason::best;
-  const double rate = character::figure(tested.figures, "finish_rate"),
-               best = character::figure(exported->figures, "finish_rate");
-  if (rate > best ||
-      (rate == best && character::figure(tested.figures, "distance_m") > character::figure(exported->figures, "distance_m")))
-    return character::ExportReason::best;
-  return std::nullopt;
+  return character::best_by(tested, exported, {{"finish_rate"}, {"distance_m"}});
 }
 
 void AccelerateStage::record(const character::Recording& r) {

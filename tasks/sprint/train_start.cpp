@@ -142,13 +142,7 @@ character::Figures StartStage::test(const character::TestRound& round, learn::Le
 
 std::optional<character::ExportReason> StartStage::export_rule(const character::ExportRecord& tested,
                                                                const character::ExportRecord* exported) {
-  if (!exported) return character::ExportReason::best;
-  const double rate = character::figure(tested.figures, "landing_rate"),
-               best = character::figure(exported->figures, "landing_rate");
-  if (rate > best || (rate == best && character::figure(tested.figures, "tracking_error_rad") <
-                                          character::figure(exported->figures, "tracking_error_rad")))
-    return character::ExportReason::best;
-  return std::nullopt;
+  return character::best_by(tested, exported, {{"landing_rate"}, {"tracking_error_rad", false}});
 }
 
 void StartStage::record(const character::Recording& r) {

@@ -180,6 +180,23 @@ TEST(TrainingStage, ACancelThrowsAtTheNextIteration) {
 
 // Best by score: the scores 1, 3, 2, 5 at tests 1-4 export test 4's policy; with no rule, the
 // last policy is exported (reason last) with the last test's figures.
+TEST(TrainingStage, BestByRanksByItsFiguresInOrder) {
+  const auto record = [](double rate, double error) {
+    ExportRecord r;
+    r.figures = {{"rate", rate}, {"error", error}};
+    return r;
+  };
+  const std::vector<RankBy> ranking = {{"rate"}, {"error", false}};
+  const ExportRecord exported = record(0.5, 0.2);
+  EXPECT_EQ(best_by(record(0.0, 9.0), nullptr, ranking), ExportReason::best);    // the first tested
+  EXPECT_EQ(best_by(record(0.6, 9.0), &exported, ranking), ExportReason::best);  // a higher rate decides
+  EXPECT_EQ(best_by(record(0.4, 0.0), &exported, ranking), std::nullopt);        // a lower one too
+  EXPECT_EQ(best_by(record(0.5, 0.1), &exported, ranking), ExportReason::best);  // a tie: the smaller error
+  EXPECT_EQ(best_by(record(0.5, 0.3), &exported, ranking), std::nullopt);
+  EXPECT_EQ(best_by(record(0.5, 0.2), &exported, ranking), std::nullopt);  // a full tie keeps the earlier
+  EXPECT_THROW(best_by(record(0.5, 0.2), &exported, {{"missing"}}), std::logic_error);
+}
+
 TEST(TrainingStage, TheExportRuleDecidesWhatIsExported) {
   podium::testing::TempDir best_dir, last_dir;
   Record best;

@@ -57,6 +57,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "podium/base/json.h"
 #include "podium/learn/frozen_policy.h"
@@ -92,6 +93,17 @@ enum class ExportReason {
   last,    ///< the policy at the end of training (no test exported one)
 };
 std::string to_string(ExportReason reason);
+
+/// One figure of a ranking, and which way is better.
+struct RankBy {
+  std::string name;
+  bool higher_is_better = true;
+};
+struct ExportRecord;
+/// The export rule "the best tested so far": ExportReason::best when nothing is exported yet or
+/// `tested`'s figures beat `exported`'s in the order of `ranking` (the first that differs decides;
+/// a tie keeps the earlier policy), else nothing.
+std::optional<ExportReason> best_by(const ExportRecord& tested, const ExportRecord* exported, const std::vector<RankBy>& ranking);
 
 /// What was exported, at which test and environment step, and why.
 struct ExportRecord {

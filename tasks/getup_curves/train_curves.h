@@ -33,6 +33,8 @@ struct TrainSettings {
   std::uint64_t test_seed = 7;            ///< the fixed starts' seed (the same for every trial)
   int record_curves = 2;                  ///< the first curves recorded after training, one episode each
   int checkpoint_every = 10;              ///< PPO iterations between checkpoints
+  /// Another train trial's training.ckpt to train on from (same curves and sizes); "": from scratch.
+  std::string warm_start = {};
 };
 
 /// Reads the settings; errors name the JSON path and the value (base::ConfigError).

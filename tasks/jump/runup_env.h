@@ -47,11 +47,13 @@ struct RunupSettings {
   double imitation_weight = 0.7, task_weight = 0.3;  ///< DeepMimic's ω_I, ω_G
   double max_com_deviation_m = 1.0;                  ///< early termination
   std::vector<double> takeoff_features;              ///< the strategy's (takeoff_features(kind)'s order)
+  /// Another run-up trial's training.ckpt to train on from (same target and sizes); "": from scratch.
+  std::string warm_start;
 };
 
 /// Reads the run-up keys (runup_motion, runup_control_hz, runup_takeoff_time_s, runup_lead_s, runup_window_s,
-/// runup_start_noise, runup_actions, runup_offset_bound, runup_max_com_deviation_m); kind, model, takeoff_foot and
-/// sim_hz are the jump's, passed in `jump`.
+/// runup_start_noise, runup_actions, runup_offset_bound, runup_max_com_deviation_m, runup_warm_start); kind, model, takeoff_foot
+/// and sim_hz are the jump's, passed in `jump`.
 RunupSettings read_runup_settings(base::ConfigReader& r, const RunupSettings& jump);
 
 /// The reference run on the athlete: read, resampled at the control rate, lowered so that its

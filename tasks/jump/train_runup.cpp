@@ -281,7 +281,8 @@ RunupOutcome run_runup_trial(const TrainSettings& train, const RunupSettings& ru
                                                                       .total_steps = train.total_samples,
                                                                       .steps_per_iteration = 1,
                                                                       .test_every = train.eval_every,
-                                                                      .checkpoint_every = train.checkpoint_every},
+                                                                      .checkpoint_every = train.checkpoint_every,
+                                                                      .warm_start = runup.warm_start},
                                                                      run);
   RunupOutcome out;
   out.runups = stage.final_runups();

@@ -21,12 +21,17 @@ namespace {
 using base::Json;
 namespace fs = std::filesystem;
 
+// Warm-started from the smoke trial's checkpoint (256 steps) to 1024.
+podium::testing::WarmStartCase::Order train_on_from(const fs::path& source, const Json&) {
+  return {{{"warm_start", (source / "training.ckpt").string()}, {"total_steps", 1024}}};
+}
 PODIUM_TASK_CONFORMANCE(GetupCurves, {.task = "getup_curves",
                                       .long_config = {{"total_steps", 100'000'000}},
                                       .resume_config = {{"total_steps", 1024}},
                                       .kill_after_metric_points = 20,
                                       .resumes_from_checkpoint = true,
-                                      .artifacts = {"policy", "trajectory", "curves"}});
+                                      .artifacts = {"policy", "trajectory", "curves"},
+                                      .warm_start = podium::testing::WarmStartCase{train_on_from, 20}});
 
 TEST(GetupCurvesTask, DescribesItsObjectivesAndShippedCurves) {
   const auto task = plugins::load_task("getup_curves");

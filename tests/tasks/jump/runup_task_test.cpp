@@ -45,7 +45,14 @@ std::vector<podium::testing::ConformanceCase> runup_conformance() {
            .resume_config = {{"total_samples", 1024}},
            .kill_after_metric_points = 24,
            .resumes_from_checkpoint = true,
-           .artifacts = {"policy", "trajectory"}}};
+           .artifacts = {"policy", "trajectory"},
+           // Trained on from the smoke trial's checkpoint (256 samples) to 1024.
+           .warm_start = podium::testing::WarmStartCase{[](const fs::path& source, const Json&) {
+                                                          return podium::testing::WarmStartCase::Order{
+                                                              {{"runup_warm_start", (source / "training.ckpt").string()},
+                                                               {"total_samples", 1024}}};
+                                                        },
+                                                        24}}};
 }
 using ::podium::testing::TaskConformance;
 INSTANTIATE_TEST_SUITE_P(JumpRunupStage, TaskConformance, ::testing::ValuesIn(runup_conformance()));

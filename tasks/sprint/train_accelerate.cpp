@@ -243,7 +243,8 @@ AccelerateOutcome run_accelerate_trial(const AccelerateSettings& settings, std::
                                                                       .total_steps = settings.train.total_samples,
                                                                       .steps_per_iteration = 1,
                                                                       .test_every = settings.train.eval_every,
-                                                                      .checkpoint_every = settings.train.checkpoint_every},
+                                                                      .checkpoint_every = settings.train.checkpoint_every,
+                                                                      .warm_start = settings.train.warm_start},
                                                                      run);
   AccelerateOutcome out;
   out.final = stage.final_evaluation();

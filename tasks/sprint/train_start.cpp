@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "crouch_start.h"
 #include "podium/base/error.h"
@@ -39,6 +40,11 @@ StartTrainSettings read_start_train_settings(base::ConfigReader& r) {
                                     "the exported policy's episodes (its figures and the landing states)");
   s.checkpoint_every = r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1'000'000}, "iterations between checkpoints");
   s.eval_seed = r.integer<std::uint64_t>("eval_seed", s.eval_seed, {}, "seed of the test episodes (not used in training)");
+  s.warm_start = r.file("warm_start", s.warm_start,
+                        "a trial's training.ckpt of the same stage to train on from (the same track, starts and "
+                        "networks; its samples count towards total_samples); empty: from scratch");
+  if (!s.warm_start.empty() && !std::filesystem::is_regular_file(s.warm_start))
+    r.fail("warm_start", "is not a file: " + s.warm_start);
   return s;
 }
 
@@ -166,7 +172,8 @@ StartOutcome run_start_trial(const StartTrainSettings& settings, const character
                                                                       .total_steps = settings.total_samples,
                                                                       .steps_per_iteration = 1,
                                                                       .test_every = settings.eval_every,
-                                                                      .checkpoint_every = settings.checkpoint_every},
+                                                                      .checkpoint_every = settings.checkpoint_every,
+                                                                      .warm_start = settings.warm_start},
                                                                      run);
   StartOutcome out;
   out.final = stage.final_evaluation();

@@ -28,6 +28,8 @@ struct StartTrainSettings {
   int final_episodes = 8;  ///< the exported policy's episodes: the reported figures and the landings
   int checkpoint_every = 1;
   std::uint64_t eval_seed = 20'240;  ///< the tests' episodes' seeds derive from it (not used in training)
+  /// Another trial's training.ckpt of the same stage to train on from; "": from scratch.
+  std::string warm_start;
 };
 
 /// Reads the stage's keys (errors name their JSON path).

@@ -46,7 +46,8 @@ std::vector<podium::testing::ConformanceCase> runup_conformance() {
            .kill_after_metric_points = 24,
            .resumes_from_checkpoint = true,
            .artifacts = {"policy", "trajectory"},
-           // Trained on from the smoke trial's checkpoint (256 samples) to 1024.
+           // Trained on from the smoke trial's checkpoint (256 samples, whose 22 metric points it sends
+           // again first) to 1024; killed at its second test (34–44 points), after its first save.
            .warm_start = podium::testing::WarmStartCase{[](const fs::path& source, const Json&) {
                                                           return podium::testing::WarmStartCase::Order{
                                                               {{"runup_warm_start", (source / "training.ckpt").string()},

@@ -22,13 +22,19 @@ namespace {
 using base::Json;
 namespace fs = std::filesystem;
 
+// Each stage trained on from its smoke trial's checkpoint (256 samples, whose metric points it sends
+// again first: 16 start, 26 accelerate) to 1024; killed at its second test, after its first save.
+podium::testing::WarmStartCase::Order train_on_from(const fs::path& source, const Json&) {
+  return {{{"warm_start", (source / "training.ckpt").string()}, {"total_samples", 1024}}};
+}
 PODIUM_TASK_CONFORMANCE(SprintStartStage, {.task = "sprint",
                                            .base_config = {{"stage", "start"}},
                                            .long_config = {{"total_samples", 100'000'000}},
                                            .resume_config = {{"total_samples", 1024}},
                                            .kill_after_metric_points = 24,
                                            .resumes_from_checkpoint = true,
-                                           .artifacts = {"policy", "landings", "trajectory"}});
+                                           .artifacts = {"policy", "landings", "trajectory"},
+                                           .warm_start = podium::testing::WarmStartCase{train_on_from, 28}});
 // Without an input trial the accelerate stage runs from the fallback starts.
 PODIUM_TASK_CONFORMANCE(SprintAccelerateStage, {.task = "sprint",
                                                 .base_config = {{"stage", "accelerate"}},
@@ -36,7 +42,8 @@ PODIUM_TASK_CONFORMANCE(SprintAccelerateStage, {.task = "sprint",
                                                 .resume_config = {{"total_samples", 1024}},
                                                 .kill_after_metric_points = 24,
                                                 .resumes_from_checkpoint = true,
-                                                .artifacts = {"policy", "dip_starts", "trajectory"}});
+                                                .artifacts = {"policy", "dip_starts", "trajectory"},
+                                                .warm_start = podium::testing::WarmStartCase{train_on_from, 45}});
 
 TEST(SprintTask, TheStartStageDeclaresItsMetricsObjectivesAndPresets) {
   const auto task = plugins::load_task("sprint");

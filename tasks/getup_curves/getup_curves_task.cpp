@@ -60,6 +60,10 @@ Json metrics() {
                             steps_rate),
       plugins::metric_entry("test/mean_r_task", "", "r_task (eq. 4) averaged over every control step of the test episodes",
                             steps_rate),
+      plugins::metric_entry("test/average_return_rate", "",
+                            "§6.4's average return rate: r_task summed over the test episodes, divided by their full T + "
+                            "T_stand in control steps (steps cut by early termination count 0)",
+                            steps_rate),
       plugins::metric_entry("test/episode_s", "s", "mean length of the test episodes (§5.3's early termination shortens them)",
                             steps),
       plugins::metric_entry("train/return", "", "mean return of the training episodes that ended since the previous test", steps),
@@ -139,7 +143,7 @@ plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& req
     result.artifacts.push_back({"pose_cvae", copy});
   }
   for (std::size_t k = 0; k < out.trajectories.size(); ++k)
-    result.artifacts.push_back({k == 0 ? "trajectory" : "trajectory_" + std::to_string(k), out.trajectories[k]});
+    result.artifacts.push_back({recorded_trajectory_name(k), out.trajectories[k]});
   if (!out.curves.empty()) result.artifacts.push_back({"curves", out.curves});
   result.info = out.to_json();
   result.info["summary"] = {

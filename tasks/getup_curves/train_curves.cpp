@@ -106,7 +106,7 @@ CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int
   CurveTest out;
   const std::size_t curves = env.curves().curves.size();
   double task_sum = 0.0;
-  std::int64_t task_steps = 0;
+  std::int64_t task_steps = 0, full_steps = 0;
   std::size_t episodes = 0;
   for (std::size_t k = 0; k < curves; ++k) {
     env.use_curve(static_cast<int>(k));
@@ -115,7 +115,10 @@ CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int
     c.success = [](const character::CharacterEnv& e) { return static_cast<const CurveGetupEnv&>(e).succeeded(); };
     c.measures = {{"episode_s", [](const character::CharacterEnv& e) { return e.step_index() * e.control_dt_s(); }}};
     c.each_step = [&](std::size_t, const character::CharacterEnv& e) {
-      if (e.step_index() == 0) return;  // the reset: no reward yet
+      if (e.step_index() == 0) {  // the reset: no reward yet; the episode's full length
+        full_steps += static_cast<const CurveGetupEnv&>(e).episode_length();
+        return;
+      }
       task_sum += static_cast<const CurveGetupEnv&>(e).reward_terms().task, ++task_steps;
     };
     const character::EvaluationReport report = character::evaluate(env, policy, c);
@@ -129,6 +132,8 @@ CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int
   const auto n = static_cast<double>(episodes);
   out.mean_return /= n, out.success_rate /= n, out.mean_episode_s /= n;
   out.mean_task_reward = task_steps > 0 ? task_sum / static_cast<double>(task_steps) : 0.0;
+  // §6.4: cumulative task reward over the steps the episodes would take in full.
+  out.average_return_rate = full_steps > 0 ? task_sum / static_cast<double>(full_steps) : 0.0;
   return out;
 }
 
@@ -177,6 +182,7 @@ class CurveTrainStage final : public character::TrainingStage {
     send("test/return", steps, t.mean_return);
     send("test/success_rate", steps, t.success_rate);
     send("test/mean_r_task", steps, t.mean_task_reward);
+    send("test/average_return_rate", steps, t.average_return_rate);
     send("test/episode_s", steps, t.mean_episode_s);
     if (round.training.episodes > 0) send("train/return", steps, round.training.mean_return());
     char line[200];
@@ -230,6 +236,7 @@ void CurveTrainStage::record(const character::Recording& r) {
     outcome.recorded_curves.push_back(env.curve().name);
     Json entry = series.to_json();
     entry["curve"] = style_curve_json(env.curve());
+    entry["trajectory"] = recorded_trajectory_name(k);
     entry["success"] = report.success_rate > 0.5;
     entry["return"] = report.mean_return;
     recorded.push_back(std::move(entry));
@@ -242,12 +249,15 @@ void CurveTrainStage::record(const character::Recording& r) {
 
 }  // namespace
 
+std::string recorded_trajectory_name(std::size_t k) { return k == 0 ? "trajectory" : "trajectory_" + std::to_string(k); }
+
 Json TrainOutcome::to_json() const {
   return {{"env_steps", env_steps},
           {"stopped_by", stopped_by},
           {"success_rate", final.success_rate},
           {"return", final.mean_return},
           {"mean_r_task", final.mean_task_reward},
+          {"average_return_rate", final.average_return_rate},
           {"episode_s", final.mean_episode_s},
           {"curve_success", final.curve_success},
           {"recorded_curves", recorded_curves}};

@@ -48,13 +48,19 @@ std::filesystem::path shipped_curve_dir();
 struct CurveTest {
   double mean_return = 0.0;
   double success_rate = 0.0;
-  double mean_task_reward = 0.0;      ///< r_task (eq. 4) averaged over every control step of every episode
+  double mean_task_reward = 0.0;  ///< r_task (eq. 4) averaged over every control step of every episode
+  /// §6.4's average return rate: r_task summed over the episodes' steps, divided by their full
+  /// lengths' control steps (T + T_stand each), so a step early termination cut counts as 0.
+  double average_return_rate = 0.0;
   double mean_episode_s = 0.0;        ///< control time of an episode (early termination shortens it)
   std::vector<double> curve_success;  ///< per curve
 };
 /// Episodes with `policy` on each curve of `env` (use_curve), seeds derived from `seed`; the
 /// env's curve choice is drawn again afterwards.
 CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed);
+
+/// The artifact name of the motion recorded on curve `k`: "trajectory", "trajectory_1", ...
+std::string recorded_trajectory_name(std::size_t k);
 
 /// The train stage's outcome.
 struct TrainOutcome {

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string_view>
 #include <type_traits>
 
+#include "podium/base/json.h"
 #include "podium/store/run_folders.h"
 #include "podium/store/summary.h"
 #include "podium/store/writer_lock.h"
@@ -525,6 +527,71 @@ fs::path artifact_file(const Queries& q, const fs::path& database, std::int64_t 
   if (index >= list.size())
     throw HttpError(404, "trial " + std::to_string(trial_id) + " has no artifact " + std::to_string(index));
   return file_in_run_folder(q, database, *campaign_id, list[index].path, "artifact");
+}
+
+namespace {
+
+// The three features of a curves artifact, as curve files name them (heights in m, angles in degrees).
+constexpr const char* kStyleFeatures[] = {"h_m", "theta_x_deg", "theta_z_deg"};
+
+[[noreturn]] void bad_curves(const fs::path& file, const std::string& path, const std::string& what) {
+  throw HttpError(500, "curves artifact " + file.string() + ": " + path + ": " + what);
+}
+
+std::string shown(const Json& value) {
+  const std::string text = value.dump();
+  return text.size() > 40 ? text.substr(0, 37) + "..." : text;
+}
+
+const Json& member(const Json& parent, const char* key, const fs::path& file, const std::string& path) {
+  if (!parent.is_object()) bad_curves(file, path, shown(parent) + " is not an object");
+  if (!parent.contains(key)) bad_curves(file, path.empty() ? key : path + "." + key, "missing");
+  return parent[key];
+}
+
+// An array of numbers (null: a value that was not finite), `size` long if given.
+void check_numbers(const Json& v, std::optional<std::size_t> size, const fs::path& file, const std::string& path) {
+  if (!v.is_array()) bad_curves(file, path, shown(v) + " is not an array of numbers");
+  if (size && v.size() != *size)
+    bad_curves(file, path, "has " + std::to_string(v.size()) + " values where t_s has " + std::to_string(*size));
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!v[i].is_number() && !v[i].is_null())
+      bad_curves(file, path + "[" + std::to_string(i) + "]", shown(v[i]) + " is not a number");
+}
+
+void check_episode(const Json& e, const fs::path& file, const std::string& at) {
+  const Json& t = member(e, "t_s", file, at);
+  check_numbers(t, std::nullopt, file, at + ".t_s");
+  for (const char* block : {"target", "achieved"})
+    for (const char* f : kStyleFeatures)
+      check_numbers(member(member(e, block, file, at), f, file, at + "." + block), t.size(), file, at + "." + block + "." + f);
+  const std::string c = at + ".curve";
+  const Json& curve = member(e, "curve", file, at);
+  if (!member(curve, "name", file, c).is_string()) bad_curves(file, c + ".name", shown(curve["name"]) + " is not a string");
+  const Json& duration = member(curve, "duration_s", file, c);
+  if (!duration.is_number() || !(duration.get<double>() > 0.0))
+    bad_curves(file, c + ".duration_s", shown(duration) + " is not > 0");
+  for (const char* f : kStyleFeatures) {
+    const Json& points = member(member(curve, "control_points", file, c), f, file, c + ".control_points");
+    check_numbers(points, std::nullopt, file, c + ".control_points." + f);
+    if (points.size() < 2) bad_curves(file, c + ".control_points." + f, "has fewer than 2 control points");
+  }
+}
+
+}  // namespace
+
+Json style_curves_document(const Queries& q, const fs::path& database, std::int64_t trial_id) {
+  const fs::path file = artifact_file(q, database, trial_id, artifact_index(q, trial_id, "curves"));
+  Json doc;
+  try {
+    doc = base::read_json_file(file);
+  } catch (const std::exception& e) {
+    throw HttpError(500, std::string("curves artifact: ") + e.what());
+  }
+  const Json& episodes = member(doc, "episodes", file, "");
+  if (!episodes.is_array()) bad_curves(file, "episodes", shown(episodes) + " is not an array");
+  for (std::size_t k = 0; k < episodes.size(); ++k) check_episode(episodes[k], file, "episodes[" + std::to_string(k) + "]");
+  return doc;
 }
 
 fs::path trial_log_file(const Queries& q, const fs::path& database, std::int64_t trial_id) {

@@ -70,5 +70,11 @@ std::string artifact_download_name(const store::Queries& q, std::int64_t trial_i
 std::filesystem::path trial_log_file(const store::Queries& q, const std::filesystem::path& database, std::int64_t trial_id);
 /// The index of the trial's artifact called `name`; 404 if it has none.
 std::size_t artifact_index(const store::Queries& q, std::int64_t trial_id, const std::string& name);
+/// The trial's style curves: its artifact `curves` (tasks/getup_curves/README.md: per recorded
+/// episode its curve — name, T, control points — and the target and achieved h, θ_x, θ_z at
+/// control rate), parsed and checked (every series as long as its time axis), under
+/// artifact_file's rule. 404 without one; 500 naming the file, the JSON path and the value for a
+/// malformed one.
+Json style_curves_document(const store::Queries& q, const std::filesystem::path& database, std::int64_t trial_id);
 
 }  // namespace podium::web_dashboard

@@ -274,6 +274,10 @@ struct Server::Impl {
           const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
           send_file(res, trial_log_file(*pool.acquire(), options.database, id), "text/plain; charset=utf-8", "");
         }));
+    // The style curves' targets and achieved features, parsed and checked (api.h).
+    get(R"(/api/trials/([^/]+)/curves)", json([this](const Request& req, const store::Queries& q) {
+          return style_curves_document(q, options.database, parse_int(req.matches[1], "trial", 1, INT64_MAX));
+        }));
     get(R"(/api/trials/([^/]+)/trajectory)", api([this](const Request& req, Response& res) {
           const auto id = parse_int(req.matches[1], "trial", 1, INT64_MAX);
           // ?artifact=NAME picks another recorded motion of the trial (trajectory_fast, ...).

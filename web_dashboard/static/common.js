@@ -69,7 +69,8 @@ const podium = {
   // What a trial's recorded motion `artifact` shows, after the trial's name: a get-up evaluation
   // names each speed in its result info (`speeds`: name, κ, strength; `trajectory` is the one
   // speed without an artifact of its own), a Slower trial's motion is at its config's
-  // slow_test_kappa; other motions are named by their artifact ("fast" for trajectory_fast).
+  // slow_test_kappa; a style-curve get-up's motions by their curves (result info `recorded_curves`:
+  // trajectory, trajectory_1, ... in order); other motions by their artifact ("fast" for trajectory_fast).
   motionLabel(t, artifact = 'trajectory') {
     const speeds = t.result_info?.speeds, n = v => podium.num(v, 3);
     let what = '';
@@ -82,6 +83,8 @@ const podium = {
     } else if (artifact === 'trajectory' && t.task_config?.stage === 'slower' && t.task_config.slow_test_kappa) {
       what = `slowed, κ = ${n(t.task_config.slow_test_kappa)}`;
     }
+    const curves = t.result_info?.recorded_curves, k = artifact === 'trajectory' ? 0 : Number(artifact.replace(/^trajectory_/, ''));
+    if (!what && Array.isArray(curves) && typeof curves[k] === 'string') what = `curve ${curves[k]}`;
     if (!what && artifact !== 'trajectory') what = artifact.replace(/^trajectory_/, '');
     return what ? `${t.name} · ${what}` : t.name;
   },
@@ -104,10 +107,10 @@ const podium = {
   },
 
   // A uPlot with named axes. o: { title, x: {name, unit}, y: {name, unit}, series: [{label, colour,
-  // points?, stepped? (a count that holds until its next point)}], points (true: each value a point, as an evaluation over its axis; false: lines, as a
-  // learning curve; a series' own `points` overrides it), rate (a fraction: the y axis is [0, 1]), width, height }. The legend is shown only to
-  // tell several series apart (names only, no empty live values). Registered in
-  // window.podiumPlots with its axes' labels as uPlot holds them (the browser tests read them).
+  // points?, size? (of its points), dash? (a line's dash pattern, e.g. [6, 4]), stepped? (a count that holds until its next point)}], points (true: each value a point, as an evaluation over its axis; false: lines, as a
+  // learning curve; a series' own `points` overrides it), rate (a fraction: the y axis is [0, 1]), width, height, hooks (uPlot's), legend (false: none,
+  // the caller draws its own) }. The legend is shown only to tell several series apart (names only, no empty live values). Registered in
+  // window.podiumPlots with its axes' labels and its series (label, dash, points) as uPlot holds them (the browser tests read them).
   plot(holder, o, data) {
     const padded = (lo, hi, share) => {
       if (lo === null || hi === null || !Number.isFinite(lo) || !Number.isFinite(hi)) return [0, 1];
@@ -117,20 +120,22 @@ const podium = {
     const series = o.series.map(s => (s.points ?? o.points)
       ? { label: s.label, stroke: s.colour, paths: () => null, points: { show: true, size: s.size ?? 9, fill: s.colour, stroke: s.colour } }
       : { label: s.label, stroke: s.colour, width: 1.5, spanGaps: true, points: { show: data[0].length < 3 },
-        ...(s.stepped ? { paths: uPlot.paths.stepped({ align: 1 }) } : {}) });
+        ...(s.dash ? { dash: s.dash } : {}), ...(s.stepped ? { paths: uPlot.paths.stepped({ align: 1 }) } : {}) });
     const u = new uPlot({
       title: o.title, width: o.width || 420, height: o.height || 240,
-      legend: { show: o.series.length > 1, live: false },
+      legend: { show: o.legend !== false && o.series.length > 1, live: false },
       scales: {
         x: { time: false, range: o.points ? (_, lo, hi) => padded(lo, hi, 0.1) : undefined },
         y: { range: o.rate ? () => [0, 1] : (_, lo, hi) => padded(lo, hi, 0.05) },
       },
       axes: [{ label: podium.axisLabel(o.x.name, o.x.unit) }, { label: podium.axisLabel(o.y.name, o.y.unit), size: 60 }],
       series: [{ label: podium.axisLabel(o.x.name, o.x.unit) }, ...series],
+      ...(o.hooks ? { hooks: o.hooks } : {}),
     }, data, holder);
     window.podiumPlots = window.podiumPlots || [];
     window.podiumPlots.push({ title: o.title, kind: o.points ? 'evaluation' : 'learning_curve', holder: holder.id || holder.dataset.metric || '',
-      x: u.axes[0].label, y: u.axes[1].label, yRange: o.rate ? [0, 1] : null });
+      x: u.axes[0].label, y: u.axes[1].label, yRange: o.rate ? [0, 1] : null,
+      series: u.series.slice(1).map((s, i) => ({ label: s.label, dash: s.dash?.length ? s.dash : null, points: !!(o.series[i].points ?? o.points) })) });
     return u;
   },
 

@@ -3,7 +3,9 @@
 // the terrain's boxes (tiles, flat patches, slopes) and the props (bar, box, blocks); play, pause,
 // scrub, speed, camera orbit, props and terrain shown or hidden; with ?compare=ID a second trial
 // side by side on the same clock. A trial may be written ID:NAME to show its trajectory artifact
-// NAME (e.g. 12:trajectory_fast beside 12:trajectory, a get-up fast and slowed).
+// NAME (e.g. 12:trajectory_fast beside 12:trajectory, a get-up fast and slowed). When the first
+// trial's `curves` artifact holds the episode of the motion shown (a style-curve get-up), its
+// target and achieved features are plotted beside the view, a line marking the replay's time.
 import { loadTrajectory, makeView } from './replay_view.js';
 
 const params = new URLSearchParams(location.search);
@@ -13,7 +15,7 @@ const views_asked = [params.get('trial'), params.get('compare')].filter(Boolean)
 });
 const ids = views_asked.map(v => v.id);
 const palette = [0x4e79a7, 0xf28e2b];
-const width = ids.length > 1 ? 560 : 900, height = 520;
+const height = 520;
 
 async function main() {
   if (!ids.length) throw new Error('no trial given (replay.html?trial=ID[&compare=ID])');
@@ -29,6 +31,8 @@ async function main() {
   const trajs = await Promise.all(views_asked.map(({ id, artifact }) => loadTrajectory(id, artifact)));
   const labels = views_asked.map((v, i) => podium.motionLabel(trials[i], v.artifact));
   const parent = document.getElementById('viewports');
+  // Narrower beside a style-curve get-up's plots (styleCurvesBeside).
+  const width = ids.length > 1 ? 560 : first.artifacts.some(a => a.name === 'curves') ? 720 : 900;
   const views = trajs.map((t, i) => makeView(t, { label: labels[i], colour: palette[i], width, height, parent }));
   const main = views[0];
   const frames = main.traj.frames.length, duration = Math.max(...views.map(v => v.duration));
@@ -36,6 +40,8 @@ async function main() {
   const playButton = document.getElementById('play'), speed = document.getElementById('speed');
   scrub.max = frames - 1;
   let playing = true, t = 0, last = performance.now();
+  const curves = await styleCurvesBeside(first, views_asked[0].artifact, parent, () => t);
+  last = performance.now();
   // For the browser tests: the first view's frames and simulated seconds, and what it draws
   // (kinds: each prop's, as the file declares it).
   window.podiumReplay = {
@@ -50,6 +56,7 @@ async function main() {
     const f = window.podiumReplay.shown[0];
     scrub.value = f;
     counter.textContent = `frame ${f + 1} / ${frames} · t = ${t.toFixed(2)} s`;
+    if (curves && f !== window.podiumReplay.frame) curves.redraw();
     window.podiumReplay.frame = f;
     window.podiumReplay.rendered++;
   };
@@ -70,6 +77,20 @@ async function main() {
   };
   draw();
   requestAnimationFrame(loop);
+}
+
+// The style-curve panels of the motion `artifact` of trial `t`, in a column beside the views, or
+// null when its trial has no `curves` artifact or none of its episodes is that motion.
+async function styleCurvesBeside(t, artifact, parent, time) {
+  if (!t.artifacts.some(a => a.name === 'curves')) return null;
+  const doc = await podium.api(`/api/trials/${encodeURIComponent(t.id)}/curves`);
+  const k = doc.episodes.findIndex(e => e.trajectory === artifact);
+  if (k < 0) return null;
+  const column = podium.el('div', { class: 'style-curves-column', id: 'style-curves' });
+  parent.append(column);
+  const panels = podium.styleCurvePanels(column, doc, { only: [k], marker: time, width: 340, height: 160 });
+  column.append(podium.el('div', { class: 'muted caption' }, 'target dashed, achieved solid · ' + podium.styleCurveCaption(doc, [k])));
+  return panels;
 }
 
 main().catch(e => { document.getElementById('error').textContent = e.message; });

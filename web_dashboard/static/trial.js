@@ -1,7 +1,8 @@
-// Trial page: its name (stage/index), the earlier trials it was handed, parameters, context, the
-// result (the task's table, the raw JSON a click away), evaluation plots, learning and curriculum
-// curves (metrics named "curriculum/..."), artifacts with download links, error, attempts and the
-// end of its log.
+// Trial page: its name (stage/index), the earlier trials it was handed, the style curves' target and
+// achieved features below the replay link (a `curves` artifact: style_curves.js), parameters,
+// context, the result (the task's table, the raw JSON a click away), evaluation plots, learning and
+// curriculum curves (metrics named "curriculum/..."), artifacts with download links, error,
+// attempts and the end of its log.
 'use strict';
 
 const trialId = podium.param('id');
@@ -87,8 +88,22 @@ async function refreshTrial() {
   podium.fill(document.getElementById('attempts'), ['#', 'state', 'worker', 'host', 'job', 'exit code', 'signal', 'started', 'finished', 'error'],
     t.attempt_list.map(a => [a.number, a.state, a.worker, a.host, a.job_id, a.exit_code ?? '–', a.signal ?? '–',
       podium.time(a.started_at), podium.time(a.finished_at), podium.el('span', { class: 'error' }, a.error)]));
+  await renderStyleCurves(t);
   renderCurves(series, t.metrics || []);
   await renderLog(t.log_url);
+}
+
+// The style curves of a trial with a `curves` artifact: drawn once per artifact version (its hash).
+let styleCurvesShown = null;
+async function renderStyleCurves(t) {
+  const artifact = t.artifacts.find(a => a.name === 'curves');
+  document.getElementById('style-curves-section').hidden = !artifact;
+  if (!artifact || styleCurvesShown === artifact.sha256) return;
+  const doc = await podium.api(`/api/trials/${encodeURIComponent(t.id)}/curves`);
+  podium.styleCurvePanels(document.getElementById('style-curves'), doc);
+  document.getElementById('style-curves-caption').textContent =
+    podium.styleCurveCaption(doc) + (doc.control_hz ? ` · at ${podium.num(doc.control_hz)} Hz control rate` : '');
+  styleCurvesShown = artifact.sha256;
 }
 
 // The trial's result: the task's table when the result carries one, the raw JSON a click away

@@ -104,7 +104,8 @@ TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
   for (const auto& t : campaign.trials.at("train")) {
     EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory", "trajectory_1", "curves"}));
     const auto metrics = campaign.metric_names(t);
-    for (const char* m : {"test/return", "test/success_rate", "test/mean_r_task", "test/episode_s", "final/success_rate"})
+    for (const char* m : {"test/return", "test/success_rate", "test/mean_r_task", "test/average_return_rate", "test/episode_s",
+                          "final/success_rate"})
       EXPECT_TRUE(metrics.count(m)) << m;
     ASSERT_EQ(t.objectives.size(), 2u);
     EXPECT_GE(t.objectives[0], 0.0);

@@ -57,12 +57,19 @@ PpoConfig PpoConfig::paper() {
   X(sigma_start)             \
   X(sigma_end)               \
   X(sigma_anneal_steps)      \
+  X(schedule_levels)         \
   X(max_grad_norm)           \
   X(normalize_observations)  \
   X(normalize_advantages)    \
   X(reward_scale)
 
 PODIUM_CONFIG_JSON(PpoConfig, PODIUM_PPO_FIELDS, "ppo config")
+
+double annealed(double start, double end, std::int64_t step, std::int64_t span, int levels) {
+  double f = span <= 0 ? 1.0 : std::min(1.0, double(step) / double(span));
+  if (levels >= 2) f = std::min(std::floor(f * levels), double(levels - 1)) / double(levels - 1);
+  return start + (end - start) * f;
+}
 
 struct Ppo::Impl {
   PpoConfig config;
@@ -88,6 +95,9 @@ struct Ppo::Impl {
         value(int(obs.size()), c.hidden, 1, detail::parse_activation(c.activation, "ppo config: activation")) {
     if (c.rollout_steps < 1 || c.epochs < 1 || c.minibatch_size < 1)
       throw base::UserError("ppo config: rollout_steps, epochs and minibatch_size must be ≥ 1");
+    if (c.schedule_levels == 1 || c.schedule_levels < 0)
+      throw base::UserError("ppo config: schedule_levels " + std::to_string(c.schedule_levels) +
+                            " is neither 0 (linear) nor ≥ 2 (stepped)");
     for (std::size_t j = 0; j < n_act; ++j) {
       if (!(act.high[j] > act.low[j]) || !std::isfinite(act.high[j] - act.low[j]))
         throw base::UserError("ppo: action_space[" + std::to_string(j) + "] = [" + std::to_string(act.low[j]) + ", " +
@@ -115,9 +125,8 @@ struct Ppo::Impl {
     return scale;
   }
 
-  static double schedule(double start, double end, std::int64_t step, std::int64_t span) {
-    const double f = span <= 0 ? 1.0 : std::min(1.0, double(step) / double(span));
-    return start + (end - start) * f;
+  double schedule(double start, double end, std::int64_t step, std::int64_t span) const {
+    return annealed(start, end, step, span, config.schedule_levels);
   }
   double sigma() const { return schedule(config.sigma_start, config.sigma_end, env_steps, config.sigma_anneal_steps); }
 

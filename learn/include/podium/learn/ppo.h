@@ -26,6 +26,10 @@ struct PpoConfig {
   std::int64_t lr_anneal_steps = 1'000'000;
   double sigma_start = 0.5, sigma_end = 0.1;  ///< action σ in the normalised box [−1, 1]
   std::int64_t sigma_anneal_steps = 1'000'000;
+  /// How both schedules move from start to end: 0 linearly over their anneal steps; n ≥ 2 in n equal
+  /// intervals of them, the k-th holding start + (end − start)·k/(n − 1) (curve get-up seed §5.6:
+  /// 5 levels, a step every 20M of its 100M simulation steps).
+  int schedule_levels = 0;
   double max_grad_norm = 0.0;  ///< 0 = no gradient clipping
   bool normalize_observations = true;
   bool normalize_advantages = true;
@@ -38,6 +42,10 @@ struct PpoConfig {
   /// Reads a config, starting from the defaults; throws UserError naming the bad field.
   static PpoConfig from_json(const base::Json& json);
 };
+
+/// A schedule's value at `step`: from `start` to `end` over `span` steps, then `end`; linear when
+/// `levels` is 0, else in `levels` equal intervals (PpoConfig::schedule_levels).
+double annealed(double start, double end, std::int64_t step, std::int64_t span, int levels = 0);
 
 class Ppo final : public Learner {
  public:

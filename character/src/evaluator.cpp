@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <numeric>
+#include <optional>
 
 #include "podium/base/error.h"
 #include "podium/sim/recorder.h"
+#include "podium/sim/world.h"
 
 namespace podium::character {
 
@@ -36,22 +38,16 @@ int record_stride(const sim::World& world, double min_hz) {
 
 // While alive, records the World's states between control steps every `stride` simulation steps
 // (the state at the end of a control step is the caller's to record, as without sub-steps).
-class SubstepRecording {
- public:
-  SubstepRecording(sim::World& world, sim::Recorder& recorder, int stride) : world_(world) {
-    if (stride >= world.substeps()) return;
-    world.set_substep_observer([&recorder, stride, period = world.substeps(), step = 0](sim::World& w) mutable {
-      step = step % period + 1;  // 1 … period within each control step
-      if (step % stride == 0 && step < period) recorder.record(w);
-    });
-  }
-  ~SubstepRecording() { world_.set_substep_observer({}); }
-  SubstepRecording(const SubstepRecording&) = delete;
-  SubstepRecording& operator=(const SubstepRecording&) = delete;
-
- private:
-  sim::World& world_;
-};
+// Records the states between control steps, every `stride`-th simulation step (none when stride
+// is a whole control step), after whatever observer the env's world has, which it keeps.
+std::optional<sim::ScopedSubstepObserver> record_substeps(sim::World& world, sim::Recorder& recorder, int stride) {
+  if (stride >= world.substeps()) return std::nullopt;
+  return std::optional<sim::ScopedSubstepObserver>(
+      std::in_place, world, [&recorder, stride, period = world.substeps(), step = 0](sim::World& w) mutable {
+        step = step % period + 1;  // 1 … period within each control step
+        if (step % stride == 0 && step < period) recorder.record(w);
+      });
+}
 
 }  // namespace
 
@@ -74,8 +70,8 @@ EvaluationReport evaluate(CharacterEnv& env, const PolicyFn& policy, const Evalu
     env.reset(observation);
     if (recording) recorder.record(env.world());
     if (config.each_step) config.each_step(i, env);
-    const SubstepRecording substeps(env.world(), recorder,
-                                    recording ? record_stride(env.world(), config.record_min_hz) : env.world().substeps());
+    const auto substeps = record_substeps(env.world(), recorder,
+                                          recording ? record_stride(env.world(), config.record_min_hz) : env.world().substeps());
     double ret = 0.0;
     for (;;) {
       policy(observation, action);

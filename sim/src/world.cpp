@@ -101,6 +101,18 @@ World::World(const ModelPtr& model, const WorldConfig& config)
 
 World::~World() = default;
 
+ScopedSubstepObserver::ScopedSubstepObserver(World& world, std::function<void(World&)> observer)
+    : world_(world), previous_(world.substep_observer()) {
+  if (!previous_) {
+    world.set_substep_observer(std::move(observer));
+    return;
+  }
+  world.set_substep_observer([first = previous_, then = std::move(observer)](World& w) {
+    first(w);
+    then(w);
+  });
+}
+
 void World::build_bullet() {
   bullet_ = std::make_unique<Bullet>();
   Bullet& b = *bullet_;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <optional>
 
 #include "podium/base/error.h"
 #include "podium/base/log.h"
@@ -146,9 +147,10 @@ void merge_recordings(const fs::path& runup, const fs::path& jump, const Placeme
 // into `recorder` when given.
 void roll_out(character::CharacterEnv& env, const character::PolicyFn& policy, std::vector<double>& obs,
               sim::Recorder* recorder) {
+  std::optional<sim::ScopedSubstepObserver> recording;
   if (recorder) {
     recorder->record(env.world());
-    env.world().set_substep_observer([recorder](sim::World& w) { recorder->record(w); });
+    recording.emplace(env.world(), [recorder](sim::World& w) { recorder->record(w); });
   }
   std::vector<double> action(env.action_space().size());
   learn::StepResult out;
@@ -157,7 +159,6 @@ void roll_out(character::CharacterEnv& env, const character::PolicyFn& policy, s
     env.step(action, out);
     obs = out.observation;
   } while (!out.terminated && !out.truncated);
-  if (recorder) env.world().set_substep_observer(nullptr);
 }
 
 }  // namespace

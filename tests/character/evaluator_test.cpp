@@ -9,6 +9,7 @@
 
 #include "env_util.h"
 #include "podium/base/error.h"
+#include "podium/sim/world.h"
 
 namespace podium::character {
 namespace {
@@ -129,6 +130,25 @@ TEST(Evaluator, DenseRecordingTakesSimulationStatesAndChangesNothingElse) {
   for (std::size_t f = 2; f < many.size(); ++f) EXPECT_NE(base::Json::parse(many[f])["q"], base::Json::parse(many[f - 1])["q"]);
   fs::remove_all(sparse_dir);
   fs::remove_all(dense_dir);
+}
+
+// A task's own observer (the sprint's finish line) sees every simulation step of every episode,
+// recorded densely or not, and is the world's observer again afterwards.
+TEST(Evaluator, KeepsTheWorldsOwnSubstepObserverThroughEveryEpisode) {
+  const fs::path dir = fs::temp_directory_path() / "podium_character_eval_observer";
+  fs::remove_all(dir);
+  CharacterEnv env(testing::getup_like_parts(8));
+  int seen = 0;
+  env.world().set_substep_observer([&seen](sim::World&) { ++seen; });
+  EvaluationConfig c = config_for(dir);
+  c.record_min_hz = 100.0;  // episode 1 recorded between control steps, beside the world's observer
+  const EvaluationReport report = evaluate(env, kLimp, c);
+  ASSERT_EQ(report.returns.size(), 3u);
+  EXPECT_EQ(seen, 3 * 8 * env.world().substeps());  // three episodes of 8 control steps
+  ASSERT_TRUE(env.world().substep_observer());
+  env.world().substep_observer()(env.world());
+  EXPECT_EQ(seen, 3 * 8 * env.world().substeps() + 1);
+  fs::remove_all(dir);
 }
 
 TEST(Evaluator, RejectsARecordIndexOutsideTheStarts) {

@@ -140,6 +140,8 @@ class World {
   /// Called by control_step after each of its simulation steps (e.g. a recorder taking the states
   /// between control steps); it must not change the World. Not part of a snapshot; empty: none.
   void set_substep_observer(std::function<void(World&)> observer) { substep_observer_ = std::move(observer); }
+  /// The observer set now (empty: none).
+  const std::function<void(World&)>& substep_observer() const { return substep_observer_; }
   /// One simulation step.
   StepReport sim_step(Control mode, const Eigen::VectorXd& command);
 
@@ -196,6 +198,20 @@ struct WorldSnapshot {
   StepReport failure;
   std::vector<Eigen::Vector3d> forces;
   std::shared_ptr<const WarmStarts> warm;
+};
+
+/// Adds an observer after the world's own for its lifetime (e.g. a recorder over an episode, while
+/// a task's finish line keeps observing), then puts the world's back. The world must outlive it.
+class ScopedSubstepObserver {
+ public:
+  ScopedSubstepObserver(World& world, std::function<void(World&)> observer);
+  ~ScopedSubstepObserver() { world_.set_substep_observer(std::move(previous_)); }
+  ScopedSubstepObserver(const ScopedSubstepObserver&) = delete;
+  ScopedSubstepObserver& operator=(const ScopedSubstepObserver&) = delete;
+
+ private:
+  World& world_;
+  std::function<void(World&)> previous_;
 };
 
 }  // namespace podium::sim

@@ -109,7 +109,8 @@ std::vector<double> split_times(const std::vector<double>& t_s, const std::vecto
 std::vector<SegmentSteps> steps_by_segment(const std::vector<Touchdown>& touchdowns, double segment_m, double length_m) {
   if (!(segment_m > 0.0)) throw base::UserError("race steps: segment_m " + std::to_string(segment_m) + " is not > 0");
   std::vector<SegmentSteps> segments;
-  for (double from = 0.0; from < length_m - 1e-9; from += segment_m) segments.push_back({from, std::min(from + segment_m, length_m)});
+  for (double from = 0.0; from < length_m - 1e-9; from += segment_m)
+    segments.push_back({from, std::min(from + segment_m, length_m)});
   std::vector<double> time(segments.size(), 0.0), length(segments.size(), 0.0);
   for (std::size_t i = 1; i < touchdowns.size(); ++i) {
     const double x = touchdowns[i].x_m;
@@ -128,7 +129,7 @@ std::vector<SegmentSteps> steps_by_segment(const std::vector<Touchdown>& touchdo
 }
 
 Json StepAsymmetry::to_json() const {
-  return {{"left_steps", left_steps},       {"right_steps", right_steps},   {"left_length_m", left_length_m},
+  return {{"left_steps", left_steps},         {"right_steps", right_steps},   {"left_length_m", left_length_m},
           {"right_length_m", right_length_m}, {"length_index", length_index}, {"left_time_s", left_time_s},
           {"right_time_s", right_time_s},     {"time_index", time_index}};
 }
@@ -237,8 +238,8 @@ Json RaceEpisode::to_json() const {
           {"top_speed_mps", top_speed ? Json(top_speed->speed_mps) : Json(nullptr)},
           {"top_speed_at_m", top_speed ? Json(top_speed->at_m) : Json(nullptr)},
           {"steps", steps},
-          {"step_length_m", step_length_m},
-          {"step_frequency_hz", step_frequency_hz},
+          {"step_length_m", steps > 1 ? Json(step_length_m) : Json(nullptr)},
+          {"step_frequency_hz", steps > 1 ? Json(step_frequency_hz) : Json(nullptr)},
           {"segments", segs},
           {"lean_per_step_deg", lean},
           {"first_segment_lean_deg", first_segment_lean_rad * kDeg},
@@ -314,17 +315,17 @@ struct RaceContext {
   const RaceSettings& s;
   double length_m = 0.0;
   SprintEnvSettings start, accelerate;
-  learn::FrozenPolicy start_policy, accelerate_policy;
+  const RacePolicyFns& policies;
 };
 
 // Steps `env` with `policy` to the episode's end, sampling (and recording) after every step;
 // `before` may change each action (the dip).
-void run_phase(SprintEnv& env, const learn::FrozenPolicy& policy, std::vector<double>& observation, Trace& tr,
+void run_phase(SprintEnv& env, const character::PolicyFn& policy, std::vector<double>& observation, Trace& tr,
                sim::Recorder* recorder, bool& truncated, const std::function<void(std::span<double>)>& before = {}) {
   std::vector<double> action(env.action_space().size());
   learn::StepResult step;
   for (;;) {
-    policy.act(observation, action);
+    policy(observation, action);
     if (before) before(action);
     env.step(action, step);
     if (recorder) recorder->record(env.world());
@@ -352,7 +353,7 @@ RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, con
   start.reset(observation);
   if (recorder) recorder->record(start.world());
   take_sample(start, tr);
-  run_phase(start, c.start_policy, observation, tr, recorder, truncated);
+  run_phase(start, c.policies.start, observation, tr, recorder, truncated);
   e.reference = c.start.start_references.at(static_cast<std::size_t>(start.reference_index())).name;
   if (start.outcome() != SprintEnv::Outcome::landed || !start.landing_state()) {
     e.outcome = truncated ? "no_landing" : to_string(start.outcome());
@@ -367,7 +368,7 @@ RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, con
   run.seed(base::derive_seed(seed, 1));
   run.reset(observation);  // the landing's state, already sampled and recorded
   const Dip dip = c.s.dip;
-  run_phase(run, c.accelerate_policy, observation, tr, recorder, truncated, [&](std::span<double> action) {
+  run_phase(run, c.policies.accelerate, observation, tr, recorder, truncated, [&](std::span<double> action) {
     const double x = run.world().data().q(0);
     if (dip.distance_m > 0.0 && !e.dip_x_m && c.length_m - x <= dip.distance_m) e.dip_x_m = x;
     if (e.dip_x_m) add_hip_flexion(run.model(), dip.angle_rad, action);
@@ -390,15 +391,16 @@ void add_track_lines(const fs::path& file, const TrackSpec& track) {
   Json h = Json::parse(header);
   const double w = 0.05, z = 0.001, half_lane = 0.5 * track.lane_width_m, y0 = track.lane_centre_y_m;
   const auto box = [&](const std::string& name, double x, double y, double hx, double hy) {
-    return Json{{"name", name},         {"type", "box"}, {"kind", "line"}, {"pos", {x, y, z}}, {"quat", {1, 0, 0, 0}},
-                {"half_extents", {hx, hy, z}}, {"friction", 0.0}};
+    return Json{{"name", name},     {"type", "box"},        {"kind", "line"},
+                {"pos", {x, y, z}}, {"quat", {1, 0, 0, 0}}, {"half_extents", {hx, hy, z}},
+                {"friction", 0.0}};
   };
   const double lane_from = -2.0, lane_to = track.length_m + 5.0;
   h["props"].push_back(box("start_line", -0.5 * w, y0, 0.5 * w, half_lane));
   h["props"].push_back(box("finish_line", track.length_m + 0.5 * w, y0, 0.5 * w, half_lane));
   for (const int side : {-1, 1})
-    h["props"].push_back(box(side < 0 ? "lane_right" : "lane_left", 0.5 * (lane_from + lane_to), y0 + side * (half_lane + 0.5 * w),
-                             0.5 * (lane_to - lane_from), 0.5 * w));
+    h["props"].push_back(box(side < 0 ? "lane_right" : "lane_left", 0.5 * (lane_from + lane_to),
+                             y0 + side * (half_lane + 0.5 * w), 0.5 * (lane_to - lane_from), 0.5 * w));
   std::ofstream out(file);
   out << h.dump() << '\n' << rest;
   if (!out) throw base::UserError(file.string() + ": cannot write the race motion");
@@ -525,15 +527,23 @@ Json RaceReport::to_json() const {
 }
 
 Json RaceReport::result_table() const {
-  const Json columns = {column("episode"),         column("wind", "m/s"),       column("μ"),
-                        column("outcome"),         column("finish time", "s"),  column("top speed", "m/s"),
-                        column("top speed at", "m"), column("steps"),          column("step length", "m"),
-                        column("step frequency", "Hz"), column("rise distance", "m")};
+  const Json columns = {column("episode"),
+                        column("wind", "m/s"),
+                        column("μ"),
+                        column("outcome"),
+                        column("finish time", "s"),
+                        column("top speed", "m/s"),
+                        column("top speed at", "m"),
+                        column("steps"),
+                        column("step length", "m"),
+                        column("step frequency", "Hz"),
+                        column("rise distance", "m")};
   Json rows = Json::array();
   for (const RaceEpisode& e : episodes)
     rows.push_back({e.index, e.draw.wind_mps, e.draw.friction, e.outcome, optional_json(e.finish_time_s),
                     e.top_speed ? Json(e.top_speed->speed_mps) : Json(nullptr),
-                    e.top_speed ? Json(e.top_speed->at_m) : Json(nullptr), e.steps, e.step_length_m, e.step_frequency_hz,
+                    e.top_speed ? Json(e.top_speed->at_m) : Json(nullptr), e.steps,
+                    e.steps > 1 ? Json(e.step_length_m) : Json(nullptr), e.steps > 1 ? Json(e.step_frequency_hz) : Json(nullptr),
                     optional_json(e.rise_distance_m)});
   return {{"title", "race over " + fixed(length_m, 0) + " m"}, {"columns", columns}, {"rows", rows}};
 }
@@ -553,12 +563,19 @@ std::string RaceReport::text_table() const {
   for (const RaceEpisode& e : episodes) {
     std::string splits;
     for (const double t : e.splits_s) splits += (splits.empty() ? "" : " ") + fixed(t);
-    std::snprintf(line, sizeof line, "%3d  %+5.2f  %4.2f  %-24s  %-10s  %6s  %7s  %4s  %5d  %5.2f  %7.2f  %6s  %9.1f  %5s/%-5s  %s\n",
-                  e.index, e.draw.wind_mps, e.draw.friction, e.reference.c_str(), e.outcome.c_str(),
-                  fixed(e.finish_time_s).c_str(), fixed(e.top_speed ? std::optional(e.top_speed->speed_mps) : std::nullopt).c_str(),
-                  fixed(e.top_speed ? std::optional(e.top_speed->at_m) : std::nullopt, 1).c_str(), e.steps, e.step_length_m,
-                  e.step_frequency_hz, fixed(e.rise_distance_m, 1).c_str(), e.first_segment_lean_rad * kDeg,
-                  fixed(e.asymmetry.length_index).c_str(), fixed(e.asymmetry.time_index).c_str(), splits.c_str());
+    const auto per_step = [&](double v) { return e.steps > 1 ? std::optional(v) : std::nullopt; };
+    std::snprintf(
+        line, sizeof line, "%3d  %+5.2f  %4.2f  %-24s  %-10s  %6s  %7s  %4s  %5d  %5s  %7s  %6s  %9.1f  %5s/%-5s  %s\n", e.index,
+        e.draw.wind_mps, e.draw.friction, e.reference.c_str(), e.outcome.c_str(), fixed(e.finish_time_s).c_str(),
+        fixed(e.top_speed ? std::optional(e.top_speed->speed_mps) : std::nullopt).c_str(),
+        fixed(e.top_speed ? std::optional(e.top_speed->at_m) : std::nullopt, 1).c_str(), e.steps,
+        fixed(per_step(e.step_length_m)).c_str(), fixed(per_step(e.step_frequency_hz)).c_str(),
+        fixed(e.rise_distance_m, 1).c_str(), e.first_segment_lean_rad * kDeg,
+        fixed(e.asymmetry.left_steps > 0 && e.asymmetry.right_steps > 0 ? std::optional(e.asymmetry.length_index) : std::nullopt)
+            .c_str(),
+        fixed(e.asymmetry.left_steps > 0 && e.asymmetry.right_steps > 0 ? std::optional(e.asymmetry.time_index) : std::nullopt)
+            .c_str(),
+        splits.c_str());
     o << line;
   }
   const auto value = [&](const char* key, int decimals = 2) {
@@ -571,8 +588,7 @@ std::string RaceReport::text_table() const {
     << value("mean_steps", 1) << " (sd " << value("std_steps", 1) << "); step length " << value("mean_step_length_m")
     << " m, frequency " << value("mean_step_frequency_hz") << " Hz; rise distance " << value("mean_rise_distance_m", 1)
     << " m (rate " << value("rise_rate") << "); lean over the first segment " << value("mean_first_segment_lean_deg", 1)
-    << " deg; asymmetry length " << value("mean_step_length_asymmetry") << ", time " << value("mean_step_time_asymmetry")
-    << "\n";
+    << " deg; asymmetry length " << value("mean_step_length_asymmetry") << ", time " << value("mean_step_time_asymmetry") << "\n";
   o << "per segment (m: step length m, frequency Hz):";
   for (const Json& g : s["segments"])
     o << "  " << fixed(g["from_m"].get<double>(), 0) << "-" << fixed(g["to_m"].get<double>(), 0) << ": "
@@ -597,27 +613,44 @@ std::string RaceReport::text_table() const {
   return o.str();
 }
 
-RaceReport run_race(const RaceSettings& settings, const RacePolicies& policies, const fs::path& work_dir,
-                    const std::atomic<bool>* cancel, const std::function<void(double)>& progress) {
+RaceEnvSettings race_env_settings(const RaceSettings& settings) {
   const SprintPreset preset = load_sprint_preset(settings.track);
-  RaceContext c{settings, preset.track.length_m, {}, {}, learn::FrozenPolicy(policies.start),
-                learn::FrozenPolicy(policies.accelerate)};
-  c.accelerate.preset = preset;
-  c.accelerate.sim_hz = settings.sim_hz;
-  c.start = c.accelerate;
-  c.start.start_references = crouch_start_references(sim::load_shipped_model(c.start.model), c.start.control_hz, preset.start);
+  RaceEnvSettings e;
+  e.accelerate.preset = preset;
+  e.accelerate.sim_hz = settings.sim_hz;
+  e.start = e.accelerate;
+  e.start.start_references = crouch_start_references(sim::load_shipped_model(e.start.model), e.start.control_hz, preset.start);
   // The race runs the Start policy to its landing: no early termination on a deviation from the
   // reference (a training device), only the sprint's falls, the lane and the Start's time limit.
-  c.start.preset.start.max_com_deviation_m = std::numeric_limits<double>::infinity();
-  c.start.preset.start.min_pose_reward = 0.0;
+  e.start.preset.start.max_com_deviation_m = std::numeric_limits<double>::infinity();
+  e.start.preset.start.min_pose_reward = 0.0;
+  return e;
+}
+
+RaceReport run_race(const RaceSettings& settings, const RacePolicies& policies, const fs::path& work_dir,
+                    const std::atomic<bool>* cancel, const std::function<void(double)>& progress) {
+  const auto start = std::make_shared<const learn::FrozenPolicy>(policies.start);
+  const auto accelerate = std::make_shared<const learn::FrozenPolicy>(policies.accelerate);
+  {
+    const RaceEnvSettings e = race_env_settings(settings);
+    check_fits(*start, SprintEnv(e.start), "start");
+    check_fits(*accelerate, SprintEnv(e.accelerate), "accelerate");  // stage 2's observation, whatever its start
+  }
+  const RacePolicyFns fns{[start](std::span<const double> o, std::span<double> a) { start->act(o, a); },
+                          [accelerate](std::span<const double> o, std::span<double> a) { accelerate->act(o, a); }};
+  return run_race(settings, fns, work_dir, cancel, progress);
+}
+
+RaceReport run_race(const RaceSettings& settings, const RacePolicyFns& policies, const fs::path& work_dir,
+                    const std::atomic<bool>* cancel, const std::function<void(double)>& progress) {
+  const SprintPreset preset = load_sprint_preset(settings.track);
+  const RaceEnvSettings envs = race_env_settings(settings);
+  const RaceContext c{settings, preset.track.length_m, envs.start, envs.accelerate, policies};
   RaceReport report;
   report.settings = settings;
   report.length_m = preset.track.length_m;
   {
-    const SprintEnv start(c.start);
-    const SprintEnv run(c.accelerate);  // stage 2's observation, whatever its start
-    check_fits(c.start_policy, start, "start");
-    check_fits(c.accelerate_policy, run, "accelerate");
+    const SprintEnv start(c.start), run(c.accelerate);
     report.time_limit_s = (start.episode_steps() + run.episode_steps()) * start.control_dt_s();
   }
   const int n = settings.episodes > 0 ? settings.episodes : preset.race.episodes;

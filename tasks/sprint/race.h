@@ -18,7 +18,9 @@
 
 #include "podium/base/config.h"
 #include "podium/base/json.h"
+#include "podium/character/evaluator.h"
 #include "podium/sim/model.h"
+#include "sprint_env.h"
 #include "sprint_preset.h"
 #include "steps.h"
 
@@ -124,7 +126,7 @@ struct RaceEpisode {
   std::vector<double> splits_s;
   std::vector<std::optional<double>> speed_profile_mps;
   std::optional<SpeedPeak> top_speed;
-  int steps = 0;  ///< counted steps to the end (to the line for a finisher)
+  int steps = 0;                                        ///< counted steps to the end (to the line for a finisher)
   double step_length_m = 0.0, step_frequency_hz = 0.0;  ///< over the whole run (0 without a step)
   std::vector<SegmentSteps> segments;
   std::vector<double> lean_per_step_rad;
@@ -139,6 +141,17 @@ struct RaceEpisode {
 struct RacePolicies {
   std::filesystem::path start, accelerate;
 };
+/// The same as functions (observation ↦ action), e.g. scripted ones in tests.
+struct RacePolicyFns {
+  character::PolicyFn start, accelerate;
+};
+
+/// The two phases' environments: the Start mode on the preset's crouch starts (no early
+/// termination on a deviation from the reference: a training device), and stage 2 (plain mode).
+struct RaceEnvSettings {
+  SprintEnvSettings start, accelerate;
+};
+RaceEnvSettings race_env_settings(const RaceSettings& settings);
 
 /// What a race wrote and found.
 struct RaceReport {
@@ -157,6 +170,9 @@ struct RaceReport {
 /// fraction done after each episode; a set `cancel` stops it (std::runtime_error). Throws
 /// base::UserError when a policy does not fit the environment.
 RaceReport run_race(const RaceSettings& settings, const RacePolicies& policies, const std::filesystem::path& work_dir,
+                    const std::atomic<bool>* cancel = nullptr, const std::function<void(double)>& progress = {});
+/// The same with policy functions (no fit check).
+RaceReport run_race(const RaceSettings& settings, const RacePolicyFns& policies, const std::filesystem::path& work_dir,
                     const std::atomic<bool>* cancel = nullptr, const std::function<void(double)>& progress = {});
 
 }  // namespace podium::tasks::sprint

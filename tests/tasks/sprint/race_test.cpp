@@ -1,6 +1,8 @@
 // The race report (tasks/sprint/race.h): splits, step statistics, lean, speed profile and top
 // speed on scripted sequences; the dip's hip flexion on humanoid34; and a whole race in-process
 // with untrained policies (what it records, determinism, the wind check's pairing).
+#include "race.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,10 +16,9 @@
 #include "podium/character/pose_bridge.h"
 #include "podium/learn/learner.h"
 #include "podium/sim/dynamics.h"
-#include "race.h"
+#include "process.h"
 #include "sprint_env.h"
 #include "sprint_rewards.h"
-#include "process.h"
 
 namespace podium::tasks::sprint {
 namespace {
@@ -119,9 +120,9 @@ TEST(SprintRace, SpeedProfileAndTopSpeedOfAnAcceleratingThenSteadyRun) {
   }
   const auto profile = speed_profile(t, x, 4.0, 36.0);
   ASSERT_EQ(profile.size(), 9u);
-  EXPECT_NEAR(*profile[0], 4.0 / 2.0, 1e-3);          // 0–4 m in 2 s
-  EXPECT_NEAR(*profile[5], 8.0, 1e-9);                // steady
-  EXPECT_FALSE(profile[8].has_value());               // 32–36 m: never reached
+  EXPECT_NEAR(*profile[0], 4.0 / 2.0, 1e-3);  // 0–4 m in 2 s
+  EXPECT_NEAR(*profile[5], 8.0, 1e-9);        // steady
+  EXPECT_FALSE(profile[8].has_value());       // 32–36 m: never reached
   const auto top = top_speed(t, x, 4.0, 1.0);
   ASSERT_TRUE(top.has_value());
   EXPECT_NEAR(top->speed_mps, 8.0, 1e-9);
@@ -226,6 +227,84 @@ TEST(SprintRace, ARaceRecordsEveryEpisodeItsDrawAndAPairedWindCheck) {
   EXPECT_EQ(a.result_table()["rows"].size(), 3u);
   EXPECT_NE(a.text_table().find("wind check"), std::string::npos);
   std::printf("%s", a.text_table().c_str());
+}
+
+// Scripted policies: the Start follows its reference (the frame after the observation's phase,
+// of the reference its one-hot names); stage 2 holds the standing pose.
+RacePolicyFns scripted_policies(const RaceEnvSettings& e) {
+  const auto bridge = std::make_shared<const character::PoseBridge>(sim::load_shipped_model("humanoid34"));
+  const std::vector<StartReference> refs = e.start.start_references;
+  RacePolicyFns p;
+  p.start = [bridge, refs](std::span<const double> o, std::span<double> a) {
+    const std::size_t n = refs.size(), size = o.size();
+    std::size_t r = 0;
+    for (std::size_t k = 0; k < n; ++k)
+      if (o[size - n - 1 + k] > 0.5) r = k;
+    const character::Clip& clip = *refs[r].clip;
+    const auto frame = static_cast<std::size_t>(std::lround(o[size - n - 2] * clip.duration_s() * 30.0)) + 1;
+    const std::vector<double> pose = bridge->pose(clip.poses[std::min(frame, clip.size() - 1)]);
+    std::copy(pose.begin(), pose.end(), a.begin());
+  };
+  const std::vector<double> standing = bridge->pose(bridge->model().standing_pose());
+  p.accelerate = [standing](std::span<const double>, std::span<double> a) {
+    std::copy(standing.begin(), standing.end(), a.begin());
+  };
+  return p;
+}
+
+// The race's two phases and the dip on scripted policies: the Start hands over at its first
+// landing (the scripted start lands on the right-foot references), stage 2 goes on from that
+// state with its step count; a dip of 0° changes nothing but where it fired, a dip of 30° changes
+// the run from the hand-over on, and only there.
+TEST(SprintRace, StageTwoTakesOverAtTheLandingAndTheDipActsFromItsDistance) {
+  podium::testing::TempDir dir;
+  RaceSettings settings;
+  settings.sim_hz = 150.0;
+  settings.episodes = 6;
+  settings.record = 0;
+  settings.wind_check = false;
+  const RacePolicyFns policies = scripted_policies(race_env_settings(settings));
+  const RaceReport plain = run_race(settings, policies, dir.path());
+  const auto without_dip = [](const RaceEpisode& e) {
+    Json j = e.to_json();
+    j.erase("dip_x_m");
+    return j;
+  };
+  int landed = 0;
+  for (const RaceEpisode& e : plain.episodes) {
+    if (!e.landing_time_s) {
+      EXPECT_TRUE(e.outcome == "fell" || e.outcome == "left_lane" || e.outcome == "no_landing") << e.outcome;
+      continue;
+    }
+    ++landed;
+    EXPECT_GE(e.steps, 1);                // the landing counted, and the count went on in stage 2
+    EXPECT_NE(e.outcome, "no_landing");   // stage 2's own end
+    EXPECT_FALSE(e.dip_x_m.has_value());  // no dip by default
+    EXPECT_EQ(e.lean_per_step_rad.size(), static_cast<std::size_t>(e.steps));
+  }
+  ASSERT_GT(landed, 0);
+  RaceSettings zero = settings;
+  zero.dip = {100.0, 0.0};  // within 100 m of the line from the start: fires at stage 2's first step
+  RaceSettings thirty = settings;
+  thirty.dip = {100.0, 30.0 * std::numbers::pi / 180.0};
+  RaceSettings far = thirty;
+  far.dip.distance_m = 0.5;  // never that close
+  const RaceReport a = run_race(zero, policies, dir.path()), b = run_race(thirty, policies, dir.path()),
+                   c = run_race(far, policies, dir.path());
+  int changed = 0;
+  for (std::size_t k = 0; k < plain.episodes.size(); ++k) {
+    const RaceEpisode& e = plain.episodes[k];
+    EXPECT_EQ(without_dip(a.episodes[k]), without_dip(e)) << k;
+    EXPECT_EQ(c.episodes[k].to_json(), e.to_json()) << k;
+    EXPECT_EQ(a.episodes[k].dip_x_m.has_value(), e.landing_time_s.has_value()) << k;
+    if (!e.landing_time_s) {
+      EXPECT_EQ(b.episodes[k].to_json(), e.to_json()) << k;  // the Start phase is not the dip's
+      continue;
+    }
+    EXPECT_EQ(b.episodes[k].dip_x_m, a.episodes[k].dip_x_m) << k;
+    if (without_dip(b.episodes[k]) != without_dip(e)) ++changed;
+  }
+  EXPECT_EQ(changed, landed);
 }
 
 }  // namespace

@@ -380,8 +380,9 @@ RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, con
 }
 
 // The lane and the lines, drawn in the replay only (not in the World: no contact changes): thin
-// boxes of kind "line" on the ground, 5 cm wide, the start line behind x = 0 and the finish line
-// past x = L (a line's width belongs to the area it closes).
+// boxes of kind "line" on the ground, 5 cm wide; as athletics measures the race from the start
+// line's edge farther from the finish to the finish line's nearer edge, the start line lies on
+// [0, w] (the hands stay behind it) and the finish line on [L, L + w].
 void add_track_lines(const fs::path& file, const TrackSpec& track) {
   std::ifstream in(file);
   std::string header, rest, line;
@@ -396,7 +397,7 @@ void add_track_lines(const fs::path& file, const TrackSpec& track) {
                 {"friction", 0.0}};
   };
   const double lane_from = -2.0, lane_to = track.length_m + 5.0;
-  h["props"].push_back(box("start_line", -0.5 * w, y0, 0.5 * w, half_lane));
+  h["props"].push_back(box("start_line", 0.5 * w, y0, 0.5 * w, half_lane));
   h["props"].push_back(box("finish_line", track.length_m + 0.5 * w, y0, 0.5 * w, half_lane));
   for (const int side : {-1, 1})
     h["props"].push_back(box(side < 0 ? "lane_right" : "lane_left", 0.5 * (lane_from + lane_to),

@@ -69,6 +69,9 @@ SprintPreset read_sprint_preset(base::ConfigReader& r) {
     p.time_limit_s = e.number("time_limit_s", p.time_limit_s, {0.0, 3600.0, true}, "an episode is truncated after this long, s");
   });
   r.object("start", [&](base::ConfigReader& s) { read_start(s, p.start); });
+  r.object("race", [&](base::ConfigReader& s) {
+    p.race.episodes = s.integer<int>("episodes", p.race.episodes, {1, 1'000'000}, "the race report's DR episodes");
+  });
   return p;
 }
 

@@ -31,6 +31,11 @@ struct StartPreset {
   double extra_time_s = 0.5;         ///< an episode's limit: the longest reference's duration plus this
 };
 
+/// The race report (race.h): how many DR episodes it runs (smoke a few, quick 20, paper 100).
+struct RacePreset {
+  int episodes = 20;
+};
+
 struct SprintPreset {
   TrackSpec track;
   StepCounterConfig steps;
@@ -40,6 +45,7 @@ struct SprintPreset {
   Range friction{0.8, 1.2};    ///< runway μ, U(lo, hi)
   double time_limit_s = 30.0;  ///< an episode is truncated after this long (control steps: ⌈T·f_control⌉)
   StartPreset start;
+  RacePreset race;
 };
 
 /// One episode's domain-randomisation draw (§2 "Initial State"), recorded with the episode.

@@ -3,7 +3,10 @@
 // the first landing; its landing states are stage 2's start set) and "accelerate" (§3.2: one PPO
 // policy from those landings to the line; its snapshots before the line are the dip stage's).
 // README.md gives the metrics and presets.
+#include <fstream>
+
 #include "podium/plugins/export.h"
+#include "race.h"
 #include "train_accelerate.h"
 #include "train_start.h"
 
@@ -17,17 +20,22 @@ struct TaskConfig {
   std::string stage = "start";
   StartTrainSettings start;
   AccelerateSettings accelerate;
+  RaceSettings race;
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice("stage", c.stage, {"start", "accelerate"},
-                     "start: the Start phase (§3.1), PPO on r_base + λ_i·r_imitation of our crouch starts to the first landing; "
-                     "accelerate: Acceleration + Top Speed (§3.2), PPO from the start trial's landings to the line on r_base + "
-                     "r_mass + r_diag + r_mirror");
+  c.stage = r.choice(
+      "stage", c.stage, {"start", "accelerate", "race"},
+      "start: the Start phase (§3.1), PPO on r_base + λ_i·r_imitation of our crouch starts to the first landing; "
+      "accelerate: Acceleration + Top Speed (§3.2), PPO from the start trial's landings to the line on r_base + "
+      "r_mass + r_diag + r_mirror; race: the race report, the best start and accelerate trials over DR episodes (race.h)");
   c.start = read_start_train_settings(r);
   c.accelerate.train = c.start;
   read_accelerate_settings(r, c.accelerate);
+  c.race.track = c.start.track, c.race.sim_hz = c.start.sim_hz, c.race.rise_lean_deg = c.accelerate.rise_lean_deg;
+  read_race_settings(r, c.race);
+  if (c.race.seed == c.start.eval_seed) r.fail("race_seed", "must differ from eval_seed (the race's episodes are held out)");
   return c;
 }
 
@@ -188,6 +196,92 @@ plugins::RunResult run_accelerate(const TaskConfig& c, const plugins::RunRequest
   return result;
 }
 
+// The race stage: its inputs are the best start trial (artifact landings) and the best accelerate
+// trial (artifact dip_starts), in any order; the dip is config (race_dip_*).
+RacePolicies race_policies(const plugins::RunRequest& request) {
+  RacePolicies p;
+  for (const plugins::InputTrial& in : request.inputs) {
+    const std::string who = in.stage + "/" + std::to_string(in.trial_index);
+    if (!in.artifacts.count("policy")) throw base::UserError("sprint race: input trial " + who + " has no artifact policy");
+    if (in.artifacts.count("landings")) p.start = in.artifacts.at("policy");
+    else if (in.artifacts.count("dip_starts")) p.accelerate = in.artifacts.at("policy");
+    else
+      throw base::UserError("sprint race: input trial " + who +
+                            " is neither a start (landings) nor an accelerate (dip_starts) trial");
+  }
+  if (p.start.empty() || p.accelerate.empty())
+    throw base::UserError(
+        "sprint race: needs a start trial and an accelerate trial as inputs (\"inputs\": {\"stage\": "
+        "[\"start\", \"accelerate\"], \"select\": \"best\"}), got " +
+        std::to_string(request.inputs.size()));
+  return p;
+}
+
+void describe_race(const TaskConfig& c, Json& d) {
+  const plugins::MetricShape per_episode{.x = {"episode", ""}, .evaluation = true};
+  d["metrics"] = {
+      plugins::metric_entry("race/finish_time_s", "s", "each DR episode's finish time (torso at the line; finishers)",
+                            per_episode),
+      plugins::metric_entry("race/top_speed_mps", "m/s", "each episode's top speed", per_episode),
+      plugins::metric_entry("race/steps", "", "each finisher's step count to the line", per_episode),
+      plugins::metric_entry("race/headwind_finish_time_s", "s", "each episode's finish time in the wind check's headwind",
+                            per_episode),
+      plugins::metric_entry("race/tailwind_finish_time_s", "s", "each episode's finish time in its tailwind", per_episode)};
+  const double length = load_sprint_preset(c.race.track).track.length_m;
+  d["features"] = {
+      {{"name", "step_length_m"}, {"low", 0.0}, {"high", 3.0}, {"unit", "m"}, {"description", "mean step length"}},
+      {{"name", "step_frequency_hz"}, {"low", 0.0}, {"high", 6.0}, {"unit", "Hz"}, {"description", "mean step frequency"}},
+      {{"name", "rise_distance_m"},
+       {"low", -2.0},
+       {"high", length},
+       {"unit", "m"},
+       {"description", "mean rise distance (the track's length when no episode rose)"}}};
+  plugins::set_objectives(
+      d, Json::array({plugins::objective_entry("minus_mean_finish_time_s", "s",
+                                               "minus the mean finish time over the DR episodes, a fall or lane exit counted at "
+                                               "the race's time limit"),
+                      plugins::objective_entry("finish_rate", "", "the DR episodes that reached the line")}));
+}
+
+plugins::RunResult run_race_stage(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  const RaceReport report =
+      run_race(c.race, race_policies(request), request.work_dir, request.cancel, [&](double f) { sink.progress(f); });
+  for (const RaceEpisode& e : report.episodes) {
+    if (e.finish_time_s)
+      sink.metric("race/finish_time_s", e.index, *e.finish_time_s), sink.metric("race/steps", e.index, e.steps);
+    if (e.top_speed) sink.metric("race/top_speed_mps", e.index, e.top_speed->speed_mps);
+  }
+  for (const RaceEpisode& e : report.headwind)
+    if (e.finish_time_s) sink.metric("race/headwind_finish_time_s", e.index, *e.finish_time_s);
+  for (const RaceEpisode& e : report.tailwind)
+    if (e.finish_time_s) sink.metric("race/tailwind_finish_time_s", e.index, *e.finish_time_s);
+  const std::filesystem::path json = request.work_dir / "race.json", text = request.work_dir / "race.txt";
+  base::write_json_file_atomic(json, report.to_json());
+  std::ofstream(text) << report.text_table();
+  const Json summary = report.summary();
+  plugins::RunResult result;
+  result.objectives = {-summary["mean_race_time_s"].get<double>(), summary["finish_rate"].get<double>()};
+  const auto feature = [&](const char* key, double none) { return summary[key].is_null() ? none : summary[key].get<double>(); };
+  result.features = {feature("mean_step_length_m", 0.0), feature("mean_step_frequency_hz", 0.0),
+                     feature("mean_rise_distance_m", report.length_m)};
+  result.artifacts = {{"race", json}, {"race_table", text}};
+  for (std::size_t k = 0; k < report.motions.size(); ++k)
+    result.artifacts.push_back({k == 0 ? "trajectory" : "trajectory_" + std::to_string(k), report.motions[k]});
+  result.info = summary;
+  const Json& wind = summary["wind_check"];
+  result.info["summary"] = {
+      {"finish rate", summary["finish_rate"]},
+      {"finish time mean / sd s", Json::array({summary["mean_finish_time_s"], summary["std_finish_time_s"]})},
+      {"top speed m/s at m", Json::array({summary["mean_top_speed_mps"], summary["mean_top_speed_at_m"]})},
+      {"steps mean / sd", Json::array({summary["mean_steps"], summary["std_steps"]})},
+      {"step length m, frequency Hz", Json::array({summary["mean_step_length_m"], summary["mean_step_frequency_hz"]})},
+      {"rise distance m", summary["mean_rise_distance_m"]},
+      {"headwind − tailwind s (pairs)",
+       wind.is_null() ? Json(nullptr) : Json::array({wind["mean_difference_s"], wind["pairs"]})}};
+  result.info["table"] = report.result_table();
+  return result;
+}
+
 }  // namespace
 
 class SprintTask final : public plugins::Task {
@@ -208,6 +302,7 @@ class SprintTask final : public plugins::Task {
       plugins::set_objectives(
           d, Json::array({plugins::objective_entry("finish_rate", "", "the exported policy's runs over the track without a fall"),
                           plugins::objective_entry("distance_m", "m", "the mean distance its runs covered")}));
+    if (c.stage == "race") describe_race(c, d);
     d["presets"] = presets();
     d["config"] = accepted;
     d["config_defaults"] = base::ConfigReader::defaults(accepted);
@@ -216,6 +311,7 @@ class SprintTask final : public plugins::Task {
 
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const TaskConfig c = config_from(request.config);
+    if (c.stage == "race") return run_race_stage(c, request, sink);
     return c.stage == "start" ? run_start(c, request, sink) : run_accelerate(c, request, sink);
   }
 };

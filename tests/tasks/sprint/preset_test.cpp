@@ -21,6 +21,10 @@ TEST(SprintPreset, ShippedPresetsSetTheTrackLengthAndNNorm) {
   EXPECT_EQ(paper.drag.air_density, 1.2);
   EXPECT_EQ(paper.wind_mps.hi, 2.0);
   EXPECT_EQ(paper.friction.lo, 0.8);
+  // The race report's DR episodes: a few for CI, the issue's 20 and 100.
+  EXPECT_EQ(load_sprint_preset("smoke").race.episodes, 2);
+  EXPECT_EQ(load_sprint_preset("quick").race.episodes, 20);
+  EXPECT_EQ(paper.race.episodes, 100);
 }
 
 TEST(SprintPreset, EpisodeDrawsStayInTheRangesAndRepeatPerSeed) {
@@ -68,6 +72,8 @@ TEST(SprintPreset, BadValuesAreOneLineNamingTheirPath) {
   const std::string unknown = error(base::Json::parse(R"({"steps": {"n_nrom": 5}})"));
   EXPECT_NE(unknown.find("n_nrom"), std::string::npos) << unknown;
   EXPECT_EQ(unknown.find('\n'), std::string::npos);
+  const std::string race = error(base::Json::parse(R"({"race": {"episodes": 0}})"));
+  EXPECT_NE(race.find("race.episodes: 0"), std::string::npos) << race;
   // r_primitive is not built: its weight stays 0 in every shipped preset and no other is read.
   for (const char* name : {"smoke", "quick", "paper"}) EXPECT_EQ(load_sprint_preset(name).rewards.primitive, 0.0) << name;
   const std::string primitive = error(base::Json::parse(R"({"rewards": {"primitive": 0.5}})"));

@@ -1,11 +1,13 @@
 // The sprint plugin through the real `podium` binary at the smoke preset: the task conformance
 // suite on its start stage (determinism, artifacts, cancel, resume from a kill), its description,
 // and campaigns/sprint.json end to end, each trial's landing states read back as stage 2's start
-// set.
+// set, the race stage's report read back.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <set>
 #include <string>
 
@@ -76,7 +78,40 @@ std::string artifact_file(const podium::testing::FinishedCampaign& campaign, con
   return "";
 }
 
-TEST(SprintTask, SmokeCampaignRunsStartThenAccelerateEndToEnd) {
+TEST(SprintTask, TheRaceStageDeclaresItsObjectivesAndStrategyFeatures) {
+  const auto task = plugins::load_task("sprint");
+  const Json d = task->describe({{"stage", "race"}});
+  EXPECT_EQ(d["objectives"], Json({"minus_mean_finish_time_s", "finish_rate"}));
+  std::vector<std::string> features;
+  for (const Json& f : d["features"]) features.push_back(f["name"].get<std::string>());
+  EXPECT_EQ(features, (std::vector<std::string>{"step_length_m", "step_frequency_hz", "rise_distance_m"}));
+  EXPECT_THROW(task->describe({{"stage", "race"}, {"race_seed", 20'240}}), base::ConfigError);  // eval_seed's
+}
+
+void expect_race_trial(const podium::testing::FinishedCampaign& campaign, const fs::path& root) {
+  ASSERT_EQ(campaign.trials.at("race").size(), 1u);
+  const auto& t = campaign.trials.at("race").front();
+  EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"race", "race_table", "trajectory"}));
+  ASSERT_EQ(t.objectives.size(), 2u);
+  EXPECT_LT(t.objectives[0], 0.0);  // minus a mean time
+  EXPECT_GE(t.objectives[1], 0.0);
+  EXPECT_LE(t.objectives[1], 1.0);
+  EXPECT_EQ(t.features.size(), 3u);
+  // The report: the smoke preset's episodes, each with its draw, and the paired wind check.
+  const Json report = base::read_json_file(artifact_file(campaign, root, t.id, "race"));
+  ASSERT_EQ(report["episodes"].size(), 2u);
+  EXPECT_EQ(report["headwind"].size(), 2u);
+  EXPECT_EQ(report["tailwind"].size(), 2u);
+  for (const Json& e : report["episodes"]) EXPECT_TRUE(e["draw"].contains("wind_mps") && e["draw"].contains("friction"));
+  EXPECT_EQ(t.result_info["finish_rate"].get<double>(), t.objectives[1].get<double>());
+  EXPECT_EQ(t.result_info["table"]["rows"].size(), 2u);
+  EXPECT_TRUE(t.result_info.contains("summary"));
+  std::ifstream text(artifact_file(campaign, root, t.id, "race_table"));
+  const std::string table((std::istreambuf_iterator<char>(text)), std::istreambuf_iterator<char>());
+  EXPECT_NE(table.find("Race over 10 m: 2 DR episodes"), std::string::npos) << table;
+}
+
+TEST(SprintTask, SmokeCampaignRunsStartThenAccelerateThenTheRaceEndToEnd) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/sprint.json");
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
   spec["trial_timeout_s"] = 120;
@@ -128,6 +163,8 @@ TEST(SprintTask, SmokeCampaignRunsStartThenAccelerateEndToEnd) {
     EXPECT_EQ(static_cast<double>(dip.size()), t.result_info["handovers"].get<double>());
     for (const Json& s : dip) EXPECT_TRUE(s.contains("draw") && s.contains("world"));
   }
+  // The race: the best start and accelerate trials' policies over the DR episodes.
+  expect_race_trial(campaign, dir.path());
 }
 
 }  // namespace

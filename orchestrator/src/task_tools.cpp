@@ -11,7 +11,8 @@ namespace podium::orchestrator {
 
 namespace {
 
-constexpr const char* kToolUsage = R"(usage: podium tool [--all]              installed tasks that have tools (--all: with the test plugins)
+constexpr const char* kToolUsage =
+    R"(usage: podium tool [--all]              installed tasks that have tools (--all: with the test plugins)
        podium tool TASK [--help]          TASK's commands
        podium tool TASK COMMAND [ARGS...] runs a command (COMMAND --help: its options)
 )";

@@ -86,7 +86,8 @@ StyleCurve shift_rise(const StyleCurve& curve, double shift_s) {
   const Eigen::MatrixXd inner = a.colPivHouseholderQr().solve(f);
   StyleCurve out = curve;
   for (int feature = 0; feature < 3; ++feature)
-    for (int k = 1; k < kControlPoints - 1; ++k) out.points(feature, k) = std::clamp(inner(k - 1, feature), 0.0, row_max(feature));
+    for (int k = 1; k < kControlPoints - 1; ++k)
+      out.points(feature, k) = std::clamp(inner(k - 1, feature), 0.0, row_max(feature));
   std::ostringstream note;
   note << "; rise " << std::abs(shift_s) << " s " << (shift_s < 0 ? "earlier" : "later") << " (" << number(t_old) << " → "
        << number(t_new) << " s)";

@@ -75,9 +75,8 @@ Json strategy_json(const std::string& strategy, const std::vector<const ClipRow*
   curve.points = mean;
   curve.start = {CurveStart::Kind::drop, "", 0, mean(2, 0) < 0.5 * std::numbers::pi};
   curve.source = "the mean of " + std::to_string(rows.size()) + " clips' " + method + " curves (podium tool getup_curves stats)";
-  const Json points_sd = feature_stats(rows, kControlPoints, [](const ClipRow& r, int f, int k) {
-    return r.extraction.curve.points(f, k);
-  });
+  const Json points_sd =
+      feature_stats(rows, kControlPoints, [](const ClipRow& r, int f, int k) { return r.extraction.curve.points(f, k); });
   Json sd = Json::object();
   for (const auto& [key, value] : points_sd.items()) sd[key] = value["sd"];
   Json s = Json::array();
@@ -86,8 +85,12 @@ Json strategy_json(const std::string& strategy, const std::vector<const ClipRow*
     return r.extraction.curve.at(static_cast<double>(i) / (kStatSamples - 1))(f);
   });
   samples["s"] = s;
-  return {{"strategy", strategy},        {"clips", clips},           {"duration_s", mean_sd(durations)},
-          {"rise_s", mean_sd(rises)},    {"mean_curve", style_curve_json(curve)}, {"control_points_sd", sd},
+  return {{"strategy", strategy},
+          {"clips", clips},
+          {"duration_s", mean_sd(durations)},
+          {"rise_s", mean_sd(rises)},
+          {"mean_curve", style_curve_json(curve)},
+          {"control_points_sd", sd},
           {"samples", samples}};
 }
 
@@ -135,7 +138,8 @@ CurveStats curve_stats(const std::vector<ClipLabel>& labels, const StatsOptions&
   for (const ClipLabel& label : labels) {
     const sim::ModelPtr model = load_character(label.model, options.data_root);
     const fs::path file = fs::path(label.clip).is_relative() ? options.data_root / label.clip : fs::path(label.clip);
-    if (!fs::is_regular_file(file)) throw base::UserError(file.string() + ": no such clip (from the label of " + label.clip + ")");
+    if (!fs::is_regular_file(file))
+      throw base::UserError(file.string() + ": no such clip (from the label of " + label.clip + ")");
     const double scale = to ? to_height / standing_neck_height(*model) : 1.0;
     Extraction e = extract_curve(character::read_deepmimic_clip(model, file),
                                  {options.method, fs::path(label.clip).stem().string(), label.clip, scale});
@@ -169,16 +173,19 @@ std::string format_curve_stats(const CurveStats& stats) {
   std::ostringstream out;
   out << std::left << std::setw(36) << "clip" << std::setw(27) << "strategy" << std::right << std::setw(7) << "frames"
       << std::setw(7) << "T_s" << std::setw(10) << "z0_deg" << std::setw(8) << "rise_s" << std::setw(10) << "rms_h_m"
-      << std::setw(10) << "rms_x_deg" << std::setw(10) << "rms_z_deg" << "\n";
+      << std::setw(10) << "rms_x_deg" << std::setw(10) << "rms_z_deg"
+      << "\n";
   for (const Json& c : stats.json["clips"]) {
     const Json& rms = c["rms"];
     out << std::left << std::setw(36) << fs::path(c["clip"].get<std::string>()).filename().string() << std::setw(27)
         << c["strategy"].get<std::string>() << std::right << std::setw(7) << c["frames"].get<int>() << std::setw(7)
-        << fixed(c["duration_s"], 2) << std::setw(10) << fixed(c["start_theta_z_deg"], 1) << std::setw(8)
-        << fixed(c["rise_s"], 2) << std::setw(10) << fixed(rms["h_m"], 3) << std::setw(10) << fixed(rms["theta_x_deg"], 1)
-        << std::setw(10) << fixed(rms["theta_z_deg"], 1) << "\n";
+        << fixed(c["duration_s"], 2) << std::setw(10) << fixed(c["start_theta_z_deg"], 1) << std::setw(8) << fixed(c["rise_s"], 2)
+        << std::setw(10) << fixed(rms["h_m"], 3) << std::setw(10) << fixed(rms["theta_x_deg"], 1) << std::setw(10)
+        << fixed(rms["theta_z_deg"], 1) << "\n";
   }
-  out << "\n" << std::left << std::setw(27) << "strategy" << std::setw(7) << "clips" << std::setw(16) << "T_s" << "rise_s\n";
+  out << "\n"
+      << std::left << std::setw(27) << "strategy" << std::setw(7) << "clips" << std::setw(16) << "T_s"
+      << "rise_s\n";
   for (const Json& s : stats.json["strategies"])
     out << std::left << std::setw(27) << s["strategy"].get<std::string>() << std::setw(7) << s["clips"].size() << std::setw(16)
         << plus_minus(s["duration_s"], 2) << plus_minus(s["rise_s"], 2) << "\n";

@@ -29,8 +29,8 @@ struct Parsed {
 };
 
 // Parses a command's arguments; `help` when --help was given (the options are printed on `out`).
-Parsed parse(const std::vector<std::string>& args, po::options_description options, const po::positional_options_description& positional,
-             const std::string& synopsis, std::ostream& out) {
+Parsed parse(const std::vector<std::string>& args, po::options_description options,
+             const po::positional_options_description& positional, const std::string& synopsis, std::ostream& out) {
   options.add_options()("help,h", "show this help");
   Parsed p;
   po::store(po::command_line_parser(std::vector<std::string>(args.begin() + 1, args.end()))
@@ -83,7 +83,8 @@ void save(const fs::path& out, const StyleCurve& curve) {
   const fs::path tmp = out.string() + ".tmp";
   {
     std::ofstream file(tmp);
-    if (!(file << curve_file_text(curve)) || !file.flush()) throw base::RuntimeError(out.string() + ": cannot write the curve file");
+    if (!(file << curve_file_text(curve)) || !file.flush())
+      throw base::RuntimeError(out.string() + ": cannot write the curve file");
   }
   fs::rename(tmp, out);
 }
@@ -95,7 +96,8 @@ std::string fixed(double v, int digits) {
 }
 
 std::string rms_text(const Eigen::Vector3d& rms) {
-  return "RMS h " + fixed(rms(0), 3) + " m, θ_x " + fixed(rms(1) * kDegPerRad, 1) + "°, θ_z " + fixed(rms(2) * kDegPerRad, 1) + "°";
+  return "RMS h " + fixed(rms(0), 3) + " m, θ_x " + fixed(rms(1) * kDegPerRad, 1) + "°, θ_z " + fixed(rms(2) * kDegPerRad, 1) +
+         "°";
 }
 
 // A relative path under `root` (when given), else as written.
@@ -134,8 +136,9 @@ int extract(const std::vector<std::string>& args, std::ostream& out) {
       "track", po::value<std::string>(), "also write the clip's features frame by frame (CSV: t_s, h_m, θ_x°, θ_z°)");
   po::positional_options_description pos;
   pos.add("clip", 1);
-  const Parsed p = parse(args, o, pos, "CLIP --out FILE [--method fit|samples] [--model MODEL] [--to MODEL|none] [--name NAME] "
-                                       "[--start clip|supine|prone] [--data DIR] [--track FILE.csv]",
+  const Parsed p = parse(args, o, pos,
+                         "CLIP --out FILE [--method fit|samples] [--model MODEL] [--to MODEL|none] [--name NAME] "
+                         "[--start clip|supine|prone] [--data DIR] [--track FILE.csv]",
                          out);
   if (p.help) return 0;
   const auto& vm = p.vm;
@@ -169,10 +172,9 @@ int extract(const std::vector<std::string>& args, std::ostream& out) {
                             : z0 > 135.0 ? "on the front"
                                          : (x0 > 90.0 ? "on the right side" : "on the left side");
   out << e.curve.name << ": " << (method == "samples" ? "9 samples" : "least-squares fit") << " of " << clip_file.string() << " ("
-      << e.track.times_s.size() << " frames, T " << fixed(e.curve.duration_s, 2) << " s, heights × " << fixed(scale, 3)
-      << "); " << rms_text(e.rms) << "; starts at θ_x " << fixed(x0, 1) << "°, θ_z " << fixed(z0, 1)
-      << "° (" << lying << "); rise at " << fixed(rise_time_s(e.curve), 2) << " s -> "
-      << out_file.string() << "\n";
+      << e.track.times_s.size() << " frames, T " << fixed(e.curve.duration_s, 2) << " s, heights × " << fixed(scale, 3) << "); "
+      << rms_text(e.rms) << "; starts at θ_x " << fixed(x0, 1) << "°, θ_z " << fixed(z0, 1) << "° (" << lying << "); rise at "
+      << fixed(rise_time_s(e.curve), 2) << " s -> " << out_file.string() << "\n";
   return 0;
 }
 
@@ -205,8 +207,8 @@ int edit(const std::vector<std::string>& args, std::ostream& out) {
       "name", po::value<std::string>(), "the new curve's name (default: the file name of --out)");
   po::positional_options_description pos;
   pos.add("curve", 1);
-  const Parsed p = parse(args, o, pos, "CURVE --out FILE [--shift-rise S] [--scale-T F] [--move FEATURE:INDEX:DELTA]... [--name NAME]",
-                         out);
+  const Parsed p =
+      parse(args, o, pos, "CURVE --out FILE [--shift-rise S] [--scale-T F] [--move FEATURE:INDEX:DELTA]... [--name NAME]", out);
   if (p.help) return 0;
   const auto& vm = p.vm;
   const fs::path in_file = vm["curve"].as<std::string>(), out_file = vm["out"].as<std::string>();
@@ -223,8 +225,8 @@ int edit(const std::vector<std::string>& args, std::ostream& out) {
   if (c.start.kind == CurveStart::Kind::clip && fs::path(c.start.clip).is_relative())  // still the same clip from --out's folder
     c.start.clip = relative_to_folder_of(in_file.parent_path() / c.start.clip, out_file);
   save(out_file, c);
-  out << c.name << ": rise " << fixed(rise_before, 2) << " -> " << fixed(rise_time_s(c), 2) << " s, T " << fixed(original.duration_s, 2)
-      << " -> " << fixed(c.duration_s, 2) << " s -> " << out_file.string() << "\n";
+  out << c.name << ": rise " << fixed(rise_before, 2) << " -> " << fixed(rise_time_s(c), 2) << " s, T "
+      << fixed(original.duration_s, 2) << " -> " << fixed(c.duration_s, 2) << " s -> " << out_file.string() << "\n";
   return 0;
 }
 
@@ -260,7 +262,8 @@ int stats(const std::vector<std::string>& args, std::ostream& out) {
 }  // namespace
 
 std::vector<plugins::ToolCommand> curve_tool_commands() {
-  return {{"extract", "CLIP --out FILE [--method fit|samples] [--model MODEL] [--to MODEL|none] [--name NAME] [--start clip|supine|prone]",
+  return {{"extract",
+           "CLIP --out FILE [--method fit|samples] [--model MODEL] [--to MODEL|none] [--name NAME] [--start clip|supine|prone]",
            "a style curve from a clip's features: §4.1's 9 samples or a least-squares fit, with its RMS error"},
           {"edit", "CURVE --out FILE [--shift-rise S] [--scale-T F] [--move FEATURE:INDEX:DELTA]...",
            "a new curve file: the rise S s later or earlier, T scaled, control points moved"},

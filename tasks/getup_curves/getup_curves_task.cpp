@@ -4,8 +4,8 @@
 // actions "cvae", through a pose_cvae trial's C-VAE. The presets are data (data/presets.json);
 // README.md gives the metrics.
 
-#include "podium/base/json.h"
 #include "curve_tool.h"
+#include "podium/base/json.h"
 #include "podium/plugins/export.h"
 #include "pose_cvae.h"
 #include "train_curves.h"

@@ -116,8 +116,8 @@ TEST(CurveTool, EditThroughPodiumRoundTripsAndMovesOnePoint) {
   EXPECT_LT(max_abs(copy.points - original.points), 1e-9);
   EXPECT_EQ(copy.duration_s, original.duration_s);
   EXPECT_EQ(copy.name, "same");
-  const auto moved =
-      run_podium({"tool", "getup_curves", "edit", faceup, "--out", "moved.json", "--move", "h:4:0.05", "--name", "m"}, dir.path());
+  const auto moved = run_podium(
+      {"tool", "getup_curves", "edit", faceup, "--out", "moved.json", "--move", "h:4:0.05", "--name", "m"}, dir.path());
   ASSERT_EQ(moved.exit_code, 0) << moved.err;
   const StyleCurve m = load_style_curve(dir / "moved.json");
   ControlPoints expected = original.points;
@@ -211,11 +211,13 @@ TEST(CurveTool, ExtractMatchesTheExtractionFunctionsAndRemakesTheShippedCurves) 
   // The shipped faceup and facedown curves are §4.1's 9 samples on humanoid3d carried to
   // humanoid34, started as drops: the tool remakes them (all but their source text).
   for (const auto& [clip, name, start] : {std::tuple{kFaceup, "faceup", "supine"}, std::tuple{kFacedown, "facedown", "prone"}}) {
-    const auto samples = run_podium({"tool", "getup_curves", "extract", clip, "--data", data.root.string(), "--model", kHumanoid3d,
-                                     "--method", "samples", "--start", start, "--name", name, "--out", "remade.json"},
-                                    dir.path());
+    const auto samples =
+        run_podium({"tool", "getup_curves", "extract", clip, "--data", data.root.string(), "--model", kHumanoid3d, "--method",
+                    "samples", "--start", start, "--name", name, "--out", "remade.json"},
+                   dir.path());
     ASSERT_EQ(samples.exit_code, 0) << samples.err;
-    Json shipped = base::read_json_file(kCurves / (std::string(name) + ".json")), remade = base::read_json_file(dir / "remade.json");
+    Json shipped = base::read_json_file(kCurves / (std::string(name) + ".json")),
+         remade = base::read_json_file(dir / "remade.json");
     shipped.erase("source");
     remade.erase("source");
     EXPECT_EQ(remade, shipped) << name;
@@ -249,7 +251,8 @@ TEST(CurveTool, StatsTabulatesASmallLabelFileAndAveragesEachStrategy) {
   const sim::ModelPtr model = sim::load_deepmimic(data.root / kHumanoid3d);
   const double scale = standing_neck_height(*sim::load_shipped_model("humanoid34")) / standing_neck_height(*model);
   const auto curve_of = [&](const char* clip) {
-    return extract_curve(character::read_deepmimic_clip(model, data.root / clip), {ExtractMethod::least_squares, "", "", scale}).curve;
+    return extract_curve(character::read_deepmimic_clip(model, data.root / clip), {ExtractMethod::least_squares, "", "", scale})
+        .curve;
   };
   const StyleCurve up = curve_of(kFaceup), down = curve_of(kFacedown);
   base::Json mean_json = one["mean_curve"];

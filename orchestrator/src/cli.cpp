@@ -1,5 +1,5 @@
 // The `podium` command line: submit, run, status, trials, log, pause, resume, cancel, extend, export,
-// summary, serve, tasks (and the internal `worker`). Exit codes: 0 ok, 1 runtime failure (and `run` when a
+// summary, serve, tasks, tool (and the internal `worker`). Exit codes: 0 ok, 1 runtime failure (and `run` when a
 // campaign it ran ended failed), 2 usage or spec error.
 #include <unistd.h>
 
@@ -26,6 +26,7 @@
 #include "podium/web_dashboard/server.h"
 #include "spec_edit.h"
 #include "task_listing.h"
+#include "task_tools.h"
 #include "trial_runner.h"
 #include "worker.h"
 
@@ -61,10 +62,13 @@ commands:
   tasks [NAME] [--json] [--all]
                              installed task plugins: params, features, metrics, presets, config keys
                              (--all: with the test plugins)
+  tool [TASK [COMMAND [ARGS...]]]
+                             a task's command-line tool (alone: which tasks have one; TASK --help: its
+                             commands), e.g. podium tool getup_curves edit faceup.json --out late.json
   serve [--port N] [--host H] the read-only web dashboard (default http://127.0.0.1:8080/)
   version | --version
 
-every command takes --db PATH (default ./podium.db) and --help.
+every command but tool takes --db PATH (default ./podium.db); every command takes --help.
 )";
 
 struct Command {
@@ -550,6 +554,7 @@ int dispatch(const std::string& command, int argc, char** argv) {
   if (command == "summary") return cmd_summary(argc, argv);
   if (command == "serve") return cmd_serve(argc, argv);
   if (command == "tasks") return cmd_tasks(argc, argv);
+  if (command == "tool") return podium::orchestrator::run_task_tool({argv + 1, argv + argc}, std::cout, std::cerr);
   if (command == "worker") return podium::orchestrator::run_worker();
   if (command == "trial" && argc == 3 && std::string(argv[1]) == "--batch")
     return podium::orchestrator::run_batch_trial(argv[2]);  // inside a Slurm job

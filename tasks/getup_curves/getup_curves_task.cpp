@@ -4,6 +4,7 @@
 // actions "cvae", through a pose_cvae trial's C-VAE. The presets are data (data/presets.json);
 // README.md gives the metrics.
 
+#include "curve_tool.h"
 #include "podium/base/json.h"
 #include "podium/plugins/export.h"
 #include "pose_cvae.h"
@@ -174,6 +175,12 @@ class GetupCurvesTask final : public plugins::Task {
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const TaskConfig c = config_from(request.config);
     return c.stage == "pose_cvae" ? run_pose_cvae(c, request, sink) : run_train(c, request, sink);
+  }
+
+  // `podium tool getup_curves extract|edit|stats` (curve_tool.h).
+  std::vector<plugins::ToolCommand> tools() const override { return curve_tool_commands(); }
+  int tool(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) override {
+    return run_curve_tool(args, out, err);
   }
 };
 

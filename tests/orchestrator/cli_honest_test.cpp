@@ -1,7 +1,8 @@
 // Predictable paths and honest exits: spec file paths relative to the spec, checked at submit and
 // stored absolute; `run` exits 1 when a campaign it ran failed; unknown keys named with every
 // known key; near names for a missing campaign or task; test plugins out of `podium tasks`;
-// `status` after a killed scheduler. Real `podium` processes and the probe task.
+// `status` after a killed scheduler; `podium tool` (a task's command-line tool) with the probe's.
+// Real `podium` processes and the probe task.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -164,6 +165,62 @@ TEST(CliHonest, StatusAfterAKilledSchedulerShowsNoTrialRunning) {
   EXPECT_EQ(s["stages"][0]["running_attempts"].size(), 2u);
   const auto table = run_podium({"status"}, dir.path());
   EXPECT_TRUE(contains(table.out, "stopped")) << table.out;
+}
+
+// One line on stderr, ending in a newline.
+bool one_line(const std::string& text) { return !text.empty() && text.find('\n') == text.size() - 1; }
+
+TEST(CliTool, ListsTheTasksWithToolsAndATasksCommands) {
+  TempDir dir;
+  // The probe is a test plugin: listed with --all only.
+  const auto plain = run_podium({"tool"}, dir.path());
+  EXPECT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_FALSE(contains(plain.out, "probe")) << plain.out;
+  const auto all = run_podium({"tool", "--all"}, dir.path());
+  EXPECT_EQ(all.exit_code, 0) << all.err;
+  EXPECT_TRUE(contains(all.out, "probe            echo, reject, fail")) << all.out;
+  EXPECT_FALSE(contains(all.out, "landscape ")) << all.out;  // a task without tools is not listed
+  for (const std::vector<std::string>& args : {std::vector<std::string>{"tool", "probe"}, {"tool", "probe", "--help"}}) {
+    const auto help = run_podium(args, dir.path());
+    EXPECT_EQ(help.exit_code, 0) << help.err;
+    EXPECT_TRUE(contains(help.out, "usage: podium tool probe COMMAND")) << help.out;
+    EXPECT_TRUE(contains(help.out, "  echo [ARGS...]\n      prints its arguments, one a line")) << help.out;
+  }
+}
+
+TEST(CliTool, RunsACommandWithItsArgumentsAndItsExitCode) {
+  TempDir dir;
+  const auto echo = run_podium({"tool", "probe", "echo", "a b", "--x=1"}, dir.path());
+  EXPECT_EQ(echo.exit_code, 0) << echo.err;
+  EXPECT_EQ(echo.out, "a b\n--x=1\n");
+  const auto fail = run_podium({"tool", "probe", "fail"}, dir.path());
+  EXPECT_EQ(fail.exit_code, 1);
+  EXPECT_EQ(fail.err, "probe fail: failed as asked\n");
+  // A user error thrown by the plugin: one line, exit 2.
+  const auto reject = run_podium({"tool", "probe", "reject"}, dir.path());
+  EXPECT_EQ(reject.exit_code, 2);
+  EXPECT_TRUE(contains(reject.err, "probe reject: refused as asked")) << reject.err;
+  EXPECT_TRUE(one_line(reject.err)) << reject.err;
+}
+
+TEST(CliTool, BadInputIsOneLineWithExitTwo) {
+  TempDir dir;
+  const auto typo = run_podium({"tool", "probe", "ehco"}, dir.path());
+  EXPECT_EQ(typo.exit_code, 2);
+  EXPECT_TRUE(contains(typo.err, "podium tool probe: no command \"ehco\" (did you mean echo?); commands: echo, reject, fail"))
+      << typo.err;
+  EXPECT_TRUE(one_line(typo.err)) << typo.err;
+  const auto none = run_podium({"tool", "landscape", "x"}, dir.path());
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_EQ(none.err, "podium tool: task \"landscape\" has no tools\n");
+  const auto missing = run_podium({"tool", "landscap"}, dir.path());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_TRUE(contains(missing.err, "plugin \"landscap\"")) << missing.err;
+  EXPECT_TRUE(contains(missing.err, "did you mean landscape")) << missing.err;
+  EXPECT_TRUE(one_line(missing.err)) << missing.err;
+  const auto option = run_podium({"tool", "--bogus"}, dir.path());
+  EXPECT_EQ(option.exit_code, 2);
+  EXPECT_TRUE(contains(option.err, "podium tool: unknown option \"--bogus\"")) << option.err;
 }
 
 }  // namespace

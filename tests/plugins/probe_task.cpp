@@ -141,6 +141,23 @@ class ProbeTask final : public plugins::Task {
     result.info = info;
     return result;
   }
+
+  // A tool for `podium tool`'s plumbing: "echo" prints its arguments, "reject" throws a user error,
+  // "fail" returns 1 after a line on err.
+  std::vector<plugins::ToolCommand> tools() const override {
+    return {{"echo", "[ARGS...]", "prints its arguments, one a line"},
+            {"reject", "", "refuses its input (a base::UserError)"},
+            {"fail", "", "fails (exit 1)"}};
+  }
+  int tool(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) override {
+    if (args.at(0) == "reject") throw base::UserError("probe reject: refused as asked");
+    if (args.at(0) == "fail") {
+      err << "probe fail: failed as asked\n";
+      return 1;
+    }
+    for (std::size_t k = 1; k < args.size(); ++k) out << args[k] << "\n";
+    return 0;
+  }
 };
 
 }  // namespace podium::tests

@@ -49,11 +49,16 @@
 /// the checkpoint after it was written, so a resumed task re-sends every point up to its
 /// checkpoint, then the steps it runs again; nothing is stored twice. learn::TrainingCheckpoint
 /// does this for a task that reports its points through it.
+///
+/// Tools: a task may ship a command-line tool (curve editing, data preparation), reached as
+/// `podium tool TASK COMMAND [ARGS...]`. tools() names its commands; tool() runs one in the
+/// `podium` process itself (not in a worker), writing to the given streams.
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -119,7 +124,7 @@ inline Json result_table(const std::string& title, const Json& columns, const Js
 }
 
 /// Bumped whenever Task, RunRequest, RunResult or TaskDescriptor change layout or meaning.
-inline constexpr int kAbiVersion = 3;
+inline constexpr int kAbiVersion = 4;
 
 /// Where a task reports while it runs; calls are cheap and may come from the run() thread only.
 class Sink {
@@ -183,6 +188,13 @@ struct RunResult {
   Json info = Json::object();  ///< free-form extra results (stored with the trial)
 };
 
+/// One command of a task's tool (Task::tools), as `podium tool TASK --help` lists it.
+struct ToolCommand {
+  std::string name;      ///< e.g. "extract"
+  std::string synopsis;  ///< its arguments, e.g. "CLIP --out FILE [--method samples|fit]"
+  std::string summary;   ///< what it does, one line
+};
+
 class Task {
  public:
   virtual ~Task() = default;
@@ -191,6 +203,18 @@ class Task {
   virtual Json describe(const Json& config) const = 0;
   /// Runs one trial. Throwing an exception fails the attempt with its message.
   virtual RunResult run(const RunRequest& request, Sink& sink) = 0;
+  /// The commands of the task's tool; none by default.
+  virtual std::vector<ToolCommand> tools() const { return {}; }
+  /// Runs one tool command: args[0] is a command tools() names, the rest its arguments
+  /// (`COMMAND --help` prints its options on `out`). Returns the exit code: 0 done, 2 bad usage or
+  /// input (one line on `err` naming the file, the JSON path and the value), 1 a failure. A thrown
+  /// base::UserError is shown as one line with exit 2, any other exception with exit 1.
+  virtual int tool(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
+    (void)args;
+    (void)out;
+    err << "this task has no tools\n";
+    return 2;
+  }
 };
 
 }  // namespace podium::plugins

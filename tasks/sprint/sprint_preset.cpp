@@ -69,6 +69,13 @@ SprintPreset read_sprint_preset(base::ConfigReader& r) {
     p.time_limit_s = e.number("time_limit_s", p.time_limit_s, {0.0, 3600.0, true}, "an episode is truncated after this long, s");
   });
   r.object("start", [&](base::ConfigReader& s) { read_start(s, p.start); });
+  r.object("dip", [&](base::ConfigReader& d) {
+    p.dip.fall_penalty_s = d.number("fall_penalty_s", p.dip.fall_penalty_s, {0.0, 1e5, true},
+                                    "the dip: an episode that does not finish scores this time from its snapshot, s");
+  });
+  if (!(p.dip.fall_penalty_s > p.time_limit_s))
+    r.fail("dip", "fall_penalty_s " + base::Json(p.dip.fall_penalty_s).dump() + " must exceed episode.time_limit_s " +
+                      base::Json(p.time_limit_s).dump() + " (every finisher must beat every fall)");
   return p;
 }
 

@@ -31,6 +31,13 @@ struct StartPreset {
   double extra_time_s = 0.5;         ///< an episode's limit: the longest reference's duration plus this
 };
 
+/// The Dip Finish (§3.3): an episode that does not reach the line (a fall, leaving the lane, the
+/// time limit) scores this time from its snapshot; above the episode's time limit, so that every
+/// finisher beats every fall.
+struct DipPreset {
+  double fall_penalty_s = 60.0;
+};
+
 struct SprintPreset {
   TrackSpec track;
   StepCounterConfig steps;
@@ -40,6 +47,7 @@ struct SprintPreset {
   Range friction{0.8, 1.2};    ///< runway μ, U(lo, hi)
   double time_limit_s = 30.0;  ///< an episode is truncated after this long (control steps: ⌈T·f_control⌉)
   StartPreset start;
+  DipPreset dip;
 };
 
 /// One episode's domain-randomisation draw (§2 "Initial State"), recorded with the episode.

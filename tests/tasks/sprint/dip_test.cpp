@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <vector>
 
@@ -153,6 +154,10 @@ TEST(SprintDip, FiresAtTheFirstControlStepWithinDDip) {
   EXPECT_EQ(e.fired_step, -1);
   ASSERT_TRUE(e.finished) << e.outcome;
   EXPECT_EQ(e.time_s, e.finish_time_s - e.start_time_s);
+  Trace one;
+  const DipEpisode dip = traced(env, still, DipParams{1.0, 30.0}, false, one);
+  std::printf("slider from 3.5 m at 3 m/s: %.4f s to the line without a dip, %.4f s with (1 m, 30°: %s)\n", e.time_s,
+              dip.time_s, dip.outcome.c_str());
   // Already within d_dip at the snapshot: it fires at once.
   Trace c;
   EXPECT_EQ(traced(env, still, DipParams{5.0, 30.0}, false, c).fired_step, 0);

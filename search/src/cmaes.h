@@ -65,7 +65,7 @@ class Cmaes final : public Search {
   std::uint64_t generation_ = 0, next_id_ = 0, first_id_ = 0;  // first_id_: id of sample 0 of this generation
   std::vector<Eigen::VectorXd> samples_;                       // unit-box points of this generation
   std::size_t asked_ = 0;
-  bool stopped_ = false;  // the step-size stop fired: no more generations
+  bool stopped_ = false;                     // the step-size stop fired: no more generations
   std::map<std::uint64_t, double> fitness_;  // told ids of this generation → fitness to minimise
 };
 

@@ -37,7 +37,7 @@ void turn(std::span<double> action, std::size_t entry, const Eigen::Quaterniond&
 
 }  // namespace
 
-DipActions::DipActions(sim::ModelPtr model, bool chest) {
+DipActions::DipActions(const sim::ModelPtr& model, bool chest) {
   const character::PoseBridge bridge(model);
   for (const char* hip : {"left_hip", "right_hip"}) hips_.push_back(ball_entry(*model, bridge, hip));
   if (chest) chest_.push_back(ball_entry(*model, bridge, "chest"));

@@ -38,7 +38,7 @@ class DipActions {
  public:
   /// Throws base::UserError naming the model when it has no ball joints left_hip and right_hip
   /// (or chest, with `chest`) under the root.
-  DipActions(sim::ModelPtr model, bool chest);
+  DipActions(const sim::ModelPtr& model, bool chest);
   /// Turns both hips' targets by θ in flexion (about the pelvis's lateral axis, thigh forward) and,
   /// with the chest option, the chest's by θ in forward pitch: the rotation composed before the
   /// target's, in the parent's frame. θ = 0 leaves the action untouched (bitwise).
@@ -51,12 +51,12 @@ class DipActions {
 
 /// One episode of the dip from a snapshot.
 struct DipEpisode {
-  std::string outcome;         ///< SprintEnv::Outcome's name at the end
-  bool finished = false;       ///< the torso reached the plane without a fall or leaving the lane
-  double start_time_s = 0.0;   ///< the World's clock at the snapshot (the race's, as snapshots keep it)
-  double finish_time_s = 0.0;  ///< on the World's clock (finishers; else 0)
-  double time_s = 0.0;         ///< from the snapshot to the finish, or the penalty
-  int fired_step = -1;         ///< the control step (from the snapshot) at which the dip fired; −1: never
+  std::string outcome;            ///< SprintEnv::Outcome's name at the end
+  bool finished = false;          ///< the torso reached the plane without a fall or leaving the lane
+  double start_time_s = 0.0;      ///< the World's clock at the snapshot (the race's, as snapshots keep it)
+  double finish_time_s = 0.0;     ///< on the World's clock (finishers; else 0)
+  double time_s = 0.0;            ///< from the snapshot to the finish, or the penalty
+  int fired_step = -1;            ///< the control step (from the snapshot) at which the dip fired; −1: never
   double fired_distance_m = 0.0;  ///< the root's distance to the line then
   int control_steps = 0;
   EpisodeDraw draw;
@@ -75,9 +75,9 @@ DipEpisode run_dip_episode(SprintEnv& env, std::uint64_t seed, const character::
 struct DipSettings {
   std::string track = "smoke";  ///< the presets.json entry (track, DR, time limit, dip.fall_penalty_s)
   double sim_hz = 600.0;
-  int episodes = 4;              ///< the snapshots used (the first ones), at most as many as given
-  bool chest = false;            ///< also pitch the chest (DipActions)
-  std::uint64_t seed = 20'240;   ///< the episodes' generator seeds derive from it (the same for every candidate)
+  int episodes = 4;             ///< the snapshots used (the first ones), at most as many as given
+  bool chest = false;           ///< also pitch the chest (DipActions)
+  std::uint64_t seed = 20'240;  ///< the episodes' generator seeds derive from it (the same for every candidate)
 };
 
 /// Reads the stage's own keys (dip_episodes, dip_chest); track, sim_hz and seed are the shared
@@ -86,10 +86,10 @@ void read_dip_settings(base::ConfigReader& r, DipSettings& s);
 
 /// The mean of a set of dip episodes.
 struct DipSummary {
-  double mean_time_s = 0.0;    ///< the fitness: mean time from the snapshot (penalties included)
+  double mean_time_s = 0.0;  ///< the fitness: mean time from the snapshot (penalties included)
   double finish_rate = 0.0;
   double mean_finish_time_s = 0.0;  ///< finishers' mean finish time on the race's clock (0: none)
-  double fired_rate = 0.0;     ///< episodes in which the dip fired
+  double fired_rate = 0.0;          ///< episodes in which the dip fired
   static DipSummary of(const std::vector<DipEpisode>& episodes);
   base::Json to_json() const;
 };

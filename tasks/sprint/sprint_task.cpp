@@ -204,8 +204,8 @@ plugins::RunResult run_accelerate(const TaskConfig& c, const plugins::RunRequest
 
 Json dip_metrics() {
   const plugins::MetricShape per_episode{.x = {"episode", ""}, .evaluation = true};
-  return {plugins::metric_entry("dip/time_s", "s", "time from the episode's snapshot to the finish with the dip (a fall: the penalty)",
-                                per_episode),
+  return {plugins::metric_entry("dip/time_s", "s",
+                                "time from the episode's snapshot to the finish with the dip (a fall: the penalty)", per_episode),
           plugins::metric_entry("dip/no_dip_time_s", "s", "the same without the dip (the accelerate policy alone)", per_episode)};
 }
 
@@ -214,9 +214,17 @@ Json dip_params() {
 }
 
 Json dip_features() {
-  return {{{"name", "d_dip_m"}, {"low", 1.0}, {"high", 5.0}, {"metric", "euclidean"}, {"unit", "m"},
+  return {{{"name", "d_dip_m"},
+           {"low", 1.0},
+           {"high", 5.0},
+           {"metric", "euclidean"},
+           {"unit", "m"},
            {"description", "the root's distance to the line when the dip fires"}},
-          {{"name", "theta_dip_deg"}, {"low", 0.0}, {"high", 90.0}, {"metric", "euclidean"}, {"unit", "°"},
+          {{"name", "theta_dip_deg"},
+           {"low", 0.0},
+           {"high", 90.0},
+           {"metric", "euclidean"},
+           {"unit", "°"},
            {"description", "the dip's tilt, added to both hips' flexion targets"}}};
 }
 
@@ -263,12 +271,12 @@ Json dip_table(const std::vector<DipEpisode>& none, const std::vector<DipEpisode
     rows.push_back({static_cast<int>(i), dip[i].draw.wind_mps, dip[i].draw.friction, none[i].time_s, dip[i].time_s,
                     none[i].time_s - dip[i].time_s, dip[i].fired_step >= 0 ? Json(dip[i].fired_distance_m) : Json(nullptr),
                     none[i].outcome + " / " + dip[i].outcome});
-  return plugins::result_table("dip episodes (time from the snapshot; a fall scores the penalty)",
-                               {plugins::table_column("episode"), plugins::table_column("wind", "m/s"),
-                                plugins::table_column("μ"), plugins::table_column("no dip", "s"),
-                                plugins::table_column("dip", "s"), plugins::table_column("gain", "s"),
-                                plugins::table_column("fired at", "m"), plugins::table_column("outcome: no dip / dip")},
-                               rows);
+  return plugins::result_table(
+      "dip episodes (time from the snapshot; a fall scores the penalty)",
+      {plugins::table_column("episode"), plugins::table_column("wind", "m/s"), plugins::table_column("μ"),
+       plugins::table_column("no dip", "s"), plugins::table_column("dip", "s"), plugins::table_column("gain", "s"),
+       plugins::table_column("fired at", "m"), plugins::table_column("outcome: no dip / dip")},
+      rows);
 }
 
 plugins::RunResult run_dip(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
@@ -296,22 +304,26 @@ plugins::RunResult run_dip(const TaskConfig& c, const plugins::RunRequest& reque
   result.objectives = {-b.mean_time_s, b.finish_rate};
   result.features = {dip.distance_m, dip.angle_deg};
   result.artifacts = {{"episodes", file}};
-  result.info = {{"dip", b.to_json()},
-                 {"no_dip", a.to_json()},
-                 {"gain_s", a.mean_time_s - b.mean_time_s},
-                 {"improved", improved},
-                 {"added_falls", added_falls},
-                 {"episodes", with.size()},
-                 {"fall_penalty_s", evaluator.fall_penalty_s()},
-                 {"chest", c.dip.chest},
-                 {"starts", {{"source", in.source}, {"fallback", in.source.starts_with("fallback")}, {"count", in.snapshots.size()}}}};
+  result.info = {
+      {"dip", b.to_json()},
+      {"no_dip", a.to_json()},
+      {"gain_s", a.mean_time_s - b.mean_time_s},
+      {"improved", improved},
+      {"added_falls", added_falls},
+      {"episodes", with.size()},
+      {"fall_penalty_s", evaluator.fall_penalty_s()},
+      {"chest", c.dip.chest},
+      {"starts", {{"source", in.source}, {"fallback", in.source.starts_with("fallback")}, {"count", in.snapshots.size()}}}};
   result.info["table"] = dip_table(none, with);
   char gain[160];
   std::snprintf(gain, sizeof gain, "%.4f s (%d of %zu episodes faster, %d falls added)", a.mean_time_s - b.mean_time_s, improved,
                 with.size(), added_falls);
-  result.info["summary"] = {{"d_dip m", dip.distance_m},         {"θ_dip °", dip.angle_deg},
-                            {"mean time with the dip s", b.mean_time_s}, {"without s", a.mean_time_s},
-                            {"gain", gain},                         {"finish rate with / without", Json::array({b.finish_rate, a.finish_rate})},
+  result.info["summary"] = {{"d_dip m", dip.distance_m},
+                            {"θ_dip °", dip.angle_deg},
+                            {"mean time with the dip s", b.mean_time_s},
+                            {"without s", a.mean_time_s},
+                            {"gain", gain},
+                            {"finish rate with / without", Json::array({b.finish_rate, a.finish_rate})},
                             {"starts", in.source}};
   sink.progress(1.0);
   return result;
@@ -327,7 +339,9 @@ class SprintTask final : public plugins::Task {
     const bool start = c.stage == "start", dip = c.stage == "dip";
     Json d = {{"params", dip ? dip_params() : Json::array()},
               {"features", dip ? dip_features() : Json::array()},
-              {"metrics", start ? start_metrics() : dip ? dip_metrics() : accelerate_metrics()}};
+              {"metrics", start ? start_metrics()
+                          : dip ? dip_metrics()
+                                : accelerate_metrics()}};
     if (dip)
       plugins::set_objectives(
           d, Json::array({plugins::objective_entry("minus_time_s", "s",

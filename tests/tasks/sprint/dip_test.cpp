@@ -81,9 +81,8 @@ TEST(SprintDip, TurnsBothHipsInFlexionAndTheChestForwardWhenAsked) {
     d.q = bridge.target(action);
     sim::forward_kinematics(*model, d);
     for (const char* side : {"left", "right"}) {
-      const Eigen::Vector3d thigh = (link_origin(*model, d, std::string(side) + "_knee") -
-                                     link_origin(*model, d, std::string(side) + "_hip"))
-                                        .normalized();
+      const Eigen::Vector3d thigh =
+          (link_origin(*model, d, std::string(side) + "_knee") - link_origin(*model, d, std::string(side) + "_hip")).normalized();
       EXPECT_NEAR(thigh.x(), std::sin(theta), 1e-12) << side;  // forward
       EXPECT_NEAR(thigh.y(), 0.0, 1e-12) << side;
       EXPECT_NEAR(thigh.z(), -std::cos(theta), 1e-12) << side;
@@ -156,8 +155,8 @@ TEST(SprintDip, FiresAtTheFirstControlStepWithinDDip) {
   EXPECT_EQ(e.time_s, e.finish_time_s - e.start_time_s);
   Trace one;
   const DipEpisode dip = traced(env, still, DipParams{1.0, 30.0}, false, one);
-  std::printf("slider from 3.5 m at 3 m/s: %.4f s to the line without a dip, %.4f s with (1 m, 30°: %s)\n", e.time_s,
-              dip.time_s, dip.outcome.c_str());
+  std::printf("slider from 3.5 m at 3 m/s: %.4f s to the line without a dip, %.4f s with (1 m, 30°: %s)\n", e.time_s, dip.time_s,
+              dip.outcome.c_str());
   // Already within d_dip at the snapshot: it fires at once.
   Trace c;
   EXPECT_EQ(traced(env, still, DipParams{5.0, 30.0}, false, c).fired_step, 0);

@@ -160,7 +160,8 @@ TEST(SprintTask, SmokeCampaignRunsStartAccelerateAndDipEndToEnd) {
     const Json& info = t.result_info;
     ASSERT_EQ(t.objectives.size(), 2u);
     EXPECT_EQ(t.objectives[0].get<double>(), -info["dip"]["mean_time_s"].get<double>());
-    EXPECT_EQ(info["gain_s"].get<double>(), info["no_dip"]["mean_time_s"].get<double>() - info["dip"]["mean_time_s"].get<double>());
+    EXPECT_EQ(info["gain_s"].get<double>(),
+              info["no_dip"]["mean_time_s"].get<double>() - info["dip"]["mean_time_s"].get<double>());
     EXPECT_EQ(info["episodes"], 4);  // the smoke preset's dip_episodes
     EXPECT_EQ(info["table"]["rows"].size(), 4u);
     sources.insert(info["starts"]["source"].get<std::string>());
@@ -172,8 +173,7 @@ TEST(SprintTask, SmokeCampaignRunsStartAccelerateAndDipEndToEnd) {
         const Json& x = e[which];
         if (x["finished"].get<bool>())
           EXPECT_EQ(x["time_s"].get<double>(), x["finish_time_s"].get<double>() - x["start_time_s"].get<double>());
-        else
-          EXPECT_EQ(x["time_s"], info["fall_penalty_s"]);
+        else EXPECT_EQ(x["time_s"], info["fall_penalty_s"]);
       }
     // Common random numbers: without the dip, every candidate's episodes are the same.
     EXPECT_EQ(info["no_dip"], dips.front().result_info["no_dip"]);

@@ -103,6 +103,8 @@ class DipEvaluator {
   /// Every episode, in snapshot order, with `dip` (none: the policy alone).
   std::vector<DipEpisode> run(const character::PolicyFn& policy, const std::optional<DipParams>& dip);
   std::size_t size() const { return envs_.size(); }
+  /// The first snapshot's env (its observation and action spaces are every env's).
+  const SprintEnv& env() const { return *envs_.front(); }
   double fall_penalty_s() const { return penalty_s_; }
 
  private:

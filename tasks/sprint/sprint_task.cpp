@@ -285,6 +285,12 @@ plugins::RunResult run_dip(const TaskConfig& c, const plugins::RunRequest& reque
   const learn::FrozenPolicy frozen(in.policy);
   const character::PolicyFn policy = [&](std::span<const double> o, std::span<double> a) { frozen.act(o, a); };
   DipEvaluator evaluator(c.dip, in.snapshots);
+  if (frozen.observation_size() != evaluator.env().observation_space().size() ||
+      frozen.action_size() != evaluator.env().action_space().size())
+    throw base::UserError("sprint dip: policy " + in.policy.string() + " maps " + std::to_string(frozen.observation_size()) +
+                          " observations to " + std::to_string(frozen.action_size()) + " actions; the sprint env has " +
+                          std::to_string(evaluator.env().observation_space().size()) + " and " +
+                          std::to_string(evaluator.env().action_space().size()) + " (is it an accelerate trial's policy?)");
   const std::vector<DipEpisode> none = evaluator.run(policy, std::nullopt);
   sink.progress(0.5);
   const std::vector<DipEpisode> with = evaluator.run(policy, dip);

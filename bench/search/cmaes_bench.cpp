@@ -25,7 +25,7 @@ int evaluations_to_target(const std::function<double(const std::vector<double>&)
     start["x" + std::to_string(i)] = x0;
   }
   setup.space = podium::search::Space::from_json(space, "space");
-  setup.config = {{"direction", "minimize"}, {"sigma0", sigma0 / 20.0}, {"x0", start}};
+  setup.config = {{"direction", "minimize"}, {"sigma0", sigma0 / 20.0}, {"x0", start}, {"min_step", 0.0}};  // to 1e-8
   setup.seed = seed;
   auto search = podium::search::make_search("cmaes", setup);
   int evals = 0;

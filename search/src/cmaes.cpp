@@ -21,6 +21,9 @@ CmaesParams CmaesParams::from_json(const Json& config, const Space& space, const
   if (p.population == 1) r.fail("population", "is not 0 (the default size) or >= 2");
   p.sigma0 = r.number("sigma0", p.sigma0, {1e-12, 10.0});
   p.maximize = r.choice("direction", "maximize", {"maximize", "minimize"}) == "maximize";
+  p.min_step = r.number("min_step", p.min_step, {0.0, 1.0},
+                        "stop once every coordinate's step size σ·√C_ii is under this fraction of its parameter's range "
+                        "(0: run to the trial budget)");
   // x0: {parameter name: value} for every parameter of the space, or absent (the box centre).
   if (r.has("x0"))
     p.x0 = r.object("x0", base::required, [&](base::ConfigReader& x0) {
@@ -84,6 +87,12 @@ std::vector<double> Cmaes::to_params(const VectorXd& u) const { return unit_to_p
 
 std::vector<double> Cmaes::mean() const { return to_params(mean_); }
 
+std::vector<double> Cmaes::step_sizes() const {
+  std::vector<double> out;
+  for (Eigen::Index i = 0; i < cov_.rows(); ++i) out.push_back(sigma_ * std::sqrt(std::max(0.0, cov_(i, i))));
+  return out;
+}
+
 std::vector<Proposal> Cmaes::ask(std::size_t n) {
   std::vector<Proposal> out;
   while (out.size() < n && asked_ < samples_.size()) {
@@ -110,7 +119,16 @@ void Cmaes::tell(const std::vector<Observation>& observations) {
   if (fitness_.size() == samples_.size()) {
     update();
     ++generation_;
-    start_generation();
+    const std::vector<double> steps = step_sizes();
+    stopped_ = params_.min_step > 0.0 && *std::max_element(steps.begin(), steps.end()) < params_.min_step;
+    if (stopped_) {  // converged: nothing more to ask
+      samples_.clear();
+      first_id_ = next_id_;
+      asked_ = 0;
+      fitness_.clear();
+    } else {
+      start_generation();
+    }
   }
 }
 
@@ -158,7 +176,9 @@ Json Cmaes::save() const {
           {"first_id", first_id_},
           {"samples", samples},
           {"asked", asked_},
-          {"fitness", fitness}};
+          {"fitness", fitness},
+          {"stopped", stopped_},
+          {"step_sizes", step_sizes()}};
 }
 
 void Cmaes::load(const Json& state) {
@@ -176,6 +196,7 @@ void Cmaes::load(const Json& state) {
   samples_.clear();
   for (const auto& s : state.at("samples")) samples_.push_back(vector_from(s));
   asked_ = state.at("asked").get<std::size_t>();
+  stopped_ = state.value("stopped", false);  // states saved before the stop existed ran on
   fitness_.clear();
   for (const auto& f : state.at("fitness"))
     fitness_[f.at(0).get<std::uint64_t>()] = f.at(1).is_null() ? std::numeric_limits<double>::infinity() : f.at(1).get<double>();

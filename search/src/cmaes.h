@@ -8,6 +8,11 @@
 // A generation's λ samples are drawn when it starts; ask(n) hands out the ones not yet asked
 // (fewer, or none, while the generation waits for results) and the update runs once all λ are
 // told. A failed trial ranks last.
+//
+// Stop (Hansen 2016, App. B "TolX"): after a generation's update, when every coordinate's step
+// size σ·√C_ii in the unit box is under `min_step` (a fraction of each parameter's range; 1% by
+// default, 0 never), the search has converged: ask() proposes nothing more, so the stage ends
+// before its trial budget. The final mean (mean()) and covariance are the result.
 #include <Eigen/Core>
 #include <map>
 
@@ -21,6 +26,9 @@ struct CmaesParams {
   double sigma0 = 0.3;     ///< initial step size as a fraction of each parameter's range
   std::vector<double> x0;  ///< initial mean in parameter units; empty = the centre of the box
   bool maximize = true;    ///< objectives[0] is maximised ("direction": "maximize"), or minimised
+  /// Stop once every coordinate's step size σ·√C_ii is under this fraction of its parameter's
+  /// range (after a generation's update); 0 never stops before the budget.
+  double min_step = 0.01;
   static CmaesParams from_json(const Json& config, const Space& space, const std::string& path);
 };
 
@@ -34,6 +42,10 @@ class Cmaes final : public Search {
   void load(const Json& state) override;
   /// The current mean in parameter units (the recommended point).
   std::vector<double> mean() const;
+  /// Each coordinate's step size σ·√C_ii as a fraction of its parameter's range.
+  std::vector<double> step_sizes() const;
+  /// Whether the step-size stop has fired (ask() then proposes nothing).
+  bool stopped() const { return stopped_; }
 
  private:
   void start_generation();  // draws the λ samples from N(m, σ² C)
@@ -53,6 +65,7 @@ class Cmaes final : public Search {
   std::uint64_t generation_ = 0, next_id_ = 0, first_id_ = 0;  // first_id_: id of sample 0 of this generation
   std::vector<Eigen::VectorXd> samples_;                       // unit-box points of this generation
   std::size_t asked_ = 0;
+  bool stopped_ = false;                     // the step-size stop fired: no more generations
   std::map<std::uint64_t, double> fitness_;  // told ids of this generation → fitness to minimise
 };
 

@@ -72,6 +72,13 @@ SprintPreset read_sprint_preset(base::ConfigReader& r) {
   r.object("race", [&](base::ConfigReader& s) {
     p.race.episodes = s.integer<int>("episodes", p.race.episodes, {1, 1'000'000}, "the race report's DR episodes");
   });
+  r.object("dip", [&](base::ConfigReader& d) {
+    p.dip.fall_penalty_s = d.number("fall_penalty_s", p.dip.fall_penalty_s, {0.0, 1e5, true},
+                                    "the dip: an episode that does not finish scores this time from its snapshot, s");
+  });
+  if (!(p.dip.fall_penalty_s > p.time_limit_s))
+    r.fail("dip", "fall_penalty_s " + base::Json(p.dip.fall_penalty_s).dump() + " must exceed episode.time_limit_s " +
+                      base::Json(p.time_limit_s).dump() + " (every finisher must beat every fall)");
   return p;
 }
 

@@ -36,6 +36,13 @@ struct RacePreset {
   int episodes = 20;
 };
 
+/// The Dip Finish (§3.3): an episode that does not reach the line (a fall, leaving the lane, the
+/// time limit) scores this time from its snapshot; above the episode's time limit, so that every
+/// finisher beats every fall.
+struct DipPreset {
+  double fall_penalty_s = 60.0;
+};
+
 struct SprintPreset {
   TrackSpec track;
   StepCounterConfig steps;
@@ -46,6 +53,7 @@ struct SprintPreset {
   double time_limit_s = 30.0;  ///< an episode is truncated after this long (control steps: ⌈T·f_control⌉)
   StartPreset start;
   RacePreset race;
+  DipPreset dip;
 };
 
 /// One episode's domain-randomisation draw (§2 "Initial State"), recorded with the episode.

@@ -1,10 +1,15 @@
 // The sprint task plugin (sprint seed 002, "Learn to Sprint 100 Metres"). Stages, chosen by the
 // config key `stage`: "start" (§3.1: PPO imitating our keyframed crouch starts, from the blocks to
 // the first landing; its landing states are stage 2's start set) and "accelerate" (§3.2: one PPO
-// policy from those landings to the line; its snapshots before the line are the dip stage's).
-// README.md gives the metrics and presets.
+// policy from those landings to the line; its snapshots before the line are the dip stage's),
+// "dip" (§3.3: one candidate (d_dip, θ_dip) of the stage's CMA-ES, on the frozen accelerate
+// policy from those snapshots) and "race" (the race report over DR episodes, race.h). README.md
+// gives the metrics and presets.
+#include <cstdio>
 #include <fstream>
 
+#include "dip.h"
+#include "podium/learn/frozen_policy.h"
 #include "podium/plugins/export.h"
 #include "race.h"
 #include "train_accelerate.h"
@@ -21,18 +26,25 @@ struct TaskConfig {
   StartTrainSettings start;
   AccelerateSettings accelerate;
   RaceSettings race;
+  DipSettings dip;
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
   c.stage = r.choice(
-      "stage", c.stage, {"start", "accelerate", "race"},
+      "stage", c.stage, {"start", "accelerate", "dip", "race"},
       "start: the Start phase (§3.1), PPO on r_base + λ_i·r_imitation of our crouch starts to the first landing; "
       "accelerate: Acceleration + Top Speed (§3.2), PPO from the start trial's landings to the line on r_base + "
-      "r_mass + r_diag + r_mirror; race: the race report, the best start and accelerate trials over DR episodes (race.h)");
+      "r_mass + r_diag + r_mirror; dip: the Dip Finish (§3.3), one candidate (d_dip, θ_dip) on the frozen accelerate "
+      "policy from its snapshots before the line; race: the race report, the best start and accelerate trials over DR "
+      "episodes (race.h)");
   c.start = read_start_train_settings(r);
   c.accelerate.train = c.start;
   read_accelerate_settings(r, c.accelerate);
+  c.dip.track = c.start.track;
+  c.dip.sim_hz = c.start.sim_hz;
+  c.dip.seed = base::derive_seed(c.start.eval_seed, 3);
+  read_dip_settings(r, c.dip);
   c.race.track = c.start.track, c.race.sim_hz = c.start.sim_hz, c.race.rise_lean_deg = c.accelerate.rise_lean_deg;
   read_race_settings(r, c.race);
   if (c.race.seed == c.start.eval_seed) r.fail("race_seed", "must differ from eval_seed (the race's episodes are held out)");
@@ -57,7 +69,8 @@ Json presets() {
             {"eval_every", 2},
             {"eval_episodes", 2},
             {"final_episodes", 4},
-            {"checkpoint_every", 1}}},
+            {"checkpoint_every", 1},
+            {"dip_episodes", 4}}},
           {"quick",
            {{"track", "quick"},
             {"ppo_preset", "paper"},
@@ -69,7 +82,8 @@ Json presets() {
             {"eval_every", 25},
             {"eval_episodes", 8},
             {"final_episodes", 20},
-            {"checkpoint_every", 10}}},
+            {"checkpoint_every", 10},
+            {"dip_episodes", 10}}},
           {"paper",
            {{"track", "paper"},
             {"ppo_preset", "paper"},
@@ -81,7 +95,8 @@ Json presets() {
             {"eval_every", 50},
             {"eval_episodes", 16},
             {"final_episodes", 100},
-            {"checkpoint_every", 10}}}};
+            {"checkpoint_every", 10},
+            {"dip_episodes", 32}}}};
 }
 
 Json start_metrics() {
@@ -282,6 +297,139 @@ plugins::RunResult run_race_stage(const TaskConfig& c, const plugins::RunRequest
   return result;
 }
 
+Json dip_metrics() {
+  const plugins::MetricShape per_episode{.x = {"episode", ""}, .evaluation = true};
+  return {plugins::metric_entry("dip/time_s", "s",
+                                "time from the episode's snapshot to the finish with the dip (a fall: the penalty)", per_episode),
+          plugins::metric_entry("dip/no_dip_time_s", "s", "the same without the dip (the accelerate policy alone)", per_episode)};
+}
+
+Json dip_params() {
+  return {{{"name", "d_dip_m"}, {"low", 1.0}, {"high", 5.0}}, {{"name", "theta_dip_deg"}, {"low", 0.0}, {"high", 90.0}}};
+}
+
+Json dip_features() {
+  return {{{"name", "d_dip_m"},
+           {"low", 1.0},
+           {"high", 5.0},
+           {"metric", "euclidean"},
+           {"unit", "m"},
+           {"description", "the root's distance to the line when the dip fires"}},
+          {{"name", "theta_dip_deg"},
+           {"low", 0.0},
+           {"high", 90.0},
+           {"metric", "euclidean"},
+           {"unit", "°"},
+           {"description", "the dip's tilt, added to both hips' flexion targets"}}};
+}
+
+// The accelerate trial handed over: its policy and its snapshots before the line, or (none got
+// that far: the smoke campaign's untrained stage 2) the documented fallback.
+struct DipInputs {
+  std::filesystem::path policy;
+  std::vector<Json> snapshots;
+  std::string source;
+};
+
+DipInputs dip_inputs(const TaskConfig& c, const plugins::RunRequest& request) {
+  if (request.inputs.size() != 1)
+    throw base::UserError("sprint dip: takes one input trial (an accelerate trial's policy and dip_starts), got " +
+                          std::to_string(request.inputs.size()));
+  const plugins::InputTrial& in = request.inputs.front();
+  const std::string name = in.stage + "/" + std::to_string(in.trial_index);
+  for (const char* artifact : {"policy", "dip_starts"})
+    if (!in.artifacts.count(artifact))
+      throw base::UserError("sprint dip: input trial " + name + " has no artifact " + artifact +
+                            " (is it a sprint accelerate trial?)");
+  DipInputs out{in.artifacts.at("policy"), load_handover_states(in.artifacts.at("dip_starts").string()), ""};
+  out.source = "dip_starts of " + name;
+  if (out.snapshots.empty()) {
+    const double before = c.accelerate.handover_before_line_m;
+    out.snapshots = fallback_starts(c.start.track, c.start.sim_hz, load_sprint_preset(c.start.track).track.length_m - before);
+    out.source = "fallback: " + name + " reached no snapshot; the crouch starts' landings moved to the snapshot distance";
+  }
+  return out;
+}
+
+double param(const plugins::RunRequest& request, const std::string& name, double low, double high) {
+  const Json& p = request.params;
+  if (!p.contains(name) || !p.at(name).is_number() || !(p.at(name).get<double>() >= low && p.at(name).get<double>() <= high))
+    throw base::UserError("sprint dip: params." + name + ": " + (p.contains(name) ? p.at(name).dump() : "missing") +
+                          " is not a number in [" + base::Json(low).dump() + ", " + base::Json(high).dump() + "]");
+  return p.at(name).get<double>();
+}
+
+// Per episode, paired: no dip, the dip, the gain; and the result table.
+Json dip_table(const std::vector<DipEpisode>& none, const std::vector<DipEpisode>& dip) {
+  Json rows = Json::array();
+  for (std::size_t i = 0; i < dip.size(); ++i)
+    rows.push_back({static_cast<int>(i), dip[i].draw.wind_mps, dip[i].draw.friction, none[i].time_s, dip[i].time_s,
+                    none[i].time_s - dip[i].time_s, dip[i].fired_step >= 0 ? Json(dip[i].fired_distance_m) : Json(nullptr),
+                    none[i].outcome + " / " + dip[i].outcome});
+  return plugins::result_table(
+      "dip episodes (time from the snapshot; a fall scores the penalty)",
+      {plugins::table_column("episode"), plugins::table_column("wind", "m/s"), plugins::table_column("μ"),
+       plugins::table_column("no dip", "s"), plugins::table_column("dip", "s"), plugins::table_column("gain", "s"),
+       plugins::table_column("fired at", "m"), plugins::table_column("outcome: no dip / dip")},
+      rows);
+}
+
+plugins::RunResult run_dip(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  const DipParams dip{param(request, "d_dip_m", 1.0, 5.0), param(request, "theta_dip_deg", 0.0, 90.0)};
+  const DipInputs in = dip_inputs(c, request);
+  const learn::FrozenPolicy frozen(in.policy);
+  const character::PolicyFn policy = [&](std::span<const double> o, std::span<double> a) { frozen.act(o, a); };
+  DipEvaluator evaluator(c.dip, in.snapshots);
+  if (frozen.observation_size() != evaluator.env().observation_space().size() ||
+      frozen.action_size() != evaluator.env().action_space().size())
+    throw base::UserError("sprint dip: policy " + in.policy.string() + " maps " + std::to_string(frozen.observation_size()) +
+                          " observations to " + std::to_string(frozen.action_size()) + " actions; the sprint env has " +
+                          std::to_string(evaluator.env().observation_space().size()) + " and " +
+                          std::to_string(evaluator.env().action_space().size()) + " (is it an accelerate trial's policy?)");
+  const std::vector<DipEpisode> none = evaluator.run(policy, std::nullopt);
+  sink.progress(0.5);
+  const std::vector<DipEpisode> with = evaluator.run(policy, dip);
+  const DipSummary a = DipSummary::of(none), b = DipSummary::of(with);
+  int improved = 0, added_falls = 0;
+  Json episodes = Json::array();
+  for (std::size_t i = 0; i < with.size(); ++i) {
+    sink.metric("dip/time_s", static_cast<double>(i), with[i].time_s);
+    sink.metric("dip/no_dip_time_s", static_cast<double>(i), none[i].time_s);
+    if (with[i].time_s < none[i].time_s) ++improved;
+    if (none[i].finished && !with[i].finished) ++added_falls;
+    episodes.push_back({{"no_dip", none[i].to_json()}, {"dip", with[i].to_json()}});
+  }
+  const std::filesystem::path file = request.work_dir / "dip_episodes.json";
+  base::write_json_file_atomic(file, episodes);
+  plugins::RunResult result;
+  result.objectives = {-b.mean_time_s, b.finish_rate};
+  result.features = {dip.distance_m, dip.angle_deg};
+  result.artifacts = {{"episodes", file}};
+  result.info = {
+      {"dip", b.to_json()},
+      {"no_dip", a.to_json()},
+      {"gain_s", a.mean_time_s - b.mean_time_s},
+      {"improved", improved},
+      {"added_falls", added_falls},
+      {"episodes", with.size()},
+      {"fall_penalty_s", evaluator.fall_penalty_s()},
+      {"chest", c.dip.chest},
+      {"starts", {{"source", in.source}, {"fallback", in.source.starts_with("fallback")}, {"count", in.snapshots.size()}}}};
+  result.info["table"] = dip_table(none, with);
+  char gain[160];
+  std::snprintf(gain, sizeof gain, "%.4f s (%d of %zu episodes faster, %d falls added)", a.mean_time_s - b.mean_time_s, improved,
+                with.size(), added_falls);
+  result.info["summary"] = {{"d_dip m", dip.distance_m},
+                            {"θ_dip °", dip.angle_deg},
+                            {"mean time with the dip s", b.mean_time_s},
+                            {"without s", a.mean_time_s},
+                            {"gain", gain},
+                            {"finish rate with / without", Json::array({b.finish_rate, a.finish_rate})},
+                            {"starts", in.source}};
+  sink.progress(1.0);
+  return result;
+}
+
 }  // namespace
 
 class SprintTask final : public plugins::Task {
@@ -289,10 +437,19 @@ class SprintTask final : public plugins::Task {
   Json describe(const Json& config) const override {
     const TaskConfig c = config_from(config);
     const Json accepted = base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); });
-    const bool start = c.stage == "start";
-    Json d = {
-        {"params", Json::array()}, {"features", Json::array()}, {"metrics", start ? start_metrics() : accelerate_metrics()}};
-    if (start)
+    const bool start = c.stage == "start", dip = c.stage == "dip";
+    Json d = {{"params", dip ? dip_params() : Json::array()},
+              {"features", dip ? dip_features() : Json::array()},
+              {"metrics", start ? start_metrics()
+                          : dip ? dip_metrics()
+                                : accelerate_metrics()}};
+    if (dip)
+      plugins::set_objectives(
+          d, Json::array({plugins::objective_entry("minus_time_s", "s",
+                                                   "minus the mean time from the snapshots before the line to the finish with "
+                                                   "the dip (a fall scores the preset's penalty): higher is faster"),
+                          plugins::objective_entry("finish_rate", "", "the dip's episodes that reached the line")}));
+    else if (start)
       plugins::set_objectives(
           d,
           Json::array({plugins::objective_entry("landing_rate", "", "the exported policy's starts that reach the first landing"),
@@ -312,6 +469,7 @@ class SprintTask final : public plugins::Task {
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const TaskConfig c = config_from(request.config);
     if (c.stage == "race") return run_race_stage(c, request, sink);
+    if (c.stage == "dip") return run_dip(c, request, sink);
     return c.stage == "start" ? run_start(c, request, sink) : run_accelerate(c, request, sink);
   }
 };

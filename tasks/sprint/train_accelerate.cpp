@@ -27,7 +27,7 @@ void read_accelerate_settings(base::ConfigReader& r, AccelerateSettings& s) {
                "accelerate: the rise distance is where the trunk's lean from vertical drops below this for good, degrees");
 }
 
-std::vector<Json> fallback_starts(const std::string& track, double sim_hz) {
+std::vector<Json> fallback_starts(const std::string& track, double sim_hz, std::optional<double> root_x_m) {
   const SprintPreset preset = load_sprint_preset(track);
   SprintEnvSettings e;
   e.preset = preset;
@@ -36,6 +36,7 @@ std::vector<Json> fallback_starts(const std::string& track, double sim_hz) {
   for (const StartReference& r : crouch_start_references(sim::load_shipped_model(e.model), e.control_hz, preset.start)) {
     SprintEnvSettings at = e;
     at.start_q = r.clip->poses.back();
+    if (root_x_m) at.start_q(0) = *root_x_m;
     at.start_qd = r.clip->velocities().back();
     SprintEnv env(at);
     std::vector<double> observation;

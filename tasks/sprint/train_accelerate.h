@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,8 +27,9 @@ void read_accelerate_settings(base::ConfigReader& r, AccelerateSettings& s);
 
 /// The start set when the Start stage's landings are empty or absent: per crouch start of the
 /// preset, its last frame (pose and frame velocity: the first landing, just past the line) as a
-/// World snapshot without a draw or step count, so every episode draws its own wind and μ.
-std::vector<base::Json> fallback_starts(const std::string& track, double sim_hz);
+/// World snapshot without a draw or step count, so every episode draws its own wind and μ. With
+/// `root_x_m`, each is moved along the track to put its root there (the dip stage's fallback).
+std::vector<base::Json> fallback_starts(const std::string& track, double sim_hz, std::optional<double> root_x_m = {});
 
 /// Episodes of a policy from fixed seeds over the preset's track.
 struct RunEvaluation {

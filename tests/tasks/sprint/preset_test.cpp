@@ -81,6 +81,14 @@ TEST(SprintPreset, BadValuesAreOneLineNamingTheirPath) {
   EXPECT_NE(primitive.find("not built"), std::string::npos) << primitive;
   const std::string lambda = error(base::Json::parse(R"({"start": {"imitation_weight": -1}})"));
   EXPECT_NE(lambda.find("presets.json: start.imitation_weight: -1"), std::string::npos) << lambda;
+  // The dip's fall penalty is data, and above the time limit so that every finisher beats a fall.
+  for (const char* name : {"smoke", "quick", "paper"}) {
+    const SprintPreset p = load_sprint_preset(name);
+    EXPECT_GT(p.dip.fall_penalty_s, p.time_limit_s) << name;
+  }
+  const std::string penalty = error(base::Json::parse(R"({"episode": {"time_limit_s": 20}, "dip": {"fall_penalty_s": 15}})"));
+  EXPECT_NE(penalty.find("presets.json: dip"), std::string::npos) << penalty;
+  EXPECT_NE(penalty.find("must exceed episode.time_limit_s 20"), std::string::npos) << penalty;
   try {
     load_sprint_preset("marathon");
     FAIL() << "no error";

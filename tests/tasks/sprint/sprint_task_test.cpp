@@ -1,7 +1,8 @@
 // The sprint plugin through the real `podium` binary at the smoke preset: the task conformance
 // suite on its start stage (determinism, artifacts, cancel, resume from a kill), its description,
-// and campaigns/sprint.json end to end, each trial's landing states read back as stage 2's start
-// set, the race stage's report read back.
+// and campaigns/sprint.json end to end (start → accelerate → dip → race), each trial's landing
+// states read back as stage 2's start set, the dip's CMA-ES run over the best stage-2 trial and the
+// race stage's report read back.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -71,6 +72,24 @@ TEST(SprintTask, TheAccelerateStageDeclaresItsMetricsAndObjectives) {
     EXPECT_TRUE(metrics.count(m)) << m;
 }
 
+TEST(SprintTask, TheDipStageDeclaresItsParamsFeaturesAndObjectives) {
+  const auto task = plugins::load_task("sprint");
+  const Json d = task->describe({{"stage", "dip"}});
+  ASSERT_EQ(d["params"].size(), 2u);
+  EXPECT_EQ(d["params"][0]["name"], "d_dip_m");
+  EXPECT_EQ(d["params"][0]["low"], 1.0);
+  EXPECT_EQ(d["params"][0]["high"], 5.0);
+  EXPECT_EQ(d["params"][1]["name"], "theta_dip_deg");
+  EXPECT_EQ(d["params"][1]["low"], 0.0);
+  EXPECT_EQ(d["params"][1]["high"], 90.0);
+  EXPECT_EQ(d["features"].size(), 2u);
+  EXPECT_EQ(d["objectives"], Json({"minus_time_s", "finish_rate"}));
+  EXPECT_EQ(d["presets"]["smoke"]["dip_episodes"], 4);
+  EXPECT_EQ(d["presets"]["quick"]["dip_episodes"], 10);
+  EXPECT_EQ(d["presets"]["paper"]["dip_episodes"], 32);
+  EXPECT_EQ(d["config_defaults"]["dip_chest"], false);
+}
+
 std::string artifact_file(const podium::testing::FinishedCampaign& campaign, const fs::path& root, std::int64_t trial,
                           const std::string& name) {
   for (const auto& a : campaign.store->artifacts(trial))
@@ -111,10 +130,13 @@ void expect_race_trial(const podium::testing::FinishedCampaign& campaign, const 
   EXPECT_NE(table.find("Race over 10 m: 2 DR episodes"), std::string::npos) << table;
 }
 
-TEST(SprintTask, SmokeCampaignRunsStartThenAccelerateThenTheRaceEndToEnd) {
+TEST(SprintTask, SmokeCampaignRunsStartAccelerateDipAndTheRaceEndToEnd) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/sprint.json");
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
   spec["trial_timeout_s"] = 120;
+  ASSERT_EQ(spec["stages"][2]["name"], "dip");
+  ASSERT_EQ(spec["stages"][2]["search"]["algorithm"], "cmaes");
+  spec["stages"][2]["budget"]["trials"] = 12;  // two generations of λ = 6
   podium::testing::TempDir dir;
   const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
   ASSERT_EQ(campaign.trials.at("start").size(), 2u);
@@ -163,6 +185,46 @@ TEST(SprintTask, SmokeCampaignRunsStartThenAccelerateThenTheRaceEndToEnd) {
     EXPECT_EQ(static_cast<double>(dip.size()), t.result_info["handovers"].get<double>());
     for (const Json& s : dip) EXPECT_TRUE(s.contains("draw") && s.contains("world"));
   }
+  // The dip: CMA-ES candidates in the box, each judged on the same snapshots with and without the
+  // dip (the best accelerate trial's, or the fallback's when none got that far).
+  const auto& dips = campaign.trials.at("dip");
+  ASSERT_EQ(dips.size(), 12u);
+  std::set<std::string> sources;
+  for (const auto& t : dips) {
+    const double d = t.params["d_dip_m"].get<double>(), theta = t.params["theta_dip_deg"].get<double>();
+    EXPECT_GE(d, 1.0);
+    EXPECT_LE(d, 5.0);
+    EXPECT_GE(theta, 0.0);
+    EXPECT_LE(theta, 90.0);
+    EXPECT_EQ(t.features, (std::vector<double>{d, theta}));
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"episodes"}));
+    const auto metrics = campaign.metric_names(t);
+    EXPECT_TRUE(metrics.count("dip/time_s") && metrics.count("dip/no_dip_time_s"));
+    const Json& info = t.result_info;
+    ASSERT_EQ(t.objectives.size(), 2u);
+    EXPECT_EQ(t.objectives[0].get<double>(), -info["dip"]["mean_time_s"].get<double>());
+    EXPECT_EQ(info["gain_s"].get<double>(),
+              info["no_dip"]["mean_time_s"].get<double>() - info["dip"]["mean_time_s"].get<double>());
+    EXPECT_EQ(info["episodes"], 4);  // the smoke preset's dip_episodes
+    EXPECT_EQ(info["table"]["rows"].size(), 4u);
+    sources.insert(info["starts"]["source"].get<std::string>());
+    // Per episode: the time from the snapshot, or the penalty for a fall.
+    const Json episodes = base::read_json_file(artifact_file(campaign, dir.path(), t.id, "episodes"));
+    ASSERT_EQ(episodes.size(), 4u);
+    for (const Json& e : episodes)
+      for (const char* which : {"no_dip", "dip"}) {
+        const Json& x = e[which];
+        if (x["finished"].get<bool>())
+          EXPECT_EQ(x["time_s"].get<double>(), x["finish_time_s"].get<double>() - x["start_time_s"].get<double>());
+        else EXPECT_EQ(x["time_s"], info["fall_penalty_s"]);
+      }
+    // Common random numbers: without the dip, every candidate's episodes are the same.
+    EXPECT_EQ(info["no_dip"], dips.front().result_info["no_dip"]);
+  }
+  EXPECT_EQ(sources.size(), 1u);  // every candidate ran from the one hand-over
+  // The second generation's candidates come from the updated distribution.
+  EXPECT_EQ(dips.front().info["generation"], 0);
+  EXPECT_EQ(dips.back().info["generation"], 1);
   // The race: the best start and accelerate trials' policies over the DR episodes.
   expect_race_trial(campaign, dir.path());
 }

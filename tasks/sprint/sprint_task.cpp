@@ -31,13 +31,13 @@ struct TaskConfig {
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice(
-      "stage", c.stage, {"start", "accelerate", "dip", "race"},
-      "start: the Start phase (§3.1), PPO on r_base + λ_i·r_imitation of our crouch starts to the first landing; "
-      "accelerate: Acceleration + Top Speed (§3.2), PPO from the start trial's landings to the line on r_base + "
-      "r_mass + r_diag + r_mirror; dip: the Dip Finish (§3.3), one candidate (d_dip, θ_dip) on the frozen accelerate "
-      "policy from its snapshots before the line; race: the race report, the best start and accelerate trials over DR "
-      "episodes (race.h)");
+  c.stage =
+      r.choice("stage", c.stage, {"start", "accelerate", "dip", "race"},
+               "start: the Start phase (§3.1), PPO on r_base + λ_i·r_imitation of our crouch starts to the first landing; "
+               "accelerate: Acceleration + Top Speed (§3.2), PPO from the start trial's landings to the line on r_base + "
+               "r_mass + r_diag + r_mirror; dip: the Dip Finish (§3.3), one candidate (d_dip, θ_dip) on the frozen accelerate "
+               "policy from its snapshots before the line; race: the race report, the best start and accelerate trials over DR "
+               "episodes (race.h)");
   c.start = read_start_train_settings(r);
   c.accelerate.train = c.start;
   read_accelerate_settings(r, c.accelerate);

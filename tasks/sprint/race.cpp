@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "crouch_start.h"
+#include "dip.h"
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
 #include "podium/learn/frozen_policy.h"
@@ -29,18 +30,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr double kDeg = 180.0 / std::numbers::pi;
-
-// The first pose entry of a ball joint in TargetActions' layout (PoseBridge: per link in order,
-// one entry per hinge, three per ball joint).
-std::size_t ball_joint_entry(const sim::CharacterModel& model, const std::string& name) {
-  std::size_t at = 0;
-  for (const sim::Link& l : model.links()) {
-    if (l.name == name && l.joint == sim::JointType::spherical) return at;
-    if (l.joint == sim::JointType::revolute) at += 1;
-    else if (l.joint == sim::JointType::spherical) at += 3;
-  }
-  throw base::UserError("sprint dip: model " + model.name() + " has no ball joint " + name);
-}
 
 double mean_of(const std::vector<double>& v) {
   return v.empty() ? 0.0 : std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
@@ -68,22 +57,6 @@ double symmetry_index(double left, double right) {
 }
 
 }  // namespace
-
-void add_hip_flexion(const sim::CharacterModel& model, double angle_rad, std::span<double> action) {
-  if (angle_rad == 0.0) return;
-  for (const char* hip : {"left_hip", "right_hip"}) {
-    const std::size_t at = ball_joint_entry(model, hip);
-    if (at + 3 > action.size())
-      throw base::UserError("sprint dip: an action of " + std::to_string(action.size()) + " entries has no " + hip);
-    const Eigen::Vector3d v(action[at], action[at + 1], action[at + 2]);
-    const double a = v.norm();
-    const Eigen::Matrix3d R = a > 0.0 ? Eigen::AngleAxisd(a, v / a).toRotationMatrix() : Eigen::Matrix3d::Identity();
-    // Flexion turns the thigh about the pelvis's lateral axis, the knee forward: −y (x forward, z up).
-    const Eigen::AngleAxisd out(Eigen::AngleAxisd(angle_rad, -Eigen::Vector3d::UnitY()).toRotationMatrix() * R);
-    const Eigen::Vector3d w = out.axis() * out.angle();
-    for (int k = 0; k < 3; ++k) action[at + static_cast<std::size_t>(k)] = w[k];
-  }
-}
 
 std::vector<double> split_times(const std::vector<double>& t_s, const std::vector<double>& front_x_m, double split_m,
                                 double length_m, std::optional<double> finish_s) {
@@ -368,10 +341,12 @@ RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, con
   run.seed(base::derive_seed(seed, 1));
   run.reset(observation);  // the landing's state, already sampled and recorded
   const Dip dip = c.s.dip;
+  std::optional<DipActions> dip_actions;  // the dip stage's change of targets (dip.h)
+  if (dip.distance_m > 0.0) dip_actions.emplace(run.world().model_ptr(), false);
   run_phase(run, c.policies.accelerate, observation, tr, recorder, truncated, [&](std::span<double> action) {
     const double x = run.world().data().q(0);
-    if (dip.distance_m > 0.0 && !e.dip_x_m && c.length_m - x <= dip.distance_m) e.dip_x_m = x;
-    if (e.dip_x_m) add_hip_flexion(run.model(), dip.angle_rad, action);
+    if (dip_actions && !e.dip_x_m && c.length_m - x <= dip.distance_m) e.dip_x_m = x;
+    if (e.dip_x_m) dip_actions->apply(dip.angle_rad, action);
   });
   e.outcome = truncated ? "time_limit" : to_string(run.outcome());
   if (run.outcome() == SprintEnv::Outcome::finished) e.finish_time_s = run.finish_line().finish_time();

@@ -29,17 +29,12 @@ namespace podium::tasks::sprint {
 // ---- The dip (§3.3), as the race applies it -------------------------------------------------
 
 /// The dip: from the first control step at which the root is within `distance_m` of the line,
-/// `angle_rad` added to both hips' flexion targets on top of the stage-2 policy's action.
+/// `angle_rad` added to both hips' flexion targets on top of the stage-2 policy's action
+/// (dip.h's DipActions, the dip stage's).
 struct Dip {
   double distance_m = 0.0;  ///< d_dip (0: no dip)
   double angle_rad = 0.0;   ///< θ_dip
 };
-
-/// Adds the dip to a TargetActions action (a pose: an exponential map per ball joint, z-up) of
-/// `model`: each hip's rotation pre-multiplied by a rotation of `angle_rad` about the pelvis's
-/// −y axis (flexion: the knee forward). An angle of 0 leaves the action untouched (bitwise).
-/// Throws base::UserError when the model has no left_hip and right_hip ball joints.
-void add_hip_flexion(const sim::CharacterModel& model, double angle_rad, std::span<double> action);
 
 // ---- Measures on sampled sequences -----------------------------------------------------------
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "crouch_start.h"
+#include "dip.h"
 #include "podium/base/json.h"
 #include "podium/character/pose_bridge.h"
 #include "podium/learn/learner.h"
@@ -136,10 +137,11 @@ TEST(SprintRace, TheDipFlexesBothHipsByItsAngle) {
   const character::PoseBridge bridge(model);
   std::vector<double> action(bridge.size(), 0.0);
   const std::vector<double> untouched = action;
-  add_hip_flexion(*model, 0.0, action);
+  const DipActions dip(model, false);
+  dip.apply(0.0, action);
   EXPECT_EQ(action, untouched);  // θ = 0: bitwise the policy's action
   const double theta = 30.0 * std::numbers::pi / 180.0;
-  add_hip_flexion(*model, theta, action);
+  dip.apply(theta, action);
   sim::CharacterData d(*model);
   d.q = model->standing_pose();
   bridge.set_pose(action, d.q);
@@ -149,8 +151,8 @@ TEST(SprintRace, TheDipFlexesBothHipsByItsAngle) {
   EXPECT_NEAR(sagittal_angle(*model, d, b.right_thigh), theta, 1e-9);
   // On top of a pose already flexed: the angles add in the sagittal plane.
   std::vector<double> flexed(bridge.size(), 0.0);
-  add_hip_flexion(*model, 0.2, flexed);
-  add_hip_flexion(*model, theta, flexed);
+  dip.apply(0.2, flexed);
+  dip.apply(theta, flexed);
   bridge.set_pose(flexed, d.q);
   sim::forward_kinematics(*model, d);
   EXPECT_NEAR(sagittal_angle(*model, d, b.left_thigh), 0.2 + theta, 1e-9);

@@ -63,6 +63,15 @@ Json DipEpisode::to_json() const {
           {"draw", draw.to_json()}};
 }
 
+DipTrigger::DipTrigger(const DipParams& dip, const DipActions& actions, double length_m)
+    : dip_(dip), actions_(&actions), length_m_(length_m), angle_rad_(dip.angle_deg * std::numbers::pi / 180.0) {}
+
+void DipTrigger::apply(int step, double root_x_m, std::span<double> action) {
+  const double distance = length_m_ - root_x_m;
+  if (fired_step_ < 0 && distance <= dip_.distance_m) fired_step_ = step, fired_distance_m_ = distance, fired_x_m_ = root_x_m;
+  if (fired_step_ >= 0) actions_->apply(angle_rad_, action);
+}
+
 DipEpisode run_dip_episode(SprintEnv& env, std::uint64_t seed, const character::PolicyFn& policy, const DipActions& actions,
                            const std::optional<DipParams>& dip, double fall_penalty_s, const DipStepFn& each_step) {
   env.seed(seed);
@@ -72,21 +81,19 @@ DipEpisode run_dip_episode(SprintEnv& env, std::uint64_t seed, const character::
   e.draw = env.draw();
   e.start_time_s = env.world().time_s();
   if (each_step) each_step(-1, env, {});
-  const double length = env.settings().preset.track.length_m;
-  const double angle = dip ? dip->angle_deg * std::numbers::pi / 180.0 : 0.0;
+  std::optional<DipTrigger> trigger;
+  if (dip) trigger.emplace(*dip, actions, env.settings().preset.track.length_m);
   learn::StepResult r;
   for (int k = 0;; ++k) {
     policy(observation, action);
-    if (dip) {  // §3.3: from the first control step with the root within d_dip of the line
-      const double distance = length - env.world().data().q(0);
-      if (e.fired_step < 0 && distance <= dip->distance_m) e.fired_step = k, e.fired_distance_m = distance;
-      if (e.fired_step >= 0) actions.apply(angle, action);
-    }
+    if (trigger) trigger->apply(k, env.world().data().q(0), action);
     env.step(action, r);
     std::swap(observation, r.observation);
     if (each_step) each_step(k, env, action);
     if (r.terminated || r.truncated) break;
   }
+  if (trigger && trigger->fired_step() >= 0)
+    e.fired_step = trigger->fired_step(), e.fired_distance_m = trigger->fired_distance_m();
   e.control_steps = env.step_index();
   e.outcome = to_string(env.outcome());
   e.finished = env.outcome() == SprintEnv::Outcome::finished;

@@ -49,6 +49,27 @@ class DipActions {
   std::vector<std::size_t> hips_, chest_;  // each ball joint's first entry in the pose
 };
 
+/// The firing rule (§3.3), the one the dip stage and the race apply: the dip fires at the first
+/// control step at which the root is within d_dip of the line and stays on to the episode's end.
+class DipTrigger {
+ public:
+  /// `actions` must outlive the trigger; `length_m` is the track's.
+  DipTrigger(const DipParams& dip, const DipActions& actions, double length_m);
+  /// Before control step `step`: with the root at `root_x_m`, fires if due and, once fired,
+  /// changes the policy's `action`.
+  void apply(int step, double root_x_m, std::span<double> action);
+  int fired_step() const { return fired_step_; }                 ///< −1: not (yet) fired
+  double fired_distance_m() const { return fired_distance_m_; }  ///< the root's distance to the line then
+  double fired_x_m() const { return fired_x_m_; }                ///< the root's x then
+
+ private:
+  DipParams dip_;
+  const DipActions* actions_;
+  double length_m_, angle_rad_;
+  int fired_step_ = -1;
+  double fired_distance_m_ = 0.0, fired_x_m_ = 0.0;
+};
+
 /// One episode of the dip from a snapshot.
 struct DipEpisode {
   std::string outcome;            ///< SprintEnv::Outcome's name at the end

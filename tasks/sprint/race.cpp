@@ -164,12 +164,12 @@ void read_race_settings(base::ConfigReader& r, RaceSettings& s) {
   s.episodes = r.integer<int>("race_episodes", s.episodes, {0, 1'000'000}, "race: DR episodes (0: the preset's race.episodes)");
   s.seed = r.integer<std::uint64_t>("race_seed", s.seed, {},
                                     "race: the episodes' seeds and draws derive from it (keep it apart from eval_seed)");
-  s.dip.distance_m = r.number("race_dip_distance_m", s.dip.distance_m, {0.0, 1000.0},
-                              "race: d_dip, the dip fires at the first control step with the root this close to the line, m "
-                              "(0: no dip)");
-  s.dip.angle_rad = r.number("race_dip_angle_deg", s.dip.angle_rad * kDeg, {0.0, 90.0},
-                             "race: θ_dip, added to both hips' flexion targets from then on, degrees") /
-                    kDeg;
+  const double d = r.number("race_dip_distance_m", s.dip ? s.dip->distance_m : 0.0, {0.0, 1000.0},
+                            "race: d_dip, the dip fires at the first control step with the root this close to the line, m "
+                            "(0: no dip, unless a dip trial is an input)");
+  const double theta = r.number("race_dip_angle_deg", s.dip ? s.dip->angle_deg : 0.0, {0.0, 90.0},
+                                "race: θ_dip, added to both hips' flexion targets from then on, degrees");
+  if (d > 0.0) s.dip = DipParams{d, theta};
   s.wind_check = r.boolean("race_wind_check", s.wind_check, "race: also run every episode in a headwind and a tailwind");
   s.wind_check_mps = r.number("race_wind_check_mps", s.wind_check_mps, {0.0, 50.0, true},
                               "race: the wind check's wind, −this and +this m/s (μ as drawn)");
@@ -313,7 +313,8 @@ void run_phase(SprintEnv& env, const character::PolicyFn& policy, std::vector<do
 
 // One race: the Start phase from the blocks to the first landing, then stage 2 from that
 // landing's hand-over state (its World, draw and step count) with the dip, to the end.
-RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, const EpisodeDraw& draw, sim::Recorder* recorder) {
+RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, const EpisodeDraw& draw, sim::Recorder* recorder,
+                        const std::optional<DipParams>& dip) {
   RaceEpisode e;
   e.index = index, e.seed = seed, e.draw = draw;
   Trace tr;
@@ -339,15 +340,15 @@ RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, con
   settings.handover_states = {*start.landing_state()};
   SprintEnv run(settings);
   run.seed(base::derive_seed(seed, 1));
-  run.reset(observation);  // the landing's state, already sampled and recorded
-  const Dip dip = c.s.dip;
-  std::optional<DipActions> dip_actions;  // the dip stage's change of targets (dip.h)
-  if (dip.distance_m > 0.0) dip_actions.emplace(run.world().model_ptr(), false);
+  run.reset(observation);                 // the landing's state, already sampled and recorded
+  std::optional<DipActions> dip_actions;  // the dip stage's change of targets and firing rule (dip.h)
+  std::optional<DipTrigger> trigger;
+  if (dip) dip_actions.emplace(run.world().model_ptr(), false), trigger.emplace(*dip, *dip_actions, c.length_m);
+  int step = 0;
   run_phase(run, c.policies.accelerate, observation, tr, recorder, truncated, [&](std::span<double> action) {
-    const double x = run.world().data().q(0);
-    if (dip_actions && !e.dip_x_m && c.length_m - x <= dip.distance_m) e.dip_x_m = x;
-    if (e.dip_x_m) dip_actions->apply(dip.angle_rad, action);
+    if (trigger) trigger->apply(step++, run.world().data().q(0), action);
   });
+  if (trigger && trigger->fired_step() >= 0) e.dip_x_m = trigger->fired_x_m();
   e.outcome = truncated ? "time_limit" : to_string(run.outcome());
   if (run.outcome() == SprintEnv::Outcome::finished) e.finish_time_s = run.finish_line().finish_time();
   measure(tr, c.s, c.length_m, e);
@@ -415,6 +416,31 @@ Json wind_check_json(const std::vector<RaceEpisode>& head, const std::vector<Rac
           {"headwind_slower", slower}};
 }
 
+// The dip check (§3.3's gain, on the race's held-out episodes): each episode with the dip against
+// the same episode without it. The gain is the no-dip time minus the dip time, over the pairs that
+// finish both ways; an added fall is an episode that finishes without the dip and not with it.
+Json dip_check_json(const std::vector<RaceEpisode>& none, const std::vector<RaceEpisode>& dip) {
+  std::vector<double> gain;
+  int improved = 0, added_falls = 0, fired = 0, none_finished = 0;
+  for (std::size_t i = 0; i < none.size() && i < dip.size(); ++i) {
+    none_finished += none[i].finish_time_s ? 1 : 0, fired += dip[i].dip_x_m ? 1 : 0;
+    if (none[i].finish_time_s && !dip[i].finish_time_s) ++added_falls;
+    if (!none[i].finish_time_s || !dip[i].finish_time_s) continue;
+    gain.push_back(*none[i].finish_time_s - *dip[i].finish_time_s);
+    improved += gain.back() > 0.0 ? 1 : 0;
+  }
+  const auto n = static_cast<double>(std::max<std::size_t>(1, none.size()));
+  const bool paired = gain.size() > 1;
+  return {{"episodes", none.size()},
+          {"no_dip_finish_rate", none_finished / n},
+          {"fired_rate", fired / n},
+          {"pairs", gain.size()},
+          {"mean_gain_s", gain.empty() ? Json(nullptr) : Json(mean_of(gain))},
+          {"gain_standard_error_s", paired ? Json(std_of(gain) / std::sqrt(static_cast<double>(gain.size()))) : Json(nullptr)},
+          {"improved", improved},
+          {"added_falls", added_falls}};
+}
+
 std::string fixed(const std::optional<double>& v, int decimals = 2) {
   if (!v) return "-";
   char b[32];
@@ -477,13 +503,16 @@ Json RaceReport::summary() const {
           {"mean_first_segment_lean_deg", lean.mean()},
           {"mean_step_length_asymmetry", length_index.mean()},
           {"mean_step_time_asymmetry", time_index.mean()},
-          {"dip", {{"distance_m", settings.dip.distance_m}, {"angle_deg", settings.dip.angle_rad * kDeg}}},
+          {"dip",
+           settings.dip ? Json{{"distance_m", settings.dip->distance_m}, {"angle_deg", settings.dip->angle_deg}} : Json(nullptr)},
+          {"dip_check", settings.dip ? dip_check_json(no_dip, episodes) : Json(nullptr)},
           {"wind_check", settings.wind_check ? wind_check_json(headwind, tailwind) : Json(nullptr)}};
 }
 
 Json RaceReport::to_json() const {
-  Json all = Json::array(), head = Json::array(), tail = Json::array();
+  Json all = Json::array(), head = Json::array(), tail = Json::array(), none = Json::array();
   for (const RaceEpisode& e : episodes) all.push_back(e.to_json());
+  for (const RaceEpisode& e : no_dip) none.push_back(e.to_json());
   for (const RaceEpisode& e : headwind) head.push_back(e.to_json());
   for (const RaceEpisode& e : tailwind) tail.push_back(e.to_json());
   return {{"track_m", length_m},
@@ -499,7 +528,8 @@ Json RaceReport::to_json() const {
           {"summary", summary()},
           {"episodes", all},
           {"headwind", head},
-          {"tailwind", tail}};
+          {"tailwind", tail},
+          {"no_dip", none}};
 }
 
 Json RaceReport::result_table() const {
@@ -524,15 +554,26 @@ Json RaceReport::result_table() const {
   return {{"title", "race over " + fixed(length_m, 0) + " m"}, {"columns", columns}, {"rows", rows}};
 }
 
+namespace {
+
+void text_dip_check(std::ostringstream& o, const Json& d) {
+  const auto v = [&](const char* key) { return d[key].is_null() ? std::string("-") : fixed(d[key].get<double>(), 3); };
+  o << "\ndip check, paired (each episode without the dip): pairs " << d["pairs"].get<int>() << ", gain (no dip − dip) "
+    << v("mean_gain_s") << " s ± " << v("gain_standard_error_s") << " (s.e.), faster in " << d["improved"].get<int>()
+    << ", falls added " << d["added_falls"].get<int>() << ", finish rate without the dip " << v("no_dip_finish_rate")
+    << ", fired in " << v("fired_rate") << " of the episodes\n";
+}
+
+}  // namespace
+
 std::string RaceReport::text_table() const {
   std::ostringstream o;
   char line[512];
   const Json s = summary();
-  std::snprintf(line, sizeof line, "Race over %.0f m: %zu DR episodes (seed %llu), dip %s\n", length_m, episodes.size(),
-                static_cast<unsigned long long>(settings.seed),
-                settings.dip.distance_m > 0.0
-                    ? (fixed(settings.dip.distance_m) + " m, " + fixed(settings.dip.angle_rad * kDeg, 1) + " deg").c_str()
-                    : "none");
+  std::snprintf(
+      line, sizeof line, "Race over %.0f m: %zu DR episodes (seed %llu), dip %s\n", length_m, episodes.size(),
+      static_cast<unsigned long long>(settings.seed),
+      settings.dip ? (fixed(settings.dip->distance_m) + " m, " + fixed(settings.dip->angle_deg, 1) + " deg").c_str() : "none");
   o << line;
   o << "  #  wind   mu    reference                 outcome     time s  top m/s  at m  steps  len m  freq Hz  rise m  lean0 deg"
        "  asym len/time  splits s\n";
@@ -571,6 +612,7 @@ std::string RaceReport::text_table() const {
       << (g["step_length_m"].is_null() ? "-" : fixed(g["step_length_m"].get<double>())) << ", "
       << (g["step_frequency_hz"].is_null() ? "-" : fixed(g["step_frequency_hz"].get<double>()));
   o << "\n";
+  if (settings.dip) text_dip_check(o, s["dip_check"]);
   if (!settings.wind_check) return o.str();
   const Json& w = s["wind_check"];
   const auto wv = [&](const char* key) { return w[key].is_null() ? std::string("-") : fixed(w[key].get<double>(), 3); };
@@ -630,7 +672,7 @@ RaceReport run_race(const RaceSettings& settings, const RacePolicyFns& policies,
     report.time_limit_s = (start.episode_steps() + run.episode_steps()) * start.control_dt_s();
   }
   const int n = settings.episodes > 0 ? settings.episodes : preset.race.episodes;
-  const int runs = settings.wind_check ? 3 * n : n;
+  const int per_episode = 1 + (settings.wind_check ? 2 : 0) + (settings.dip ? 1 : 0), runs = per_episode * n;
   const fs::path motions = work_dir / "rollouts" / "race";
   for (int k = 0; k < n; ++k) {
     if (cancel && cancel->load()) throw std::runtime_error("sprint race: cancelled");
@@ -639,7 +681,7 @@ RaceReport run_race(const RaceSettings& settings, const RacePolicyFns& policies,
     const EpisodeDraw draw = draw_episode(preset, rng);
     std::optional<sim::Recorder> recorder;
     if (k < settings.record) recorder.emplace(sim::load_shipped_model(c.start.model));
-    report.episodes.push_back(run_episode(c, k, seed, draw, recorder ? &*recorder : nullptr));
+    report.episodes.push_back(run_episode(c, k, seed, draw, recorder ? &*recorder : nullptr, settings.dip));
     if (recorder) {
       fs::create_directories(motions);
       const fs::path file = motions / ("trajectory_" + std::to_string(k) + ".jsonl");
@@ -648,10 +690,11 @@ RaceReport run_race(const RaceSettings& settings, const RacePolicyFns& policies,
       report.motions.push_back(file);
     }
     if (settings.wind_check) {  // the same episode (seed, reference, μ) in a headwind, then a tailwind
-      report.headwind.push_back(run_episode(c, k, seed, {-settings.wind_check_mps, draw.friction}, nullptr));
-      report.tailwind.push_back(run_episode(c, k, seed, {settings.wind_check_mps, draw.friction}, nullptr));
+      report.headwind.push_back(run_episode(c, k, seed, {-settings.wind_check_mps, draw.friction}, nullptr, settings.dip));
+      report.tailwind.push_back(run_episode(c, k, seed, {settings.wind_check_mps, draw.friction}, nullptr, settings.dip));
     }
-    if (progress) progress(static_cast<double>(settings.wind_check ? 3 * (k + 1) : k + 1) / runs);
+    if (settings.dip) report.no_dip.push_back(run_episode(c, k, seed, draw, nullptr, std::nullopt));  // the dip check
+    if (progress) progress(static_cast<double>(per_episode * (k + 1)) / runs);
   }
   return report;
 }

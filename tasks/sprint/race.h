@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "dip.h"
 #include "podium/base/config.h"
 #include "podium/base/json.h"
 #include "podium/character/evaluator.h"
@@ -25,16 +26,6 @@
 #include "steps.h"
 
 namespace podium::tasks::sprint {
-
-// ---- The dip (§3.3), as the race applies it -------------------------------------------------
-
-/// The dip: from the first control step at which the root is within `distance_m` of the line,
-/// `angle_rad` added to both hips' flexion targets on top of the stage-2 policy's action
-/// (dip.h's DipActions, the dip stage's).
-struct Dip {
-  double distance_m = 0.0;  ///< d_dip (0: no dip)
-  double angle_rad = 0.0;   ///< θ_dip
-};
 
 // ---- Measures on sampled sequences -----------------------------------------------------------
 
@@ -95,9 +86,11 @@ std::optional<SpeedPeak> top_speed(const std::vector<double>& t_s, const std::ve
 struct RaceSettings {
   std::string track = "smoke";  ///< the presets.json entry
   double sim_hz = 600.0;
-  int episodes = 0;                 ///< 0: the preset's race.episodes
-  std::uint64_t seed = 52'409;      ///< the episodes' seeds and draws derive from it (not the training's)
-  Dip dip;                          ///< none by default
+  int episodes = 0;             ///< 0: the preset's race.episodes
+  std::uint64_t seed = 52'409;  ///< the episodes' seeds and draws derive from it (not the training's)
+  /// The dip (§3.3; dip.h's DipTrigger and DipActions, the dip stage's): none by default. With one,
+  /// every episode also runs without it (the dip check, paired).
+  std::optional<DipParams> dip;
   bool wind_check = true;           ///< the paired headwind/tailwind runs
   double wind_check_mps = 2.0;      ///< their wind: −this and +this, μ as drawn
   double split_m = 10.0;            ///< splits and the step segments
@@ -154,10 +147,11 @@ struct RaceReport {
   double length_m = 0.0, time_limit_s = 0.0;  ///< the track, the race's time limit (a DNF counts at it)
   std::vector<RaceEpisode> episodes;
   std::vector<RaceEpisode> headwind, tailwind;  ///< the wind check, episode by episode (empty without it)
-  base::Json summary() const;                   ///< the figures over the episodes and the wind check
+  std::vector<RaceEpisode> no_dip;              ///< the dip check: each episode without the dip (empty without one)
+  base::Json summary() const;                   ///< the figures over the episodes and the two checks
   std::string text_table() const;               ///< the plain-text report a researcher reads
   base::Json result_table() const;              ///< one row per episode (plugins::result_table)
-  base::Json to_json() const;                   ///< settings, summary, every episode (and the wind check's)
+  base::Json to_json() const;                   ///< settings, summary, every episode (and the checks')
   std::vector<std::filesystem::path> motions;   ///< the recorded episodes' trajectory files
 };
 

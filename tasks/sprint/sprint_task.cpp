@@ -211,23 +211,39 @@ plugins::RunResult run_accelerate(const TaskConfig& c, const plugins::RunRequest
   return result;
 }
 
-// The race stage: its inputs are the best start trial (artifact landings) and the best accelerate
-// trial (artifact dip_starts), in any order; the dip is config (race_dip_*).
-RacePolicies race_policies(const plugins::RunRequest& request) {
-  RacePolicies p;
+// The race stage: its inputs are the best start trial (artifact landings), the best accelerate
+// trial (artifact dip_starts) and, optionally, the best dip trial (params d_dip_m, theta_dip_deg),
+// in any order. Without a dip trial the dip is config (race_dip_*); with one, the config sets none.
+struct RaceInputs {
+  RacePolicies policies;
+  std::optional<DipParams> dip;
+  std::string dip_source = "none";
+};
+
+RaceInputs race_inputs(const TaskConfig& c, const plugins::RunRequest& request) {
+  RaceInputs p;
+  if (c.race.dip) p.dip = c.race.dip, p.dip_source = "config (race_dip_*)";
   for (const plugins::InputTrial& in : request.inputs) {
     const std::string who = in.stage + "/" + std::to_string(in.trial_index);
+    if (in.params.contains("d_dip_m") && in.params.contains("theta_dip_deg")) {
+      if (c.race.dip)
+        throw base::UserError("sprint race: input trial " + who +
+                              " is a dip trial and race_dip_distance_m is set in the config; give one or the other");
+      p.dip = DipParams{in.params.at("d_dip_m").get<double>(), in.params.at("theta_dip_deg").get<double>()};
+      p.dip_source = "dip trial " + who;
+      continue;
+    }
     if (!in.artifacts.count("policy")) throw base::UserError("sprint race: input trial " + who + " has no artifact policy");
-    if (in.artifacts.count("landings")) p.start = in.artifacts.at("policy");
-    else if (in.artifacts.count("dip_starts")) p.accelerate = in.artifacts.at("policy");
+    if (in.artifacts.count("landings")) p.policies.start = in.artifacts.at("policy");
+    else if (in.artifacts.count("dip_starts")) p.policies.accelerate = in.artifacts.at("policy");
     else
       throw base::UserError("sprint race: input trial " + who +
-                            " is neither a start (landings) nor an accelerate (dip_starts) trial");
+                            " is neither a start (landings), an accelerate (dip_starts) nor a dip (d_dip_m) trial");
   }
-  if (p.start.empty() || p.accelerate.empty())
+  if (p.policies.start.empty() || p.policies.accelerate.empty())
     throw base::UserError(
         "sprint race: needs a start trial and an accelerate trial as inputs (\"inputs\": {\"stage\": "
-        "[\"start\", \"accelerate\"], \"select\": \"best\"}), got " +
+        "[\"start\", \"accelerate\", \"dip\"], \"select\": \"best\"}; the dip is optional), got " +
         std::to_string(request.inputs.size()));
   return p;
 }
@@ -259,8 +275,11 @@ void describe_race(const TaskConfig& c, Json& d) {
 }
 
 plugins::RunResult run_race_stage(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  const RaceInputs in = race_inputs(c, request);
+  RaceSettings settings = c.race;
+  settings.dip = in.dip;
   const RaceReport report =
-      run_race(c.race, race_policies(request), request.work_dir, request.cancel, [&](double f) { sink.progress(f); });
+      run_race(settings, in.policies, request.work_dir, request.cancel, [&](double f) { sink.progress(f); });
   for (const RaceEpisode& e : report.episodes) {
     if (e.finish_time_s)
       sink.metric("race/finish_time_s", e.index, *e.finish_time_s), sink.metric("race/steps", e.index, e.steps);
@@ -283,7 +302,9 @@ plugins::RunResult run_race_stage(const TaskConfig& c, const plugins::RunRequest
   for (std::size_t k = 0; k < report.motions.size(); ++k)
     result.artifacts.push_back({k == 0 ? "trajectory" : "trajectory_" + std::to_string(k), report.motions[k]});
   result.info = summary;
+  result.info["dip_source"] = in.dip_source;
   const Json& wind = summary["wind_check"];
+  const Json& dip = summary["dip_check"];
   result.info["summary"] = {
       {"finish rate", summary["finish_rate"]},
       {"finish time mean / sd s", Json::array({summary["mean_finish_time_s"], summary["std_finish_time_s"]})},
@@ -291,8 +312,11 @@ plugins::RunResult run_race_stage(const TaskConfig& c, const plugins::RunRequest
       {"steps mean / sd", Json::array({summary["mean_steps"], summary["std_steps"]})},
       {"step length m, frequency Hz", Json::array({summary["mean_step_length_m"], summary["mean_step_frequency_hz"]})},
       {"rise distance m", summary["mean_rise_distance_m"]},
-      {"headwind − tailwind s (pairs)",
-       wind.is_null() ? Json(nullptr) : Json::array({wind["mean_difference_s"], wind["pairs"]})}};
+      {"headwind − tailwind s (pairs)", wind.is_null() ? Json(nullptr) : Json::array({wind["mean_difference_s"], wind["pairs"]})},
+      {"dip gain s ± s.e. (pairs, faster, falls added)",
+       dip.is_null()
+           ? Json(nullptr)
+           : Json::array({dip["mean_gain_s"], dip["gain_standard_error_s"], dip["pairs"], dip["improved"], dip["added_falls"]})}};
   result.info["table"] = report.result_table();
   return result;
 }

@@ -1,6 +1,7 @@
 // The Start stage (sprint seed §3.1) on character's training-stage driver.
 #include "train_start.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -49,10 +50,17 @@ StartTrainSettings read_start_train_settings(base::ConfigReader& r) {
 }
 
 Json StartEvaluation::to_json() const {
+  Json per = Json::object();
+  for (const PerReference& r : per_reference)
+    per[r.name] = {{"episodes", r.episodes},
+                   {"landings", r.landings},
+                   {"landing_rate", r.episodes > 0 ? Json(static_cast<double>(r.landings) / r.episodes) : Json(nullptr)}};
   return {{"landing_rate", landing_rate},
           {"tracking_error_rad", tracking_error_rad},
           {"com_speed_ratio", com_speed_ratio},
           {"return", return_mean},
+          {"min_reference_landing_rate", min_reference_landing_rate},
+          {"per_reference", per},
           {"landings", landings.size()}};
 }
 
@@ -77,6 +85,7 @@ StartEvaluation evaluate_starts(SprintEnv& env, const character::PolicyFn& polic
   character::EvaluationConfig c;
   for (int k = 0; k < episodes; ++k) c.start_seeds.push_back(base::derive_seed(seed, static_cast<std::uint64_t>(k)));
   StartEvaluation out;
+  for (const StartReference& r : env.settings().start_references) out.per_reference.push_back({r.name, 0, 0});
   const auto joints = static_cast<double>(env.model().links().size());
   double error_sum = 0.0, ratio_sum = 0.0;
   std::int64_t steps = 0;
@@ -84,7 +93,10 @@ StartEvaluation evaluate_starts(SprintEnv& env, const character::PolicyFn& polic
     const auto& s = static_cast<const SprintEnv&>(e);
     if (e.step_index() == 0) return;  // the reference's own first frame
     error_sum += std::sqrt(s.tracking_errors().pose / joints), ++steps;
+    StartEvaluation::PerReference& per = out.per_reference[static_cast<std::size_t>(s.reference_index())];
+    if (e.step_index() == 1) ++per.episodes;
     if (s.outcome() == SprintEnv::Outcome::landed && s.landing_state()) {
+      ++per.landings;
       out.landings.push_back(*s.landing_state());
       ratio_sum += e.features().com_vel.x() / reference_speed[static_cast<std::size_t>(s.reference_index())];
     }
@@ -98,6 +110,9 @@ StartEvaluation evaluate_starts(SprintEnv& env, const character::PolicyFn& polic
   out.return_mean = report.mean_return;
   out.tracking_error_rad = steps > 0 ? error_sum / static_cast<double>(steps) : 0.0;
   out.com_speed_ratio = out.landings.empty() ? 0.0 : ratio_sum / static_cast<double>(out.landings.size());
+  out.min_reference_landing_rate = 1.0;
+  for (const StartEvaluation::PerReference& r : out.per_reference)
+    if (r.episodes > 0) out.min_reference_landing_rate = std::min(out.min_reference_landing_rate, 1.0 * r.landings / r.episodes);
   return out;
 }
 

@@ -41,8 +41,15 @@ struct StartEvaluation {
   double tracking_error_rad = 0.0;  ///< mean over all steps of √(Σ_j ‖q̂_j ⊖ q_j‖² / J), J the model's links (root included)
   double com_speed_ratio = 0.0;  ///< mean over landings of the COM's forward speed at the landing over the reference's
   double return_mean = 0.0;
-  std::vector<base::Json> landings;  ///< the landings' hand-over states
-  base::Json to_json() const;        ///< the figures (not the states)
+  /// Per reference (the env's order): its name, the episodes that drew it and their landings.
+  struct PerReference {
+    std::string name;
+    int episodes = 0, landings = 0;
+  };
+  std::vector<PerReference> per_reference;
+  double min_reference_landing_rate = 0.0;  ///< the lowest landing rate of a reference drawn at least once
+  std::vector<base::Json> landings;         ///< the landings' hand-over states
+  base::Json to_json() const;               ///< the figures (not the states)
 };
 /// The forward COM speed at a reference's last frame (its last two frames' COM by forward
 /// kinematics over the frame time), m/s.

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 #include <numbers>
+#include <numeric>
 #include <set>
 #include <vector>
 
@@ -286,11 +287,11 @@ TEST(SprintRace, StageTwoTakesOverAtTheLandingAndTheDipActsFromItsDistance) {
   }
   ASSERT_GT(landed, 0);
   RaceSettings zero = settings;
-  zero.dip = {100.0, 0.0};  // within 100 m of the line from the start: fires at stage 2's first step
+  zero.dip = DipParams{100.0, 0.0};  // within 100 m of the line from the start: fires at stage 2's first step
   RaceSettings thirty = settings;
-  thirty.dip = {100.0, 30.0 * std::numbers::pi / 180.0};
+  thirty.dip = DipParams{100.0, 30.0};
   RaceSettings far = thirty;
-  far.dip.distance_m = 0.5;  // never that close
+  far.dip->distance_m = 0.5;  // never that close
   const RaceReport a = run_race(zero, policies, dir.path()), b = run_race(thirty, policies, dir.path()),
                    c = run_race(far, policies, dir.path());
   int changed = 0;
@@ -307,6 +308,27 @@ TEST(SprintRace, StageTwoTakesOverAtTheLandingAndTheDipActsFromItsDistance) {
     if (without_dip(b.episodes[k]) != without_dip(e)) ++changed;
   }
   EXPECT_EQ(changed, landed);
+  // The dip check: every episode again without the dip, which is the race without one, paired.
+  ASSERT_EQ(b.no_dip.size(), plain.episodes.size());
+  EXPECT_TRUE(plain.no_dip.empty());
+  std::vector<double> gain;
+  int added_falls = 0;
+  for (std::size_t k = 0; k < plain.episodes.size(); ++k) {
+    EXPECT_EQ(b.no_dip[k].to_json(), plain.episodes[k].to_json()) << k;
+    const auto &none = plain.episodes[k].finish_time_s, &dip = b.episodes[k].finish_time_s;
+    if (none && dip) gain.push_back(*none - *dip);
+    if (none && !dip) ++added_falls;
+  }
+  const Json check = b.summary()["dip_check"];
+  EXPECT_TRUE(plain.summary()["dip_check"].is_null());
+  EXPECT_EQ(check["pairs"], gain.size());
+  EXPECT_EQ(check["added_falls"], added_falls);
+  if (!gain.empty()) {
+    EXPECT_NEAR(check["mean_gain_s"].get<double>(), std::accumulate(gain.begin(), gain.end(), 0.0) / gain.size(), 1e-12);
+  }
+  EXPECT_EQ(b.summary()["dip"], Json({{"distance_m", 100.0}, {"angle_deg", 30.0}}));
+  EXPECT_NE(b.text_table().find("dip check, paired"), std::string::npos);
+  EXPECT_EQ(plain.text_table().find("dip check"), std::string::npos);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <set>
 #include <string>
 
@@ -155,6 +156,18 @@ TEST(SprintTask, SmokeCampaignRunsStartAccelerateDipAndTheRaceEndToEnd) {
     EXPECT_EQ(static_cast<double>(states.size()), t.result_info["landings"].get<double>());
     for (const Json& s : states) EXPECT_TRUE(s.contains("draw") && s.contains("step_counter"));
     landings = std::max(landings, states.size());
+    // Per reference: the four crouch starts, the final episodes split among them, the landings too.
+    const Json& per = t.result_info["per_reference"];
+    ASSERT_EQ(per.size(), 4u) << per;
+    int episodes = 0, landed = 0;
+    double lowest = 1.0;
+    for (const auto& [name, r] : per.items()) {
+      episodes += r["episodes"].get<int>(), landed += r["landings"].get<int>();
+      if (r["episodes"].get<int>() > 0) lowest = std::min(lowest, r["landing_rate"].get<double>());
+    }
+    EXPECT_EQ(episodes, 4);  // the smoke preset's final_episodes
+    EXPECT_EQ(static_cast<std::size_t>(landed), states.size());
+    EXPECT_EQ(t.result_info["min_reference_landing_rate"].get<double>(), lowest);
   }
   // Stage 2 from the best start trial's landings, or (none landed: the untrained smoke policy
   // rarely does) from the fallback, which its info says.
@@ -225,8 +238,23 @@ TEST(SprintTask, SmokeCampaignRunsStartAccelerateDipAndTheRaceEndToEnd) {
   // The second generation's candidates come from the updated distribution.
   EXPECT_EQ(dips.front().info["generation"], 0);
   EXPECT_EQ(dips.back().info["generation"], 1);
-  // The race: the best start and accelerate trials' policies over the DR episodes.
+  // The race: the best start and accelerate trials' policies over the DR episodes, with the best
+  // dip trial's (d_dip, θ_dip) and the dip check beside it.
   expect_race_trial(campaign, dir.path());
+  const auto& race = campaign.trials.at("race").front();
+  const std::string source = race.result_info["dip_source"].get<std::string>();
+  EXPECT_TRUE(source.starts_with("dip trial dip/")) << source;
+  const Json report = base::read_json_file(artifact_file(campaign, dir.path(), race.id, "race"));
+  const Json& used = report["summary"]["dip"];
+  double best = -std::numeric_limits<double>::infinity();
+  for (const auto& t : dips) best = std::max(best, t.objectives[0].get<double>());
+  bool found = false;
+  for (const auto& t : dips)
+    if (t.params["d_dip_m"] == used["distance_m"] && t.params["theta_dip_deg"] == used["angle_deg"])
+      found = true, EXPECT_EQ(t.objectives[0].get<double>(), best);
+  EXPECT_TRUE(found) << used;
+  EXPECT_EQ(report["no_dip"].size(), 2u);
+  EXPECT_EQ(report["summary"]["dip_check"]["episodes"], 2);
 }
 
 }  // namespace

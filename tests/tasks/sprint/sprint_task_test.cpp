@@ -250,8 +250,10 @@ TEST(SprintTask, SmokeCampaignRunsStartAccelerateDipAndTheRaceEndToEnd) {
   for (const auto& t : dips) best = std::max(best, t.objectives[0].get<double>());
   bool found = false;
   for (const auto& t : dips)
-    if (t.params["d_dip_m"] == used["distance_m"] && t.params["theta_dip_deg"] == used["angle_deg"])
-      found = true, EXPECT_EQ(t.objectives[0].get<double>(), best);
+    if (t.params["d_dip_m"] == used["distance_m"] && t.params["theta_dip_deg"] == used["angle_deg"]) {
+      found = true;
+      EXPECT_EQ(t.objectives[0].get<double>(), best);
+    }
   EXPECT_TRUE(found) << used;
   EXPECT_EQ(report["no_dip"].size(), 2u);
   EXPECT_EQ(report["summary"]["dip_check"]["episodes"], 2);

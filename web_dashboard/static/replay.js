@@ -49,10 +49,13 @@ async function main() {
     duration: main.duration,
     drawn: { props: main.props.children.length, terrain: main.terrain.children.length },
     kinds: main.props.children.map(c => c.userData.kind),
+    root_x: [main.traj.frames[0].links[0][0], main.traj.frames[frames - 1].links[0][0]],  // the first link's x, first and last frame
+    camera_x: 0,
   };
   const draw = () => {
     window.podiumReplay.shown = views.map(v => v.frameAt(Math.min(t, v.duration)));
     views.forEach((v, i) => v.show(window.podiumReplay.shown[i]));
+    window.podiumReplay.camera_x = main.cameraX();
     const f = window.podiumReplay.shown[0];
     scrub.value = f;
     counter.textContent = `frame ${f + 1} / ${frames} · t = ${t.toFixed(2)} s`;

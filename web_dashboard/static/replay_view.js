@@ -1,8 +1,8 @@
 // One 3D view of a recorded motion (sim/'s trajectory file, JSON lines; format in
 // web_dashboard/README.md): bodies as capsules, boxes and spheres, the ground (with holes where
 // terrain regions replace it), the terrain's boxes and the props as their `kind` says (a crossbar on
-// two standards, a landing mat, an obstacle box, a plain box), an orbiting camera that frames a
-// jump's whole motion. Shared by the replay page and the campaign page's strategy gallery.
+// two standards, a landing mat, an obstacle box, a plain box, a line painted on the ground), an
+// orbiting camera that frames a jump's whole motion or, on a track (lines), runs beside the runner. Shared by the replay page and the campaign page's strategy gallery.
 import * as THREE from './vendor/three.module.js';
 import { OrbitControls } from './vendor/OrbitControls.js';
 
@@ -36,7 +36,7 @@ function place(object, pos = [0, 0, 0], quat = [1, 0, 0, 0]) {  // quaternions a
 }
 
 const lambert = color => new THREE.MeshLambertMaterial({ color });
-const PROP_COLOURS = { box: 0x8d6e63, obstacle: 0xc7782e, mat: 0x1e5fae };
+const PROP_COLOURS = { box: 0x8d6e63, obstacle: 0xc7782e, mat: 0x1e5fae, line: 0x263238 };
 // A high-jump bar and its standards (World Athletics: the bar 3.98–4.02 m long, 30 mm round).
 const BAR_LENGTH = 4.0, BAR_RADIUS = 0.015, BAR_BANDS = 8, STANDARD_RADIUS = 0.025, STANDARD_ABOVE = 0.35;
 
@@ -80,8 +80,10 @@ function crossbar(p, frames) {
 function propObject(p, frames) {
   const kind = p.kind || 'box';
   const material = lambert(PROP_COLOURS[kind] ?? PROP_COLOURS.box);
-  // A mat a few centimetres thick: drawn ahead of the floor's grid lines at equal depth.
-  if (kind === 'mat') Object.assign(material, { polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -4 });
+  // A mat a few centimetres thick and a painted line a millimetre above the ground: drawn ahead of
+  // the floor's grid lines at equal depth.
+  if (kind === 'mat' || kind === 'line')
+    Object.assign(material, { polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -4 });
   const object = kind === 'crossbar' ? crossbar(p, frames) : new THREE.Mesh(geometry(p), material);
   place(object, p.pos, p.quat);
   object.userData = { kind, name: p.name };
@@ -121,8 +123,10 @@ export function makeView(traj, { label, colour, width, height, parent }) {
   scene.add(sun);
   const regions = traj.terrain?.regions || [], pieces = traj.terrain?.pieces || [];
   if (traj.ground !== false) {
-    // The plane z = 0 outside the terrain's regions, large enough to hold them.
-    const half = Math.max(10, ...regions.flatMap(r => [...r.min, ...r.max].map(v => Math.abs(v) + 2)));
+    // The plane z = 0 outside the terrain's regions, large enough to hold them and the props (a
+    // track's lines run past its finish).
+    const reach = (traj.props || []).flatMap(p => [0, 1].map(i => Math.abs(p.pos[i]) + Math.max(...p.half_extents) + 2));
+    const half = Math.ceil(Math.max(10, ...reach, ...regions.flatMap(r => [...r.min, ...r.max].map(v => Math.abs(v) + 2))));
     const grid = new THREE.GridHelper(2 * half, 4 * half, 0x90a4ae, 0xcfd8dc);
     grid.rotateX(Math.PI / 2);  // z up
     scene.add(grid);
@@ -156,6 +160,7 @@ export function makeView(traj, { label, colour, width, height, parent }) {
   const camera = new THREE.PerspectiveCamera(45, width / height, 0.01, 200);
   camera.up.set(0, 0, 1);
   const jump = (traj.props || []).find(p => p.kind === 'crossbar' || p.kind === 'obstacle');
+  const track = !jump && (traj.props || []).some(p => p.kind === 'line');
   let centre = new THREE.Vector3();
   if (jump) {
     centre = frameJump(camera, jump, traj.frames);
@@ -164,6 +169,7 @@ export function makeView(traj, { label, colour, width, height, parent }) {
     for (const p of first) centre.add(new THREE.Vector3(p[0], p[1], p[2]));
     centre.divideScalar(Math.max(1, first.length));
     camera.position.set(centre.x + 3, centre.y - 3.5, centre.z + 1.8);
+    if (track) camera.position.set(centre.x + 1.5, centre.y - 6, centre.z + 1.2);  // beside the lane
   }
   const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setSize(width, height);
@@ -183,10 +189,17 @@ export function makeView(traj, { label, colour, width, height, parent }) {
   const t0 = traj.frames[0].t;
   return {
     traj, duration: traj.frames[traj.frames.length - 1].t - t0, terrain, props,
+    cameraX: () => camera.position.x,
     timeOf(frame) { return traj.frames[frame].t - t0; },
     show(frame) {
       const poses = traj.frames[frame].links;
       bodies.forEach((b, i) => place(b, poses[i].slice(0, 3), poses[i].slice(3, 7)));
+      if (track) {  // the camera runs beside the runner: it and its target move with the root along the track
+        const dx = poses[0][0] - controls.target.x;
+        camera.position.x += dx;
+        controls.target.x += dx;
+        controls.update();
+      }
       renderer.render(scene, camera);
     },
     frameAt(t) {  // the last frame at or before t (from the first frame)

@@ -150,11 +150,15 @@ plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& req
   result.info["summary"] = {
       {"success", out.final.success_rate}, {"mean r_task", out.final.mean_task_reward}, {"episode s", out.final.mean_episode_s}};
   Json rows = Json::array();
-  const auto& names = out.final.curve_success;
-  for (std::size_t k = 0; k < names.size(); ++k) rows.push_back(Json::array({c.train.curves.at(k), out.final.curve_success[k]}));
-  result.info["table"] =
-      plugins::result_table("success per curve over " + std::to_string(c.train.test_starts) + " test starts",
-                            Json::array({plugins::table_column("curve"), plugins::table_column("success")}), rows);
+  for (const CurveFollowing& f : out.final.following)
+    rows.push_back(Json::array({f.curve, f.success_rate, f.to_json()["h_error_m"], f.to_json()["angle_error_deg"],
+                                f.to_json()["rise_time_s"], f.risen}));
+  result.info["table"] = plugins::result_table(
+      "per curve over " + std::to_string(c.train.test_starts) + " test starts (errors over [0, T] of the successful ones)",
+      Json::array({plugins::table_column("curve"), plugins::table_column("success"), plugins::table_column("h error", "m"),
+                   plugins::table_column("angle error", "°"), plugins::table_column("rise time", "s"),
+                   plugins::table_column("risen")}),
+      rows);
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <optional>
 
+#include "curve_extraction.h"
 #include "podium/base/error.h"
 #include "podium/base/json.h"
 #include "podium/base/log.h"
@@ -102,30 +103,88 @@ TrainSettings read_train_settings(base::ConfigReader& r) {
   return s;
 }
 
+namespace {
+
+// One test episode against its curve, step by step from the reset: the tracking errors over
+// [0, T] and the rise.
+struct EpisodeTracking {
+  double h_error_m = 0.0, angle_error_deg = 0.0;
+  int steps = 0;
+  std::optional<double> rise_s;
+  void add(const CurveGetupEnv& env, double rise_height_m) {
+    const double t = env.curve_time_s();
+    const StyleFeatures w = env.achieved(), p = env.curve().target(t);
+    if (t <= env.curve().duration_s + 1e-9) {
+      h_error_m += std::abs(w(0) - p(0));
+      angle_error_deg += 0.5 * (std::abs(w(1) - p(1)) + std::abs(w(2) - p(2))) * 180.0 / std::numbers::pi;
+      ++steps;
+    }
+    if (!rise_s && w(0) >= rise_height_m) rise_s = t;
+  }
+};
+
+CurveFollowing following_of(const std::string& curve, const std::vector<EpisodeTracking>& episodes,
+                            const std::vector<char>& successes) {
+  CurveFollowing f;
+  f.curve = curve;
+  double h = 0.0, angle = 0.0, rise = 0.0;
+  int tracked = 0;
+  for (std::size_t i = 0; i < episodes.size(); ++i) {
+    const EpisodeTracking& e = episodes[i];
+    if (e.rise_s) rise += *e.rise_s, ++f.risen;
+    if (!successes.at(i)) continue;
+    ++f.successes;
+    if (e.steps > 0) h += e.h_error_m / e.steps, angle += e.angle_error_deg / e.steps, ++tracked;
+  }
+  f.success_rate = episodes.empty() ? 0.0 : static_cast<double>(f.successes) / static_cast<double>(episodes.size());
+  if (tracked > 0) f.h_error_m = h / tracked, f.angle_error_deg = angle / tracked;
+  if (f.risen > 0) f.rise_time_s = rise / f.risen;
+  return f;
+}
+
+Json optional_json(const std::optional<double>& v) { return v ? Json(*v) : Json(nullptr); }
+
+}  // namespace
+
+Json CurveFollowing::to_json() const {
+  return {{"curve", curve},
+          {"success_rate", success_rate},
+          {"successes", successes},
+          {"h_error_m", optional_json(h_error_m)},
+          {"angle_error_deg", optional_json(angle_error_deg)},
+          {"rise_time_s", optional_json(rise_time_s)},
+          {"risen", risen}};
+}
+
 CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed) {
   CurveTest out;
   const std::size_t curves = env.curves().curves.size();
+  const double rise_height = 0.5 * standing_neck_height(env.model());
   double task_sum = 0.0;
   std::int64_t task_steps = 0, full_steps = 0;
   std::size_t episodes = 0;
   for (std::size_t k = 0; k < curves; ++k) {
     env.use_curve(static_cast<int>(k));
     character::EvaluationConfig c;
-    for (int i = 0; i < starts; ++i) c.start_seeds.push_back(base::derive_seed(seed, k, static_cast<std::uint64_t>(i)));
+    for (int i = 0; i < starts; ++i) c.start_seeds.push_back(base::derive_seed(seed, static_cast<std::uint64_t>(i)));
     c.success = [](const character::CharacterEnv& e) { return static_cast<const CurveGetupEnv&>(e).succeeded(); };
     c.measures = {{"episode_s", [](const character::CharacterEnv& e) { return e.step_index() * e.control_dt_s(); }}};
-    c.each_step = [&](std::size_t, const character::CharacterEnv& e) {
+    std::vector<EpisodeTracking> tracking(static_cast<std::size_t>(starts));
+    c.each_step = [&](std::size_t start, const character::CharacterEnv& e) {
+      const auto& ce = static_cast<const CurveGetupEnv&>(e);
+      tracking.at(start).add(ce, rise_height);
       if (e.step_index() == 0) {  // the reset: no reward yet; the episode's full length
-        full_steps += static_cast<const CurveGetupEnv&>(e).episode_length();
+        full_steps += ce.episode_length();
         return;
       }
-      task_sum += static_cast<const CurveGetupEnv&>(e).reward_terms().task, ++task_steps;
+      task_sum += ce.reward_terms().task, ++task_steps;
     };
     const character::EvaluationReport report = character::evaluate(env, policy, c);
     out.mean_return += report.mean_return * starts;
     out.success_rate += report.success_rate * starts;
     out.mean_episode_s += report.mean("episode_s") * starts;
     out.curve_success.push_back(report.success_rate);
+    out.following.push_back(following_of(env.curve().name, tracking, report.successes));
     episodes += static_cast<std::size_t>(starts);
   }
   env.use_curve(-1);
@@ -227,7 +286,7 @@ void CurveTrainStage::record(const character::Recording& r) {
     env.use_curve(static_cast<int>(k));
     FeatureSeries series;
     character::EvaluationConfig c;
-    c.start_seeds = {base::derive_seed(s_.test_seed, k, 0)};  // the test's first start on this curve
+    c.start_seeds = {base::derive_seed(s_.test_seed, 0)};  // the test's first start (every curve's)
     c.success = [](const character::CharacterEnv& e) { return static_cast<const CurveGetupEnv&>(e).succeeded(); };
     c.each_step = [&](std::size_t, const character::CharacterEnv& e) { series.add(static_cast<const CurveGetupEnv&>(e)); };
     c.record = {0}, c.record_dir = r.rollouts / ("curve_" + std::to_string(k));
@@ -252,6 +311,8 @@ void CurveTrainStage::record(const character::Recording& r) {
 std::string recorded_trajectory_name(std::size_t k) { return k == 0 ? "trajectory" : "trajectory_" + std::to_string(k); }
 
 Json TrainOutcome::to_json() const {
+  Json following = Json::array();
+  for (const CurveFollowing& f : final.following) following.push_back(f.to_json());
   return {{"env_steps", env_steps},
           {"stopped_by", stopped_by},
           {"success_rate", final.success_rate},
@@ -260,6 +321,7 @@ Json TrainOutcome::to_json() const {
           {"average_return_rate", final.average_return_rate},
           {"episode_s", final.mean_episode_s},
           {"curve_success", final.curve_success},
+          {"following", following},
           {"recorded_curves", recorded_curves}};
 }
 

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,22 @@ std::vector<std::filesystem::path> curve_files(const TrainSettings& settings);
 std::filesystem::path shipped_curve_dir();
 
 /// A test: the deterministic policy from `starts` fixed starts on every curve.
+/// How one curve's test episodes followed it (the quick bars: success; tracking on the successful
+/// episodes; when the character rose).
+struct CurveFollowing {
+  std::string curve;  ///< its name
+  double success_rate = 0.0;
+  int successes = 0;
+  /// Over [0, T] of the successful episodes (none without one): mean |h − p_h| in m, and the mean
+  /// of |θ_x − p_θx| and |θ_z − p_θz| in degrees.
+  std::optional<double> h_error_m, angle_error_deg;
+  /// The rise: the first instant the achieved h reaches half the standing neck height (the model
+  /// standing), mean over the episodes that got there (`risen` of them; none without one).
+  std::optional<double> rise_time_s;
+  int risen = 0;
+  base::Json to_json() const;
+};
+
 struct CurveTest {
   double mean_return = 0.0;
   double success_rate = 0.0;
@@ -52,11 +69,14 @@ struct CurveTest {
   /// §6.4's average return rate: r_task summed over the episodes' steps, divided by their full
   /// lengths' control steps (T + T_stand each), so a step early termination cut counts as 0.
   double average_return_rate = 0.0;
-  double mean_episode_s = 0.0;        ///< control time of an episode (early termination shortens it)
-  std::vector<double> curve_success;  ///< per curve
+  double mean_episode_s = 0.0;            ///< control time of an episode (early termination shortens it)
+  std::vector<double> curve_success;      ///< per curve
+  std::vector<CurveFollowing> following;  ///< per curve
 };
-/// Episodes with `policy` on each curve of `env` (use_curve), seeds derived from `seed`; the
-/// env's curve choice is drawn again afterwards.
+/// Episodes with `policy` on each curve of `env` (use_curve), `starts` per curve from seeds derived
+/// from `seed`: the same seeds for every curve (common random numbers: curves with the same kind
+/// of start, e.g. a base curve and its edits, start from the same states). The env's curve choice
+/// is drawn again afterwards.
 CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed);
 
 /// The artifact name of the motion recorded on curve `k`: "trajectory", "trajectory_1", ...

@@ -5,13 +5,17 @@
 // smoke preset end to end.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <set>
 #include <string>
 
+#include "curve_extraction.h"
 #include "finished_campaign.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
+#include "podium/sim/model.h"
 #include "process.h"
 #include "task_conformance.h"
 
@@ -114,6 +118,20 @@ TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
     EXPECT_LE(t.objectives[1], 1.0);
     EXPECT_EQ(t.result_info["recorded_curves"], Json({"faceup", "facedown"}));
     EXPECT_EQ(t.result_info["table"]["rows"].size(), 2u);
+    // How each curve's test episodes followed it: its success, the tracking errors of the
+    // successful ones (none without one), its rise.
+    const Json& following = t.result_info["following"];
+    ASSERT_EQ(following.size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const Json& f = following[k];
+      EXPECT_EQ(f["curve"], t.result_info["recorded_curves"][k]);
+      EXPECT_EQ(f["success_rate"], t.result_info["curve_success"][k]);
+      EXPECT_EQ(f["h_error_m"].is_null(), f["successes"].get<int>() == 0) << f;
+      EXPECT_EQ(f["rise_time_s"].is_null(), f["risen"].get<int>() == 0) << f;
+      if (!f["rise_time_s"].is_null()) {
+        EXPECT_GE(f["rise_time_s"].get<double>(), 0.0);
+      }
+    }
     std::string curves;
     for (const auto& a : campaign.store->artifacts(t.id))
       if (a.name == "curves") curves = a.path;
@@ -129,6 +147,34 @@ TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
     // 0), facedown on the front.
     EXPECT_LT(series["episodes"][0]["target"]["theta_z_deg"][0].get<double>(), 30.0);
     EXPECT_GT(series["episodes"][1]["target"]["theta_z_deg"][0].get<double>(), 150.0);
+    // The smoke preset tests one start per curve, the recorded one: its figures are the recorded
+    // series' (the errors over t ≤ T when it succeeded, the first instant h reaches half the
+    // standing neck height).
+    const double rise_height = 0.5 * standing_neck_height(*sim::load_shipped_model("humanoid34"));
+    for (std::size_t k = 0; k < 2; ++k) {
+      const Json& e = series["episodes"][k];
+      const Json& f = t.result_info["following"][k];
+      EXPECT_EQ(f["successes"].get<int>(), e["success"].get<bool>() ? 1 : 0);
+      double h = 0.0, angle = 0.0;
+      int steps = 0;
+      std::optional<double> rise;
+      for (std::size_t i = 0; i < e["t_s"].size(); ++i) {
+        const double at = e["t_s"][i].get<double>(), achieved = e["achieved"]["h_m"][i].get<double>();
+        if (!rise && achieved >= rise_height) rise = at;
+        if (at > e["curve"]["duration_s"].get<double>() + 1e-9) continue;
+        h += std::abs(achieved - e["target"]["h_m"][i].get<double>()), ++steps;
+        for (const char* a : {"theta_x_deg", "theta_z_deg"})
+          angle += 0.5 * std::abs(e["achieved"][a][i].get<double>() - e["target"][a][i].get<double>());
+      }
+      EXPECT_EQ(f["rise_time_s"].is_null(), !rise.has_value());
+      if (rise) {
+        EXPECT_NEAR(f["rise_time_s"].get<double>(), *rise, 1e-9);
+      }
+      if (e["success"].get<bool>()) {
+        EXPECT_NEAR(f["h_error_m"].get<double>(), h / steps, 1e-9);
+        EXPECT_NEAR(f["angle_error_deg"].get<double>(), angle / steps, 1e-6);
+      }
+    }
   }
 }
 

@@ -1,11 +1,15 @@
-// The style-curve get-up task plugin (curve get-up seed). Two stages, chosen by the config key
+// The style-curve get-up task plugin (curve get-up seed). Three stages, chosen by the config key
 // `stage`: "pose_cvae" — the pose C-VAE of §3.5 (pose_cvae.h); "train" — one PPO policy follows the
 // configured style curves from lying to standing (train_curves.h), acting on PD targets or, with
-// actions "cvae", through a pose_cvae trial's C-VAE. The presets are data (data/presets.json);
+// actions "cvae", through a pose_cvae trial's C-VAE; "edit" — a train trial's policy on one edit of
+// a base curve per trial (edit_stage.h, §4.3). The presets are data (data/presets.json);
 // README.md gives the metrics.
 
+#include "curve_edit.h"
 #include "curve_tool.h"
+#include "edit_stage.h"
 #include "podium/base/json.h"
+#include "podium/learn/frozen_policy.h"
 #include "podium/plugins/export.h"
 #include "pose_cvae.h"
 #include "train_curves.h"
@@ -20,16 +24,19 @@ struct TaskConfig {
   std::string stage = "train";
   TrainSettings train;
   PoseCvaeSettings cvae;
+  EditSettings edit;
 };
 
 TaskConfig read_task_config(base::ConfigReader& r) {
   TaskConfig c;
-  c.stage = r.choice("stage", c.stage, {"pose_cvae", "train"},
+  c.stage = r.choice("stage", c.stage, {"pose_cvae", "train", "edit"},
                      "pose_cvae: trains the pose C-VAE (§3.5) on pose_clips, labelled by their style features; train: PPO on "
                      "the curve set (§5), one policy for every curve (with actions \"cvae\": through one input pose_cvae "
-                     "trial's C-VAE); the trial's policy, motions and target-vs-achieved features");
+                     "trial's C-VAE); the trial's policy, motions and target-vs-achieved features; edit: one input train "
+                     "trial's policy on an edit of edit_base_curve (the trial's params), from the test starts (§4.3)");
   c.train = read_train_settings(r);
   c.cvae = read_pose_cvae_settings(r);
+  read_edit_settings(r, c.edit);
   if (c.stage == "pose_cvae" && c.cvae.clips.empty()) r.fail("pose_clips", "is empty: the pose_cvae stage needs clips");
   return c;
 }
@@ -162,6 +169,63 @@ plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& req
   return result;
 }
 
+Json describe_edit_stage() {
+  Json d = {{"params", edit_params()},
+            {"features", edit_features()},
+            {"strategy_threshold", kEditStrategyThreshold},
+            {"metrics", Json::array()}};
+  plugins::set_objectives(
+      d, Json::array({plugins::objective_entry("success_rate", "", "the policy's success on the edited curve over the starts"),
+                      plugins::objective_entry("mean_r_task", "", "its r_task (eq. 4) averaged over the episodes' steps")}));
+  return d;
+}
+
+double edit_param(const plugins::RunRequest& request, const std::string& name) {
+  const Json& p = request.params;
+  if (!p.contains(name) || !p.at(name).is_number())
+    throw base::UserError("getup_curves edit: params." + name + ": " + (p.contains(name) ? p.at(name).dump() : "missing") +
+                          " is not a number");
+  return p.at(name).get<double>();
+}
+
+// The edit stage: one input train trial (its policy, and its C-VAE when it acts through one).
+plugins::RunResult run_edit(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  if (request.inputs.size() != 1 || !request.inputs.front().artifacts.count("policy"))
+    throw base::UserError("getup_curves edit: needs exactly one input train trial (its artifact policy), got " +
+                          std::to_string(request.inputs.size()) + " input trials");
+  const plugins::InputTrial& in = request.inputs.front();
+  TrainSettings train = c.train;
+  if (train.env.actions == "cvae") {
+    if (!in.artifacts.count("pose_cvae"))
+      throw base::UserError("getup_curves edit: actions \"cvae\": input trial " + in.stage + "/" +
+                            std::to_string(in.trial_index) + " has no artifact pose_cvae");
+    train.env.cvae = std::shared_ptr<const learn::PoseVae>(learn::PoseVae::from_file(in.artifacts.at("pose_cvae")));
+  }
+  const learn::FrozenPolicy frozen(in.artifacts.at("policy"));
+  const CurveEdit edit{edit_param(request, "rise_fraction"), edit_param(request, "h_offset_m"),
+                       edit_param(request, "duration_scale")};
+  const EditOutcome out = run_curve_edit(
+      train, c.edit, edit, [&](std::span<const double> o, std::span<double> a) { frozen.act(o, a); }, request.work_dir);
+  sink.progress(1.0);
+  plugins::RunResult result;
+  result.objectives = {out.test.success_rate, out.test.mean_task_reward};
+  result.features = out.features;
+  result.artifacts = {{"edited_curve", out.curve_file}, {"curves", out.curves}, {"trajectory", out.trajectory}};
+  const CurveFollowing& f = out.test.following.at(0);
+  result.info = f.to_json();
+  result.info["mean_r_task"] = out.test.mean_task_reward;
+  result.info["curve_rise_time_s"] = rise_time_s(out.curve);  // the edited target's rise (the fit's, not the asked)
+  result.info["curve_duration_s"] = out.curve.duration_s;
+  result.info["average_return_rate"] = out.test.average_return_rate;
+  result.info["policy"] = in.stage + "/" + std::to_string(in.trial_index);
+  result.info["summary"] = {{"curve T s", out.curve.duration_s},
+                            {"success", f.success_rate},
+                            {"h error m", result.info["h_error_m"]},
+                            {"angle error °", result.info["angle_error_deg"]},
+                            {"rise time s", result.info["rise_time_s"]}};
+  return result;
+}
+
 }  // namespace
 
 class GetupCurvesTask final : public plugins::Task {
@@ -169,7 +233,7 @@ class GetupCurvesTask final : public plugins::Task {
   Json describe(const Json& config) const override {
     const TaskConfig c = config_from(config);
     const Json accepted = base::ConfigReader::describe([](base::ConfigReader& r) { read_task_config(r); });
-    Json d = c.stage == "pose_cvae" ? describe_cvae_stage() : describe_stage();
+    Json d = c.stage == "pose_cvae" ? describe_cvae_stage() : c.stage == "edit" ? describe_edit_stage() : describe_stage();
     d["presets"] = presets();
     d["config"] = accepted;
     d["config_defaults"] = base::ConfigReader::defaults(accepted);
@@ -178,6 +242,7 @@ class GetupCurvesTask final : public plugins::Task {
 
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const TaskConfig c = config_from(request.config);
+    if (c.stage == "edit") return run_edit(c, request, sink);
     return c.stage == "pose_cvae" ? run_pose_cvae(c, request, sink) : run_train(c, request, sink);
   }
 

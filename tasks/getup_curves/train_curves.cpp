@@ -156,7 +156,8 @@ Json CurveFollowing::to_json() const {
           {"risen", risen}};
 }
 
-CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed) {
+CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed,
+                      const CurveStepFn& each_step) {
   CurveTest out;
   const std::size_t curves = env.curves().curves.size();
   const double rise_height = 0.5 * standing_neck_height(env.model());
@@ -173,6 +174,7 @@ CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int
     c.each_step = [&](std::size_t start, const character::CharacterEnv& e) {
       const auto& ce = static_cast<const CurveGetupEnv&>(e);
       tracking.at(start).add(ce, rise_height);
+      if (each_step) each_step(start, ce);
       if (e.step_index() == 0) {  // the reset: no reward yet; the episode's full length
         full_steps += ce.episode_length();
         return;
@@ -284,21 +286,12 @@ void CurveTrainStage::record(const character::Recording& r) {
   const std::size_t n = std::min(curves_->curves.size(), static_cast<std::size_t>(s_.record_curves));
   for (std::size_t k = 0; k < n; ++k) {
     env.use_curve(static_cast<int>(k));
-    FeatureSeries series;
-    character::EvaluationConfig c;
-    c.start_seeds = {base::derive_seed(s_.test_seed, 0)};  // the test's first start (every curve's)
-    c.success = [](const character::CharacterEnv& e) { return static_cast<const CurveGetupEnv&>(e).succeeded(); };
-    c.each_step = [&](std::size_t, const character::CharacterEnv& e) { series.add(static_cast<const CurveGetupEnv&>(e)); };
-    c.record = {0}, c.record_dir = r.rollouts / ("curve_" + std::to_string(k));
-    const character::EvaluationReport report = character::evaluate(env, policy, c);
-    outcome.trajectories.push_back(report.trajectories.at(0));
+    std::filesystem::path trajectory;
+    recorded.push_back(record_curve_episode(env, policy, base::derive_seed(s_.test_seed, 0),  // the test's first start
+                                            r.rollouts / ("curve_" + std::to_string(k)), recorded_trajectory_name(k),
+                                            trajectory));
+    outcome.trajectories.push_back(trajectory);
     outcome.recorded_curves.push_back(env.curve().name);
-    Json entry = series.to_json();
-    entry["curve"] = style_curve_json(env.curve());
-    entry["trajectory"] = recorded_trajectory_name(k);
-    entry["success"] = report.success_rate > 0.5;
-    entry["return"] = report.mean_return;
-    recorded.push_back(std::move(entry));
   }
   if (n > 0) {
     outcome.curves = r.rollouts / "curves.json";
@@ -309,6 +302,25 @@ void CurveTrainStage::record(const character::Recording& r) {
 }  // namespace
 
 std::string recorded_trajectory_name(std::size_t k) { return k == 0 ? "trajectory" : "trajectory_" + std::to_string(k); }
+
+Json record_curve_episode(CurveGetupEnv& env, const character::PolicyFn& policy, std::uint64_t seed,
+                          const std::filesystem::path& dir, const std::string& trajectory_name,
+                          std::filesystem::path& trajectory) {
+  FeatureSeries series;
+  character::EvaluationConfig c;
+  c.start_seeds = {seed};
+  c.success = [](const character::CharacterEnv& e) { return static_cast<const CurveGetupEnv&>(e).succeeded(); };
+  c.each_step = [&](std::size_t, const character::CharacterEnv& e) { series.add(static_cast<const CurveGetupEnv&>(e)); };
+  c.record = {0}, c.record_dir = dir;
+  const character::EvaluationReport report = character::evaluate(env, policy, c);
+  trajectory = report.trajectories.at(0);
+  Json entry = series.to_json();
+  entry["curve"] = style_curve_json(env.curve());
+  entry["trajectory"] = trajectory_name;
+  entry["success"] = report.success_rate > 0.5;
+  entry["return"] = report.mean_return;
+  return entry;
+}
 
 Json TrainOutcome::to_json() const {
   Json following = Json::array();

@@ -6,6 +6,7 @@
 /// its target and achieved features at control rate.
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -77,10 +78,21 @@ struct CurveTest {
 /// from `seed`: the same seeds for every curve (common random numbers: curves with the same kind
 /// of start, e.g. a base curve and its edits, start from the same states). The env's curve choice
 /// is drawn again afterwards.
-CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed);
+/// `each_step`, if given, sees every step of every episode (the reset included) with its start's index.
+using CurveStepFn = std::function<void(std::size_t start, const CurveGetupEnv& env)>;
+CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed,
+                      const CurveStepFn& each_step = {});
 
 /// The artifact name of the motion recorded on curve `k`: "trajectory", "trajectory_1", ...
 std::string recorded_trajectory_name(std::size_t k);
+
+/// One episode of `policy` on `env`'s current curve from start seed `seed`, recorded under `dir`
+/// (the motion's path in `trajectory`): the `curves` artifact's entry for it — the curve, the
+/// target and achieved features at every control step, its motion's artifact name
+/// (`trajectory_name`), success and return.
+base::Json record_curve_episode(CurveGetupEnv& env, const character::PolicyFn& policy, std::uint64_t seed,
+                                const std::filesystem::path& dir, const std::string& trajectory_name,
+                                std::filesystem::path& trajectory);
 
 /// The train stage's outcome.
 struct TrainOutcome {

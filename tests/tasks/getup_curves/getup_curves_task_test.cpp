@@ -6,12 +6,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <optional>
 #include <set>
 #include <string>
 
+#include "curve_edit.h"
 #include "curve_extraction.h"
+#include "edit_stage.h"
 #include "finished_campaign.h"
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
@@ -95,16 +98,65 @@ TEST(GetupCurvesTask, ABadCampaignConfigIsRejectedAtSubmitWithTheFileAndPath) {
   EXPECT_NE(run.err.find("stages[0].config.copies: 0 is not"), std::string::npos) << run.err;
 }
 
+// The edit stage's edits of a shipped curve: the rise moved to a fraction of T (to the fit's
+// round-off), one control point of h moved exactly, T scaled with the points kept; the name says
+// it is an edit.
+TEST(GetupCurvesEdit, MovesTheRiseAPointOfHAndScalesT) {
+  const StyleCurve base = load_style_curve(shipped_curve_dir() / "faceup.json");
+  const StyleCurve point = edited_curve(base, {0.0, 0.1, 1.0}, 5);
+  EXPECT_EQ(point.name, "faceup+edit");
+  for (int j = 0; j < kControlPoints; ++j) {
+    EXPECT_EQ(point.points(0, j), base.points(0, j) + (j == 5 ? 0.1 : 0.0)) << j;
+    EXPECT_EQ(point.points.col(j).tail<2>(), base.points.col(j).tail<2>()) << j;
+  }
+  const StyleCurve slower = edited_curve(base, {0.0, 0.0, 1.2}, 5);
+  EXPECT_DOUBLE_EQ(slower.duration_s, 1.2 * base.duration_s);
+  EXPECT_EQ(slower.points, base.points);
+  // shift_rise refits the 7 inner control points: the larger the move, the farther the fit lands
+  // from the asked rise (faceup's own rise is at 0.76 of T).
+  for (const double fraction : {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9}) {
+    const StyleCurve moved = edited_curve(base, {fraction, 0.0, 1.5}, 5);
+    const double at = rise_time_s(moved) / moved.duration_s;
+    std::printf("rise asked at %.2f of T, fitted at %.3f\n", fraction, at);
+    EXPECT_NEAR(at, fraction, 0.04) << fraction;
+  }
+}
+
 // campaigns/getup_curves.json at the smoke preset through the real CLI: two
 // trained trials, each with its policy, a recorded motion per shipped curve and
 // their target-vs-achieved features.
+// The edit stage: each trial the best train trial's policy on its edit of faceup — the edited
+// curve written (its T the base's × duration_scale), 27 knot features, its episode recorded with
+// its target and achieved features, the final test's figures.
+void expect_edit_trials(const podium::testing::FinishedCampaign& campaign, const fs::path& dir) {
+  const StyleCurve base = load_style_curve(shipped_curve_dir() / "faceup.json");
+  ASSERT_EQ(campaign.trials.at("edit").size(), 6u);
+  for (const auto& t : campaign.trials.at("edit")) {
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"edited_curve", "curves", "trajectory"}));
+    EXPECT_EQ(t.features.size(), 27u);
+    std::string file;
+    for (const auto& a : campaign.store->artifacts(t.id))
+      if (a.name == "edited_curve") file = a.path;
+    const StyleCurve edited = load_style_curve(fs::path(file).is_absolute() ? fs::path(file) : dir / file);
+    EXPECT_NEAR(edited.duration_s, base.duration_s * t.params["duration_scale"].get<double>(), 1e-9);
+    const CurveEdit edit{t.params["rise_fraction"].get<double>(), t.params["h_offset_m"].get<double>(),
+                         t.params["duration_scale"].get<double>()};
+    EXPECT_TRUE(edited.points.isApprox(edited_curve(base, edit, 5).points, 1e-9));  // the file holds degrees
+    EXPECT_EQ(t.objectives[0], t.result_info["success_rate"]);
+    EXPECT_TRUE(t.result_info.contains("rise_time_s") && t.result_info.contains("h_error_m"));
+  }
+}
+
 TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  ASSERT_EQ(spec["stages"][1]["name"], "edit");
+  spec["stages"][1]["budget"]["trials"] = 6;
   spec["trial_timeout_s"] = 120;
   podium::testing::TempDir dir;
   const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
   ASSERT_EQ(campaign.trials.at("train").size(), 2u);
+  expect_edit_trials(campaign, dir.path());
   for (const auto& t : campaign.trials.at("train")) {
     EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory", "trajectory_1", "curves"}));
     const auto metrics = campaign.metric_names(t);

@@ -178,7 +178,29 @@ Json Cmaes::save() const {
           {"asked", asked_},
           {"fitness", fitness},
           {"stopped", stopped_},
-          {"step_sizes", step_sizes()}};
+          {"step_sizes", step_sizes()},
+          {"result", result()}};
+}
+
+// What the search has found so far, in the parameters' units (the store's summary shows it; load()
+// ignores it): the distribution's mean and covariance σ²·C scaled by each parameter's range, its
+// per-parameter step sizes, the generations done, whether the step-size stop fired.
+Json Cmaes::result() const {
+  const std::size_t n = space_.dim();
+  Json mean = Json::object(), steps = Json::object(), cov = Json::array();
+  const std::vector<double> m = this->mean(), s = step_sizes();
+  for (std::size_t i = 0; i < n; ++i) {
+    const double range_i = space_.params[i].high - space_.params[i].low;
+    mean[space_.params[i].name] = m[i];
+    steps[space_.params[i].name] = s[i] * range_i;
+    Json row = Json::array();
+    for (std::size_t j = 0; j < n; ++j)
+      row.push_back(sigma_ * sigma_ * cov_(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) * range_i *
+                    (space_.params[j].high - space_.params[j].low));
+    cov.push_back(row);
+  }
+  return {{"algorithm", "cmaes"},       {"mean", mean},       {"covariance", cov}, {"step_sizes", steps},
+          {"generations", generation_}, {"stopped", stopped_}};
 }
 
 void Cmaes::load(const Json& state) {

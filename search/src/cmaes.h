@@ -46,6 +46,9 @@ class Cmaes final : public Search {
   std::vector<double> step_sizes() const;
   /// Whether the step-size stop has fired (ask() then proposes nothing).
   bool stopped() const { return stopped_; }
+  /// The state's "result" (save()): mean, covariance and step sizes in parameter units, the
+  /// generations done and the stop — the search's answer (the sprint's dip strategy, §3.3).
+  Json result() const;
 
  private:
   void start_generation();  // draws the λ samples from N(m, σ² C)

@@ -176,25 +176,28 @@ Json stage_summary(const store::Store& store, const store::StageRecord& st, cons
   const auto finished = in_finish_order(done);
   const StrategyLabels labels = strategy_labels(finished);
   const Json objectives = objective_entries(st.description), features = feature_entries(st.description);
-  return {{"index", st.index},
-          {"name", st.name},
-          {"task", st.task},
-          {"algorithm", st.algorithm},
-          {"state", store::shown_stage_state(campaign_state, st.state)},
-          {"config", st.task_config},
-          {"trials",
-           {{"budget", st.budget_trials},
-            {"done", counts.done},
-            {"failed", counts.failed},
-            {"running", counts.running},
-            {"pending", counts.pending + counts.interrupted},
-            {"cancelled", counts.cancelled}}},
-          {"objectives", objectives},
-          {"features", features},
-          {"best", best_of(store, st.name, done, labels, objectives, features)},
-          {"strategies", strategies_of(store, st.name, done, labels, features)},
-          {"discovery", discovery_curve(finished)},
-          {"tables", stage_tables(st.name, done)}};
+  return {
+      {"index", st.index},
+      {"name", st.name},
+      {"task", st.task},
+      {"algorithm", st.algorithm},
+      {"state", store::shown_stage_state(campaign_state, st.state)},
+      {"config", st.task_config},
+      {"trials",
+       {{"budget", st.budget_trials},
+        {"done", counts.done},
+        {"failed", counts.failed},
+        {"running", counts.running},
+        {"pending", counts.pending + counts.interrupted},
+        {"cancelled", counts.cancelled}}},
+      {"objectives", objectives},
+      {"features", features},
+      {"best", best_of(store, st.name, done, labels, objectives, features)},
+      {"strategies", strategies_of(store, st.name, done, labels, features)},
+      {"discovery", discovery_curve(finished)},
+      {"tables", stage_tables(st.name, done)},
+      // What the search concluded, when its saved state says (CMA-ES: its mean and covariance).
+      {"search_result", st.search_state && st.search_state->contains("result") ? st.search_state->at("result") : Json(nullptr)}};
 }
 
 }  // namespace

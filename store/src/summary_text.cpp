@@ -116,6 +116,17 @@ Lines stage_lines(const Json& stage, bool brief) {
     out.push_back(line);
   }
   for (auto& l : strategy_lines(stage, brief)) out.push_back(std::move(l));
+  if (const Json& r = stage["search_result"]; r.is_object() && r.contains("mean")) {
+    std::string line = "  search result: mean";
+    for (const auto& [name, v] : r["mean"].items()) line += " " + name + " " + cell_text(v);
+    if (r.contains("step_sizes")) {
+      line += "; step sizes";
+      for (const auto& [name, v] : r["step_sizes"].items()) line += " " + name + " " + cell_text(v);
+    }
+    if (r.contains("generations")) line += "; " + r["generations"].dump() + " generations";
+    if (r.value("stopped", false)) line += ", converged (step-size stop)";
+    out.push_back(line);
+  }
   if (!stage["discovery"].empty() && !stage["features"].empty() && !brief) {
     std::string curve;
     for (const auto& p : stage["discovery"]) curve += (curve.empty() ? "" : " ") + p[1].dump() + "@" + p[0].dump();

@@ -207,6 +207,35 @@ TEST(Summary, FormatNumberIsTheShortestTextThatRoundTrips) {
 }
 
 // A store written before objectives had descriptions (names alone) reads the same way.
+// What a search concluded, as its saved state's "result" says (CMA-ES: its mean and step sizes in
+// parameter units): in the summary's JSON and text; a search whose state has none shows nothing.
+TEST(Summary, ShowsTheSearchResultItsSavedStateHolds) {
+  TempDir dir;
+  const Json result = {{"algorithm", "cmaes"},
+                       {"mean", {{"width", 0.25}, {"angle", 0.5}}},
+                       {"covariance", Json::array({Json::array({0.01, 0.0}), Json::array({0.0, 0.04})})},
+                       {"step_sizes", {{"width", 0.1}, {"angle", 0.2}}},
+                       {"generations", 7},
+                       {"stopped", true}};
+  {
+    auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_write);
+    add_campaign(*store, "searched", {{{0.5, 0.9}, {0.1, 0.2}, 7}});
+    add_campaign(*store, "plain", {{{0.5, 0.9}, {0.1, 0.2}, 7}});
+    store->save_search_state(store->stages(1)[0].id, {{"rng", "x"}, {"result", result}}, 1.0, 1);
+  }
+  const auto r = run_podium({"summary", "searched", "--json", "--db", db_arg(dir)}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(Json::parse(r.out)["stages"][0]["search_result"], result);
+  const auto text = run_podium({"summary", "searched", "--db", db_arg(dir)}, dir.path());
+  EXPECT_NE(text.out.find("search result: mean angle 0.5 width 0.25; step sizes angle 0.2 width 0.1; 7 generations, "
+                          "converged (step-size stop)"),
+            std::string::npos)
+      << text.out;
+  const auto plain = run_podium({"summary", "plain", "--json", "--db", db_arg(dir)}, dir.path());
+  EXPECT_TRUE(Json::parse(plain.out)["stages"][0]["search_result"].is_null());
+  EXPECT_EQ(run_podium({"summary", "plain", "--db", db_arg(dir)}, dir.path()).out.find("search result"), std::string::npos);
+}
+
 TEST(Summary, ReadsAStageWithoutObjectiveInfo) {
   Json old = {{"objectives", {"objective"}}, {"features", Json::array({{{"name", "f0"}, {"low", 0}, {"high", 1}}})}};
   EXPECT_EQ(objective_entries(old), Json::parse(R"([{"name": "objective"}])"));

@@ -78,6 +78,21 @@ TEST(Cmaes, StopsOnceEveryStepSizeIsUnderMinStepOfTheRange) {
   const Json& mean = state.at("mean");
   EXPECT_NEAR(mean[0].get<double>() * 10.0 - 5.0, 1.0, 0.3);
   EXPECT_NEAR(mean[1].get<double>() * 10.0 - 5.0, -2.0, 0.3);
+  // The result in parameter units: the mean (range 10, low −5), step sizes of the range, and the
+  // covariance σ²·C scaled by the ranges (its diagonal the step sizes squared).
+  const Json& result = state.at("result");
+  EXPECT_EQ(result.at("mean").at("x0").get<double>(), mean[0].get<double>() * 10.0 - 5.0);
+  EXPECT_EQ(result.at("mean").at("x1").get<double>(), mean[1].get<double>() * 10.0 - 5.0);
+  EXPECT_TRUE(result.at("stopped").get<bool>());
+  EXPECT_EQ(result.at("generations").get<int>(), evals / 6);
+  for (int i = 0; i < 2; ++i) {
+    const std::string name = "x" + std::to_string(i);
+    const double step = state.at("step_sizes")[static_cast<std::size_t>(i)].get<double>() * 10.0;
+    EXPECT_NEAR(result.at("step_sizes").at(name).get<double>(), step, 1e-12);
+    EXPECT_NEAR(result.at("covariance")[static_cast<std::size_t>(i)][static_cast<std::size_t>(i)].get<double>(), step * step,
+                1e-12);
+  }
+  EXPECT_EQ(result.at("covariance")[0][1], result.at("covariance")[1][0]);
   // The generation before the stop was still above the bound: replay it and check.
   auto replay = make_search("cmaes", box(2, two_d(0.01)));
   ASSERT_EQ(run_until_stop(*replay, evals - 6), evals - 6);

@@ -21,6 +21,7 @@
 #include "run_metrics.h"
 #include "sprint_env.h"
 #include "track.h"
+#include "train_start.h"
 
 namespace podium::tasks::sprint {
 
@@ -637,7 +638,8 @@ RaceEnvSettings race_env_settings(const RaceSettings& settings) {
   e.accelerate.preset = preset;
   e.accelerate.sim_hz = settings.sim_hz;
   e.start = e.accelerate;
-  e.start.start_references = crouch_start_references(sim::load_shipped_model(e.start.model), e.start.control_hz, preset.start);
+  e.start.start_references =
+      start_references(sim::load_shipped_model(e.start.model), e.start.control_hz, preset.start, settings.start_clips);
   // The race runs the Start policy to its landing: no early termination on a deviation from the
   // reference (a training device), only the sprint's falls, the lane and the Start's time limit.
   e.start.preset.start.max_com_deviation_m = std::numeric_limits<double>::infinity();

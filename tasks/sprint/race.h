@@ -24,6 +24,7 @@
 #include "sprint_env.h"
 #include "sprint_preset.h"
 #include "steps.h"
+#include "user_start.h"
 
 namespace podium::tasks::sprint {
 
@@ -98,6 +99,9 @@ struct RaceSettings {
   double top_speed_window_m = 5.0;  ///< the top speed's window
   double rise_lean_deg = 20.0;      ///< the rise: the trunk's lean below this for good
   int record = 1;                   ///< motions written: the first this many DR episodes
+  /// The Start's user clips (its references besides the crouch starts): the Start policy observes
+  /// which reference it runs, so the race draws from the same set it trained on.
+  std::vector<StartClipSpec> start_clips;
 };
 /// Reads the race's keys (`race_…`); track, sim_hz and the rise threshold are the shared keys.
 void read_race_settings(base::ConfigReader& r, RaceSettings& s);

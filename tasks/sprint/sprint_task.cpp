@@ -46,6 +46,7 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   c.dip.seed = base::derive_seed(c.start.eval_seed, 3);
   read_dip_settings(r, c.dip);
   c.race.track = c.start.track, c.race.sim_hz = c.start.sim_hz, c.race.rise_lean_deg = c.accelerate.rise_lean_deg;
+  c.race.start_clips = c.start.clips;
   read_race_settings(r, c.race);
   if (c.race.seed == c.start.eval_seed) r.fail("race_seed", "must differ from eval_seed (the race's episodes are held out)");
   return c;

@@ -46,6 +46,7 @@ StartTrainSettings read_start_train_settings(base::ConfigReader& r) {
                         "networks; its samples count towards total_samples); empty: from scratch");
   if (!s.warm_start.empty() && !std::filesystem::is_regular_file(s.warm_start))
     r.fail("warm_start", "is not a file: " + s.warm_start);
+  s.clips = read_start_clips(r);
   return s;
 }
 
@@ -116,10 +117,17 @@ StartEvaluation evaluate_starts(SprintEnv& env, const character::PolicyFn& polic
   return out;
 }
 
+std::vector<StartReference> start_references(const sim::ModelPtr& model, double control_hz, const StartPreset& start,
+                                             const std::vector<StartClipSpec>& clips) {
+  std::vector<StartReference> refs = crouch_start_references(model, control_hz, start);
+  for (const StartClipSpec& c : clips) refs.push_back(user_start_reference(model, control_hz, c));
+  return refs;
+}
+
 StartStage::StartStage(const StartTrainSettings& settings, std::uint64_t seed) : s_(settings), seed_(seed) {
   const SprintPreset preset = load_sprint_preset(s_.track);
   SprintEnvSettings e;
-  references_ = crouch_start_references(sim::load_shipped_model(e.model), e.control_hz, preset.start);
+  references_ = start_references(sim::load_shipped_model(e.model), e.control_hz, preset.start, s_.clips);
 }
 
 SprintEnvSettings StartStage::env_settings() const {

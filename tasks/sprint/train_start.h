@@ -13,6 +13,7 @@
 #include "podium/character/evaluator.h"
 #include "podium/character/training_stage.h"
 #include "sprint_env.h"
+#include "user_start.h"
 
 namespace podium::tasks::sprint {
 
@@ -30,10 +31,17 @@ struct StartTrainSettings {
   std::uint64_t eval_seed = 20'240;  ///< the tests' episodes' seeds derive from it (not used in training)
   /// Another trial's training.ckpt of the same stage to train on from; "": from scratch.
   std::string warm_start;
+  /// User clips as references besides the four crouch starts (user_start.h), in this order after them.
+  std::vector<StartClipSpec> clips;
 };
 
 /// Reads the stage's keys (errors name their JSON path).
 StartTrainSettings read_start_train_settings(base::ConfigReader& r);
+
+/// The Start's references: the four crouch starts with the preset's landing distance, then the
+/// user clips (user_start.h).
+std::vector<StartReference> start_references(const sim::ModelPtr& model, double control_hz, const StartPreset& start,
+                                             const std::vector<StartClipSpec>& clips);
 
 /// Start-mode episodes of a policy from fixed seeds.
 struct StartEvaluation {

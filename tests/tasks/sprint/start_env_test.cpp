@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <set>
 #include <string>
@@ -15,7 +16,10 @@
 #include "crouch_start.h"
 #include "podium/base/error.h"
 #include "podium/character/pose_bridge.h"
+#include "podium/sim/dynamics.h"
 #include "sprint_env.h"
+#include "train_start.h"
+#include "user_start.h"
 
 namespace podium::tasks::sprint {
 namespace {
@@ -196,6 +200,85 @@ TEST(SprintStartEnv, ACheckpointMidStartContinuesBitwiseWithItsReference) {
     ASSERT_EQ(sa.reward, sb.reward) << k;
     ASSERT_EQ(sa.info, sb.info) << k;
   }
+}
+
+}  // namespace
+}  // namespace podium::tasks::sprint
+
+namespace podium::tasks::sprint {
+namespace {
+
+// DeepMimic's run (../shared/data), or empty when PODIUM_SHARED_DIR is unset or the file absent.
+std::filesystem::path deepmimic_run() {
+  const char* shared = std::getenv("PODIUM_SHARED_DIR");
+  if (!shared) return {};
+  const std::filesystem::path file = std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_run.txt";
+  return std::filesystem::exists(file) ? file : std::filesystem::path{};
+}
+
+double lowest_over(const character::Clip& clip) {
+  double low = 1e300;
+  for (const Eigen::VectorXd& q : clip.poses) {
+    sim::CharacterData d(*clip.model);
+    d.q = q;
+    sim::forward_kinematics(*clip.model, d);
+    low = std::min(low, sim::lowest_geom_point(*clip.model, d));
+  }
+  return low;
+}
+
+// A user clip as a Start reference: without blocks, turned to run along +x from the start line;
+// with them, as authored; on the ground at its lowest; at the control rate.
+TEST(SprintUserStart, AClipRunsAlongTheTrackFromTheLineOnTheGround) {
+  const std::filesystem::path run = deepmimic_run();
+  if (run.empty()) GTEST_SKIP() << "../shared/data/deepmimic absent (PODIUM_SHARED_DIR): no user clip to read";
+  const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
+  const StartReference r = user_start_reference(model, 30.0, {run.string(), "none"});
+  EXPECT_EQ(r.name, "clip:humanoid3d_run");
+  EXPECT_TRUE(r.blocks.empty());
+  const character::Clip& c = *r.clip;
+  ASSERT_GE(c.size(), 2u);
+  for (std::size_t f = 1; f < c.size(); ++f) EXPECT_NEAR(c.times_s[f] - c.times_s[f - 1], 1.0 / 30.0, 1e-9);
+  EXPECT_NEAR(c.poses.front()(0), 0.0, 1e-12);
+  EXPECT_NEAR(c.poses.front()(1), 0.0, 1e-12);
+  EXPECT_GT(c.poses.back()(0), 1.0);          // it runs forward
+  EXPECT_NEAR(c.poses.back()(1), 0.0, 1e-9);  // along +x
+  EXPECT_NEAR(lowest_over(c), 0.0, 1e-9);     // on the ground, not through it
+  // With blocks: as authored (only lifted), the blocks for that front foot.
+  const StartReference authored = user_start_reference(model, 30.0, {run.string(), "right"});
+  const character::Clip raw = character::resample(character::read_deepmimic_clip(model, run), 1.0 / 30.0);
+  EXPECT_EQ(authored.blocks.size(), 2u);
+  EXPECT_LT(authored.blocks[0].y_m, 0.0);  // the right foot's block
+  EXPECT_EQ(authored.clip->poses.front().head<2>(), raw.poses.front().head<2>());
+  EXPECT_EQ(authored.clip->poses.front().tail(model->nq() - 3), raw.poses.front().tail(model->nq() - 3));
+  EXPECT_NEAR(lowest_over(*authored.clip), 0.0, 1e-9);
+  EXPECT_THROW(user_start_reference(model, 30.0, {(run.parent_path() / "no_such_clip.txt").string(), "none"}), base::UserError);
+}
+
+// In the Start mode a user clip is drawn with the crouch starts: one more reference in the
+// observation's one-hot, its first frame the start, no blocks on the track.
+TEST(SprintUserStart, TheStartModeDrawsItBesideTheCrouchStartsWithoutBlocks) {
+  const std::filesystem::path run = deepmimic_run();
+  if (run.empty()) GTEST_SKIP() << "../shared/data/deepmimic absent (PODIUM_SHARED_DIR): no user clip to read";
+  SprintEnvSettings settings;
+  settings.preset = load_sprint_preset("smoke");
+  settings.start_references = start_references(sim::load_shipped_model(settings.model), settings.control_hz,
+                                               settings.preset.start, {{run.string(), "none"}});
+  ASSERT_EQ(settings.start_references.size(), 5u);
+  SprintEnv env(settings);
+  env.seed(5);
+  EXPECT_EQ(env.observation_space().size(), 236u + 1u + 5u);
+  std::vector<double> observation;
+  int clip_drawn = 0, crouch_drawn = 0;
+  for (int episode = 0; episode < 30; ++episode) {
+    env.reset(observation);
+    const StartReference& ref = settings.start_references[static_cast<std::size_t>(env.reference_index())];
+    EXPECT_LT((env.world().data().q - ref.clip->poses.front()).cwiseAbs().maxCoeff(), 1e-12);
+    EXPECT_EQ(env.world().config().terrain.boxes.size(), ref.blocks.size());
+    (env.reference_index() == 4 ? clip_drawn : crouch_drawn)++;
+  }
+  EXPECT_GT(clip_drawn, 0);
+  EXPECT_GT(crouch_drawn, 0);
 }
 
 }  // namespace

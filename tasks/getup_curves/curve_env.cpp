@@ -67,10 +67,10 @@ std::unique_ptr<character::ActionMap> make_action_map(const CurveEnvSettings& s,
   if (s.actions != "cvae") throw base::UserError("curve get-up env: actions \"" + s.actions + "\" is not one of: targets, cvae");
   if (!s.cvae) throw base::UserError("curve get-up env: actions \"cvae\" needs a trained C-VAE (a pose_cvae trial's pose_cvae)");
   const character::PoseBridge bridge(model);
-  if (s.cvae->pose_size() != bridge.size() || s.cvae->condition_size() != 3)
+  if (s.cvae->pose_size() != bridge.size() || (s.cvae->condition_size() != 3 && s.cvae->condition_size() != 0))
     throw base::UserError("curve get-up env: the C-VAE decodes " + std::to_string(s.cvae->pose_size()) + " pose entries from " +
                           std::to_string(s.cvae->condition_size()) + " conditions; " + model->name() + " needs " +
-                          std::to_string(bridge.size()) + " from 3 (h, θ_x, θ_z)");
+                          std::to_string(bridge.size()) + " from 3 (h, θ_x, θ_z), or from none (§6.4's unconditional VAE)");
   // §3.4: c = (p_h, p_θx, p_θz) at the current s.
   return std::make_unique<character::VaeActions>(s.cvae, bridge, s.control, s.latent_bound, s.offset_bound,
                                                  [](const character::CharacterEnv& env) { return curve_env(env).condition(); });
@@ -299,6 +299,7 @@ double CurveGetupEnv::offset_l1(std::span<const double> y) const {
 }
 
 std::vector<double> CurveGetupEnv::condition() const {
+  if (settings_.cvae && settings_.cvae->condition_size() == 0) return {};  // §6.4's unconditional pose VAE
   const StyleFeatures p = curve().target(curve_time_s());
   return {p(0), p(1), p(2)};
 }

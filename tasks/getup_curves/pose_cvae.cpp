@@ -31,6 +31,9 @@ PoseCvaeSettings read_pose_cvae_settings(base::ConfigReader& r) {
   v.batch_size = r.integer<int>("cvae_batch_size", v.batch_size, {.min = 1}, "C-VAE minibatch (§3.5: 128)");
   s.holdout_every = r.integer<int>("cvae_holdout_every", s.holdout_every, {.min = 2},
                                    "every n-th frame is held out of training to measure reconstruction (ours)");
+  s.conditional = r.boolean("cvae_conditional", s.conditional,
+                            "true: the C-VAE of §3.5, conditioned on each pose's (h, θ_x, θ_z); false: §6.4's ablation, an "
+                            "unconditional pose VAE on the same poses");
   return s;
 }
 
@@ -112,7 +115,9 @@ PoseCvaeOutcome train_pose_cvae(const PoseCvaeSettings& settings, const fs::path
                                 const std::function<void(const std::string&, double, double)>& metric,
                                 const std::function<void(double)>& progress) {
   const sim::ModelPtr model = sim::load_shipped_model("humanoid34");
-  const CvaePoses poses = read_cvae_poses(settings.clips, model, settings.holdout_every);
+  CvaePoses poses = read_cvae_poses(settings.clips, model, settings.holdout_every);
+  if (!settings.conditional)  // §6.4's ablation: the same poses without their labels
+    for (learn::PoseDataset* d : {&poses.train, &poses.heldout}) d->condition_names.clear(), d->conditions.clear();
   learn::PoseVae vae(settings.vae, poses.train.lower, poses.train.upper, poses.train.condition_names.size(), seed);
   PoseCvaeOutcome out;
   out.train_poses = poses.train.size();

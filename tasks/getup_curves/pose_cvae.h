@@ -35,6 +35,9 @@ struct PoseCvaeSettings {
   std::vector<PoseClip> clips;
   learn::VaeConfig vae = learn::VaeConfig::conditional();
   int holdout_every = 10;  ///< every n-th frame (n − 1, 2n − 1, ...) is held out; ours
+  /// false: §6.4's ablation, an unconditional pose VAE (a β-VAE on the same poses, no labels);
+  /// the train stage's "cvae" actions then decode without the curves' targets.
+  bool conditional = true;
 };
 
 /// Reads pose_clips and the cvae_* keys; errors name the JSON path and the value.

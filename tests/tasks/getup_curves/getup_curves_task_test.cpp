@@ -17,6 +17,7 @@
 #include "edit_stage.h"
 #include "finished_campaign.h"
 #include "podium/base/json.h"
+#include "podium/learn/vae.h"
 #include "podium/plugins/loader.h"
 #include "podium/sim/model.h"
 #include "process.h"
@@ -247,34 +248,43 @@ Json deepmimic_getup_clips(std::string& missing) {
 }
 
 // The C-VAE path at the smoke preset: a pose_cvae trial on DeepMimic's get-up clips, then the
-// campaign's train stage acting through its C-VAE (actions "cvae", the pose_cvae trial as input).
+// campaign's train stage acting through its C-VAE (actions "cvae", the pose_cvae trial as input);
+// and the same through §6.4's ablation, an unconditional pose VAE (cvae_conditional false).
 TEST(GetupCurvesCampaign, SmokeTrainsThroughAPoseCvaeTrial) {
   std::string missing;
   const Json clips = deepmimic_getup_clips(missing);
   if (!missing.empty()) GTEST_SKIP() << missing;
-  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
-  Json train = spec["stages"][0];
-  train["preset"] = "smoke";
-  train["config"]["actions"] = "cvae";
-  train["budget"]["trials"] = 1;
-  train["inputs"] = {{"stage", "pose_cvae"}, {"select", "all"}, {"per_trial", "each"}};
-  spec["stages"] = Json::array({{{"name", "pose_cvae"},
-                                 {"task", "getup_curves"},
-                                 {"preset", "smoke"},
-                                 {"config", {{"stage", "pose_cvae"}, {"pose_clips", clips}}},
-                                 {"search", {{"algorithm", "random"}}},
-                                 {"budget", {{"trials", 1}}}},
-                                train});
-  spec["trial_timeout_s"] = 120;
-  podium::testing::TempDir dir;
-  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
-  const auto& cvae = campaign.trials.at("pose_cvae").at(0);
-  EXPECT_EQ(campaign.artifact_names(cvae), (std::set<std::string>{"pose_cvae"}));
-  EXPECT_GT(cvae.result_info["heldout_poses"].get<int>(), 0);
-  EXPECT_TRUE(campaign.metric_names(cvae).count("pose_cvae_loss"));
-  const auto& t = campaign.trials.at("train").at(0);
-  EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "pose_cvae", "trajectory", "trajectory_1", "curves"}));
-  EXPECT_TRUE(campaign.metric_names(t).count("test/mean_r_task"));
+  for (const bool conditional : {true, false}) {
+    SCOPED_TRACE(conditional ? "conditional" : "unconditional");
+    Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+    Json train = spec["stages"][0];
+    train["preset"] = "smoke";
+    train["config"]["actions"] = "cvae";
+    train["budget"]["trials"] = 1;
+    train["inputs"] = {{"stage", "pose_cvae"}, {"select", "all"}, {"per_trial", "each"}};
+    spec["stages"] = Json::array({{{"name", "pose_cvae"},
+                                   {"task", "getup_curves"},
+                                   {"preset", "smoke"},
+                                   {"config", {{"stage", "pose_cvae"}, {"pose_clips", clips}, {"cvae_conditional", conditional}}},
+                                   {"search", {{"algorithm", "random"}}},
+                                   {"budget", {{"trials", 1}}}},
+                                  train});
+    spec["trial_timeout_s"] = 120;
+    podium::testing::TempDir dir;
+    const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+    const auto& cvae = campaign.trials.at("pose_cvae").at(0);
+    EXPECT_EQ(campaign.artifact_names(cvae), (std::set<std::string>{"pose_cvae"}));
+    EXPECT_GT(cvae.result_info["heldout_poses"].get<int>(), 0);
+    EXPECT_TRUE(campaign.metric_names(cvae).count("pose_cvae_loss"));
+    std::string file;
+    for (const auto& a : campaign.store->artifacts(cvae.id))
+      if (a.name == "pose_cvae") file = a.path;
+    const auto vae = learn::PoseVae::from_file(fs::path(file).is_absolute() ? fs::path(file) : dir / file);
+    EXPECT_EQ(vae->condition_size(), conditional ? 3u : 0u);
+    const auto& t = campaign.trials.at("train").at(0);
+    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "pose_cvae", "trajectory", "trajectory_1", "curves"}));
+    EXPECT_TRUE(campaign.metric_names(t).count("test/mean_r_task"));
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <utility>
 
 #include "podium/base/error.h"
 #include "podium/character/actions.h"
@@ -106,7 +107,7 @@ class CurveEpisodeStart final : public character::Start {
 std::vector<std::string> curve_env_info_names() {
   std::vector<std::string> names{"r_h", "r_theta", "alpha", "r_v", "r_p", "r_task", "r_natural"};  // eqs. 3–9
   for (const char* n : {"h", "theta_x", "theta_z", "target_h", "target_theta_x", "target_theta_z"}) names.emplace_back(n);
-  for (const char* n : {"head_on_ground", "low_task_steps", "head_down_steps", "success"}) names.emplace_back(n);
+  for (const char* n : {"head_on_ground", "low_task_steps", "head_down_steps", "success", "level"}) names.emplace_back(n);
   return names;
 }
 
@@ -177,6 +178,7 @@ CurveGetupEnv::Parts CurveGetupEnv::make_parts(const CurveEnvSettings& s, const 
   e.model = model;
   e.world.sim_hz = s.sim_hz;
   e.world.control_hz = s.control_hz;
+  e.world.terrain = terrain_config(s.terrain);  // §3.2: flat, then the harder regions
   // The longest curve's length; each episode ends at its own curve's (on_step).
   e.episode_steps = 1;
   for (const StyleCurve& c : set.curves) e.episode_steps = std::max(e.episode_steps, curve_episode_steps(c, s));
@@ -226,9 +228,28 @@ void CurveGetupEnv::use_curve(int index) {
   fixed_curve_ = index;
 }
 
+void CurveGetupEnv::set_open_levels(int n) {
+  if (n < 1 || n > settings_.terrain.levels)
+    throw base::UserError("curve get-up env: " + std::to_string(n) + " open levels of " +
+                          std::to_string(settings_.terrain.levels));
+  open_levels_ = n;
+}
+
+void CurveGetupEnv::use_level(int level) {
+  if (level < -1 || level >= settings_.terrain.levels)
+    throw base::UserError("curve get-up env: level " + std::to_string(level) + " is not one of the " +
+                          std::to_string(settings_.terrain.levels) + " (−1: drawn)");
+  fixed_level_ = level;
+}
+
+std::vector<std::pair<int, bool>> CurveGetupEnv::take_finished() { return std::exchange(finished_, {}); }
+
 void CurveGetupEnv::begin_episode(base::Rng& rng) {
   const int n = static_cast<int>(curves_->curves.size());
   curve_ = fixed_curve_ >= 0 ? fixed_curve_ : static_cast<int>(rng.integer(0, n - 1));
+  // §5.4: a level among the open ones (nothing drawn while only flat is open); §5.2: a clip start on flat.
+  level_ = fixed_level_ >= 0 ? fixed_level_ : open_levels_ > 1 ? static_cast<int>(rng.integer(0, open_levels_ - 1)) : 0;
+  if (curve().start.kind == CurveStart::Kind::clip) level_ = 0;
   episode_length_ = curve_episode_steps(curve(), settings_);
   termination_.reset();
   standing_steps_ = 0;
@@ -247,6 +268,8 @@ void CurveGetupEnv::begin_episode(base::Rng& rng) {
     // ends the episode as CharacterEnv does for any non-finite state.
     sim::RagdollStart fall = settings_.drop;
     fall.lying = start.supine ? sim::RagdollStart::Lying::supine : sim::RagdollStart::Lying::prone;
+    const DropSite site = drop_site(settings_.terrain, level_, rng);  // §5.2: at a random location of the region
+    fall.x_m = site.x_m, fall.y_m = site.y_m;
     for (int attempt = 0; attempt < kDropAttempts; ++attempt)
       if (sim::ragdoll_start(world(), rng, fall).ok) break;
   }
@@ -330,6 +353,7 @@ void CurveGetupEnv::on_step(std::span<const double> y, learn::StepResult& out) {
   const bool last = step_index() >= episode_length_;
   out.truncated = last;  // CharacterEnv keeps it only when not terminated
   success_ = last && !out.terminated && standing_steps_ >= success_steps_;
+  if (out.terminated || last) finished_.emplace_back(level_, success_);
   out.info = {terms_.height, terms_.torso, terms_.alpha, terms_.velocity, terms_.pose, terms_.task, terms_.natural};
   for (int f = 0; f < 3; ++f) out.info.push_back(in.achieved(f));
   for (int f = 0; f < 3; ++f) out.info.push_back(in.target(f));
@@ -337,6 +361,7 @@ void CurveGetupEnv::on_step(std::span<const double> y, learn::StepResult& out) {
   out.info.push_back(termination_.low_reward_steps());
   out.info.push_back(termination_.head_down_steps());
   out.info.push_back(success_ ? 1.0 : 0.0);
+  out.info.push_back(level_);
 }
 
 std::optional<base::Json> CurveGetupEnv::save_state() const {
@@ -347,12 +372,14 @@ std::optional<base::Json> CurveGetupEnv::save_state() const {
                         {"low_task_steps", termination_.low_reward_steps()},
                         {"head_down_steps", termination_.head_down_steps()},
                         {"standing_steps", standing_steps_},
-                        {"success", success_}};
+                        {"success", success_},
+                        {"level", level_},
+                        {"open_levels", open_levels_}};
   return state;
 }
 
 void CurveGetupEnv::load_state(const base::Json& state) {
-  int index = 0, low = 0, head = 0, standing = 0;
+  int index = 0, low = 0, head = 0, standing = 0, level = 0, open = 1;
   std::vector<double> y;
   bool success = false;
   try {
@@ -363,6 +390,7 @@ void CurveGetupEnv::load_state(const base::Json& state) {
     head = s.at("head_down_steps").get<int>();
     standing = s.at("standing_steps").get<int>();
     success = s.at("success").get<bool>();
+    level = s.value("level", 0), open = s.value("open_levels", 1);
   } catch (const base::Json::exception& e) {
     throw base::UserError(std::string("curve get-up env state: ") + e.what());
   }
@@ -372,6 +400,9 @@ void CurveGetupEnv::load_state(const base::Json& state) {
   if (y.size() != action_space().size())
     throw base::UserError("curve get-up env state: curve_env.filter: " + std::to_string(y.size()) + " values, the action has " +
                           std::to_string(action_space().size()));
+  if (level < 0 || level >= settings_.terrain.levels || open < 1 || open > settings_.terrain.levels)
+    throw base::UserError("curve get-up env state: curve_env.level " + std::to_string(level) + " or open_levels " +
+                          std::to_string(open) + " outside the " + std::to_string(settings_.terrain.levels) + " levels");
   CharacterEnv::load_state(state);
   curve_ = index;
   episode_length_ = curve_episode_steps(curve(), settings_);
@@ -380,6 +411,7 @@ void CurveGetupEnv::load_state(const base::Json& state) {
   termination_.restore(low, head);
   standing_steps_ = standing;
   success_ = success;
+  level_ = level, open_levels_ = open;
 }
 
 }  // namespace podium::tasks::getup_curves

@@ -40,6 +40,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "podium/character/character_env.h"
@@ -49,6 +50,7 @@
 #include "podium/sim/starts.h"
 #include "style_curve.h"
 #include "style_rewards.h"
+#include "terrain_levels.h"
 
 namespace podium::tasks::getup_curves {
 
@@ -89,6 +91,9 @@ struct CurveEnvSettings {
   double success_height_fraction = 0.9;     ///< ... at or above this fraction of p_h(1)
   double clip_start_noise_rad = 0.05;       ///< joint noise of a clip start (character::ReferenceStart)
   sim::RagdollStart drop = passive_drop();  ///< a drop start's fall; its `lying` is the curve's
+  /// The terrain's regions (§3.2) and the curriculum's size (§5.4); drops land on a level drawn
+  /// uniformly among the open ones (set_open_levels), clip starts on flat.
+  TerrainLevels terrain;
 
   /// §5.2: "a passive rag-doll model" dropped: zero torques, 2 s at 30 Hz to land and settle, at
   /// the origin turned uniformly about the vertical.
@@ -129,6 +134,15 @@ class CurveGetupEnv final : public character::CharacterEnv {
 
   /// Episodes from now on use curve `index` (evaluation per curve); −1: drawn uniformly (default).
   void use_curve(int index);
+  /// §5.4: episodes draw their level uniformly among the first `n` (1 ≤ n ≤ terrain.levels).
+  void set_open_levels(int n);
+  int open_levels() const { return open_levels_; }
+  /// Episodes from now on start on level `level` (evaluation per region); −1: drawn (default).
+  void use_level(int level);
+  /// The current episode's terrain level (0: flat).
+  int level() const { return level_; }
+  /// The episodes ended since the last call, each (level, success), in order; clears them.
+  std::vector<std::pair<int, bool>> take_finished();
   const CurveSet& curves() const { return *curves_; }
   int curve_index() const { return curve_; }
   const StyleCurve& curve() const { return curves_->curves.at(static_cast<std::size_t>(curve_)); }
@@ -176,6 +190,8 @@ class CurveGetupEnv final : public character::CharacterEnv {
   StyleRewardTerms terms_;
   int fixed_curve_ = -1, curve_ = 0, episode_length_ = 1, success_steps_ = 1, standing_steps_ = 0;
   bool success_ = false;
+  int open_levels_ = 1, fixed_level_ = -1, level_ = 0;
+  std::vector<std::pair<int, bool>> finished_;
 };
 
 }  // namespace podium::tasks::getup_curves

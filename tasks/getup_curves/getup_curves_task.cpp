@@ -76,7 +76,14 @@ Json metrics() {
                             steps),
       plugins::metric_entry("train/return", "", "mean return of the training episodes that ended since the previous test", steps),
       plugins::metric_entry("final/success_rate", "", "the exported policy's success over the test starts", final_rate),
-      plugins::metric_entry("final/mean_r_task", "", "the exported policy's mean r_task over the test starts", final_value)};
+      plugins::metric_entry("final/mean_r_task", "", "the exported policy's mean r_task over the test starts", final_value),
+      plugins::metric_entry("curriculum/open_levels", "",
+                            "terrain regions open to training episodes (§5.4: a point at each unlock, its step the time)",
+                            steps)};
+  for (const char* level : {"flat", "easy", "medium", "hard"})
+    m.push_back(plugins::metric_entry(std::string("test/success_rate/") + level, "",
+                                      std::string("test success with drops on the ") + level + " region (once open)",
+                                      steps_rate));
   for (const Json& t : character::time_metric_entries()) m.push_back(t);
   return m;
 }

@@ -11,6 +11,7 @@
 #include "podium/base/json.h"
 #include "podium/base/log.h"
 #include "podium/base/rng.h"
+#include "podium/character/curriculum.h"
 #include "podium/learn/learner.h"
 
 namespace podium::tasks::getup_curves {
@@ -43,6 +44,7 @@ void read_env_settings(base::ConfigReader& r, CurveEnvSettings& e) {
   e.offset_bound = r.number("offset_bound", e.offset_bound, {.min = 0.0}, "cvae: the per-entry offset box ±, rad");
   e.clip_start_noise_rad =
       r.number("clip_start_noise_rad", e.clip_start_noise_rad, {.min = 0.0, .max = 1.0}, "joint noise of a clip start, rad");
+  read_terrain_levels(r, e.terrain);
 }
 
 }  // namespace
@@ -225,21 +227,56 @@ struct FeatureSeries {
 class CurveTrainStage final : public character::TrainingStage {
  public:
   CurveTrainStage(const TrainSettings& settings, std::uint64_t seed)
-      : s_(settings), seed_(seed), curves_(load_curve_set(curve_files(settings), sim::load_shipped_model("humanoid34"))) {}
+      : s_(settings),
+        seed_(seed),
+        curves_(load_curve_set(curve_files(settings), sim::load_shipped_model("humanoid34"))),
+        curriculum_(curriculum_config(settings.env.terrain)) {}
 
   void build(const Json&) override {
     std::vector<std::unique_ptr<learn::Env>> copies;
-    for (int i = 0; i < s_.copies; ++i) copies.push_back(std::make_unique<CurveGetupEnv>(s_.env, curves_));
+    copies_.clear();
+    for (int i = 0; i < s_.copies; ++i) {
+      auto copy = std::make_unique<CurveGetupEnv>(s_.env, curves_);
+      copies_.push_back(copy.get());
+      copies.push_back(std::move(copy));
+    }
     envs_ = std::make_unique<learn::VecEnv>(std::move(copies), s_.threads, base::derive_seed(seed_, 1));
+    open_levels();
+  }
+
+  // §5.4: every training episode's outcome goes to the curriculum, copy by copy in order; an
+  // unlock opens the next region to every copy and is a point of curriculum/open_levels.
+  void on_iteration(const character::Iteration& it, learn::Learner&, const character::MetricFn& send) override {
+    for (CurveGetupEnv* copy : copies_)
+      for (const auto& [level, success] : copy->take_finished())
+        if (curriculum_.record(level, success)) {
+          send("curriculum/open_levels", static_cast<double>(it.env_steps), curriculum_.unlocked());
+          base::log_info("getup_curves: " + curriculum_.level_name(curriculum_.unlocked() - 1) + " opened at step " +
+                         std::to_string(it.env_steps));
+          open_levels();
+        }
+  }
+  Json state() const override { return {{"curriculum", curriculum_.state()}}; }
+  void load_state(const Json& state) override {
+    curriculum_.load_state(state.at("curriculum"));
+    open_levels();
   }
   learn::VecEnv& envs() override { return *envs_; }
   Json learner_spec() const override { return getup_curves::learner_spec(s_); }
 
   character::Figures test(const character::TestRound& round, learn::Learner& learner, const character::MetricFn& send) override {
     CurveGetupEnv env(s_.env, curves_);
-    const CurveTest t = test_curves(
-        env, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, s_.test_starts, s_.test_seed);
+    const character::PolicyFn policy = [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); };
+    env.use_level(0);
+    const CurveTest t = test_curves(env, policy, s_.test_starts, s_.test_seed);
     const auto steps = static_cast<double>(round.env_steps);
+    // Success per region (§6.3): flat is the test above; each other open region is tested alike.
+    send("test/success_rate/" + curriculum_.level_name(0), steps, t.success_rate);
+    for (int level = 1; level < curriculum_.unlocked(); ++level) {
+      env.use_level(level);
+      send("test/success_rate/" + curriculum_.level_name(level), steps,
+           test_curves(env, policy, s_.test_starts, s_.test_seed).success_rate);
+    }
     send("test/return", steps, t.mean_return);
     send("test/success_rate", steps, t.success_rate);
     send("test/mean_r_task", steps, t.mean_task_reward);
@@ -271,6 +308,18 @@ class CurveTrainStage final : public character::TrainingStage {
   std::uint64_t seed_;
   std::shared_ptr<const CurveSet> curves_;
   std::unique_ptr<learn::VecEnv> envs_;
+  std::vector<CurveGetupEnv*> copies_;  // envs_'s, for the curriculum
+  character::UnlockCurriculum curriculum_;
+
+  static character::UnlockCurriculum::Config curriculum_config(const TerrainLevels& t) {
+    character::UnlockCurriculum::Config c;
+    for (int k = 0; k < t.levels; ++k) c.levels.push_back(t.specs.at(static_cast<std::size_t>(k)).name);
+    c.successes_to_unlock = t.successes_to_unlock;
+    return c;
+  }
+  void open_levels() {
+    for (CurveGetupEnv* copy : copies_) copy->set_open_levels(curriculum_.unlocked());
+  }
 };
 
 // The exported policy from the test starts (its figures at export, sent as evaluation points), and
@@ -278,7 +327,8 @@ class CurveTrainStage final : public character::TrainingStage {
 void CurveTrainStage::record(const character::Recording& r) {
   const character::PolicyFn policy = [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a); };
   CurveGetupEnv env(s_.env, curves_);
-  outcome.final = test_curves(env, policy, s_.test_starts, s_.test_seed);
+  outcome.final = test_curves(env, policy, s_.test_starts, s_.test_seed);  // on flat
+  outcome.open_levels = curriculum_.unlocked();
   const auto steps = static_cast<double>(r.exported.env_steps);
   r.send("final/success_rate", steps, outcome.final.success_rate);
   r.send("final/mean_r_task", steps, outcome.final.mean_task_reward);
@@ -327,6 +377,7 @@ Json TrainOutcome::to_json() const {
   for (const CurveFollowing& f : final.following) following.push_back(f.to_json());
   return {{"env_steps", env_steps},
           {"stopped_by", stopped_by},
+          {"open_levels", open_levels},
           {"success_rate", final.success_rate},
           {"return", final.mean_return},
           {"mean_r_task", final.mean_task_reward},

@@ -103,6 +103,7 @@ struct TrainOutcome {
   std::filesystem::path curves;                     ///< targets and achieved features of those episodes (JSON)
   std::int64_t env_steps = 0;
   std::string stopped_by;
+  int open_levels = 1;  ///< terrain regions open at the end (§5.4)
   base::Json to_json() const;
 };
 

@@ -10,6 +10,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <numbers>
+#include <set>
+#include <utility>
+#include <vector>
 
 #include "curve_extraction.h"
 #include "podium/base/error.h"
@@ -312,6 +315,52 @@ TEST(CurveGetupEnv, AClipStartBeginsInItsFrameOnTheBack) {
   const Eigen::VectorXd frame = set->clips[0]->poses[0];
   EXPECT_LT((q.tail(q.size() - 7) - frame.tail(frame.size() - 7)).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_LT(env.achieved()(2), 15.0 * kDeg);  // on the back, as the clip
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup_curves
+
+namespace podium::tasks::getup_curves {
+namespace {
+
+// §3.2's terrain: each region above flat is a rough half and a slope half; §5.4: a drop lands on
+// a level among the open ones (flat at the origin, a harder one inside one of its parts), and
+// every ended episode is reported once with its level and success.
+TEST(CurveGetupTerrain, DropsLandOnTheOpenLevelsAndEndedEpisodesAreReported) {
+  CurveEnvSettings settings;
+  settings.terrain.levels = 3;
+  settings.early_termination = false;
+  const sim::TerrainConfig terrain = terrain_config(settings.terrain);
+  ASSERT_EQ(terrain.regions.size(), 4u);  // easy and medium, rough and slope each
+  EXPECT_EQ(terrain.regions[0].kind, sim::TerrainRegion::Kind::rough);
+  EXPECT_EQ(terrain.regions[1].kind, sim::TerrainRegion::Kind::slope);
+  EXPECT_DOUBLE_EQ(terrain.regions[0].max_tile_height_m, 0.02);
+  EXPECT_NEAR(terrain.regions[3].slope_rad, 20.0 * kDeg, 1e-12);
+  CurveGetupEnv env(settings, make_curve_set({rising_curve(0.2, true)}, humanoid()));
+  env.seed(4);
+  std::vector<double> obs;
+  env.reset(obs);
+  EXPECT_EQ(env.level(), 0);  // one level open: flat, at the origin
+  EXPECT_EQ(env.world().terrain().region_at(env.world().data().q(0), env.world().data().q(1)), -1);
+  EXPECT_THROW(env.set_open_levels(4), base::UserError);
+  env.set_open_levels(3);
+  std::set<int> seen;
+  for (int episode = 0; episode < 12; ++episode) {
+    env.reset(obs);
+    seen.insert(env.level());
+    const int region = env.world().terrain().region_at(env.world().data().q(0), env.world().data().q(1));
+    EXPECT_EQ(region < 0 ? 0 : region / 2 + 1, env.level()) << episode;  // the drop is on its level's ground
+  }
+  EXPECT_EQ(seen, (std::set<int>{0, 1, 2}));
+  env.use_level(2);
+  env.take_finished();
+  env.reset(obs);
+  learn::StepResult out;
+  do env.step(hold(env), out);
+  while (!out.terminated && !out.truncated);
+  EXPECT_EQ(out.info[info_index("level")], 2.0);
+  EXPECT_EQ(env.take_finished(), (std::vector<std::pair<int, bool>>{{2, env.succeeded()}}));
+  EXPECT_TRUE(env.take_finished().empty());
 }
 
 }  // namespace

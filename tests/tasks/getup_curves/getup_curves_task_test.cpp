@@ -231,6 +231,40 @@ TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
   }
 }
 
+// §5.4 end to end: a curve a limp character follows by lying still (h 5 cm: every episode a
+// success, with early termination off) and one success to unlock: the easy region opens to
+// training during the smoke run (curriculum/open_levels), the tests then report it, and the
+// trial says how many regions were open at the end.
+TEST(GetupCurvesCampaign, TheTerrainCurriculumOpensTheNextRegionAfterItsSuccesses) {
+  podium::testing::TempDir dir;
+  const fs::path lie = dir / "lie.json";
+  base::write_json_file_atomic(lie, {{"name", "lie"},
+                                     {"duration_s", 0.5},
+                                     {"start", {{"drop", "supine"}}},
+                                     {"source", "test: lying still"},
+                                     {"control_points",
+                                      {{"h_m", std::vector<double>(9, 0.05)},
+                                       {"theta_x_deg", std::vector<double>(9, 90.0)},
+                                       {"theta_z_deg", std::vector<double>(9, 0.0)}}}});
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  Json train = spec["stages"][0];
+  train["preset"] = "smoke";
+  train["budget"]["trials"] = 1;
+  train["config"]["curves"] = {lie.string()};
+  train["config"]["early_termination"] = false;
+  train["config"]["terrain_successes_to_unlock"] = 1;
+  train["config"]["record_curves"] = 1;
+  spec["stages"] = Json::array({train});
+  spec["trial_timeout_s"] = 120;
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  const auto& t = campaign.trials.at("train").at(0);
+  const auto metrics = campaign.metric_names(t);
+  EXPECT_TRUE(metrics.count("curriculum/open_levels"));
+  EXPECT_TRUE(metrics.count("test/success_rate/flat"));
+  EXPECT_TRUE(metrics.count("test/success_rate/easy"));
+  EXPECT_EQ(t.result_info["open_levels"], 2);
+}
+
 // DeepMimic's two get-up clips on their skeleton as pose_clips, or empty (with the reason) when
 // ../shared/data is absent.
 Json deepmimic_getup_clips(std::string& missing) {

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <utility>
 
 #include "podium/base/error.h"
@@ -219,6 +220,9 @@ CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<c
   if (!(settings.stand_s >= 0.0))
     throw base::UserError("curve get-up env: stand_s " + std::to_string(settings.stand_s) + " is not ≥ 0");
   episode_length_ = curve_episode_steps(curve(), settings_);
+  set_standing_share(settings.standing_share);
+  if (!(settings.curve_filter_rad >= 0.0))
+    throw base::UserError("curve get-up env: curve filter " + std::to_string(settings.curve_filter_rad) + " rad is not ≥ 0");
 }
 
 void CurveGetupEnv::use_curve(int index) {
@@ -244,13 +248,55 @@ void CurveGetupEnv::use_level(int level) {
 
 std::vector<std::pair<int, bool>> CurveGetupEnv::take_finished() { return std::exchange(finished_, {}); }
 
+void CurveGetupEnv::set_standing_share(double share) {
+  if (!(share >= 0.0 && share <= 1.0))
+    throw base::UserError("curve get-up env: standing share " + std::to_string(share) + " is not in [0, 1]");
+  standing_share_ = share;
+}
+
+// §5.2: "curves are filtered to have angles less than 30° from the initial orientation of the
+// torso": after a drop, the drawn curve is kept when its p_θx(0) and p_θz(0) are both within the
+// filter's angle of the torso's; else one of the curves that are is drawn (none: it is kept).
+void CurveGetupEnv::filter_curve(base::Rng& rng) {
+  const StyleFeatures w = achieved();
+  const auto near = [&](const StyleCurve& c) {
+    const StyleFeatures p = c.at(0.0);
+    return std::abs(p(1) - w(1)) <= settings_.curve_filter_rad && std::abs(p(2) - w(2)) <= settings_.curve_filter_rad;
+  };
+  if (fixed_curve_ >= 0 || near(curve())) return;
+  std::vector<int> eligible;
+  for (std::size_t k = 0; k < curves_->curves.size(); ++k)
+    if (curves_->curves[k].start.kind == CurveStart::Kind::drop && near(curves_->curves[k]))
+      eligible.push_back(static_cast<int>(k));
+  if (eligible.empty()) return;
+  curve_ = eligible[static_cast<std::size_t>(rng.integer(0, static_cast<std::int64_t>(eligible.size()) - 1))];
+  episode_length_ = curve_episode_steps(curve(), settings_);
+}
+
+// §5.2 (ii): standing in the model's standing pose at the origin, turned uniformly, entered at the
+// curve's standing part (s = 1 from the first step), for T_stand. The seed takes standing frames of
+// its clips; our drop curves have none, so every curve's is the model's own standing pose.
+void CurveGetupEnv::begin_standing(base::Rng& rng) {
+  Eigen::VectorXd q = model().standing_pose();
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(rng.uniform(-std::numbers::pi, std::numbers::pi), Eigen::Vector3d::UnitZ()));
+  const Eigen::Quaterniond root = turn * Eigen::Quaterniond(q(3), q(4), q(5), q(6));
+  q(0) = q(1) = 0.0;
+  q(3) = root.w(), q(4) = root.x(), q(5) = root.y(), q(6) = root.z();
+  world().set_state(q, Eigen::VectorXd::Zero(model().nv()));
+  time_offset_s_ = curve().duration_s;
+  episode_length_ = control_steps(settings_.stand_s, settings_.control_hz);
+}
+
 void CurveGetupEnv::begin_episode(base::Rng& rng) {
   const int n = static_cast<int>(curves_->curves.size());
   curve_ = fixed_curve_ >= 0 ? fixed_curve_ : static_cast<int>(rng.integer(0, n - 1));
   // §5.4: a level among the open ones (nothing drawn while only flat is open); §5.2: a clip start on flat.
   level_ = fixed_level_ >= 0 ? fixed_level_ : open_levels_ > 1 ? static_cast<int>(rng.integer(0, open_levels_ - 1)) : 0;
   if (curve().start.kind == CurveStart::Kind::clip) level_ = 0;
+  // §5.2 (ii): a standing start, on flat only (nothing drawn with a share of 0).
+  standing_ = level_ == 0 && standing_share_ > 0.0 && rng.uniform(0.0, 1.0) < standing_share_;
   episode_length_ = curve_episode_steps(curve(), settings_);
+  time_offset_s_ = 0.0;
   termination_.reset();
   standing_steps_ = 0;
   success_ = false;
@@ -258,7 +304,9 @@ void CurveGetupEnv::begin_episode(base::Rng& rng) {
   const CurveStart& start = curve().start;
   const std::shared_ptr<const character::Clip>& clip = curves_->clips[static_cast<std::size_t>(curve_)];
   set_reference(clip);
-  if (start.kind == CurveStart::Kind::clip) {
+  if (standing_) {
+    begin_standing(rng);
+  } else if (start.kind == CurveStart::Kind::clip) {
     // §5.5: "the initial posture of each reference motion is used to initialize the character".
     character::ReferenceStart(settings_.clip_start_noise_rad, false, clip->times_s.at(static_cast<std::size_t>(start.frame)))
         .begin(*this, rng);
@@ -272,6 +320,10 @@ void CurveGetupEnv::begin_episode(base::Rng& rng) {
     fall.x_m = site.x_m, fall.y_m = site.y_m;
     for (int attempt = 0; attempt < kDropAttempts; ++attempt)
       if (sim::ragdoll_start(world(), rng, fall).ok) break;
+    if (settings_.curve_filter_rad > 0.0) {
+      filter_curve(rng);
+      set_reference(curves_->clips[static_cast<std::size_t>(curve_)]);
+    }
   }
   // y_0: the action that holds the start's pose ("targets": its pose; "cvae": its encoding, Δq = 0), within the box.
   std::vector<double> pose = bridge_.pose(world().data().q);
@@ -353,7 +405,7 @@ void CurveGetupEnv::on_step(std::span<const double> y, learn::StepResult& out) {
   const bool last = step_index() >= episode_length_;
   out.truncated = last;  // CharacterEnv keeps it only when not terminated
   success_ = last && !out.terminated && standing_steps_ >= success_steps_;
-  if (out.terminated || last) finished_.emplace_back(level_, success_);
+  if ((out.terminated || last) && !standing_) finished_.emplace_back(level_, success_);  // the curriculum counts get-ups
   out.info = {terms_.height, terms_.torso, terms_.alpha, terms_.velocity, terms_.pose, terms_.task, terms_.natural};
   for (int f = 0; f < 3; ++f) out.info.push_back(in.achieved(f));
   for (int f = 0; f < 3; ++f) out.info.push_back(in.target(f));
@@ -374,12 +426,16 @@ std::optional<base::Json> CurveGetupEnv::save_state() const {
                         {"standing_steps", standing_steps_},
                         {"success", success_},
                         {"level", level_},
-                        {"open_levels", open_levels_}};
+                        {"open_levels", open_levels_},
+                        {"standing", standing_},
+                        {"time_offset_s", time_offset_s_}};
   return state;
 }
 
 void CurveGetupEnv::load_state(const base::Json& state) {
-  int index = 0, low = 0, head = 0, standing = 0, level = 0, open = 1;
+  int index = 0, low = 0, head = 0, standing_steps = 0, level = 0, open = 1;
+  bool standing = false;
+  double offset = 0.0;
   std::vector<double> y;
   bool success = false;
   try {
@@ -388,9 +444,10 @@ void CurveGetupEnv::load_state(const base::Json& state) {
     y = s.at("filter").get<std::vector<double>>();
     low = s.at("low_task_steps").get<int>();
     head = s.at("head_down_steps").get<int>();
-    standing = s.at("standing_steps").get<int>();
+    standing_steps = s.at("standing_steps").get<int>();
     success = s.at("success").get<bool>();
     level = s.value("level", 0), open = s.value("open_levels", 1);
+    standing = s.value("standing", false), offset = s.value("time_offset_s", 0.0);
   } catch (const base::Json::exception& e) {
     throw base::UserError(std::string("curve get-up env state: ") + e.what());
   }
@@ -409,8 +466,10 @@ void CurveGetupEnv::load_state(const base::Json& state) {
   set_reference(curves_->clips[static_cast<std::size_t>(curve_)]);
   filter_.set_value(Eigen::Map<const Eigen::VectorXd>(y.data(), static_cast<Eigen::Index>(y.size())));
   termination_.restore(low, head);
-  standing_steps_ = standing;
+  standing_steps_ = standing_steps;
   success_ = success;
+  standing_ = standing, time_offset_s_ = offset;
+  if (standing_) episode_length_ = control_steps(settings_.stand_s, settings_.control_hz);
   level_ = level, open_levels_ = open;
 }
 

@@ -94,6 +94,13 @@ struct CurveEnvSettings {
   /// The terrain's regions (§3.2) and the curriculum's size (§5.4); drops land on a level drawn
   /// uniformly among the open ones (set_open_levels), clip starts on flat.
   TerrainLevels terrain;
+  /// §5.2 (ii): the share of episodes on flat that start standing, entered at the curve's standing
+  /// part (ours: the seed gives no share; it found "several standing poses in the set of initial
+  /// states necessary for learning successful get-up motions").
+  double standing_share = 0.0;
+  /// §5.2: after a drop, a curve is used only when its initial torso angles are within this of the
+  /// torso's (30°); 0: no filter.
+  double curve_filter_rad = 30.0 * 3.14159265358979323846 / 180.0;
 
   /// §5.2: "a passive rag-doll model" dropped: zero torques, 2 s at 30 Hz to land and settle, at
   /// the origin turned uniformly about the vertical.
@@ -148,8 +155,13 @@ class CurveGetupEnv final : public character::CharacterEnv {
   const StyleCurve& curve() const { return curves_->curves.at(static_cast<std::size_t>(curve_)); }
   /// Control steps of the current episode: round((T + T_stand)·control rate).
   int episode_length() const { return episode_length_; }
-  /// t − t0 of eq. 1: control time since the episode began.
-  double curve_time_s() const { return step_index() * control_dt_s(); }
+  /// t − t0 of eq. 1: control time since the episode began (a standing start enters at T).
+  double curve_time_s() const { return time_offset_s_ + step_index() * control_dt_s(); }
+  /// §5.2 (ii): the share of episodes on flat that start standing (settings' standing_share;
+  /// tests and evaluations set 0: the bars start lying).
+  void set_standing_share(double share);
+  /// Whether the current episode started standing.
+  bool standing_start() const { return standing_; }
   /// w now; h above the mean terrain height under the height map (ground_height_m()).
   StyleFeatures achieved() const;
   /// The mean terrain height under the 5×5 height map around the root (0 on flat ground).
@@ -178,6 +190,8 @@ class CurveGetupEnv final : public character::CharacterEnv {
   static Parts make_parts(const CurveEnvSettings& settings, const CurveSet& curves);
   CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<const CurveSet> curves, Parts parts);
   void begin_episode(base::Rng& rng);
+  void begin_standing(base::Rng& rng);
+  void filter_curve(base::Rng& rng);
   void on_step(std::span<const double> y, learn::StepResult& out);
 
   CurveEnvSettings settings_;
@@ -191,6 +205,8 @@ class CurveGetupEnv final : public character::CharacterEnv {
   int fixed_curve_ = -1, curve_ = 0, episode_length_ = 1, success_steps_ = 1, standing_steps_ = 0;
   bool success_ = false;
   int open_levels_ = 1, fixed_level_ = -1, level_ = 0;
+  double standing_share_ = 0.0, time_offset_s_ = 0.0;
+  bool standing_ = false;
   std::vector<std::pair<int, bool>> finished_;
 };
 

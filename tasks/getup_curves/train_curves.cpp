@@ -45,6 +45,13 @@ void read_env_settings(base::ConfigReader& r, CurveEnvSettings& e) {
   e.clip_start_noise_rad =
       r.number("clip_start_noise_rad", e.clip_start_noise_rad, {.min = 0.0, .max = 1.0}, "joint noise of a clip start, rad");
   read_terrain_levels(r, e.terrain);
+  e.standing_share = r.number("standing_share", e.standing_share, {.min = 0.0, .max = 1.0},
+                              "§5.2 (ii): the share of training episodes on flat that start standing (the model's standing "
+                              "pose, entered at the curve's standing part, for T_stand); ours: the seed gives none");
+  e.curve_filter_rad = r.number("curve_filter_deg", e.curve_filter_rad * 180.0 / std::numbers::pi, {.min = 0.0, .max = 180.0},
+                                "§5.2: after a drop, a curve whose initial torso angles are farther than this from the "
+                                "torso's is replaced by one that is near (30°); 0: no filter") *
+                       std::numbers::pi / 180.0;
 }
 
 }  // namespace
@@ -160,6 +167,7 @@ Json CurveFollowing::to_json() const {
 
 CurveTest test_curves(CurveGetupEnv& env, const character::PolicyFn& policy, int starts, std::uint64_t seed,
                       const CurveStepFn& each_step) {
+  env.set_standing_share(0.0);  // the bars start lying
   CurveTest out;
   const std::size_t curves = env.curves().curves.size();
   const double rise_height = 0.5 * standing_neck_height(env.model());
@@ -356,6 +364,7 @@ std::string recorded_trajectory_name(std::size_t k) { return k == 0 ? "trajector
 Json record_curve_episode(CurveGetupEnv& env, const character::PolicyFn& policy, std::uint64_t seed,
                           const std::filesystem::path& dir, const std::string& trajectory_name,
                           std::filesystem::path& trajectory) {
+  env.set_standing_share(0.0);  // a get-up from lying
   FeatureSeries series;
   character::EvaluationConfig c;
   c.start_seeds = {seed};

@@ -365,3 +365,72 @@ TEST(CurveGetupTerrain, DropsLandOnTheOpenLevelsAndEndedEpisodesAreReported) {
 
 }  // namespace
 }  // namespace podium::tasks::getup_curves
+
+namespace podium::tasks::getup_curves {
+namespace {
+
+// §5.2: after a drop, a curve whose initial torso angles are more than 30° from the torso's is
+// replaced by one that is near: a curve that asks to start prone but drops supine gives way to
+// the supine one.
+TEST(CurveGetupStarts, TheThirtyDegreeFilterReplacesACurveTheDropDoesNotMatch) {
+  StyleCurve prone_target = rising_curve(0.5, false);  // θ_z(0) = 180°
+  prone_target.name = "asks prone, drops supine";
+  prone_target.start.supine = true;
+  CurveGetupEnv env({}, make_curve_set({prone_target, rising_curve(0.5, true)}, humanoid()));
+  env.seed(11);
+  std::vector<double> obs;
+  const auto near = [&](int k) {
+    const StyleFeatures p = env.curves().curves[static_cast<std::size_t>(k)].at(0.0), w = env.achieved();
+    return std::abs(p(1) - w(1)) <= 30.0 * kDeg && std::abs(p(2) - w(2)) <= 30.0 * kDeg;
+  };
+  int filtered = 0;
+  for (int episode = 0; episode < 20; ++episode) {
+    env.reset(obs);
+    if (near(0) || near(1)) {
+      EXPECT_TRUE(near(env.curve_index())) << episode;  // a near curve when there is one
+    }
+    if (!near(0) && near(1)) {  // only the supine one fits: whichever was drawn, it is used
+      EXPECT_EQ(env.curve_index(), 1) << episode;
+      ++filtered;
+    }
+  }
+  EXPECT_GT(filtered, 0);
+  CurveEnvSettings off;
+  off.curve_filter_rad = 0.0;  // no filter: the drawn curve stays
+  CurveGetupEnv unfiltered(off, make_curve_set({prone_target}, humanoid()));
+  unfiltered.seed(11);
+  unfiltered.reset(obs);
+  EXPECT_EQ(unfiltered.curve_index(), 0);
+}
+
+// §5.2 (ii): a standing start stands in the model's standing pose on flat, entered at the curve's
+// standing part (s = 1 from the first step) for T_stand, and does not count for the curriculum.
+TEST(CurveGetupStarts, AStandingStartEntersTheCurveAtItsStandingPart) {
+  CurveEnvSettings settings;
+  settings.standing_share = 1.0;
+  settings.early_termination = false;
+  const StyleCurve curve = rising_curve(1.0, true);
+  CurveGetupEnv env(settings, make_curve_set({curve}, humanoid()));
+  env.seed(2);
+  std::vector<double> obs;
+  env.reset(obs);
+  ASSERT_TRUE(env.standing_start());
+  EXPECT_NEAR(env.world().data().q(2), env.model().standing_pose()(2), 1e-12);
+  EXPECT_DOUBLE_EQ(env.curve_time_s(), curve.duration_s);
+  EXPECT_EQ(env.episode_length(), 90);  // T_stand at 30 Hz
+  learn::StepResult out;
+  int steps = 0;
+  do env.step(hold(env), out), ++steps;
+  while (!out.terminated && !out.truncated);
+  EXPECT_EQ(steps, 90);
+  EXPECT_EQ(out.info[info_index("target_h")], curve.at(1.0)(0));
+  EXPECT_TRUE(env.take_finished().empty());
+  env.set_standing_share(0.0);
+  env.reset(obs);
+  EXPECT_FALSE(env.standing_start());
+  EXPECT_EQ(env.curve_time_s(), 0.0);
+  EXPECT_THROW(env.set_standing_share(1.5), base::UserError);
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup_curves

@@ -120,6 +120,13 @@ bool UnlockCurriculum::record(int level, bool success) {
   return true;
 }
 
+bool UnlockCurriculum::open_next() {
+  if (unlocked_ == static_cast<int>(config_.levels.size())) return false;
+  ++unlocked_;
+  successes_ = 0;
+  return true;
+}
+
 base::Json UnlockCurriculum::state() const { return {{"unlocked", unlocked_}, {"successes", successes_}}; }
 
 void UnlockCurriculum::load_state(const base::Json& state) {

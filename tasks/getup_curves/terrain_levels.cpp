@@ -16,6 +16,10 @@ void read_terrain_levels(base::ConfigReader& r, TerrainLevels& t) {
   t.size_m = r.number("terrain_size_m", t.size_m, {.min = 2.0 * t.margin_m, .max = 1000.0, .exclusive_min = true},
                       "side of each harder region's square (half rough, half slope), m");
   t.seed = r.integer<std::uint64_t>("terrain_seed", t.seed, {}, "the rough tiles' heights");
+  t.schedule_steps = r.integer<std::int64_t>(
+      "terrain_schedule_steps", t.schedule_steps, {.min = 0},
+      "> 0: §6.4's ablation, a fixed schedule opening the next region every this many control steps (the seed: 20M "
+      "simulation steps, 10M control steps) instead of the successes; 0: the curriculum");
 }
 
 namespace {

@@ -33,7 +33,10 @@ struct TerrainLevels {
   double spacing_m = 20.0;        ///< between level centres along +x
   double margin_m = 1.5;          ///< drops land this far inside a part's edges
   int successes_to_unlock = 200;  ///< §5.4: successes on the newest level that unlock the next
-  std::uint64_t seed = 1;         ///< the tiles' heights
+  /// §6.4's "no terrain curriculum" ablation: > 0 opens the next level every this many control
+  /// steps of training instead (the seed: one region per 20M simulation steps = 10M control steps).
+  std::int64_t schedule_steps = 0;
+  std::uint64_t seed = 1;  ///< the tiles' heights
 };
 
 /// Reads the `terrain_*` keys (errors name the JSON path and the value).

@@ -254,15 +254,17 @@ class CurveTrainStage final : public character::TrainingStage {
 
   // §5.4: every training episode's outcome goes to the curriculum, copy by copy in order; an
   // unlock opens the next region to every copy and is a point of curriculum/open_levels.
+  // With §6.4's ablation (terrain_schedule_steps) the step count opens them instead.
   void on_iteration(const character::Iteration& it, learn::Learner&, const character::MetricFn& send) override {
+    const TerrainLevels& t = s_.env.terrain;
     for (CurveGetupEnv* copy : copies_)
       for (const auto& [level, success] : copy->take_finished())
-        if (curriculum_.record(level, success)) {
-          send("curriculum/open_levels", static_cast<double>(it.env_steps), curriculum_.unlocked());
-          base::log_info("getup_curves: " + curriculum_.level_name(curriculum_.unlocked() - 1) + " opened at step " +
-                         std::to_string(it.env_steps));
-          open_levels();
-        }
+        if (t.schedule_steps == 0 && curriculum_.record(level, success)) opened(it.env_steps, send);
+    if (t.schedule_steps > 0)
+      while (curriculum_.unlocked() < std::min<std::int64_t>(t.levels, 1 + it.env_steps / t.schedule_steps)) {
+        curriculum_.open_next();
+        opened(it.env_steps, send);
+      }
   }
   Json state() const override { return {{"curriculum", curriculum_.state()}}; }
   void load_state(const Json& state) override {
@@ -327,6 +329,12 @@ class CurveTrainStage final : public character::TrainingStage {
   }
   void open_levels() {
     for (CurveGetupEnv* copy : copies_) copy->set_open_levels(curriculum_.unlocked());
+  }
+  void opened(std::int64_t env_steps, const character::MetricFn& send) {
+    send("curriculum/open_levels", static_cast<double>(env_steps), curriculum_.unlocked());
+    base::log_info("getup_curves: " + curriculum_.level_name(curriculum_.unlocked() - 1) + " opened at step " +
+                   std::to_string(env_steps));
+    open_levels();
   }
 };
 

@@ -80,6 +80,18 @@ TEST(Curriculum, TerrainUnlocksAfterNSuccessesOnTheNewestLevel) {
   EXPECT_EQ(resumed.unlocked(), 2);
   EXPECT_THROW(resumed.load_state({{"unlocked", 7}, {"successes", 0}}), base::UserError);
   EXPECT_EQ(resumed.level_name(1), "easy");
+  // The seed's 200: the 200th success on the newest level unlocks, not the 199th.
+  UnlockCurriculum seed({{"flat", "easy"}, 200});
+  for (int k = 1; k < 200; ++k) ASSERT_FALSE(seed.record(0, true)) << k;
+  EXPECT_EQ(seed.unlocked(), 1);
+  EXPECT_TRUE(seed.record(0, true));
+  EXPECT_EQ(seed.unlocked(), 2);
+  // A fixed schedule opens the next level at once (§6.4's ablation), and no further than the last.
+  UnlockCurriculum scheduled({{"flat", "easy", "medium"}, 200});
+  EXPECT_TRUE(scheduled.open_next());
+  EXPECT_TRUE(scheduled.open_next());
+  EXPECT_FALSE(scheduled.open_next());
+  EXPECT_EQ(scheduled.unlocked(), 3);
 }
 
 TEST(Curriculum, StateRoundTripsAndConfigErrorsNameThePath) {

@@ -265,6 +265,24 @@ TEST(GetupCurvesCampaign, TheTerrainCurriculumOpensTheNextRegionAfterItsSuccesse
   EXPECT_EQ(t.result_info["open_levels"], 2);
 }
 
+// §6.4's "no terrain curriculum" ablation: the step count opens the regions (here every 64
+// control steps: the smoke run's second iteration opens easy), whatever the successes.
+TEST(GetupCurvesCampaign, AFixedScheduleOpensTheRegionsByStepCount) {
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  Json train = spec["stages"][0];
+  train["preset"] = "smoke";
+  train["budget"]["trials"] = 1;
+  train["config"]["terrain_schedule_steps"] = 64;
+  train["config"]["record_curves"] = 1;
+  spec["stages"] = Json::array({train});
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
+  const auto& t = campaign.trials.at("train").at(0);
+  EXPECT_TRUE(campaign.metric_names(t).count("curriculum/open_levels"));
+  EXPECT_EQ(t.result_info["open_levels"], 2);
+}
+
 // DeepMimic's two get-up clips on their skeleton as pose_clips, or empty (with the reason) when
 // ../shared/data is absent.
 Json deepmimic_getup_clips(std::string& missing) {

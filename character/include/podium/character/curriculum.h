@@ -88,6 +88,8 @@ class UnlockCurriculum {
   explicit UnlockCurriculum(Config config);
   /// Records an episode's outcome on `level`; returns true when it unlocked the next level.
   bool record(int level, bool success);
+  /// Opens the next level now (a fixed schedule in place of the successes); false when all are open.
+  bool open_next();
   int unlocked() const { return unlocked_; }  ///< number of levels open (≥ 1)
   /// A level uniform among the unlocked ones.
   int sample(base::Rng& rng) const { return static_cast<int>(rng.integer(0, unlocked_ - 1)); }

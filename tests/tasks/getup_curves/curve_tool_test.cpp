@@ -5,6 +5,7 @@
 // stats on a small label file, and bad input as one line with exit 2. Clip tests skip with the
 // reason printed when ../shared/data is absent.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -272,6 +273,37 @@ TEST(CurveTool, TheShippedLabelFileReadsAndNamesEveryGetUpClip) {
   const auto labels = load_clip_labels(fs::path(PODIUM_GETUP_CURVES_DATA_DIR) / "getup_labels.json");
   EXPECT_EQ(labels.size(), 7u);
   for (const auto& l : labels) EXPECT_FALSE(l.why.empty()) << l.clip;
+}
+
+}  // namespace
+}  // namespace podium::tasks::getup_curves
+
+namespace podium::tasks::getup_curves {
+namespace {
+
+// data/curves/make_styles.sh remakes the 15 shipped style curves with the tool, byte for byte (run
+// on a copy of the folder), each at its name's T; the paper preset trains on them.
+TEST(CurveTool, MakeStylesRemakesTheShippedStyleCurves) {
+  const SharedData data = shared_data({"jump/data/vae/txt/cmu136-140/140/140_03.txt", kFaceup});
+  if (!data.missing.empty()) GTEST_SKIP() << data.missing;
+  TempDir dir;
+  const fs::path copy = dir / "tasks/getup_curves/data";
+  fs::create_directories(copy / "curves");
+  fs::copy_file(kCurves.parent_path() / "getup_labels.json", copy / "getup_labels.json");
+  for (const char* f : {"make_styles.sh", "faceup.json"}) fs::copy_file(kCurves / f, copy / "curves" / f);
+  const podium::testing::ShellResult r = podium::testing::shell("PODIUM_SHARED_DIR=" + data.root.parent_path().string() +
+                                                                " bash " + (copy / "curves/make_styles.sh").string() + " " +
+                                                                podium::testing::podium_binary().string() + " 2>&1");
+  ASSERT_TRUE(WIFEXITED(r.status) && WEXITSTATUS(r.status) == 0) << r.out;
+  int styles = 0;
+  for (const char* style : {"situp_rollover", "pushup_prone", "pushup_supine", "sidesit_pivot", "pushup_kneel"})
+    for (const auto& [tag, duration] : {std::pair{"t25", 2.5}, std::pair{"t51", 5.1}, std::pair{"t76", 7.6}}) {
+      const std::string file = std::string(style) + "_" + tag + ".json";
+      EXPECT_EQ(podium::testing::file_bytes(copy / "curves" / file), podium::testing::file_bytes(kCurves / file)) << file;
+      EXPECT_NEAR(load_style_curve(kCurves / file).duration_s, duration, 1e-3) << file;
+      ++styles;
+    }
+  EXPECT_EQ(styles, 15);
 }
 
 }  // namespace

@@ -260,14 +260,24 @@ void describe_race(const TaskConfig& c, Json& d) {
                             per_episode),
       plugins::metric_entry("race/tailwind_finish_time_s", "s", "each episode's finish time in its tailwind", per_episode)};
   const double length = load_sprint_preset(c.race.track).track.length_m;
-  d["features"] = {
-      {{"name", "step_length_m"}, {"low", 0.0}, {"high", 3.0}, {"unit", "m"}, {"description", "mean step length"}},
-      {{"name", "step_frequency_hz"}, {"low", 0.0}, {"high", 6.0}, {"unit", "Hz"}, {"description", "mean step frequency"}},
-      {{"name", "rise_distance_m"},
-       {"low", -2.0},
-       {"high", length},
-       {"unit", "m"},
-       {"description", "mean rise distance (the track's length when no episode rose)"}}};
+  d["features"] = {{{"name", "step_length_m"},
+                    {"low", 0.0},
+                    {"high", 3.0},
+                    {"metric", "euclidean"},
+                    {"unit", "m"},
+                    {"description", "mean step length"}},
+                   {{"name", "step_frequency_hz"},
+                    {"low", 0.0},
+                    {"high", 6.0},
+                    {"metric", "euclidean"},
+                    {"unit", "Hz"},
+                    {"description", "mean step frequency"}},
+                   {{"name", "rise_distance_m"},
+                    {"low", -2.0},
+                    {"high", length},
+                    {"metric", "euclidean"},
+                    {"unit", "m"},
+                    {"description", "mean rise distance (the track's length when no episode rose)"}}};
   plugins::set_objectives(
       d, Json::array({plugins::objective_entry("minus_mean_finish_time_s", "s",
                                                "minus the mean finish time over the DR episodes, a fall or lane exit counted at "

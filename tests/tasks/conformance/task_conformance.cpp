@@ -105,8 +105,19 @@ std::vector<Json> without_times(std::vector<Json> points) {
   return points;
 }
 
+// The case's own inputs (ConformanceCase::inputs), made once per test folder: beside `work_dir`.
+Json case_inputs(const ConformanceCase& c, const fs::path& work_dir) {
+  static std::map<fs::path, Json> made;
+  if (!c.inputs) return Json::array();
+  const fs::path dir = work_dir.parent_path() / "inputs";
+  auto [at, fresh] = made.try_emplace(dir);
+  if (fresh) at->second = c.inputs(dir);
+  return at->second;
+}
+
 Json order_for(const ConformanceCase& c, const Json& overrides, const fs::path& work_dir, int attempt, std::uint64_t seed,
-               const Json& inputs = Json::array()) {
+               const Json& given_inputs = Json::array()) {
+  const Json inputs = given_inputs.empty() ? case_inputs(c, work_dir) : given_inputs;
   const auto task = plugins::load_task(c.task);
   Json config = resolved(task->describe(c.base_config), "smoke", c.base_config);
   config.update(overrides);
@@ -355,6 +366,15 @@ TEST_P(TaskConformance, WarmStartedTrialTrainsOnAndResumes) {
 }
 
 }  // namespace
+
+Json smoke_input_trial(const std::string& task, const Json& config, const fs::path& dir, const std::string& stage) {
+  const ConformanceCase c{.task = task, .base_config = config, .artifacts = {}};
+  const fs::path work_dir = dir / stage;
+  const TrialRun run = run_trial(order_for(c, Json::object(), work_dir, 1, 7), dir / (stage + "-attempt"));
+  Json input = input_from_smoke(work_dir, run.result);
+  input["stage"] = stage;
+  return input;
+}
 
 Json input_from_smoke(const fs::path& source_dir, const Json& source_result) {
   Json input = {{"stage", "explore"},

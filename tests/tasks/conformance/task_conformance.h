@@ -54,6 +54,12 @@ struct WarmStartCase {
 /// hands the warm trial.
 base::Json input_from_smoke(const std::filesystem::path& source_dir, const base::Json& source_result);
 
+/// A smoke trial of `task` with `config` (on the smoke preset) run through the real binary in
+/// `dir`, as an input trial of stage `stage` (index 0, strategy 0; input_from_smoke's form): for a
+/// case whose trials need earlier stages' trials (ConformanceCase::inputs).
+base::Json smoke_input_trial(const std::string& task, const base::Json& config, const std::filesystem::path& dir,
+                             const std::string& stage);
+
 struct ConformanceCase {
   std::string task;                                 ///< plugin name
   base::Json base_config = base::Json::object();    ///< on the smoke preset, under every trial's config (e.g. the stage)
@@ -68,6 +74,9 @@ struct ConformanceCase {
   bool resumes_from_checkpoint = false;
   std::vector<std::string> artifacts;                      ///< artifact names every trial returns
   std::optional<WarmStartCase> warm_start = std::nullopt;  ///< none: the task has no warm start
+  /// The input trials every trial of the case gets (a stage that needs earlier stages' trials),
+  /// made in the given folder once per test (e.g. with smoke_input_trial); none: no inputs.
+  std::function<base::Json(const std::filesystem::path& dir)> inputs = {};
 };
 
 class TaskConformance : public ::testing::TestWithParam<ConformanceCase> {};

@@ -49,6 +49,21 @@ PODIUM_TASK_CONFORMANCE(SprintAccelerateStage, {.task = "sprint",
                                                 .artifacts = {"policy", "dip_starts", "trajectory"},
                                                 .warm_start = podium::testing::WarmStartCase{train_on_from, 45}});
 
+// The race: each trial gets a smoke start trial and a smoke accelerate trial (made for the test)
+// and races their policies over the smoke preset's DR episodes; it keeps no checkpoint (a race is
+// seconds), so attempt 2 runs it again to the same result.
+Json race_inputs(const fs::path& dir) {
+  return Json::array({podium::testing::smoke_input_trial("sprint", {{"stage", "start"}}, dir, "start"),
+                      podium::testing::smoke_input_trial("sprint", {{"stage", "accelerate"}}, dir, "accelerate")});
+}
+PODIUM_TASK_CONFORMANCE(SprintRaceStage, {.task = "sprint",
+                                          .base_config = {{"stage", "race"}},
+                                          .long_config = {{"race_episodes", 1'000'000}},
+                                          .resume_config = {{"race_episodes", 40}},
+                                          .kill_delay_s = 0.5,
+                                          .artifacts = {"race", "race_table", "trajectory"},
+                                          .inputs = race_inputs});
+
 TEST(SprintTask, TheStartStageDeclaresItsMetricsObjectivesAndPresets) {
   const auto task = plugins::load_task("sprint");
   const Json d = task->describe({{"stage", "start"}});

@@ -77,7 +77,7 @@ def bars(starts, accelerates, race):
     print("\n### the quick bars (docs/tasks/sprint.md)\n")
     print("| bar | closest trial | figure | met |\n|---|---|---|---|")
     if starts:
-        name, i = max(starts, key=lambda s: (s[1]["min_reference_landing_rate"], -s[1]["tracking_error_rad"]))
+        name, i = max(starts, key=lambda s: (s[1]["min_reference_landing_rate"], s[1]["landing_rate"], -s[1]["tracking_error_rad"]))
         met = i["min_reference_landing_rate"] >= 0.8 and i["tracking_error_rad"] <= 0.3 and i["com_speed_ratio"] >= 0.7
         print(f"| (a) Start: every reference lands ≥ 80%, tracking ≤ 0.3 rad, COM speed ≥ 70% | `{name}` | lowest reference "
               f"{i['min_reference_landing_rate']:.2f}, {i['tracking_error_rad']:.3f} rad, {i['com_speed_ratio']:.2f} | {met} |")

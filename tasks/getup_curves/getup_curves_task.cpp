@@ -168,7 +168,8 @@ plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& req
     rows.push_back(Json::array({f.curve, f.success_rate, f.to_json()["h_error_m"], f.to_json()["angle_error_deg"],
                                 f.to_json()["rise_time_s"], f.risen}));
   result.info["table"] = plugins::result_table(
-      "per curve over " + std::to_string(c.train.test_starts) + " test starts (errors over [0, T] of the successful ones)",
+      "per curve over " + std::to_string(c.train.final_starts > 0 ? c.train.final_starts : c.train.test_starts) +
+          " test starts (errors over [0, T] of the successful ones)",
       Json::array({plugins::table_column("curve"), plugins::table_column("success"), plugins::table_column("h error", "m"),
                    plugins::table_column("angle error", "°"), plugins::table_column("rise time", "s"),
                    plugins::table_column("risen")}),

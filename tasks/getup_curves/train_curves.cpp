@@ -101,6 +101,9 @@ TrainSettings read_train_settings(base::ConfigReader& r) {
   s.test_every = r.integer<int>("test_every", s.test_every, {1, 1'000'000}, "PPO iterations between tests");
   s.test_starts = r.integer<int>("test_starts", s.test_starts, {1, 10'000}, "test episodes per curve, from fixed starts");
   s.test_seed = r.integer<std::uint64_t>("test_seed", s.test_seed, {}, "the fixed test starts' seed (the same for every trial)");
+  s.final_starts = r.integer<int>("final_starts", s.final_starts, {0, 100'000},
+                                  "the exported policy's final test: episodes per curve from the fixed starts (the quick bars: "
+                                  "20; 0: test_starts)");
   s.record_curves = r.integer<int>("record_curves", s.record_curves, {0, 1000},
                                    "the first curves whose episode with the exported policy is recorded");
   s.checkpoint_every =
@@ -343,7 +346,7 @@ class CurveTrainStage final : public character::TrainingStage {
 void CurveTrainStage::record(const character::Recording& r) {
   const character::PolicyFn policy = [&](std::span<const double> o, std::span<double> a) { r.policy.act(o, a); };
   CurveGetupEnv env(s_.env, curves_);
-  outcome.final = test_curves(env, policy, s_.test_starts, s_.test_seed);  // on flat
+  outcome.final = test_curves(env, policy, s_.final_starts > 0 ? s_.final_starts : s_.test_starts, s_.test_seed);  // on flat
   outcome.open_levels = curriculum_.unlocked();
   const auto steps = static_cast<double>(r.exported.env_steps);
   r.send("final/success_rate", steps, outcome.final.success_rate);

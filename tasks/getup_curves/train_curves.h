@@ -32,6 +32,7 @@ struct TrainSettings {
   double train_minutes = 0.0;             ///< wall budget of training and tests; 0: none
   int test_every = 10;                    ///< PPO iterations between tests
   int test_starts = 2;                    ///< test episodes per curve (fixed starts)
+  int final_starts = 0;                   ///< the exported policy's final test, per curve (0: test_starts)
   std::uint64_t test_seed = 7;            ///< the fixed starts' seed (the same for every trial)
   int record_curves = 2;                  ///< the first curves recorded after training, one episode each
   int checkpoint_every = 10;              ///< PPO iterations between checkpoints

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""The tasks' reports (tasks/getup/report.py, tasks/jump/report.py) on small campaigns the test runs:
-campaigns/getup.json and campaigns/highjump.json at the smoke preset, cut to one Weaker trial and two
-explore samples. Each report must name every stage and print the figures `podium export` holds.
+"""The tasks' reports (tasks/getup/report.py, tasks/jump/report.py, tasks/sprint/report.py,
+tasks/getup_curves/report.py) on small campaigns the test runs: campaigns/getup.json,
+campaigns/highjump.json, campaigns/sprint.json and campaigns/getup_curves.json at the smoke preset,
+cut to one Weaker trial, two explore samples, one CMA-ES generation and four edits. Each report
+must name every stage and print the figures `podium export` holds.
 
 Usage: reports_test.py PODIUM_BINARY SOURCE_DIR
 """
@@ -61,7 +63,16 @@ def main(binary, source):
             # No smoke jump clears its bar, so none is a strategy: hand over the best explore trial.
             stages[2]["inputs"].update(select="top", k=1)
 
-        for name, cut in (("getup.json", cut_getup), ("highjump.json", cut_jump)):
+        def cut_sprint(stages):
+            stages[2]["budget"]["trials"] = 6  # one generation of λ = 6
+
+        def cut_curves(stages):
+            stages[0]["budget"]["trials"] = 1
+            stages[0]["config"]["curves"] = ["faceup", "facedown", "faceup_early", "faceup_late"]
+            stages[1]["budget"]["trials"] = 4
+
+        for name, cut in (("getup.json", cut_getup), ("highjump.json", cut_jump), ("sprint.json", cut_sprint),
+                          ("getup_curves.json", cut_curves)):
             (tmp / name).write_text(json.dumps(smoke_spec(source, name, cut)))
             podium(binary, tmp, "submit", name)
         podium(binary, tmp, "run", "--workers", "2")
@@ -91,6 +102,26 @@ def main(binary, source):
             check(f"| {row['result']['z_reached_m']:.2f} |" in line and feature in line, f"jump report: {row['name']}'s figures")
         explore = {r["strategy"] for r in rows if r["stage"] == "explore" and r["strategy"] is not None}
         check(f"distinct strategies: {len(explore)} over all trials" in text, "jump report: explore's strategies")
+        rows = json.loads(podium(binary, tmp, "export", "sprint", "--format", "json"))
+        text = report(source, "sprint/report.py", db, "sprint", env)
+        for stage in ("start", "accelerate", "dip", "race"):
+            check(f"### stage `{stage}` ({stage})" in text, f"sprint report names stage {stage}")
+        for row in (r for r in rows if r["stage"] == "start"):
+            check(f"landing rate {row['result']['landing_rate']:.2f} (per reference:" in text, f"sprint report: {row['name']}")
+        race = next(r for r in rows if r["stage"] == "race")
+        check(f"{race['result']['episodes']} DR episodes: finish rate {race['result']['finish_rate']:.2f}" in text,
+              "sprint report: the race")
+        check("dip check (" in text and "### the quick bars" in text, "sprint report: the dip check and the bars")
+
+        rows = json.loads(podium(binary, tmp, "export", "getup_curves", "--format", "json"))
+        text = report(source, "getup_curves/report.py", db, "getup_curves", env)
+        for stage in ("train", "edit"):
+            check(f"### stage `{stage}` ({stage})" in text, f"getup_curves report names stage {stage}")
+        train = next(r for r in rows if r["stage"] == "train")
+        for f in train["result"]["following"]:
+            check(f"  | {f['curve']} | {f['success_rate']:.2f} |" in text, f"getup_curves report: curve {f['curve']}")
+        check(f"  - {len([r for r in rows if r['stage'] == 'edit'])} edits," in text, "getup_curves report: the edits")
+        check("| (d) rise early < base < late" in text, "getup_curves report: the bars")
     if failures:
         sys.exit(f"{len(failures)} checks failed")
     print("reports_test: ok")

@@ -60,3 +60,12 @@ def training_minutes(row):
         spent += sum(p.get(step, 0.0) for p in parts)
         at[step] = spent / 60
     return at
+
+
+def wall_time_line(spans):
+    """The campaign's wall time from its trials' (started, finished) spans: first start to last end, or "not yet"
+    while any trial is unfinished; "" without trials."""
+    if spans and all(finished for _, finished in spans):
+        start, end = min(s for s, _ in spans), max(f for _, f in spans)
+        return f"campaign wall time: {minutes(start, end):.1f} min (first trial start to last trial end)"
+    return "campaign wall time: not yet (trials still queued or running)" if spans else ""

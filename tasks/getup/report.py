@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from campaign_db import minutes, open_campaign, series, training_minutes  # noqa: E402
+from campaign_db import minutes, open_campaign, series, training_minutes, wall_time_line  # noqa: E402
 
 
 def curve_table(row, every=100_000):
@@ -56,11 +56,8 @@ def bars(weaker, evaluate, spans):
         ratio = slow["rise_time_s"] / fast["rise_time_s"] if slow["risen"] and fast["risen"] else float("nan")
         print(row + f"{half['com_error_m']:.3f} m; {slow['rise_time_s']:.2f} s / {fast['rise_time_s']:.2f} s = {ratio:.2f}× "
               f"({slow['risen']} and {fast['risen']} risers) | {half['com_error_m'] < 0.15 and ratio >= 3} |")
-    if spans and all(finished for _, finished in spans):
-        start, end = min(s for s, _ in spans), max(f for _, f in spans)
-        print(f"\ncampaign wall time: {minutes(start, end):.1f} min (first trial start to last trial end)")
-    elif spans:
-        print("\ncampaign wall time: not yet (trials still queued or running)")
+    if spans:
+        print("\n" + wall_time_line(spans))
 
 
 def weaker_trial(name, row, info):

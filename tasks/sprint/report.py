@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-from campaign_db import minutes, open_campaign, series, training_minutes  # noqa: E402
+from campaign_db import minutes, open_campaign, series, training_minutes, wall_time_line  # noqa: E402
 
 
 def fmt(v, digits=3):
@@ -132,11 +132,8 @@ def main(db_path, campaign):
             if at:
                 print(f"  - {max(at.values()):.1f} min of training (time/* metrics)")
     bars(starts, accelerates, race)
-    if spans and all(f for _, f in spans):
-        print(f"\ncampaign wall time: {minutes(min(s for s, _ in spans), max(f for _, f in spans)):.1f} min "
-              "(first trial start to last trial end)")
-    elif spans:
-        print("\ncampaign wall time: not yet (trials still queued or running)")
+    if spans:
+        print("\n" + wall_time_line(spans))
 
 
 if __name__ == "__main__":

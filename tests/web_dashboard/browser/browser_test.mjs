@@ -5,7 +5,7 @@
 // campaign runs. Setup (scratch folder, podium serve, offline Chromium): harness.mjs.
 import assert from 'node:assert/strict';
 
-import { run, waitFor } from './harness.mjs';
+import { canvasPixels, run, waitFor } from './harness.mjs';
 
 const stage = (name, task, trials, config = {}) =>
   ({ name, task, preset: 'smoke', config, search: { algorithm: 'random' }, budget: { trials } });
@@ -91,16 +91,7 @@ run('browser', async h => {
 
   step('3D replay: the props (bar, inclined block) and the rough tiles are drawn');
   assert.deepEqual(await page.evaluate(() => window.podiumReplay.drawn), { props: 2, terrain: 64 });
-  const pixels = () => page.evaluate(() => {  // every 4th pixel of the (paused) first viewport
-    const c = document.querySelector('#viewports canvas');
-    const copy = document.createElement('canvas');
-    copy.width = c.width; copy.height = c.height;
-    const ctx = copy.getContext('2d');
-    ctx.drawImage(c, 0, 0);
-    const data = ctx.getImageData(0, 0, c.width, c.height).data, out = [];
-    for (let i = 0; i < data.length; i += 16) out.push(data[i] << 16 | data[i + 1] << 8 | data[i + 2]);
-    return out;
-  });
+  const pixels = () => canvasPixels(page, 4);  // every 4th pixel of the (paused) first viewport
   const changed = (a, b) => a.filter((v, i) => v !== b[i]).length / a.length;
   const shown = await pixels();
   for (const [part, least] of [['terrain', 0.05], ['props', 0.002]]) {

@@ -22,6 +22,21 @@ export async function waitFor(what, fn, timeout_ms = 20000) {
 }
 
 // Runs body(h) with h = { dir, podium(args), submit(name, spec), serve(), browse() } and exits.
+// The first viewport's canvas as 0xRRGGBB numbers, every `step`-th pixel (for tests that compare
+// pictures: what hiding props changes, what a colour covers).
+export function canvasPixels(page, step = 1) {
+  return page.evaluate(step => {
+    const c = document.querySelector('#viewports canvas');
+    const copy = document.createElement('canvas');
+    copy.width = c.width; copy.height = c.height;
+    const ctx = copy.getContext('2d');
+    ctx.drawImage(c, 0, 0);
+    const data = ctx.getImageData(0, 0, c.width, c.height).data, out = [];
+    for (let i = 0; i < data.length; i += 4 * step) out.push(data[i] << 16 | data[i + 1] << 8 | data[i + 2]);
+    return out;
+  }, step);
+}
+
 export function run(name, body) {
   const chromiumPath = process.env.CHROMIUM || '/usr/bin/chromium';
   if (!existsSync(chromiumPath)) {

@@ -8,7 +8,7 @@
 import assert from 'node:assert/strict';
 import { join } from 'node:path';
 
-import { run, waitFor } from './harness.mjs';
+import { canvasPixels, run, waitFor } from './harness.mjs';
 
 const policies = join(process.env.PODIUM_SOURCE_DIR, 'tasks', 'jump', 'policies');
 const shipped = (name, takeoff) => ({
@@ -53,16 +53,7 @@ run('jump-replay', async h => {
   assert.equal(drawn.props, 2);
   await page.locator('#play').click();  // paused: the picture changes only with the checkbox
   await page.evaluate(() => { const s = document.getElementById('scrub'); s.value = 0; s.dispatchEvent(new Event('input')); });
-  const pixels = () => page.evaluate(() => {
-    const c = document.querySelector('#viewports canvas');
-    const copy = document.createElement('canvas');
-    copy.width = c.width; copy.height = c.height;
-    const ctx = copy.getContext('2d');
-    ctx.drawImage(c, 0, 0);
-    const data = ctx.getImageData(0, 0, c.width, c.height).data, out = [];
-    for (let i = 0; i < data.length; i += 4) out.push(data[i] << 16 | data[i + 1] << 8 | data[i + 2]);
-    return out;
-  });
+  const pixels = () => canvasPixels(page);
   const shown = await pixels();
   // The bar's red bands (the crossbar is the only red in the scene): visible, and gone with the props.
   const red = px => px.filter(v => (v >> 16) > 150 && ((v >> 8) & 255) < 90 && (v & 255) < 90).length;

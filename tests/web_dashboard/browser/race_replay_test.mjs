@@ -7,7 +7,7 @@ import assert from 'node:assert/strict';
 import { readFileSync } from 'node:fs';
 import { join } from 'node:path';
 
-import { run, waitFor } from './harness.mjs';
+import { canvasPixels, run, waitFor } from './harness.mjs';
 
 const campaign = JSON.parse(readFileSync(join(process.env.PODIUM_SOURCE_DIR, 'campaigns', 'sprint.json'), 'utf8'));
 const stages = campaign.stages.filter(s => s.name !== 'dip').map(s => ({ ...s, preset: 'smoke' }));
@@ -40,16 +40,7 @@ run('race-replay', async h => {
     s.dispatchEvent(new Event('input'));
   }, f);
   await scrubTo(0);
-  const pixels = () => page.evaluate(() => {
-    const c = document.querySelector('#viewports canvas');
-    const copy = document.createElement('canvas');
-    copy.width = c.width; copy.height = c.height;
-    const ctx = copy.getContext('2d');
-    ctx.drawImage(c, 0, 0);
-    const data = ctx.getImageData(0, 0, c.width, c.height).data, out = [];
-    for (let i = 0; i < data.length; i += 4) out.push(data[i] << 16 | data[i + 1] << 8 | data[i + 2]);
-    return out;
-  });
+  const pixels = () => canvasPixels(page);
   // The lines are near-black (0x263238, lit) on the light floor: dark pixels that go with the props
   // (the runner's shaded side is dark too, and stays).
   const isDark = v => (v >> 16) < 80 && ((v >> 8) & 255) < 90 && (v & 255) < 90;

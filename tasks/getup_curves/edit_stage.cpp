@@ -1,8 +1,9 @@
 // The curve-edit stage (edit_stage.h). Written here: no library evaluates style-curve edits.
 #include "edit_stage.h"
 
+#include <algorithm>
 #include <array>
-#include <cmath>
+#include <numbers>
 
 #include "curve_edit.h"
 #include "curve_env.h"
@@ -18,7 +19,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr int kKnots = 9;
-constexpr double kDeg = 180.0 / 3.14159265358979323846;
+constexpr double kDeg = 180.0 / std::numbers::pi;
 // Features in cm and degrees: comparable steps, so one Euclidean threshold tells styles apart.
 constexpr double kUnit[3] = {100.0, kDeg, kDeg};
 

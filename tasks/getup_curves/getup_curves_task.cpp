@@ -164,9 +164,10 @@ plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& req
   result.info["summary"] = {
       {"success", out.final.success_rate}, {"mean r_task", out.final.mean_task_reward}, {"episode s", out.final.mean_episode_s}};
   Json rows = Json::array();
-  for (const CurveFollowing& f : out.final.following)
-    rows.push_back(Json::array({f.curve, f.success_rate, f.to_json()["h_error_m"], f.to_json()["angle_error_deg"],
-                                f.to_json()["rise_time_s"], f.risen}));
+  for (const CurveFollowing& f : out.final.following) {
+    const Json j = f.to_json();
+    rows.push_back(Json::array({f.curve, f.success_rate, j["h_error_m"], j["angle_error_deg"], j["rise_time_s"], f.risen}));
+  }
   result.info["table"] = plugins::result_table(
       "per curve over " + std::to_string(c.train.final_starts > 0 ? c.train.final_starts : c.train.test_starts) +
           " test starts (errors over [0, T] of the successful ones)",

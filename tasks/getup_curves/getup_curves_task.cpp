@@ -161,6 +161,9 @@ plugins::RunResult run_train(const TaskConfig& c, const plugins::RunRequest& req
     result.artifacts.push_back({recorded_trajectory_name(k), out.trajectories[k]});
   if (!out.curves.empty()) result.artifacts.push_back({"curves", out.curves});
   result.info = out.to_json();
+  // How the policy acts, for the stages that run it (edit): its observation and action sizes follow.
+  result.info["action_space"] = {
+      {"actions", train.env.actions}, {"latent_bound", train.env.latent_bound}, {"offset_bound", train.env.offset_bound}};
   result.info["summary"] = {
       {"success", out.final.success_rate}, {"mean r_task", out.final.mean_task_reward}, {"episode s", out.final.mean_episode_s}};
   Json rows = Json::array();
@@ -204,6 +207,14 @@ plugins::RunResult run_edit(const TaskConfig& c, const plugins::RunRequest& requ
                           std::to_string(request.inputs.size()) + " input trials");
   const plugins::InputTrial& in = request.inputs.front();
   TrainSettings train = c.train;
+  if (in.info.contains("action_space")) {  // the policy acts as it was trained to, whatever this stage's config says
+    const Json& a = in.info.at("action_space");
+    train.env.actions = a.at("actions").get<std::string>();
+    train.env.latent_bound = a.at("latent_bound").get<double>();
+    train.env.offset_bound = a.at("offset_bound").get<double>();
+  } else if (in.artifacts.count("pose_cvae")) {  // a train trial hands on the C-VAE its policy acts through
+    train.env.actions = "cvae";
+  }
   if (train.env.actions == "cvae") {
     if (!in.artifacts.count("pose_cvae"))
       throw base::UserError("getup_curves edit: actions \"cvae\": input trial " + in.stage + "/" +

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """The figures of tasks/getup_curves/RESULTS.md for a style-curve get-up campaign, read through the `podium` command line
-(`podium summary --json`, `podium export --format json --metrics`): per train trial its final test on flat, per curve
+(`podium summary --json`, `podium export --format json --metrics`): per pose_cvae trial its poses, reconstruction
+errors and PCA check; per train trial its final test on flat, per curve
 (success, the tracking errors of the successful episodes over [0, T], the rise time), the average return rate's first
 and last tenth, whether the easy region opened and when, the training's length and speed; per edit trial its edit and
 figures; then the task's quick bars (a)-(d) (docs/tasks/getup_curves.md), each against the trial that comes closest, and
@@ -45,6 +46,12 @@ def train_trial(row, info):
         steps = sorted(at)
         print(f"  - {steps[-1] / (at[steps[-1]] * 60):.0f} control steps/s over {at[steps[-1]]:.1f} min of training (time/* metrics)")
     return row["name"], info, (first, last)
+
+
+def cvae_trial(info):
+    print(f"  - {info['train_poses']} training and {info['heldout_poses']} held-out poses; reconstruction RMSE "
+          f"{info['train_rmse_rad']:.3f} / {info['heldout_rmse_rad']:.3f} rad (training / held out) against the mean "
+          f"pose's {info['mean_pose_rmse_rad']:.3f}; {info['pca_components_85']} principal components cover 85%")
 
 
 def edit_trials(rows):
@@ -101,6 +108,8 @@ def main(db_path, campaign):
                   f"{minutes(row['started_at'], row['finished_at']):.1f} min" + (f", error: {error}" if error else ""))
             if info and stage == "train":
                 trains.append(train_trial(row, info))
+            elif info and stage == "pose_cvae":
+                cvae_trial(info)
     bars(trains)
     if spans:
         print("\n" + wall_time_line(spans))

@@ -67,9 +67,13 @@ def main(binary, source):
             stages[2]["budget"]["trials"] = 6  # one generation of λ = 6
 
         def cut_curves(stages):
-            stages[0]["budget"]["trials"] = 1
-            stages[0]["config"]["curves"] = ["faceup", "facedown", "faceup_early", "faceup_late"]
-            stages[1]["budget"]["trials"] = 4
+            # The pose clips' paths are relative to the campaign file; the spec is written elsewhere.
+            for clip in stages[0]["config"]["pose_clips"]:
+                for key in ("clip", "character"):
+                    clip[key] = str((source / "campaigns" / clip[key]).resolve())
+            stages[1]["budget"]["trials"] = 1
+            stages[1]["config"]["curves"] = ["faceup", "facedown", "faceup_early", "faceup_late"]
+            stages[2]["budget"]["trials"] = 4
 
         for name, cut in (("getup.json", cut_getup), ("highjump.json", cut_jump), ("sprint.json", cut_sprint),
                           ("getup_curves.json", cut_curves)):
@@ -115,8 +119,10 @@ def main(binary, source):
 
         rows = json.loads(podium(binary, tmp, "export", "getup_curves", "--format", "json"))
         text = report(source, "getup_curves/report.py", db, "getup_curves", env)
-        for stage in ("train", "edit"):
+        for stage in ("pose_cvae", "train", "edit"):
             check(f"### stage `{stage}` ({stage})" in text, f"getup_curves report names stage {stage}")
+        cvae = next(r for r in rows if r["stage"] == "pose_cvae")["result"]
+        check(f"{cvae['train_poses']} training and {cvae['heldout_poses']} held-out poses" in text, "getup_curves report: the C-VAE")
         train = next(r for r in rows if r["stage"] == "train")
         for f in train["result"]["following"]:
             check(f"  | {f['curve']} | {f['success_rate']:.2f} |" in text, f"getup_curves report: curve {f['curve']}")

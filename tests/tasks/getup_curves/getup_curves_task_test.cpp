@@ -42,6 +42,50 @@ PODIUM_TASK_CONFORMANCE(GetupCurves, {.task = "getup_curves",
                                       .artifacts = {"policy", "trajectory", "curves"},
                                       .warm_start = podium::testing::WarmStartCase{train_on_from, 30}});
 
+// campaigns/getup_curves.json with its pose clips' paths made absolute (the file gives them
+// relative to itself, and the tests write specs elsewhere). Without ../shared/data beside the
+// checkout the pose_cvae stage is dropped and the train stage acts on PD targets; `missing` says
+// why (empty when the clips are there).
+Json campaign_spec(std::string& missing) {
+  const fs::path folder = fs::path(PODIUM_SOURCE_DIR) / "campaigns";
+  Json spec = base::read_json_file(folder / "getup_curves.json");
+  Json& cvae = spec["stages"][0];
+  bool present = true;
+  for (Json& clip : cvae["config"]["pose_clips"])
+    for (const char* key : {"clip", "character"}) {
+      const fs::path file = (folder / clip[key].get<std::string>()).lexically_normal();
+      present = present && fs::is_regular_file(file);
+      clip[key] = file.string();
+    }
+  if (present) return spec;
+  missing = "../shared/data absent: the train stage acts on PD targets, without the pose_cvae stage";
+  spec["stages"].erase(0);
+  spec["stages"][0].erase("inputs");
+  spec["stages"][0]["config"]["actions"] = "targets";
+  return spec;
+}
+Json campaign_spec() {
+  std::string missing;
+  Json spec = campaign_spec(missing);
+  if (!missing.empty()) std::printf("%s\n", missing.c_str());
+  return spec;
+}
+// The campaign's stage of that name.
+Json& stage_named(Json& spec, const std::string& name) {
+  for (Json& stage : spec["stages"])
+    if (stage["name"] == name) return stage;
+  throw std::runtime_error("campaigns/getup_curves.json has no stage " + name);
+}
+// The train stage alone, on PD targets (the tests of the curriculum need no C-VAE).
+Json train_alone() {
+  Json spec = campaign_spec();
+  Json train = stage_named(spec, "train");
+  train.erase("inputs");
+  train["config"]["actions"] = "targets";
+  spec["stages"] = Json::array({train});
+  return spec;
+}
+
 TEST(GetupCurvesTask, DescribesItsObjectivesAndShippedCurves) {
   const auto task = plugins::load_task("getup_curves");
   const Json d = task->describe(Json::object());
@@ -90,13 +134,14 @@ TEST(GetupCurvesTask, ABadConfigIsNamedAtItsPathWithItsValue) {
 }
 
 TEST(GetupCurvesTask, ABadCampaignConfigIsRejectedAtSubmitWithTheFileAndPath) {
-  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
-  spec["stages"][0]["config"]["copies"] = 0;
+  Json spec = campaign_spec();
+  stage_named(spec, "train")["config"]["copies"] = 0;
   podium::testing::TempDir dir;
   podium::testing::write_file(dir / "spec.json", spec.dump());
   const auto run = podium::testing::run_podium({"submit", (dir / "spec.json").string()}, dir.path());
   EXPECT_EQ(run.exit_code, 2);
-  EXPECT_NE(run.err.find("stages[0].config.copies: 0 is not"), std::string::npos) << run.err;
+  const std::string path = "stages[" + std::to_string(spec["stages"].size() - 2) + "].config.copies: 0 is not";
+  EXPECT_NE(run.err.find(path), std::string::npos) << run.err;
 }
 
 // The edit stage's edits of a shipped curve: the rise moved to a fraction of T (to the fit's
@@ -149,17 +194,21 @@ void expect_edit_trials(const podium::testing::FinishedCampaign& campaign, const
 }
 
 TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
-  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  std::string missing;
+  Json spec = campaign_spec(missing);
+  if (!missing.empty()) std::printf("%s\n", missing.c_str());
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
-  ASSERT_EQ(spec["stages"][1]["name"], "edit");
-  spec["stages"][1]["budget"]["trials"] = 6;
+  stage_named(spec, "train")["budget"]["trials"] = 2;
+  stage_named(spec, "edit")["budget"]["trials"] = 6;
   spec["trial_timeout_s"] = 120;
   podium::testing::TempDir dir;
   const auto campaign = podium::testing::run_campaign_to_end(dir.path(), spec);
   ASSERT_EQ(campaign.trials.at("train").size(), 2u);
   expect_edit_trials(campaign, dir.path());
+  std::set<std::string> artifacts = {"policy", "trajectory", "trajectory_1", "curves"};
+  if (missing.empty()) artifacts.insert("pose_cvae");  // acting through the pose_cvae trial's C-VAE
   for (const auto& t : campaign.trials.at("train")) {
-    EXPECT_EQ(campaign.artifact_names(t), (std::set<std::string>{"policy", "trajectory", "trajectory_1", "curves"}));
+    EXPECT_EQ(campaign.artifact_names(t), artifacts);
     const auto metrics = campaign.metric_names(t);
     for (const char* m : {"test/return", "test/success_rate", "test/mean_r_task", "test/average_return_rate", "test/episode_s",
                           "final/success_rate"})
@@ -246,7 +295,7 @@ TEST(GetupCurvesCampaign, TheTerrainCurriculumOpensTheNextRegionAfterItsSuccesse
                                       {{"h_m", std::vector<double>(9, 0.05)},
                                        {"theta_x_deg", std::vector<double>(9, 90.0)},
                                        {"theta_z_deg", std::vector<double>(9, 0.0)}}}});
-  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  Json spec = train_alone();
   Json train = spec["stages"][0];
   train["preset"] = "smoke";
   train["budget"]["trials"] = 1;
@@ -268,7 +317,7 @@ TEST(GetupCurvesCampaign, TheTerrainCurriculumOpensTheNextRegionAfterItsSuccesse
 // §6.4's "no terrain curriculum" ablation: the step count opens the regions (here every 64
 // control steps: the smoke run's second iteration opens easy), whatever the successes.
 TEST(GetupCurvesCampaign, AFixedScheduleOpensTheRegionsByStepCount) {
-  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
+  Json spec = train_alone();
   Json train = spec["stages"][0];
   train["preset"] = "smoke";
   train["budget"]["trials"] = 1;
@@ -299,17 +348,18 @@ Json deepmimic_getup_clips(std::string& missing) {
   return clips;
 }
 
-// The C-VAE path at the smoke preset: a pose_cvae trial on DeepMimic's get-up clips, then the
-// campaign's train stage acting through its C-VAE (actions "cvae", the pose_cvae trial as input);
-// and the same through §6.4's ablation, an unconditional pose VAE (cvae_conditional false).
+// §6.4's ablation at the smoke preset: a pose_cvae trial on DeepMimic's get-up clips without
+// their labels (cvae_conditional false) makes an unconditional pose VAE, through which the
+// campaign's train stage acts (the conditional C-VAE is the campaign's own path, checked by
+// SmokeTrainsEndToEnd); the saved VAE has no condition.
 TEST(GetupCurvesCampaign, SmokeTrainsThroughAPoseCvaeTrial) {
   std::string missing;
   const Json clips = deepmimic_getup_clips(missing);
   if (!missing.empty()) GTEST_SKIP() << missing;
-  for (const bool conditional : {true, false}) {
-    SCOPED_TRACE(conditional ? "conditional" : "unconditional");
-    Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/getup_curves.json");
-    Json train = spec["stages"][0];
+  {
+    const bool conditional = false;
+    Json spec = campaign_spec();
+    Json train = stage_named(spec, "train");
     train["preset"] = "smoke";
     train["config"]["actions"] = "cvae";
     train["budget"]["trials"] = 1;

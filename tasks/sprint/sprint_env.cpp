@@ -112,8 +112,8 @@ void save_handover_states(const std::string& path, const std::vector<base::Json>
 }
 
 std::vector<std::string> sprint_env_info_names(bool start_mode) {
-  std::vector<std::string> names = {"forward", "survival",  "lateral",  "mass",          "diagonal", "mirror",  "steps",
-                                    "fell",    "left_lane", "finished", "finish_time_s", "wind_mps", "friction"};
+  std::vector<std::string> names = {"forward", "survival", "lateral",   "mass",     "diagonal",      "mirror",   "primitive",
+                                    "steps",   "fell",     "left_lane", "finished", "finish_time_s", "wind_mps", "friction"};
   if (start_mode) names.insert(names.end(), {"imitation", "landed", "deviated", "reference"});
   return names;
 }
@@ -170,7 +170,7 @@ struct SprintEnv::ReferenceSetStart final : character::Start {
 };
 
 struct SprintEnv::Terms {
-  double mass = 0.0, diagonal = 0.0, mirror = 0.0;
+  double mass = 0.0, diagonal = 0.0, mirror = 0.0, primitive = 0.0;
 };
 
 character::CharacterEnvParts SprintEnv::make_parts(const SprintEnvSettings& s) {
@@ -256,6 +256,10 @@ SprintEnv::SprintEnv(const SprintEnvSettings& settings)
   early_.max_com_deviation_m = settings.preset.start.max_com_deviation_m;  // falls: the sprint's own rule
   early_.min_pose_reward = settings.preset.start.min_pose_reward;
   world().set_substep_observer([this](sim::World& w) { finish_.observe(w); });
+  if (settings.primitive && settings.preset.rewards.primitive != 0.0 && !start_mode()) {
+    bridge_ = std::make_unique<character::PoseBridge>(world().model_ptr());
+    strides_.emplace(settings.primitive->settings(), control_dt_s());
+  }
 }
 
 void SprintEnv::reset(std::vector<double>& observation) {
@@ -281,12 +285,15 @@ void SprintEnv::begin_episode() {
   else counter_.reset(foot_down(f, bodies_.left_foot), foot_down(f, bodies_.right_foot));
   finish_.reset(world());
   poses_.reset();
+  if (strides_) strides_->reset();
   prev_root_x_ = start_root_x_ = world().data().q(0);
   outcome_ = Outcome::running;
   apply_drag();
 }
 
 std::vector<double> SprintEnv::take_episode_distances() { return std::exchange(distances_, {}); }
+
+std::vector<std::vector<double>> SprintEnv::take_strides() { return std::exchange(completed_, {}); }
 
 void SprintEnv::apply_drag() { drag_.apply(world(), Eigen::Vector3d(draw_.wind_mps, 0.0, 0.0)); }  // §2, wind along +x
 
@@ -307,6 +314,13 @@ SprintEnv::Terms SprintEnv::phase_terms(const sim::Observation& f) {
     const Eigen::VectorXd* previous = poses_.aligned_previous();
     if (previous) t.mirror = w.mirror * mirror_reward(mirror_, d.q, *previous, w.mirror_k);  // §3.2, r_mirror
     poses_.record(d.q);
+  }
+  if (strides_) {  // §3.2, r_primitive at each completed stride
+    const double s = sagittal_angle(model(), d, bodies_.left_thigh) - sagittal_angle(model(), d, bodies_.right_thigh);
+    if (auto stride = strides_->observe(stride_frame(*bridge_, d.q), s)) {
+      t.primitive = w.primitive * settings_.primitive->reward(*stride);
+      completed_.push_back(std::move(*stride));
+    }
   }
   return t;
 }
@@ -354,21 +368,12 @@ void SprintEnv::on_step(learn::StepResult& out) {
              : landed    ? Outcome::landed
              : finish    ? Outcome::finished
                          : Outcome::running;
-  out.reward = base.total() + terms.mass + terms.diagonal + terms.mirror + imitation;
+  out.reward = base.total() + terms.mass + terms.diagonal + terms.mirror + terms.primitive + imitation;
   out.terminated = outcome_ != Outcome::running;
-  out.info = {base.forward,
-              base.survival,
-              base.lateral,
-              terms.mass,
-              terms.diagonal,
-              terms.mirror,
-              static_cast<double>(counter_.steps()),
-              fell ? 1.0 : 0.0,
-              left_lane ? 1.0 : 0.0,
-              finish ? 1.0 : 0.0,
-              finish.value_or(0.0),
-              draw_.wind_mps,
-              draw_.friction};
+  out.info = {base.forward,     base.survival,         base.lateral,       terms.mass,
+              terms.diagonal,   terms.mirror,          terms.primitive,    static_cast<double>(counter_.steps()),
+              fell ? 1.0 : 0.0, left_lane ? 1.0 : 0.0, finish ? 1.0 : 0.0, finish.value_or(0.0),
+              draw_.wind_mps,   draw_.friction};
   if (start_mode())
     out.info.insert(out.info.end(), {imitation, landed ? 1.0 : 0.0, deviated ? 1.0 : 0.0, static_cast<double>(reference_)});
   out.observation[z_index_] = counter_.z();  // the observation was written before this step counted
@@ -397,6 +402,7 @@ std::optional<base::Json> SprintEnv::save_state() const {
                      {"step_counter", counter_.state()},
                      {"finish_line", finish_.state()},
                      {"poses", poses_.state()},
+                     {"strides", strides_ ? strides_->state() : base::Json(nullptr)},
                      {"prev_root_x", prev_root_x_},
                      {"start_root_x", start_root_x_},
                      {"outcome", to_string(outcome_)},
@@ -414,6 +420,7 @@ void SprintEnv::load_state(const base::Json& state) {
     counter_.load_state(s.at("step_counter"));
     finish_.load_state(s.at("finish_line"));
     poses_.load_state(s.at("poses"));
+    if (strides_ && s.contains("strides") && !s.at("strides").is_null()) strides_->load_state(s.at("strides"));
     prev_root_x_ = s.at("prev_root_x").get<double>();
     start_root_x_ = s.value("start_root_x", prev_root_x_);
     outcome_ = outcome_of(s.at("outcome").get<std::string>());

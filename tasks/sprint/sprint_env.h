@@ -25,7 +25,9 @@
 /// layer's existing target map and spans the same rotations without the normalisation.
 ///
 /// Reward per control step (§2, §3.2): r_base = r_f + r_s + r_d, plus r_mass, r_diag and r_mirror
-/// with the preset's weights (0 switches one off); info names each term (sprint_env_info_names).
+/// with the preset's weights (0 switches one off), and r_primitive (primitive.h) at the control
+/// step a stride completes when a sport primitive is given and its weight is not 0; info names
+/// each term (sprint_env_info_names).
 ///
 /// The episode ends (terminated) on a fall (fallen_body), on leaving the lane (body_outside_lane:
 /// root or a foot) or at the finish (FinishLine, its time interpolated within the simulation
@@ -57,6 +59,7 @@
 #include "podium/character/imitation.h"
 #include "podium/character/motion.h"
 #include "podium/character/starts.h"
+#include "primitive.h"
 #include "sprint_preset.h"
 #include "steps.h"
 #include "track.h"
@@ -108,6 +111,9 @@ struct SprintEnvSettings {
   std::optional<EpisodeDraw> fixed_draw;
   /// When not empty, the Start mode: each episode imitates one of these (the preset's `start`).
   std::vector<StartReference> start_references;
+  /// The sport primitive r_primitive scores strides with (none: no r_primitive); the env keeps
+  /// each stride for take_strides() (the stage's metric and Φ2's training).
+  std::shared_ptr<const SportPrimitive> primitive;
   /// Keep each ended episode's distance (the root's x at its last step minus at its start), read
   /// with take_episode_distances(): training copies log them, as the learner reports only returns.
   bool log_distances = false;
@@ -119,7 +125,7 @@ std::vector<base::Json> load_handover_states(const std::string& path);
 void save_handover_states(const std::string& path, const std::vector<base::Json>& states);
 
 /// StepResult::info of SprintEnv, in order: forward, survival, lateral (r_f, r_s, r_d, weighted),
-/// mass, diagonal, mirror (weighted), steps, fell, left_lane, finished (0/1), finish_time_s (on
+/// mass, diagonal, mirror, primitive (weighted), steps, fell, left_lane, finished (0/1), finish_time_s (on
 /// the World's clock, 0 before the finish), wind_mps, friction (the episode's draw); in the Start
 /// mode also imitation (λ_i·r_I), landed, deviated (0/1) and reference (the index drawn).
 std::vector<std::string> sprint_env_info_names(bool start_mode = false);
@@ -168,6 +174,8 @@ class SprintEnv final : public character::CharacterEnv {
   /// The distances of the episodes ended since the last call (log_distances), m, in order; an
   /// episode ends here when the next one resets.
   std::vector<double> take_episode_distances();
+  /// The strides completed since the last call (with a sport primitive), K·F values each.
+  std::vector<std::vector<double>> take_strides();
 
  private:
   struct HandoverStart;
@@ -202,6 +210,10 @@ class SprintEnv final : public character::CharacterEnv {
   character::EarlyTermination early_;
   int reference_ = -1;
   std::optional<base::Json> landing_;
+  // Sport primitive
+  std::unique_ptr<character::PoseBridge> bridge_;
+  std::optional<StrideRecorder> strides_;
+  std::vector<std::vector<double>> completed_;
 };
 
 const char* to_string(SprintEnv::Outcome outcome);

@@ -54,8 +54,6 @@ SprintPreset read_sprint_preset(base::ConfigReader& r) {
     x.mirror_k = w.number("mirror_k", x.mirror_k, {0.0, 1e3}, "k of r_mirror, per rad²");
     x.diagonal = w.number("diagonal", x.diagonal, {0.0, 1e3}, "w_diag");
     x.diagonal_k = w.number("diagonal_k", x.diagonal_k, {0.0, 1e3}, "k_diag, per rad²");
-    x.primitive = w.number("primitive", x.primitive, {}, "w_primitive of r_primitive (§3.2): not built yet, so only 0");
-    if (x.primitive != 0.0) w.fail("primitive", "must be 0: r_primitive (the β-VAE sport primitive) is not built yet");
   });
   r.object("drag", [&](base::ConfigReader& d) {
     p.drag.air_density = d.number("air_density", p.drag.air_density, {0.0, 10.0}, "ρ, kg/m³");

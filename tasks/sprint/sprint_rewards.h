@@ -28,8 +28,8 @@ struct RewardWeights {
   double mirror_k = 1.0;    ///< k of r_mirror, per rad²
   double diagonal = 0.5;    ///< w_diag
   double diagonal_k = 2.0;  ///< k_diag, per rad²
-  /// w_primitive of §3.2's r_primitive (a β-VAE sport primitive over strides). Not built: the
-  /// presets hold it at 0 and the reader refuses any other value until the term exists.
+  /// w_primitive of §3.2's r_primitive (primitive.h: a β-VAE sport primitive over strides), given
+  /// at each completed stride: the accelerate stage's `primitive_weight`, not the track preset's.
   double primitive = 0.0;
 };
 

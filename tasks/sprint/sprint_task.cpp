@@ -35,7 +35,8 @@ TaskConfig read_task_config(base::ConfigReader& r) {
       r.choice("stage", c.stage, {"start", "accelerate", "dip", "race"},
                "start: the Start phase (§3.1), PPO on r_base + λ_i·r_imitation of our crouch starts to the first landing; "
                "accelerate: Acceleration + Top Speed (§3.2), PPO from the start trial's landings to the line on r_base + "
-               "r_mass + r_diag + r_mirror; dip: the Dip Finish (§3.3), one candidate (d_dip, θ_dip) on the frozen accelerate "
+               "r_mass + r_diag + r_mirror + r_primitive; dip: the Dip Finish (§3.3), one candidate (d_dip, θ_dip) on the frozen "
+               "accelerate "
                "policy from its snapshots before the line; race: the race report, the best start and accelerate trials over DR "
                "episodes (race.h)");
   c.start = read_start_train_settings(r);
@@ -57,7 +58,9 @@ TaskConfig config_from(const Json& config) { return base::ConfigReader::parse(co
 // smoke: seconds (16-16 networks, 4 iterations of 64 samples, 2 copies, 150 Hz simulation; the
 // mechanics only, no start is learnt). quick: 2 cores (256-128, 1024 samples per iteration,
 // 600 Hz until a lower rate is measured to give the same outcomes). paper: the jump's paper scale
-// (4096 samples per iteration, 1024-512, the seed gives no settings), budgets for Slurm.
+// (4096 samples per iteration, 1024-512, the seed gives no settings), budgets for Slurm. quick and
+// paper weigh r_primitive 2 per completed stride (ours: a stride lasts about 20 control steps, each
+// of which earns r_s = 1; smoke leaves it off), so their accelerate stage needs primitive_clips.
 Json presets() {
   return {{"smoke",
            {{"track", "smoke"},
@@ -81,6 +84,7 @@ Json presets() {
             {"total_samples", 2'000'000},
             {"sim_hz", 600.0},
             {"eval_every", 25},
+            {"primitive_weight", 2.0},
             {"eval_episodes", 8},
             {"final_episodes", 20},
             {"checkpoint_every", 10},
@@ -94,6 +98,7 @@ Json presets() {
             {"total_samples", 5000LL * 4096},
             {"sim_hz", 600.0},
             {"eval_every", 50},
+            {"primitive_weight", 2.0},
             {"eval_episodes", 16},
             {"final_episodes", 100},
             {"checkpoint_every", 10},
@@ -144,6 +149,9 @@ Json accelerate_metrics() {
   Json m = {
       plugins::metric_entry("accelerate/train_distance_m", "m", "mean distance of the training episodes ended in the iteration",
                             samples),
+      plugins::metric_entry("accelerate/primitive_reward", "",
+                            "mean exp(−k·KL) of the training strides ended in the iteration (a sport primitive)", samples),
+      plugins::metric_entry("accelerate/strides", "", "training strides ended in the iteration (a sport primitive)", samples),
       plugins::metric_entry("accelerate/return", "", "mean return of the test runs (deterministic policy)", samples),
       plugins::metric_entry("accelerate/finish_rate", "", "test runs over the track without a fall or leaving the lane", rate),
       plugins::metric_entry("accelerate/distance_m", "m", "mean distance the root covered in a test run", samples),
@@ -200,6 +208,7 @@ plugins::RunResult run_accelerate(const TaskConfig& c, const plugins::RunRequest
   result.info["starts"] = {{"source", source}, {"fallback", source.starts_with("fallback")}, {"count", count}};
   result.info["train_distance_first_tenth_m"] = out.distances.first_tenth();
   result.info["train_distance_last_tenth_m"] = out.distances.last_tenth();
+  result.info["primitive"] = out.primitive;
   result.info["summary"] = {
       {"finish rate", out.final.finish_rate},
       {"distance m", out.final.distance_m},

@@ -25,6 +25,28 @@ void read_accelerate_settings(base::ConfigReader& r, AccelerateSettings& s) {
   s.rise_lean_deg =
       r.number("rise_lean_deg", s.rise_lean_deg, {0.0, 90.0, true},
                "accelerate: the rise distance is where the trunk's lean from vertical drops below this for good, degrees");
+  s.primitive_weight =
+      r.number("primitive_weight", s.primitive_weight, {0.0, 1e3},
+               "accelerate: w_primitive of r_primitive (§3.2, the sport primitive), given per completed stride; 0: off");
+  PrimitiveSettings& p = s.primitive;
+  p.clips = r.objects(
+      "primitive_clips",
+      [](base::ConfigReader& c) { return c.file("clip", base::required, "a DeepMimic-format run in humanoid34's joint layout"); },
+      "accelerate: the sport primitive's reference runs (§3.2; e.g. ../shared/data's 3-4 m/s runs), needed when "
+      "primitive_weight is not 0");
+  p.frames = r.integer<int>("primitive_frames", p.frames, {2, 256}, "accelerate: K, frames per stride");
+  p.latent = r.integer<int>("primitive_latent", p.latent, {1, 64}, "accelerate: Φ1's latent size");
+  p.epochs = r.integer<int>("primitive_epochs", p.epochs, {1, 100'000}, "accelerate: Φ1's pretraining epochs");
+  p.beta = r.number("primitive_beta", p.beta, {0.0, 1e3}, "accelerate: Φ1's KL weight (β-VAE)");
+  p.reference_strides =
+      r.integer<int>("primitive_reference_strides", p.reference_strides, {2, 100'000}, "accelerate: n, the reference's strides");
+  p.k = r.number("primitive_k", p.k, {0.0, 1e6}, "accelerate: k of r_primitive = exp(−k·KL); 0: ln 2 / the held-out median KL");
+  p.online =
+      r.boolean("primitive_online", p.online, "accelerate: Φ2 trained online on the character's strides (false: Φ1's ablation)");
+  p.online_epochs =
+      r.integer<int>("primitive_online_epochs", p.online_epochs, {1, 1000}, "accelerate: Φ2's epochs per iteration");
+  p.online_buffer =
+      r.integer<int>("primitive_online_buffer", p.online_buffer, {1, 1'000'000}, "accelerate: Φ2's latest strides kept");
 }
 
 std::vector<Json> fallback_starts(const std::string& track, double sim_hz, std::optional<double> root_x_m) {
@@ -151,16 +173,28 @@ double DistanceTally::last_tenth() const {
   return n > 0 ? sum / static_cast<double>(n) : 0.0;
 }
 
-AccelerateStage::AccelerateStage(const AccelerateSettings& settings, std::vector<Json> starts, std::uint64_t seed)
-    : s_(settings), starts_(std::move(starts)), seed_(seed) {
+AccelerateStage::AccelerateStage(const AccelerateSettings& settings, std::vector<Json> starts, std::uint64_t seed,
+                                 fs::path work_dir)
+    : s_(settings), starts_(std::move(starts)), seed_(seed), work_dir_(std::move(work_dir)) {
   if (starts_.empty()) throw base::UserError("sprint accelerate: no start states");
+  if (s_.primitive_weight == 0.0) return;
+  if (s_.primitive.clips.empty())
+    throw base::UserError("sprint accelerate: primitive_weight is " + std::to_string(s_.primitive_weight) +
+                          " but primitive_clips is empty: the sport primitive needs reference runs");
+  const sim::ModelPtr model = sim::load_shipped_model(SprintEnvSettings{}.model);
+  primitive_ = std::make_shared<SportPrimitive>(strides_from_clips(model, SprintEnvSettings{}.control_hz, s_.primitive),
+                                                s_.primitive, base::derive_seed(seed_, 7));
 }
+
+Json AccelerateStage::primitive_summary() const { return primitive_ ? primitive_->summary() : Json(nullptr); }
 
 SprintEnvSettings AccelerateStage::env_settings() const {
   SprintEnvSettings e;
   e.preset = load_sprint_preset(s_.train.track);
   e.sim_hz = s_.train.sim_hz;
   e.handover_states = starts_;
+  e.primitive = primitive_;
+  e.preset.rewards.primitive = s_.primitive_weight;
   return e;
 }
 
@@ -181,10 +215,26 @@ Json AccelerateStage::learner_spec() const {
   return {{"algorithm", "ppo"}, {"preset", s_.train.ppo_preset}, {"config", s_.train.ppo}};
 }
 
-Json AccelerateStage::state() const { return {{"distances", tally_.per_iteration}}; }
+Json AccelerateStage::state() const {
+  Json state = {{"distances", tally_.per_iteration}};
+  if (primitive_ && s_.primitive.online) {  // Φ2 beside the checkpoint: the last two kept
+    const std::string name = "primitive_phi2_" + std::to_string(adaptations_) + ".pt";
+    primitive_->save_online(work_dir_ / name);
+    std::error_code ignored;
+    fs::remove(work_dir_ / ("primitive_phi2_" + std::to_string(adaptations_ - 2) + ".pt"), ignored);
+    state["primitive"] = {{"phi2", name}, {"adaptations", adaptations_}, {"buffer", stride_buffer_}};
+  }
+  return state;
+}
 
 void AccelerateStage::load_state(const Json& state) {
   tally_.per_iteration = state.at("distances").get<std::vector<std::pair<std::int64_t, double>>>();
+  if (primitive_ && s_.primitive.online && state.contains("primitive")) {
+    const Json& p = state.at("primitive");
+    primitive_->load_online(work_dir_ / p.at("phi2").get<std::string>());
+    adaptations_ = p.at("adaptations").get<int>();
+    stride_buffer_ = p.at("buffer").get<std::vector<std::vector<double>>>();
+  }
 }
 
 void AccelerateStage::on_iteration(const character::Iteration& iteration, learn::Learner&, const character::MetricFn& send) {
@@ -193,7 +243,28 @@ void AccelerateStage::on_iteration(const character::Iteration& iteration, learn:
   for (SprintEnv* env : copies_)
     for (const double d : env->take_episode_distances()) ++n, sum += d;
   tally_.per_iteration.emplace_back(n, sum);
-  if (n > 0) send("accelerate/train_distance_m", static_cast<double>(iteration.env_steps), sum / static_cast<double>(n));
+  const auto steps = static_cast<double>(iteration.env_steps);
+  if (n > 0) send("accelerate/train_distance_m", steps, sum / static_cast<double>(n));
+  if (primitive_) adapt_primitive(steps, send);
+}
+
+// §3.2: the iteration's strides scored (their mean r_primitive / w) and, with `online`, Φ2 trained
+// on the latest of them.
+void AccelerateStage::adapt_primitive(double steps, const character::MetricFn& send) {
+  std::vector<std::vector<double>> strides;
+  for (SprintEnv* env : copies_)
+    for (auto& stride : env->take_strides()) strides.push_back(std::move(stride));
+  if (strides.empty()) return;
+  double reward = 0.0;
+  for (const auto& stride : strides) reward += primitive_->reward(stride) / static_cast<double>(strides.size());
+  send("accelerate/primitive_reward", steps, reward);
+  send("accelerate/strides", steps, static_cast<double>(strides.size()));
+  if (!s_.primitive.online) return;
+  for (auto& stride : strides) stride_buffer_.push_back(std::move(stride));
+  const auto excess = static_cast<std::ptrdiff_t>(stride_buffer_.size()) - s_.primitive.online_buffer;
+  if (excess > 0) stride_buffer_.erase(stride_buffer_.begin(), stride_buffer_.begin() + excess);
+  primitive_->adapt(stride_buffer_);
+  ++adaptations_;
 }
 
 character::Figures AccelerateStage::test(const character::TestRound& round, learn::Learner& learner,
@@ -238,7 +309,7 @@ void AccelerateStage::record(const character::Recording& r) {
 
 AccelerateOutcome run_accelerate_trial(const AccelerateSettings& settings, std::vector<Json> starts,
                                        const character::StageRun& run) {
-  AccelerateStage stage(settings, std::move(starts), run.seed);
+  AccelerateStage stage(settings, std::move(starts), run.seed, run.work_dir);
   const character::StageOutcome done = character::run_training_stage(stage,
                                                                      {.name = "sprint accelerate",
                                                                       .total_steps = settings.train.total_samples,
@@ -254,6 +325,7 @@ AccelerateOutcome run_accelerate_trial(const AccelerateSettings& settings, std::
   out.trajectory = stage.trajectory();
   out.handovers = stage.handovers_file();
   out.samples = done.env_steps;
+  out.primitive = stage.primitive_summary();
   return out;
 }
 

@@ -1,8 +1,11 @@
 #pragma once
 /// The Acceleration + Top Speed stage (sprint seed §3.2): one PPO policy on copies of SprintEnv's
 /// plain mode from a set of hand-over states (the Start stage's landings) to the finish line, on
-/// r_base + r_mass + r_diag + r_mirror (r_primitive is not built: its preset weight is 0), through
-/// character's training-stage driver. Tested on held-out episodes (each its own DR draw); the
+/// r_base + r_mass + r_diag + r_mirror + r_primitive, through character's training-stage driver.
+/// With w_primitive (`primitive_weight`) not 0 the stage pretrains the sport primitive's Φ1 on
+/// `primitive_clips` (primitive.h) when it is built, and after every iteration trains Φ2 on the
+/// strides the copies ran (its `online` setting), Φ2 and its buffer checkpointed beside the
+/// driver's checkpoint. Tested on held-out episodes (each its own DR draw); the
 /// exported policy's snapshots a set distance before the line are written for the dip stage.
 #include <cstdint>
 #include <filesystem>
@@ -12,6 +15,7 @@
 #include <vector>
 
 #include "podium/character/training_stage.h"
+#include "primitive.h"
 #include "sprint_env.h"
 #include "train_start.h"
 
@@ -21,6 +25,8 @@ struct AccelerateSettings {
   StartTrainSettings train;             ///< track, simulation rate, PPO, copies, budget, tests (the start stage's keys)
   double handover_before_line_m = 8.0;  ///< the dip stage's snapshots: this far before the line (§3.3)
   double rise_lean_deg = 20.0;          ///< the rise: the trunk's lean from vertical below this for good
+  double primitive_weight = 0.0;        ///< w_primitive of r_primitive (§3.2); not 0 needs primitive.clips
+  PrimitiveSettings primitive;          ///< the sport primitive
 };
 /// Reads the stage's own keys (the shared ones: read_start_train_settings).
 void read_accelerate_settings(base::ConfigReader& r, AccelerateSettings& s);
@@ -58,7 +64,9 @@ struct DistanceTally {
 
 class AccelerateStage final : public character::TrainingStage {
  public:
-  AccelerateStage(const AccelerateSettings& settings, std::vector<base::Json> starts, std::uint64_t seed);
+  /// `work_dir` holds Φ2's checkpoint files (a sport primitive with `online`).
+  AccelerateStage(const AccelerateSettings& settings, std::vector<base::Json> starts, std::uint64_t seed,
+                  std::filesystem::path work_dir = {});
   void build(const base::Json& built) override;
   learn::VecEnv& envs() override { return *envs_; }
   base::Json learner_spec() const override;
@@ -77,13 +85,20 @@ class AccelerateStage final : public character::TrainingStage {
   const DistanceTally& distances() const { return tally_; }
   const std::filesystem::path& trajectory() const { return trajectory_; }
   const std::filesystem::path& handovers_file() const { return handovers_; }
+  /// The sport primitive's figures (primitive.h SportPrimitive::summary), null without one.
+  base::Json primitive_summary() const;
 
  private:
   SprintEnvSettings env_settings() const;
+  void adapt_primitive(double steps, const character::MetricFn& send);
 
   AccelerateSettings s_;
   std::vector<base::Json> starts_;
   std::uint64_t seed_;
+  std::filesystem::path work_dir_;
+  std::shared_ptr<SportPrimitive> primitive_;
+  std::vector<std::vector<double>> stride_buffer_;  // Φ2's latest strides, oldest first
+  int adaptations_ = 0;
   std::unique_ptr<learn::VecEnv> envs_;
   std::vector<SprintEnv*> copies_;
   DistanceTally tally_;
@@ -96,6 +111,7 @@ struct AccelerateOutcome {
   DistanceTally distances;
   std::filesystem::path policy, trajectory, handovers;
   std::int64_t samples = 0;
+  base::Json primitive;  ///< the sport primitive's figures, null without one
 };
 
 /// Runs the stage in `run.work_dir` (resuming from its checkpoint) from `starts`.

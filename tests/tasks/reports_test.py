@@ -64,6 +64,7 @@ def main(binary, source):
             stages[2]["inputs"].update(select="top", k=1)
 
         def cut_sprint(stages):
+            stages[1]["config"].pop("primitive_clips")  # off at smoke; its paths are relative to the campaign file
             stages[2]["budget"]["trials"] = 6  # one generation of λ = 6
 
         def cut_curves(stages):

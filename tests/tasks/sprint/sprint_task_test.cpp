@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -146,9 +147,32 @@ void expect_race_trial(const podium::testing::FinishedCampaign& campaign, const 
   EXPECT_NE(table.find("Race over 10 m: 2 DR episodes"), std::string::npos) << table;
 }
 
+// The accelerate stage's reference runs made absolute (the campaign gives them relative to its
+// file) and r_primitive switched on at the smoke preset (a short pretraining); without
+// ../shared/data beside the checkout it stays off and `missing` says why.
+void with_the_sport_primitive(Json& accelerate, std::string& missing) {
+  const fs::path folder = fs::path(PODIUM_SOURCE_DIR) / "campaigns";
+  Json& clips = accelerate["config"]["primitive_clips"];
+  for (Json& c : clips) {
+    const fs::path file = (folder / c["clip"].get<std::string>()).lexically_normal();
+    if (!fs::is_regular_file(file)) missing = file.string() + " absent: r_primitive stays off";
+    c["clip"] = file.string();
+  }
+  if (!missing.empty()) {
+    accelerate["config"].erase("primitive_clips");
+    return;
+  }
+  accelerate["config"]["primitive_weight"] = 1.0;
+  accelerate["config"]["primitive_epochs"] = 20;
+}
+
 TEST(SprintTask, SmokeCampaignRunsStartAccelerateDipAndTheRaceEndToEnd) {
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/sprint.json");
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  ASSERT_EQ(spec["stages"][1]["name"], "accelerate");
+  std::string missing;
+  with_the_sport_primitive(spec["stages"][1], missing);
+  if (!missing.empty()) std::printf("%s\n", missing.c_str());
   spec["trial_timeout_s"] = 120;
   ASSERT_EQ(spec["stages"][2]["name"], "dip");
   ASSERT_EQ(spec["stages"][2]["search"]["algorithm"], "cmaes");
@@ -208,6 +232,13 @@ TEST(SprintTask, SmokeCampaignRunsStartAccelerateDipAndTheRaceEndToEnd) {
     }
     for (const char* k : {"train_distance_first_tenth_m", "train_distance_last_tenth_m", "rise_distance_m", "flight_rate"})
       EXPECT_TRUE(t.result_info.contains(k)) << k;
+    // The sport primitive, pretrained on the runs: its strides, k and median KLs.
+    const Json& primitive = t.result_info["primitive"];
+    EXPECT_EQ(primitive.is_null(), !missing.empty()) << primitive;
+    if (!primitive.is_null()) {
+      EXPECT_GE(primitive["training_strides"].get<int>(), 10) << primitive;
+      EXPECT_GT(primitive["k"].get<double>(), 0.0) << primitive;
+    }
     // The dip stage's start set: hand-over states with their draws, one per run that got there.
     const std::vector<Json> dip = load_handover_states(artifact_file(campaign, dir.path(), t.id, "dip_starts"));
     EXPECT_EQ(static_cast<double>(dip.size()), t.result_info["handovers"].get<double>());

@@ -13,6 +13,8 @@ const campaign = JSON.parse(readFileSync(join(process.env.PODIUM_SOURCE_DIR, 'ca
 const stages = campaign.stages.filter(s => s.name !== 'dip').map(s => ({ ...s, preset: 'smoke' }));
 stages.find(s => s.name === 'race').inputs.stage = ['start', 'accelerate'];  // the dip is optional
 for (const s of stages.filter(s => s.name !== 'race')) s.budget = { trials: 1 };
+// The smoke preset leaves r_primitive off: its clips (paths relative to the campaign file) go.
+for (const s of stages) delete s.config.primitive_clips;
 const spec = { ...campaign, name: 'race-replay', workers: 2, retries: 0, trial_timeout_s: 120, stages };
 
 run('race-replay', async h => {

@@ -23,7 +23,7 @@ struct Range {
 /// (character/imitation.h; DeepMimic's by default), early termination, and the references' first
 /// landing (crouch_start.h).
 struct StartPreset {
-  double imitation_weight = 1.0;  ///< λ_i: reward r_base + λ_i·r_I
+  double imitation_weight = 10.0;  ///< λ_i: reward r_base + λ_i·r_I (presets: 10)
   character::ImitationWeights weights;
   double max_com_deviation_m = 0.5;  ///< ends the episode when the COM is this far from the reference's
   double min_pose_reward = 0.0;      ///< ends it when r_p falls to this (0: never)

@@ -112,6 +112,8 @@ Json start_metrics() {
   Json m = {
       plugins::metric_entry("start/return", "", "mean return of the test starts (deterministic policy)", samples),
       plugins::metric_entry("start/landing_rate", "", "test starts that reached the first landing", rate),
+      plugins::metric_entry("start/min_reference_landing_rate", "",
+                            "the lowest landing rate of a reference drawn in the test (the export's first criterion)", rate),
       plugins::metric_entry("start/tracking_error_rad", "rad",
                             "mean per-joint rotation error against the reference, √(Σ_j ‖q̂_j ⊖ q_j‖² / J) per step", samples),
       plugins::metric_entry("start/com_speed_ratio", "", "the COM's forward speed at the landing over the reference's", samples),

@@ -159,6 +159,7 @@ character::Figures StartStage::test(const character::TestRound& round, learn::Le
       env, [&](std::span<const double> o, std::span<double> a) { learner.act(o, a, true); }, s_.eval_episodes, s_.eval_seed);
   send("start/return", samples, e.return_mean);
   send("start/landing_rate", samples, e.landing_rate);
+  send("start/min_reference_landing_rate", samples, e.min_reference_landing_rate);
   send("start/tracking_error_rad", samples, e.tracking_error_rad);
   send("start/com_speed_ratio", samples, e.com_speed_ratio);
   char line[200];
@@ -166,12 +167,17 @@ character::Figures StartStage::test(const character::TestRound& round, learn::Le
                 "start: sample %.0f: return %.2f, landings %.2f, tracking error %.3f rad, COM speed %.2f of the reference's",
                 samples, e.return_mean, e.landing_rate, e.tracking_error_rad, e.com_speed_ratio);
   base::log_info(line);
-  return {{"landing_rate", e.landing_rate}, {"tracking_error_rad", e.tracking_error_rad}, {"return", e.return_mean}};
+  return {{"min_reference_landing_rate", e.min_reference_landing_rate},
+          {"landing_rate", e.landing_rate},
+          {"tracking_error_rad", e.tracking_error_rad},
+          {"return", e.return_mean}};
 }
 
+// Bar (a) asks every reference to land: the lowest per-reference rate first, then all landings,
+// then the tracking error.
 std::optional<character::ExportReason> StartStage::export_rule(const character::ExportRecord& tested,
                                                                const character::ExportRecord* exported) {
-  return character::best_by(tested, exported, {{"landing_rate"}, {"tracking_error_rad", false}});
+  return character::best_by(tested, exported, {{"min_reference_landing_rate"}, {"landing_rate"}, {"tracking_error_rad", false}});
 }
 
 void StartStage::record(const character::Recording& r) {

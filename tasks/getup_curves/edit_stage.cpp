@@ -62,6 +62,13 @@ void read_edit_settings(base::ConfigReader& r, EditSettings& s) {
       r.integer<int>("edit_point", s.point, {0, kKnots - 1}, "edit stage: the control point of h the param h_offset_m moves");
   s.episodes = r.integer<int>("edit_episodes", s.episodes, {0, 10'000},
                               "edit stage: test episodes per edit, from the test starts (0: test_starts)");
+  s.shipped_policy = r.file("edit_shipped_policy", s.shipped_policy,
+                            "edit stage without an input train trial: a shipped policy (TorchScript, e.g. "
+                            "tasks/getup_curves/policies/) to run on the edits");
+  s.shipped_cvae = r.file("edit_shipped_cvae", s.shipped_cvae,
+                          "edit stage with edit_shipped_policy: the pose C-VAE it acts through (actions \"cvae\"); empty: "
+                          "it acts on PD targets");
+  if (!s.shipped_cvae.empty() && s.shipped_policy.empty()) r.fail("edit_shipped_cvae", "is set without edit_shipped_policy");
 }
 
 Json edit_params() {

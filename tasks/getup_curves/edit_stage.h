@@ -26,6 +26,9 @@ struct EditSettings {
   std::string base_curve = "faceup";  ///< the curve edited: a shipped name or a path (as `curves`)
   int point = 5;                      ///< the control point of h the `h_offset_m` param moves (0–8)
   int episodes = 0;                   ///< test episodes per trial (0: the train stage's test_starts)
+  /// A shipped policy (TorchScript) run when no input train trial is given, acting through
+  /// `shipped_cvae` when set (actions "cvae"), else on PD targets (the demo's authoring stage).
+  std::string shipped_policy, shipped_cvae;
 };
 void read_edit_settings(base::ConfigReader& r, EditSettings& s);
 

@@ -200,12 +200,26 @@ double edit_param(const plugins::RunRequest& request, const std::string& name) {
   return p.at(name).get<double>();
 }
 
-// The edit stage: one input train trial (its policy, and its C-VAE when it acts through one).
-plugins::RunResult run_edit(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+// The edit stage's policy and action space: the shipped one when no input trial is given.
+plugins::InputTrial edit_input(const TaskConfig& c, const plugins::RunRequest& request) {
+  if (request.inputs.empty() && !c.edit.shipped_policy.empty()) {
+    plugins::InputTrial shipped;
+    shipped.stage = "shipped";
+    shipped.artifacts["policy"] = c.edit.shipped_policy;
+    if (!c.edit.shipped_cvae.empty()) shipped.artifacts["pose_cvae"] = c.edit.shipped_cvae;
+    return shipped;
+  }
   if (request.inputs.size() != 1 || !request.inputs.front().artifacts.count("policy"))
-    throw base::UserError("getup_curves edit: needs exactly one input train trial (its artifact policy), got " +
-                          std::to_string(request.inputs.size()) + " input trials");
-  const plugins::InputTrial& in = request.inputs.front();
+    throw base::UserError(
+        "getup_curves edit: needs exactly one input train trial (its artifact policy) or edit_shipped_policy, got " +
+        std::to_string(request.inputs.size()) + " input trials");
+  return request.inputs.front();
+}
+
+// The edit stage: one input train trial (its policy, and its C-VAE when it acts through one), or a
+// shipped policy.
+plugins::RunResult run_edit(const TaskConfig& c, const plugins::RunRequest& request, plugins::Sink& sink) {
+  const plugins::InputTrial in = edit_input(c, request);
   TrainSettings train = c.train;
   if (in.info.contains("action_space")) {  // the policy acts as it was trained to, whatever this stage's config says
     const Json& a = in.info.at("action_space");
@@ -237,7 +251,7 @@ plugins::RunResult run_edit(const TaskConfig& c, const plugins::RunRequest& requ
   result.info["curve_rise_time_s"] = rise_time_s(out.curve);  // the edited target's rise (the fit's, not the asked)
   result.info["curve_duration_s"] = out.curve.duration_s;
   result.info["average_return_rate"] = out.test.average_return_rate;
-  result.info["policy"] = in.stage + "/" + std::to_string(in.trial_index);
+  result.info["policy"] = in.stage == "shipped" ? c.edit.shipped_policy : in.stage + "/" + std::to_string(in.trial_index);
   result.info["summary"] = {{"curve T s", out.curve.duration_s},
                             {"success", f.success_rate},
                             {"h error m", result.info["h_error_m"]},

@@ -280,6 +280,40 @@ TEST(GetupCurvesCampaign, SmokeTrainsEndToEnd) {
   }
 }
 
+// The edit stage without an input trial runs a shipped policy (the demo's authoring stage): here
+// a smoke train trial's policy and its C-VAE as files.
+TEST(GetupCurvesCampaign, TheEditStageRunsAShippedPolicy) {
+  std::string missing;
+  Json spec = campaign_spec(missing);
+  for (auto& stage : spec["stages"]) stage["preset"] = "smoke";
+  stage_named(spec, "train")["budget"]["trials"] = 1;
+  stage_named(spec, "edit")["budget"]["trials"] = 2;
+  stage_named(spec, "edit")["search"] = {{"algorithm", "random"}};
+  spec["trial_timeout_s"] = 120;
+  podium::testing::TempDir dir;
+  const auto trained = podium::testing::run_campaign_to_end(dir.path(), spec);
+  const auto& train = trained.trials.at("train").at(0);
+  Json edit = stage_named(spec, "edit");
+  edit.erase("inputs");
+  for (const auto& a : trained.store->artifacts(train.id)) {
+    const fs::path file = fs::path(a.path).is_absolute() ? fs::path(a.path) : dir / a.path;
+    if (a.name == "policy") edit["config"]["edit_shipped_policy"] = file.string();
+    if (a.name == "pose_cvae") edit["config"]["edit_shipped_cvae"] = file.string();
+  }
+  EXPECT_EQ(edit["config"].contains("edit_shipped_cvae"), missing.empty());
+  Json shipped = spec;
+  shipped["name"] = "shipped";
+  shipped["stages"] = Json::array({edit});
+  podium::testing::TempDir again;
+  const auto run = podium::testing::run_campaign_to_end(again.path(), shipped);
+  ASSERT_EQ(run.trials.at("edit").size(), 2u);
+  for (const auto& t : run.trials.at("edit")) {  // done: the policy's observation and action fitted the env
+    EXPECT_EQ(t.features.size(), 27u);
+    EXPECT_EQ(t.result_info["policy"], edit["config"]["edit_shipped_policy"]);
+    EXPECT_EQ(run.artifact_names(t), (std::set<std::string>{"edited_curve", "curves", "trajectory"}));
+  }
+}
+
 // §5.4 end to end: a curve a limp character follows by lying still (h 5 cm: every episode a
 // success, with early termination off) and one success to unlock: the easy region opens to
 // training during the smoke run (curriculum/open_levels), the tests then report it, and the

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <utility>
@@ -13,6 +14,7 @@
 #include "podium/character/frames.h"
 #include "podium/character/observations.h"
 #include "podium/character/starts.h"
+#include "podium/sim/dynamics.h"
 
 namespace podium::tasks::getup_curves {
 
@@ -273,15 +275,80 @@ void CurveGetupEnv::filter_curve(base::Rng& rng) {
   episode_length_ = curve_episode_steps(curve(), settings_);
 }
 
-// §5.2 (ii): standing in the model's standing pose at the origin, turned uniformly, entered at the
-// curve's standing part (s = 1 from the first step), for T_stand. The seed takes standing frames of
-// its clips; our drop curves have none, so every curve's is the model's own standing pose.
+namespace {
+
+// The terrain's surface normal under (x, y): from the height's slope over ±1 cm; a step steeper
+// than 40° is a rough tile's edge, whose tops are level, so the normal is vertical there.
+Eigen::Vector3d surface_normal(const sim::Terrain& terrain, double x, double y) {
+  constexpr double d = 0.01;
+  const double gx = (terrain.height(x + d, y) - terrain.height(x - d, y)) / (2 * d);
+  const double gy = (terrain.height(x, y + d) - terrain.height(x, y - d)) / (2 * d);
+  if (std::hypot(gx, gy) > std::tan(40.0 * std::numbers::pi / 180.0)) return Eigen::Vector3d::UnitZ();
+  return Eigen::Vector3d(-gx, -gy, 1.0).normalized();
+}
+
+// The eight corners of a link's box geoms in the world (forward kinematics done on `d`).
+std::vector<Eigen::Vector3d> box_corners(const sim::CharacterModel& model, const sim::CharacterData& d, int link) {
+  std::vector<Eigen::Vector3d> corners;
+  for (const sim::Geom& g : model.links()[static_cast<std::size_t>(link)].geoms) {
+    if (g.type != sim::ShapeType::box) continue;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3d c((k & 1 ? 1 : -1) * g.half_extents.x(), (k & 2 ? 1 : -1) * g.half_extents.y(),
+                              (k & 4 ? 1 : -1) * g.half_extents.z());
+      const auto& l = d.links[static_cast<std::size_t>(link)];
+      corners.push_back(l.p + l.R * (g.pos + g.rot * c));
+    }
+  }
+  return corners;
+}
+
+}  // namespace
+
+// §5.2 (ii) off flat: each foot turned about its ankle so that its sole lies along the surface under
+// the foot's centre, then the character lifted so that no foot corner is below the surface (the
+// lower foot touches it; on rough tiles the other may hover by a tile's step).
+void CurveGetupEnv::place_feet(Eigen::VectorXd& q) {
+  const sim::CharacterModel& m = model();
+  const sim::Terrain& terrain = world().terrain();
+  sim::CharacterData d(m);
+  d.q = q;
+  sim::forward_kinematics(m, d);
+  for (const char* ankle : {"right_ankle", "left_ankle"}) {
+    const int link = m.find_link(ankle);
+    const sim::Link& l = m.links()[static_cast<std::size_t>(link)];
+    const auto& foot = d.links[static_cast<std::size_t>(link)];
+    const Eigen::Vector3d centre = foot.p + foot.R * l.geoms.front().pos;
+    const Eigen::Vector3d up = foot.R.col(2);  // the sole's normal: links are parallel to the world at q = 0
+    const Eigen::Quaterniond tilt = Eigen::Quaterniond::FromTwoVectors(up, surface_normal(terrain, centre.x(), centre.y()));
+    const Eigen::Matrix3d& parent = d.links[static_cast<std::size_t>(l.parent)].R;
+    const Eigen::Quaterniond joint = character::quat_at(q, l.q_index);
+    character::set_quat(q, l.q_index,
+                        (Eigen::Quaterniond(parent.transpose() * tilt.toRotationMatrix() * parent) * joint).normalized());
+  }
+  d.q = q;
+  sim::forward_kinematics(m, d);
+  double lift = -std::numeric_limits<double>::infinity();
+  for (const char* ankle : {"right_ankle", "left_ankle"})
+    for (const Eigen::Vector3d& c : box_corners(m, d, m.find_link(ankle)))
+      lift = std::max(lift, terrain.height(c.x(), c.y()) - c.z());
+  q(2) += lift;
+}
+
+// §5.2 (ii): standing in the model's standing pose, turned uniformly, entered at the curve's standing
+// part (s = 1 from the first step), for T_stand: on flat at the origin; on a harder level at a drop
+// site with its feet on the surface (place_feet). The seed takes standing frames of its clips; our
+// drop curves have none, so every curve's is the model's own standing pose.
 void CurveGetupEnv::begin_standing(base::Rng& rng) {
   Eigen::VectorXd q = model().standing_pose();
   const Eigen::Quaterniond turn(Eigen::AngleAxisd(rng.uniform(-std::numbers::pi, std::numbers::pi), Eigen::Vector3d::UnitZ()));
   const Eigen::Quaterniond root = turn * Eigen::Quaterniond(q(3), q(4), q(5), q(6));
   q(0) = q(1) = 0.0;
   q(3) = root.w(), q(4) = root.x(), q(5) = root.y(), q(6) = root.z();
+  if (level_ > 0) {
+    const DropSite site = drop_site(settings_.terrain, level_, rng);
+    q(0) = site.x_m, q(1) = site.y_m;
+    place_feet(q);
+  }
   world().set_state(q, Eigen::VectorXd::Zero(model().nv()));
   time_offset_s_ = curve().duration_s;
   episode_length_ = control_steps(settings_.stand_s, settings_.control_hz);
@@ -293,8 +360,8 @@ void CurveGetupEnv::begin_episode(base::Rng& rng) {
   // §5.4: a level among the open ones (nothing drawn while only flat is open); §5.2: a clip start on flat.
   level_ = fixed_level_ >= 0 ? fixed_level_ : open_levels_ > 1 ? static_cast<int>(rng.integer(0, open_levels_ - 1)) : 0;
   if (curve().start.kind == CurveStart::Kind::clip) level_ = 0;
-  // §5.2 (ii): a standing start, on flat only (nothing drawn with a share of 0).
-  standing_ = level_ == 0 && standing_share_ > 0.0 && rng.uniform(0.0, 1.0) < standing_share_;
+  // §5.2 (ii): a standing start, on any level (nothing drawn with a share of 0).
+  standing_ = standing_share_ > 0.0 && rng.uniform(0.0, 1.0) < standing_share_;
   episode_length_ = curve_episode_steps(curve(), settings_);
   time_offset_s_ = 0.0;
   termination_.reset();

@@ -94,8 +94,8 @@ struct CurveEnvSettings {
   /// The terrain's regions (§3.2) and the curriculum's size (§5.4); drops land on a level drawn
   /// uniformly among the open ones (set_open_levels), clip starts on flat.
   TerrainLevels terrain;
-  /// §5.2 (ii): the share of episodes on flat that start standing, entered at the curve's standing
-  /// part (ours: the seed gives no share; it found "several standing poses in the set of initial
+  /// §5.2 (ii): the share of episodes that start standing, entered at the curve's standing part;
+  /// off flat at a drop site with the feet turned to the surface (ours: the seed gives no share; it found "several standing poses in the set of initial
   /// states necessary for learning successful get-up motions").
   double standing_share = 0.0;
   /// §5.2: after a drop, a curve is used only when its initial torso angles are within this of the
@@ -157,7 +157,7 @@ class CurveGetupEnv final : public character::CharacterEnv {
   int episode_length() const { return episode_length_; }
   /// t − t0 of eq. 1: control time since the episode began (a standing start enters at T).
   double curve_time_s() const { return time_offset_s_ + step_index() * control_dt_s(); }
-  /// §5.2 (ii): the share of episodes on flat that start standing (settings' standing_share;
+  /// §5.2 (ii): the share of episodes that start standing (settings' standing_share;
   /// tests and evaluations set 0: the bars start lying).
   void set_standing_share(double share);
   /// Whether the current episode started standing.
@@ -191,6 +191,7 @@ class CurveGetupEnv final : public character::CharacterEnv {
   CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<const CurveSet> curves, Parts parts);
   void begin_episode(base::Rng& rng);
   void begin_standing(base::Rng& rng);
+  void place_feet(Eigen::VectorXd& q);
   void filter_curve(base::Rng& rng);
   void on_step(std::span<const double> y, learn::StepResult& out);
 

@@ -8,7 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <utility>
@@ -401,6 +403,59 @@ TEST(CurveGetupStarts, TheThirtyDegreeFilterReplacesACurveTheDropDoesNotMatch) {
   unfiltered.seed(11);
   unfiltered.reset(obs);
   EXPECT_EQ(unfiltered.curve_index(), 0);
+}
+
+// §5.2 (ii) off flat: a standing start on the hard level's 30° slope and ±10 cm tiles stands at a
+// drop site with each sole turned to the surface under it (its normal within 1° of the surface's),
+// the lower foot on the surface and no foot corner below it; the next half second it stays up.
+TEST(CurveGetupStarts, AStandingStartOffFlatTurnsTheFeetToTheSurface) {
+  CurveEnvSettings settings;
+  settings.terrain.levels = 4;
+  settings.standing_share = 1.0;
+  settings.early_termination = false;
+  CurveGetupEnv env(settings, make_curve_set({rising_curve(1.0, true)}, humanoid()));
+  env.set_open_levels(4);
+  env.use_level(3);
+  const sim::CharacterModel& m = env.model();
+  const sim::Terrain& terrain = env.world().terrain();
+  std::set<sim::TerrainRegion::Kind> kinds;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    env.seed(seed);
+    std::vector<double> obs;
+    env.reset(obs);
+    ASSERT_TRUE(env.standing_start());
+    const sim::CharacterData& d = env.world().data();
+    const int region = terrain.region_at(d.q(0), d.q(1));
+    ASSERT_GE(region, 4) << seed;  // the hard level's rough (4) or slope (5) half
+    kinds.insert(terrain.config().regions[static_cast<std::size_t>(region)].kind);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const char* ankle : {"right_ankle", "left_ankle"}) {
+      const int link = m.find_link(ankle);
+      const auto& foot = d.links[static_cast<std::size_t>(link)];
+      const bool slope = terrain.config().regions[static_cast<std::size_t>(region)].kind == sim::TerrainRegion::Kind::slope;
+      const Eigen::Vector3d normal =
+          slope ? Eigen::Vector3d(-std::sin(30.0 * kDeg), 0.0, std::cos(30.0 * kDeg)) : Eigen::Vector3d::UnitZ();
+      EXPECT_LT(std::acos(std::min(1.0, foot.R.col(2).dot(normal))), 1.0 * kDeg) << seed << " " << ankle;
+      const auto& g = m.links()[static_cast<std::size_t>(link)].geoms.front();
+      for (int k = 0; k < 8; ++k) {
+        const Eigen::Vector3d c((k & 1 ? 1 : -1) * g.half_extents.x(), (k & 2 ? 1 : -1) * g.half_extents.y(),
+                                (k & 4 ? 1 : -1) * g.half_extents.z());
+        const Eigen::Vector3d w = foot.p + foot.R * (g.pos + c);
+        const double above = w.z() - terrain.height(w.x(), w.y());
+        EXPECT_GT(above, -1e-9) << seed << " " << ankle;
+        lowest = std::min(lowest, above);
+      }
+    }
+    EXPECT_NEAR(lowest, 0.0, 1e-9) << seed;
+    const double neck = env.world().data().links[static_cast<std::size_t>(m.find_link("neck"))].p.z();
+    learn::StepResult out;
+    for (int step = 0; step < 15; ++step) env.step(hold(env), out);
+    const double after = env.world().data().links[static_cast<std::size_t>(m.find_link("neck"))].p.z();
+    std::printf("seed %llu, region %d: neck %.3f m, after 0.5 s %.3f m\n", static_cast<unsigned long long>(seed), region, neck,
+                after);
+    EXPECT_GT(after, neck - 0.3) << seed;  // not fallen within half a second
+  }
+  EXPECT_EQ(kinds.size(), 2u);  // both halves met
 }
 
 // §5.2 (ii): a standing start stands in the model's standing pose on flat, entered at the curve's

@@ -37,7 +37,7 @@ constexpr double kMaxEnergyJ = 2000.0;
 constexpr double kMaxPenetrationM = 0.05;
 
 // The standing check of the SPD stability test (root servo, model gains) at sim rate hz.
-bool standing_holds(const ModelPtr& model, double hz) {
+bool standing_holds(const ModelPtr& model, double hz, Control mode) {
   WorldConfig config;
   config.sim_hz = hz;
   config.control_hz = hz;
@@ -48,7 +48,7 @@ bool standing_holds(const ModelPtr& model, double hz) {
   world.set_gains(gains);
   const double h0 = world.observe().head_height_m;
   for (int k = 0; k < static_cast<int>(10 * hz); ++k) {
-    if (!world.control_step(Control::spd_maba, model->standing_pose()).ok || world.observe().head_height_m < 0.9 * h0)
+    if (!world.control_step(mode, model->standing_pose()).ok || world.observe().head_height_m < 0.9 * h0)
       return false;
   }
   return true;
@@ -60,7 +60,7 @@ struct Result {
   bool sane() const { return ok && max_energy < kMaxEnergyJ && lowest_m > -kMaxPenetrationM; }
 };
 
-Result run_bullet(const ModelPtr& model, double hz, std::uint64_t seed) {
+Result run_bullet(const ModelPtr& model, double hz, std::uint64_t seed, Control mode) {
   WorldConfig config;
   config.sim_hz = hz;
   config.control_hz = kControlHz;
@@ -76,7 +76,7 @@ Result run_bullet(const ModelPtr& model, double hz, std::uint64_t seed) {
     }
     const Eigen::VectorXd target = random_pose(*model, rng, 0.0);
     for (int s = 0; s < world.substeps() && r.ok; ++s) {
-      r.ok = world.sim_step(Control::spd_maba, target).ok;
+      r.ok = world.sim_step(mode, target).ok;
       r.lowest_m = std::min(r.lowest_m, lowest_geom_point(*model, world.data()));
     }
     r.max_energy = std::max(r.max_energy, world.kinetic_energy());
@@ -247,14 +247,22 @@ int main(int argc, char** argv) {
               "max KE J", "lowest m");
   double best_rtf = 0, best_dt = 0;
   for (double hz : rates) {
-    const bool stands = standing_holds(model, hz);
-    const Result r = median_of_3([&](std::uint64_t seed) { return run_bullet(model, hz, seed); });
+    const bool stands = standing_holds(model, hz, Control::spd_maba);
+    const Result r = median_of_3([&](std::uint64_t seed) { return run_bullet(model, hz, seed, Control::spd_maba); });
     std::printf("%-8s %8.2f %10s %12s %10.0f %9.1f %10.1f %10.3f\n", "podium", 1000.0 / hz, stands ? "holds" : "falls",
                 r.sane() ? "yes" : "NO", r.steps_per_s, r.rtf, r.max_energy, r.lowest_m);
     if (stands && r.sane() && best_dt == 0) {
       best_rtf = r.rtf;
       best_dt = 1.0 / hz;
     }
+  }
+  // The same checks with the PD inside the velocity solve (Control::spd_implicit), for its cost
+  // and its rates; the verdict below stays the SPD row's.
+  for (double hz : rates) {
+    const bool stands = standing_holds(model, hz, Control::spd_implicit);
+    const Result r = median_of_3([&](std::uint64_t seed) { return run_bullet(model, hz, seed, Control::spd_implicit); });
+    std::printf("%-8s %8.2f %10s %12s %10.0f %9.1f %10.1f %10.3f\n", "podium-i", 1000.0 / hz, stands ? "holds" : "falls",
+                r.sane() ? "yes" : "NO", r.steps_per_s, r.rtf, r.max_energy, r.lowest_m);
   }
   // Bad accelerations are counted per run (mjWARN_BADQACC) instead of printed into the table.
   mju_user_warning = [](const char*) {};

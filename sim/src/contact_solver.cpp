@@ -32,11 +32,18 @@ ContactSolver::ContactSolver(const CharacterModel& model, const btMultiBody& bod
   ground_included_.assign(points, 0);
 }
 
-void ContactSolver::step(CharacterData& data, double dt_s, btDispatcher* dispatcher, const Eigen::VectorXd* tau_external) {
+void ContactSolver::step(CharacterData& data, double dt_s, btDispatcher* dispatcher, const Eigen::VectorXd* tau_external,
+                         const Eigen::VectorXd* implicit) {
   data_ = &data;
   dt_ = dt_s;
   internal::mass_matrix_posed(model_, data);
-  data.llt.compute(data.M);
+  if (implicit) {
+    data.M.diagonal() += *implicit;  // factored with the PD's implicit part, then M restored
+    data.llt.compute(data.M);
+    data.M.diagonal() -= *implicit;
+  } else {
+    data.llt.compute(data.M);
+  }
   internal::bias_forces_posed(model_, data);  // also the link velocities at the start
   data.qdd = data.tau - data.C;
   if (tau_external) data.qdd += *tau_external;

@@ -73,7 +73,10 @@ class ContactSolver {
   /// the contacts in `dispatcher`'s manifolds (found at the current pose) and the joint limits.
   /// data must be posed (forward_kinematics at data.q); writes data.qdd (free acceleration), M,
   /// llt, C and link caches.
-  void step(CharacterData& data, double dt_s, btDispatcher* dispatcher, const Eigen::VectorXd* tau_external);
+  /// `implicit` (nv, or nullptr): a diagonal added to M for the whole step (the free motion and the
+  /// rows' responses), the implicit part of World's spd_implicit; data.M stays the model's.
+  void step(CharacterData& data, double dt_s, btDispatcher* dispatcher, const Eigen::VectorXd* tau_external,
+            const Eigen::VectorXd* implicit = nullptr);
   const WarmStarts& warm_starts() const { return warm_; }
   void set_warm_starts(const WarmStarts& warm) { warm_ = warm; }
 

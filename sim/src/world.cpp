@@ -10,6 +10,7 @@
 #include <BulletCollision/CollisionShapes/btCompoundShape.h>
 #include <BulletCollision/CollisionShapes/btSphereShape.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -67,7 +68,9 @@ World::World(const ModelPtr& model, const WorldConfig& config)
       terrain_(config.terrain),
       data_(*model_),
       gains_(Gains::from_model(*model_)),
-      limits_(model_->nv()) {
+      limits_(model_->nv()),
+      implicit_(Eigen::VectorXd::Zero(model_->nv())),
+      qd_before_(Eigen::VectorXd::Zero(model_->nv())) {
   const double ratio = config_.sim_hz / config_.control_hz;
   if (!(config_.sim_hz > 0) || !(config_.control_hz > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 || ratio < 1)
     throw base::UserError("sim: control_hz " + std::to_string(config_.control_hz) + " does not divide sim_hz " +
@@ -288,9 +291,12 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
     case Control::spd_maba:
       internal::stable_pd_maba_posed(*model_, data_, gains_, command, dt_s());
       break;
+    case Control::spd_implicit:
+      implicit_pd(command);
+      break;
   }
   if (mode == Control::torque) data_.tau.head<6>().setZero();
-  if (config_.torque_limits) {
+  if (config_.torque_limits && mode != Control::spd_implicit) {
     limits_ = model_->torque_limits() * config_.strength;
     const int nj = model_->nv() - 6;  // the root servo (if any) is not a motor: no limit
     data_.tau.tail(nj) = data_.tau.tail(nj).cwiseMax(-limits_.tail(nj)).cwiseMin(limits_.tail(nj));
@@ -309,7 +315,10 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
   }
   Bullet& b = *bullet_;
   b.detect_contacts();  // at the pose the step starts from
-  b.solver->step(data_, dt_s(), b.world->getDispatcher(), extra ? &tau_external_ : nullptr);
+  const bool implicit = mode == Control::spd_implicit;
+  if (implicit) qd_before_ = data_.qd;
+  b.solver->step(data_, dt_s(), b.world->getDispatcher(), extra ? &tau_external_ : nullptr, implicit ? &implicit_ : nullptr);
+  if (implicit) data_.tau -= implicit_.cwiseProduct(data_.qd - qd_before_) / dt_s();  // the torque the springs applied
   // Positions in our coordinates: Bullet keeps base velocities in world frame at the COM, and a
   // round trip through them loses the ω × v and ω × (ω × c) terms of a step (measured: ragdolls
   // gained hundreds of joules). Bullet gets the new pose for collision detection only.
@@ -327,6 +336,25 @@ StepReport World::sim_step(Control mode, const Eigen::VectorXd& command) {
   }
   forward_kinematics(*model_, data_);
   return failure_;
+}
+
+// Control::spd_implicit: the spring-damper term Q = −Kp(q + Δt q̇ − q̄) − Kd q̇ (thesis eq. 2.20) as
+// the explicit torque and Δt(Kd + Δt Kp) on M's diagonal, so that the solve applies
+// Q − Δt(Kd + Δt Kp) q̈ = −Kp(q + Δt q̇⁺ − q̄) − Kd q̇⁺ with the contacts in q̈. Under torque limits, a
+// joint whose contact-free stable-PD torque passes its limit gets that torque clamped and nothing
+// implicit (an implicit spring cannot be bounded inside the solve).
+void World::implicit_pd(const Eigen::VectorXd& target) {
+  const double dt = dt_s();
+  implicit_.noalias() = dt * (gains_.kd + dt * gains_.kp);
+  if (config_.torque_limits) {
+    internal::stable_pd_maba_posed(*model_, data_, gains_, target, dt);  // data_.tau: the contact-free SPD torque
+    limits_ = model_->torque_limits() * config_.strength;
+    for (int i = 6; i < model_->nv(); ++i)
+      if (std::abs(data_.tau(i)) > limits_(i)) data_.Q(i) = std::clamp(data_.tau(i), -limits_(i), limits_(i)), implicit_(i) = 0.0;
+  } else {
+    internal::spd_spring_term(*model_, data_, gains_, target, dt);
+  }
+  data_.tau = data_.Q;
 }
 
 StepReport World::control_step(Control mode, const Eigen::VectorXd& command) {

@@ -5,9 +5,12 @@
 /// curve's targets at s = min((t − t0)/T, 1) (eq. 1; t0 = the episode's first control step).
 ///
 /// Rates (§5.6): control at 30 Hz; the seed simulates at 60 Hz with Vortex's implicit joint
-/// motors, which sim/'s SPD (outside the velocity solve) cannot match at 60 Hz (sim/README.md
-/// "Findings": a stance is not held), so the simulation rate is a setting, 600 Hz by default (the
-/// rate humanoid34 and the jumper are measured at). Gains and torque limits are the model's:
+/// motors, which sim/'s SPD outside the velocity solve (spd_maba) cannot match at 60 Hz
+/// (sim/README.md "Findings": a stance is not held). `control` spd_implicit puts the PD inside the
+/// solve, where humanoid34 on twice DeepMimic's gains stands unassisted at 60 Hz (sim test
+/// SpdStability.ThePdInsideTheSolveStandsUnassistedAt60Hz). The presets still train outside the
+/// solve at 600 Hz (the rate humanoid34 and the jumper are measured at) until a run at 60 Hz inside
+/// it is measured. Gains and torque limits are the model's:
 /// humanoid34's are DeepMimic's, as §3.1 asks ("the same as in DeepMimic").
 ///
 /// State (§3.3): s = [q p ω v w h t y_{t−1}], facing-invariant, no global position or heading:
@@ -73,9 +76,9 @@ std::shared_ptr<const CurveSet> make_curve_set(std::vector<StyleCurve> curves, c
                                                const std::filesystem::path& base_dir = {});
 
 struct CurveEnvSettings {
-  double sim_hz = 600.0;     ///< the seed's 60 Hz needs PD inside the velocity solve (see the file comment)
+  double sim_hz = 600.0;     ///< the seed's 60 Hz needs the PD inside the velocity solve (see the file comment)
   double control_hz = 30.0;  ///< §5.6
-  sim::Control control = sim::Control::spd_maba;
+  sim::Control control = sim::Control::spd_maba;  ///< spd_maba or spd_implicit (config `pd_solve`)
   /// How y becomes PD targets: "targets" (y is the target pose) or "cvae" (y = [z Δq] through `cvae`).
   std::string actions = "targets";
   std::shared_ptr<const learn::PoseVae> cvae;  ///< "cvae": the pose C-VAE (pose_cvae.h), shared read-only
@@ -95,8 +98,8 @@ struct CurveEnvSettings {
   /// uniformly among the open ones (set_open_levels), clip starts on flat.
   TerrainLevels terrain;
   /// §5.2 (ii): the share of episodes that start standing, entered at the curve's standing part;
-  /// off flat at a drop site with the feet turned to the surface (ours: the seed gives no share; it found "several standing poses in the set of initial
-  /// states necessary for learning successful get-up motions").
+  /// off flat at a drop site with the feet turned to the surface (ours: the seed gives no share; it found "several standing poses
+  /// in the set of initial states necessary for learning successful get-up motions").
   double standing_share = 0.0;
   /// §5.2: after a drop, a curve is used only when its initial torso angles are within this of the
   /// torso's (30°); 0: no filter.

@@ -29,11 +29,17 @@ Json learner_spec(const TrainSettings& s) { return {{"algorithm", "ppo"}, {"pres
 
 void read_env_settings(base::ConfigReader& r, CurveEnvSettings& e) {
   e.sim_hz = r.number("sim_hz", e.sim_hz, {.min = 0.0, .exclusive_min = true},
-                      "simulation rate, Hz, a whole multiple of 30 (the seed's 60 needs PD inside the velocity solve: "
+                      "simulation rate, Hz, a whole multiple of 30 (the seed's 60 needs pd_solve \"inside\": "
                       "curve_env.h)");
   const double ratio = e.sim_hz / e.control_hz;
   if (std::abs(ratio - std::round(ratio)) > 1e-9 || ratio < 1.0)
     r.fail("sim_hz", "is not a whole multiple of the control rate " + std::to_string(e.control_hz) + " Hz (§5.6)");
+  const std::string pd =
+      r.choice("pd_solve", e.control == sim::Control::spd_implicit ? "inside" : "outside", {"outside", "inside"},
+               "outside: stable PD by MABA before the contact solve; inside: the PD springs and dampers "
+               "implicit in the velocity solve with the contacts (sim's spd_implicit; as the seed's Vortex "
+               "motors: humanoid34 stands at 60 Hz with it)");
+  e.control = pd == "inside" ? sim::Control::spd_implicit : sim::Control::spd_maba;
   e.stand_s = r.number("stand_s", e.stand_s, {.min = 0.0, .max = 60.0}, "T_stand: an episode lasts T + T_stand (§5.5: 3 s)");
   e.early_termination =
       r.boolean("early_termination", e.early_termination, "§5.3's rule: r_task < 0.1 or the head down for more than 300 ms");

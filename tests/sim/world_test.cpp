@@ -76,6 +76,68 @@ TEST(SpdStability, StandsUnassistedAt800Hz) {
   EXPECT_GT(lowest, 0.95 * standing);
 }
 
+// The PD inside the velocity solve (Control::spd_implicit): humanoid34 on twice DeepMimic's gains
+// (kd = kp/10, torque limits on) stands unassisted for 5 s at the curve get-up seed's 60 Hz, where
+// SPD computed before the contact solve (spd_maba) falls at 60 and at 600 Hz alike: its ankle
+// stiffness is capped near I_foot/Δt² (sim/README.md). With DeepMimic's own gains the ankles
+// (2 × 300 N·m/rad against m g h_COM ≈ 560) are too weak for a passive stance in either mode.
+TEST(SpdStability, ThePdInsideTheSolveStandsUnassistedAt60Hz) {
+  const ModelPtr model = load_shipped_model("humanoid34");
+  const auto hold = [&](Control mode, double hz) {
+    WorldConfig config;
+    config.sim_hz = hz;
+    config.control_hz = 30;
+    World world(model, config);
+    Gains gains = Gains::from_model(*model);
+    gains.kp *= 2.0, gains.kd *= 2.0;
+    world.set_gains(gains);
+    HeadRange range{world.observe().head_height_m, world.observe().head_height_m};
+    for (int k = 0; k < 150; ++k) {
+      if (!world.control_step(mode, model->standing_pose()).ok) return HeadRange{-1.0, -1.0};
+      range.lowest = std::min(range.lowest, world.observe().head_height_m);
+      range.highest = std::max(range.highest, world.observe().head_height_m);
+    }
+    return range;
+  };
+  const double standing = World(model, WorldConfig{}).observe().head_height_m;
+  for (const double hz : {60.0, 600.0}) {
+    const HeadRange inside = hold(Control::spd_implicit, hz), outside = hold(Control::spd_maba, hz);
+    std::printf("%3.0f Hz, 5 s: head %.3f to %.3f m with the PD inside the solve, %.3f to %.3f m outside (standing %.3f)\n", hz,
+                inside.lowest, inside.highest, outside.lowest, outside.highest, standing);
+    EXPECT_GT(inside.lowest, 0.99 * standing) << hz;
+    EXPECT_LT(inside.highest, 1.01 * standing) << hz;
+    EXPECT_LT(outside.lowest, 0.5 * standing) << hz;  // fallen
+  }
+}
+
+// The law spd_implicit applies: τ = −Kp(q + Δt q̇⁺ − q̄) − Kd q̇⁺ with q̇⁺ the step's new velocity (what
+// data().tau reports), on a hinge not at its torque limit, in contact with the ground; and no
+// reported torque passes a limit.
+TEST(SpdStability, ThePdInsideTheSolveAppliesTheImplicitLaw) {
+  const ModelPtr model = load_shipped_model("humanoid34");
+  WorldConfig config;
+  config.sim_hz = 60;
+  config.control_hz = 60;
+  World world(model, config);
+  Eigen::VectorXd target = model->standing_pose();
+  const Link& knee = model->link("right_knee");
+  target(knee.q_index) -= 0.3;
+  const Gains gains = Gains::from_model(*model);
+  for (int k = 0; k < 30; ++k) {
+    const Eigen::VectorXd q = world.data().q;
+    ASSERT_TRUE(world.control_step(Control::spd_implicit, target).ok);
+    const double qd = world.data().qd(knee.v_index), tau = world.data().tau(knee.v_index);
+    const double limit = model->torque_limits()(knee.v_index);
+    if (std::abs(tau) < limit - 1e-9) {
+      const double dt = 1.0 / config.sim_hz;
+      const double law =
+          -gains.kp(knee.v_index) * (q(knee.q_index) + dt * qd - target(knee.q_index)) - gains.kd(knee.v_index) * qd;
+      EXPECT_NEAR(tau, law, 1e-6 * std::max(1.0, std::abs(law))) << k;
+    }
+    for (int i = 6; i < model->nv(); ++i) EXPECT_LE(std::abs(world.data().tau(i)), model->torque_limits()(i) + 1e-9) << k;
+  }
+}
+
 TEST(SpdStability, DenseAndMabaGiveTheSameTrajectory) {
   const ModelPtr model = load_shipped_model("humanoid34");
   WorldConfig config;

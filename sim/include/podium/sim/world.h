@@ -21,6 +21,12 @@ enum class Control {
   pd,         ///< command = targets q̄ (nq); explicit PD
   spd_dense,  ///< command = targets q̄ (nq); stable PD by dense factorisation
   spd_maba,   ///< command = targets q̄ (nq); stable PD by MABA
+  /// command = targets q̄ (nq); the PD inside the velocity solve: the springs and dampers implicit
+  /// with the contacts and limits (as Vortex's joint motors and MuJoCo's implicit damping):
+  /// τ = −Kp(q + Δt q̇⁺ − q̄) − Kd q̇⁺ with q̇⁺ the step's new velocity, i.e. the contact solve runs
+  /// on M + Δt Kd + Δt² Kp. A joint whose stable-PD torque (spd_maba's, without contacts) passes its
+  /// limit gets that torque clamped, explicitly. data().tau reports the torque applied.
+  spd_implicit,
 };
 
 struct WorldConfig {
@@ -160,7 +166,9 @@ class World {
   Terrain terrain_;
   CharacterData data_;
   Gains gains_;
-  Eigen::VectorXd limits_;  // torque limits × strength scratch (nv)
+  Eigen::VectorXd limits_;                // torque limits × strength scratch (nv)
+  Eigen::VectorXd implicit_, qd_before_;  // spd_implicit: the diagonal added to M, q̇ at the step's start (nv)
+  void implicit_pd(const Eigen::VectorXd& target);
   std::unique_ptr<Bullet> bullet_;
   int substeps_ = 1;
   long long step_count_ = 0;

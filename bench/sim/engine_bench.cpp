@@ -48,8 +48,7 @@ bool standing_holds(const ModelPtr& model, double hz, Control mode) {
   world.set_gains(gains);
   const double h0 = world.observe().head_height_m;
   for (int k = 0; k < static_cast<int>(10 * hz); ++k) {
-    if (!world.control_step(mode, model->standing_pose()).ok || world.observe().head_height_m < 0.9 * h0)
-      return false;
+    if (!world.control_step(mode, model->standing_pose()).ok || world.observe().head_height_m < 0.9 * h0) return false;
   }
   return true;
 }

@@ -2,6 +2,8 @@
 // reference and r_primitive.
 #include "primitive.h"
 
+#include <unistd.h>
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
@@ -235,7 +237,9 @@ SportPrimitive::SportPrimitive(const learn::PoseDataset& strides, const Primitiv
               {"median_kl_heldout", held.empty() ? Json(nullptr) : Json(median(held))},
               {"reconstruction_rmse_rad", phi1_->reconstruction_rmse(heldout.size() > 0 ? heldout : train)}};
   if (settings.online) {  // Φ2 starts as a copy of Φ1
-    const fs::path file = fs::temp_directory_path() / ("podium-phi1-" + std::to_string(base::derive_seed(seed, 3)) + ".pt");
+    // A file of this process and object: trials of one seed may run side by side.
+    const fs::path file = fs::temp_directory_path() / ("podium-phi1-" + std::to_string(::getpid()) + "-" +
+                                                       std::to_string(reinterpret_cast<std::uintptr_t>(this)) + ".pt");
     phi1_->save(file);
     phi2_ = learn::PoseVae::from_file(file);
     fs::remove(file);

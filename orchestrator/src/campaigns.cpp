@@ -104,9 +104,10 @@ std::int64_t submit_campaign(const std::filesystem::path& database, const Json& 
         for (const auto& [name, value] : presets.items()) known += (known.empty() ? "" : ", ") + name;
         throw UserError(path + ".preset: \"" + s.preset + "\" is not a preset of task " + s.task + " (presets: " + known + ")");
       }
-      config.update(presets[s.preset]);
+      config.update(presets[s.preset], /*merge_objects=*/true);
     }
-    config.update(own_config);
+    // Merged key by key at every depth, so `config.ppo.lr = 1e-4` keeps the preset's other PPO keys.
+    config.update(own_config, /*merge_objects=*/true);
     // The task validates its resolved config: a value it rejects is named by its JSON path.
     Json description;
     try {

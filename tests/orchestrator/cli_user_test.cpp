@@ -230,6 +230,24 @@ TEST(CliUser, SubmitSetEditsTheSpecBeforeItIsCheckedAndStored) {
   EXPECT_EQ(all.size(), 1u) << all.dump();
 }
 
+// A nested key set over a preset changes that key only: the style-curve get-up's quick preset
+// carries a whole PPO object, and `--set ...ppo.lr_anneal_steps` keeps its other keys.
+TEST(CliUser, ANestedConfigKeyIsMergedOverThePresetKeyByKey) {
+  TempDir dir;
+  Json spec = one_stage("nested", "random", 1);
+  spec["stages"][0]["task"] = "getup_curves";
+  spec["stages"][0]["preset"] = "quick";
+  spec["stages"][0]["config"] = {{"stage", "train"}};
+  podium::testing::write_file(dir / "spec.json", spec.dump());
+  const auto ok = run_podium({"submit", "spec.json", "--set", "stages[0].config.ppo.lr_anneal_steps=5000000"}, dir.path());
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const auto store = podium::store::Store::open(dir / "podium.db", podium::store::Store::Access::read_only);
+  const Json ppo = store->stages(1).at(0).task_config.at("ppo");
+  EXPECT_EQ(ppo["lr_anneal_steps"], 5000000);
+  EXPECT_EQ(ppo["hidden"], Json({256, 256})) << ppo;  // the preset's, kept
+  EXPECT_EQ(ppo["sigma_anneal_steps"], 2200000) << ppo;
+}
+
 // The trials of a campaign as (index, params, objectives, features, strategy, state).
 std::vector<std::string> results(const TempDir& dir, const std::string& id) {
   std::vector<std::string> out;

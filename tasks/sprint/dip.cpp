@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <numbers>
+#include <stdexcept>
 
 #include "podium/base/error.h"
 #include "podium/base/rng.h"
@@ -147,10 +148,13 @@ DipEvaluator::DipEvaluator(const DipSettings& settings, const std::vector<Json>&
   actions_ = std::make_unique<DipActions>(envs_.front()->world().model_ptr(), s_.chest);
 }
 
-std::vector<DipEpisode> DipEvaluator::run(const character::PolicyFn& policy, const std::optional<DipParams>& dip) {
+std::vector<DipEpisode> DipEvaluator::run(const character::PolicyFn& policy, const std::optional<DipParams>& dip,
+                                          const std::atomic<bool>* cancel) {
   std::vector<DipEpisode> out;
-  for (std::size_t i = 0; i < envs_.size(); ++i)
+  for (std::size_t i = 0; i < envs_.size(); ++i) {
+    if (cancel && cancel->load()) throw std::runtime_error("sprint dip: cancelled");
     out.push_back(run_dip_episode(*envs_[i], base::derive_seed(s_.seed, i), policy, *actions_, dip, penalty_s_));
+  }
   return out;
 }
 

@@ -13,6 +13,7 @@
 /// the torso's front, interpolated within the simulation step); an episode that does not finish
 /// (a fall, leaving the lane, the time limit) scores the preset's fixed penalty.
 #include <Eigen/Core>
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -121,8 +122,10 @@ class DipEvaluator {
  public:
   /// Throws base::UserError when there are no snapshots.
   DipEvaluator(const DipSettings& settings, const std::vector<base::Json>& snapshots);
-  /// Every episode, in snapshot order, with `dip` (none: the policy alone).
-  std::vector<DipEpisode> run(const character::PolicyFn& policy, const std::optional<DipParams>& dip);
+  /// Every episode, in snapshot order, with `dip` (none: the policy alone). A set `cancel` stops
+  /// it between episodes (std::runtime_error).
+  std::vector<DipEpisode> run(const character::PolicyFn& policy, const std::optional<DipParams>& dip,
+                              const std::atomic<bool>* cancel = nullptr);
   std::size_t size() const { return envs_.size(); }
   /// The first snapshot's env (its observation and action spaces are every env's).
   const SprintEnv& env() const { return *envs_.front(); }

@@ -432,9 +432,9 @@ plugins::RunResult run_dip(const TaskConfig& c, const plugins::RunRequest& reque
                           " observations to " + std::to_string(frozen.action_size()) + " actions; the sprint env has " +
                           std::to_string(evaluator.env().observation_space().size()) + " and " +
                           std::to_string(evaluator.env().action_space().size()) + " (is it an accelerate trial's policy?)");
-  const std::vector<DipEpisode> none = evaluator.run(policy, std::nullopt);
+  const std::vector<DipEpisode> none = evaluator.run(policy, std::nullopt, request.cancel);
   sink.progress(0.5);
-  const std::vector<DipEpisode> with = evaluator.run(policy, dip);
+  const std::vector<DipEpisode> with = evaluator.run(policy, dip, request.cancel);
   const DipSummary a = DipSummary::of(none), b = DipSummary::of(with);
   int improved = 0, added_falls = 0;
   Json episodes = Json::array();

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -263,6 +264,31 @@ TEST(SprintDip, EveryCandidateRunsTheSameEpisodes) {
   for (const DipEpisode& e : one) sum += e.time_s;
   EXPECT_EQ(summary.mean_time_s, sum / 3.0);
   EXPECT_THROW(DipEvaluator(s, {}), base::UserError);
+}
+
+// A cancelled dip trial stops at the next episode rather than running its candidate's whole set.
+TEST(SprintDip, ACancelStopsTheEvaluationBetweenEpisodes) {
+  const std::vector<Json> starts = fallback_starts("smoke", kSimHz, 10.0 - 4.5);
+  DipSettings s;
+  s.sim_hz = kSimHz;
+  s.episodes = 3;
+  DipEvaluator evaluator(s, starts);
+  SprintEnv probe(smoke_with(starts));
+  const character::PolicyFn inner = reactive_policy(probe.observation_space().size(), probe.action_space().size(), 2);
+  std::atomic<bool> cancel = false;
+  int calls = 0;
+  const character::PolicyFn cancelling = [&](std::span<const double> o, std::span<double> a) {
+    ++calls;
+    cancel = true;  // asked to stop during the first episode
+    inner(o, a);
+  };
+  EXPECT_THROW(evaluator.run(cancelling, std::nullopt, &cancel), std::runtime_error);
+  const int first_episode = calls;
+  calls = 0;
+  cancel = false;
+  const character::PolicyFn counting = [&](std::span<const double> o, std::span<double> a) { ++calls, inner(o, a); };
+  ASSERT_EQ(evaluator.run(counting, std::nullopt, &cancel).size(), 3u);
+  EXPECT_LT(first_episode, calls);  // the first episode only, not all three
 }
 
 }  // namespace

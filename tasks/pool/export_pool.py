@@ -10,8 +10,13 @@ for the jump its deterministic test jump cleared the starting bar), its strategy
 technique; a trial that failed outright is a row with "finished": false; running or pending
 trials are left out (export again as the pool grows).
 
+A pool may come from several campaigns (e.g. one continued under a new seed): --append TABLE keeps
+that table's rows from other campaigns, replaces its rows from this one (exporting again is safe),
+and lists every campaign in "source"; each row names its campaign. The tables must describe the same
+box, features and strategy threshold.
+
 usage: export_pool.py --podium BIN --db DB --campaign NAME --stage NAME --out TABLE.json
-                      [--task jump] [--success POINTER] [--bar /z_reached_m]
+                      [--task jump] [--success POINTER] [--bar /z_reached_m] [--append TABLE]
 """
 import argparse
 import json
@@ -37,6 +42,29 @@ def run_json(cmd):
     return json.loads(out.stdout)
 
 
+def appended(path, table, campaign):
+    """`table` after the rows (and sources) of the table at `path` that come from other campaigns."""
+    with open(path, encoding="utf-8") as f:
+        old = json.load(f)
+    for key in ("params", "features", "strategy_threshold"):
+        if old.get(key) != table[key]:
+            sys.exit(f"export_pool: {path}: {key} is {json.dumps(old.get(key))}, not this export's {json.dumps(table[key])}")
+    sources = old.get("source", [])
+    sources = sources if isinstance(sources, list) else [sources]
+    kept_sources = [s for s in sources if s.get("campaign") != campaign]
+    kept_campaigns = {s.get("campaign") for s in kept_sources}
+    kept = []
+    for i, r in enumerate(old.get("rows", [])):
+        name = r.get("campaign", sources[0].get("campaign") if len(sources) == 1 else None)
+        if name is None:
+            sys.exit(f"export_pool: {path}: rows[{i}] names no campaign and the table has {len(sources)} sources")
+        if name in kept_campaigns:
+            kept.append(dict(r, campaign=name))
+    table["source"] = kept_sources + table["source"]
+    table["rows"] = kept + table["rows"]
+    return table
+
+
 def main():
     a = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     a.add_argument("--podium", required=True)
@@ -47,6 +75,7 @@ def main():
     a.add_argument("--task", default="jump")
     a.add_argument("--success", default=None, help="default: the task's success rule (its description's success.info)")
     a.add_argument("--bar", default="/z_reached_m")
+    a.add_argument("--append", default=None, help="a table whose rows of other campaigns are kept")
     args = a.parse_args()
     task = run_json([args.podium, "tasks", args.task, "--json", "--db", args.db])
     if args.success is None:
@@ -67,7 +96,7 @@ def main():
         missing = [n for n in names if n not in t["params"]]
         if missing:
             sys.exit(f"export_pool: trial {t['name']}: params lack {missing} (was the stage run on task {args.task}?)")
-        row = {"trial": t["trial"], "params": [t["params"][n] for n in names]}
+        row = {"campaign": args.campaign, "trial": t["trial"], "params": [t["params"][n] for n in names]}
         info = t.get("result") or {}
         if t["state"] == "failed":
             row.update(finished=False, success=False, features=None, bar_m=0.0, error=t.get("error", ""))
@@ -86,13 +115,15 @@ def main():
     if not rows:
         sys.exit(f"export_pool: campaign {args.campaign} stage {args.stage} has no finished trials yet")
     table = {
-        "source": {"campaign": args.campaign, "stage": args.stage, "task": args.task, "success": args.success,
-                   "recorded": len(rows), "trials_in_stage": sum(1 for t in trials if t["stage"] == args.stage)},
+        "source": [{"campaign": args.campaign, "stage": args.stage, "task": args.task, "success": args.success,
+                    "recorded": len(rows), "trials_in_stage": sum(1 for t in trials if t["stage"] == args.stage)}],
         "params": task["params"],
         "features": task["features"],
         "strategy_threshold": task["strategy_threshold"],
         "rows": rows,
     }
+    if args.append:
+        table = appended(args.append, table, args.campaign)
     with open(args.out, "w", encoding="utf-8") as f:
         json.dump(table, f, indent=1)
         f.write("\n")

@@ -210,6 +210,13 @@ std::string ConfigReader::file(const std::string& key, const std::string& fallba
   return v->get<std::string>();
 }
 
+std::string ConfigReader::path(const std::string& key, const std::string& fallback, const std::string& doc) {
+  const Json* v = take(key, false, {{"type", "string"}, {"format", "path"}, {"default", fallback}}, doc);
+  if (!v) return fallback;
+  if (!v->is_string()) fail_at(path_of(key), shown(*v) + " is not a string (a file or folder path)");
+  return v->get<std::string>();
+}
+
 std::string ConfigReader::file(const std::string& key, Required, const std::string& doc) {
   const Json* v = take(key, true, {{"type", "string"}, {"format", "file"}}, doc);
   if (!v) return "";

@@ -38,16 +38,24 @@ void check_inputs(const InputsSpec& inputs, const std::vector<store::NewStage>& 
 
 namespace fs = std::filesystem;
 
-// One file path of the spec: relative to the spec's folder, checked, made absolute (the scheduler,
-// its workers and a Slurm job all read the same file, whatever folder they start in).
-std::string resolved_file(const std::string& written, const fs::path& spec_dir, const std::string& json_path) {
+// One file path of the spec ("format": "file"; "path": a file or a folder): relative to the spec's
+// folder, checked, made absolute (the scheduler, its workers and a Slurm job all read the same
+// file, whatever folder they start in).
+std::string resolved_file(const std::string& written, const fs::path& spec_dir, const std::string& json_path,
+                          bool or_folder = false) {
   const fs::path as_written(written);
   const fs::path resolved = as_written.is_absolute() ? as_written : (spec_dir / as_written).lexically_normal();
   std::error_code ec;
-  if (!fs::is_regular_file(resolved, ec))
-    throw UserError(json_path + ": \"" + written + "\" is not a file (looked for " + resolved.string() +
-                    (as_written.is_absolute() ? ")" : "; a relative path is relative to the spec's folder)"));
+  if (!fs::is_regular_file(resolved, ec) && !(or_folder && fs::is_directory(resolved, ec)))
+    throw UserError(json_path + ": \"" + written + "\" is not a file" + (or_folder ? " or folder" : "") + " (looked for " +
+                    resolved.string() + (as_written.is_absolute() ? ")" : "; a relative path is relative to the spec's folder)"));
   return resolved.string();
+}
+
+// "file" or "path" (a file or a folder), or "" for any other format.
+std::string path_format(const Json& key) {
+  const std::string f = key.value("format", std::string());
+  return f == "file" || f == "path" ? f : "";
 }
 
 // The values of `config` (the spec's own stage config) that the task's config description
@@ -61,16 +69,16 @@ void resolve_files(Json& config, const Json& keys, const fs::path& spec_dir, con
     Json& value = config[name];
     const std::string at = base::json_path_join(path, name);
     const Json items = key.value("items", Json::object());
-    if (key.value("format", std::string()) == "file" && value.is_string() && !value.get<std::string>().empty()) {
-      value = resolved_file(value.get<std::string>(), spec_dir, at);
+    if (!path_format(key).empty() && value.is_string() && !value.get<std::string>().empty()) {
+      value = resolved_file(value.get<std::string>(), spec_dir, at, path_format(key) == "path");
     } else if (key.contains("keys") && value.is_object()) {
       resolve_files(value, key["keys"], spec_dir, at);
     } else if (value.is_array()) {
       for (std::size_t i = 0; i < value.size(); ++i) {
         const std::string element = at + "[" + std::to_string(i) + "]";
         if (items.contains("keys")) resolve_files(value[i], items["keys"], spec_dir, element);
-        else if (items.value("format", std::string()) == "file" && value[i].is_string() && !value[i].get<std::string>().empty())
-          value[i] = resolved_file(value[i].get<std::string>(), spec_dir, element);
+        else if (!path_format(items).empty() && value[i].is_string() && !value[i].get<std::string>().empty())
+          value[i] = resolved_file(value[i].get<std::string>(), spec_dir, element, path_format(items) == "path");
       }
     }
   }

@@ -69,10 +69,12 @@ TaskConfig read_task_config(base::ConfigReader& r) {
   jump.sim_hz = c.train.env.sim_hz;
   c.runup = read_runup_settings(r, jump);
   c.captured_motions =
-      r.string("captured_motions", c.captured_motions,
-               "folder of the captured Fosbury flop, straddle and scissor jumps (DeepMimic format, e.g. "
-               "data/motions/beyond of the authors' arpspoof/Jump): an explore trial is labelled by its nearest technique; "
-               "\"\": no label");
+      r.path("captured_motions", c.captured_motions,
+             "folder of the captured Fosbury flop, straddle and scissor jumps (DeepMimic format, e.g. "
+             "data/motions/beyond of the authors' arpspoof/Jump): an explore trial is labelled by its nearest technique; "
+             "\"\": no label");
+  if (!c.captured_motions.empty() && !std::filesystem::is_directory(c.captured_motions))
+    r.fail("captured_motions", "\"" + c.captured_motions + "\" is not a folder");
   return c;
 }
 

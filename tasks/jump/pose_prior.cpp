@@ -14,8 +14,8 @@ namespace fs = std::filesystem;
 PosePriorSettings read_pose_prior_settings(base::ConfigReader& r) {
   PosePriorSettings s;
   learn::VaeConfig& v = s.vae;
-  s.pose_set = r.string("pose_set", s.pose_set,
-                        "P-VAE training poses: empty: the shipped athlete set; a folder of DeepMimic clips; a pose-set .json");
+  s.pose_set = r.path("pose_set", s.pose_set,
+                      "P-VAE training poses: empty: the shipped athlete set; a folder of DeepMimic clips; a pose-set .json");
   v.epochs = r.integer<int>("vae_epochs", v.epochs, {.min = 1}, "P-VAE epochs (§3.4.2: 80)");
   v.latent_size = r.integer<int>("vae_latent_size", v.latent_size, {.min = 1}, "P-VAE latent dimension (§3.4.2: 13)");
   v.beta = r.number("vae_beta", v.beta, {.min = 0.0}, "P-VAE KL weight per pose (§3.4.2's 1e-5 × the minibatch of 128)");

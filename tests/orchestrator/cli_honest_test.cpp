@@ -49,8 +49,10 @@ TEST(CliHonest, SpecRelativeFilePathsRunFromAnyFolder) {
   write_file(dir / "data" / "policy.pt", "p\n");
   fs::create_directories(dir / "specs");
   fs::create_directories(dir / "elsewhere");
-  write_file(dir / "specs" / "spec.json",
-             probe_spec({{"data_file", "../data/x.txt"}, {"shipped", {{{"policy", "../data/policy.pt"}}}}}).dump());
+  write_file(
+      dir / "specs" / "spec.json",
+      probe_spec({{"data_file", "../data/x.txt"}, {"shipped", {{{"policy", "../data/policy.pt"}}}}, {"data_path", "../data"}})
+          .dump());
   // Submitted and run from a folder that is neither the spec's nor the files'.
   const std::string db = (dir / "podium.db").string();
   const auto submit = run_podium({"submit", "../specs/spec.json", "--db", db}, dir / "elsewhere");
@@ -66,6 +68,7 @@ TEST(CliHonest, SpecRelativeFilePathsRunFromAnyFolder) {
     EXPECT_TRUE(info["data_file"]["exists"].get<bool>());
     EXPECT_EQ(info["shipped"][0]["path"], (dir / "data" / "policy.pt").string()) << info;
     EXPECT_TRUE(info["shipped"][0]["exists"].get<bool>());
+    EXPECT_EQ(info["data_path"]["path"], (dir / "data").string()) << info;  // a folder ("format": "path")
   }
 }
 
@@ -80,6 +83,17 @@ TEST(CliHonest, AMissingFileFailsAtSubmitNamingThePathAsWrittenAndAsResolved) {
                                   "; a relative path is relative to the spec's folder)"))
       << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "podium.db"));
+  // A folder where a file is declared is refused; where a file or folder is ("format": "path"), a
+  // missing one is refused the same way.
+  fs::create_directories(dir / "specs" / "folder");
+  write_file(dir / "specs" / "spec.json", probe_spec({{"data_file", "folder"}}).dump());
+  EXPECT_TRUE(contains(run_podium({"submit", "specs/spec.json"}, dir.path()).err, "data_file: \"folder\" is not a file (looked"));
+  write_file(dir / "specs" / "spec.json", probe_spec({{"data_path", "nowhere"}}).dump());
+  const auto missing = run_podium({"submit", "specs/spec.json"}, dir.path());
+  EXPECT_EQ(missing.exit_code, 2);
+  EXPECT_TRUE(contains(missing.err, "stages[0].config.data_path: \"nowhere\" is not a file or folder (looked for "))
+      << missing.err;
   EXPECT_FALSE(fs::exists(dir / "podium.db"));
 }
 

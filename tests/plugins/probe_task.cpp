@@ -8,8 +8,9 @@
 // cancellable), fail_step / fail_attempts (throw after sending step fail_step's metric, on
 // attempts <= fail_attempts; -1: never), features (2, or 0 to declare none), reject (throw
 // base::UserError at once, on every attempt: a task's verdict on its input), data_file and
-// shipped[].policy (files, declared "format": "file": the spec's paths, resolved at submit; the
-// result info says what reached the task and whether it exists).
+// shipped[].policy (files, declared "format": "file") and data_path (a file or a folder, "format":
+// "path"): the spec's paths, resolved at submit; the result info says what reached the task and
+// whether it exists.
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -29,14 +30,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const Json kDefaults = {{"steps", 6},      {"checkpoint_every", 2}, {"sleep_s", 0.0},
-                        {"fail_step", -1}, {"fail_attempts", 1},    {"features", 2},
-                        {"reject", false}, {"data_file", ""},       {"shipped", Json::array()}};
+const Json kDefaults = {
+    {"steps", 6},    {"checkpoint_every", 2}, {"sleep_s", 0.0},  {"fail_step", -1},          {"fail_attempts", 1},
+    {"features", 2}, {"reject", false},       {"data_file", ""}, {"shipped", Json::array()}, {"data_path", ""}};
 
 // The config description (ConfigReader::describe's form) for the keys whose declaration matters
 // to the orchestrator: the files.
 const Json kFileKeys = {
     {{"key", "data_file"}, {"type", "string"}, {"format", "file"}, {"default", ""}},
+    {{"key", "data_path"}, {"type", "string"}, {"format", "path"}, {"default", ""}},
     {{"key", "shipped"},
      {"type", "array"},
      {"default", Json::array()},
@@ -100,6 +102,7 @@ class ProbeTask final : public plugins::Task {
                  {"previous_attempt", nullptr},
                  {"inputs", Json::array()}};
     if (!c["data_file"].get<std::string>().empty()) info["data_file"] = file_json(c["data_file"]);
+    if (!c["data_path"].get<std::string>().empty()) info["data_path"] = file_json(c["data_path"]);
     for (const auto& entry : c["shipped"]) info["shipped"].push_back(file_json(entry.value("policy", std::string())));
     if (request.previous_attempt)
       info["previous_attempt"] = {{"number", request.previous_attempt->number},

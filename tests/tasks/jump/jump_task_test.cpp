@@ -83,6 +83,28 @@ TEST(JumpTask, ABadConfigIsRejectedAtSubmitAtItsJsonPath) {
   EXPECT_NE(run.err.find("stages[1].config.copies: 0 is not"), std::string::npos) << run.err;
 }
 
+// The captured techniques' folder, relative to the spec's folder, reaches the workers absolute
+// (the trials run in their own folders); a file or a missing folder is refused at submit.
+TEST(JumpTask, TheCapturedTechniquesFolderIsResolvedAgainstTheSpecAtSubmit) {
+  podium::testing::TempDir dir;
+  fs::create_directories(dir / "specs" / "captures");
+  podium::testing::write_file(dir / "specs" / "captures" / "note.txt", "not a folder\n");
+  Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
+  spec["stages"][1]["config"]["captured_motions"] = "captures";
+  podium::testing::write_file(dir / "specs" / "spec.json", spec.dump());
+  const auto ok = podium::testing::run_podium({"submit", "specs/spec.json"}, dir.path());
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  const auto store = store::Store::open(dir / "podium.db", store::Store::Access::read_only);
+  EXPECT_EQ(store->stages(1).at(1).task_config["captured_motions"], (dir / "specs" / "captures").string());
+  for (const char* bad : {"captures/note.txt", "nowhere"}) {
+    spec["stages"][1]["config"]["captured_motions"] = bad;
+    podium::testing::write_file(dir / "specs" / "spec.json", spec.dump());
+    const auto refused = podium::testing::run_podium({"submit", "specs/spec.json"}, dir.path());
+    EXPECT_EQ(refused.exit_code, 2) << bad;
+    EXPECT_NE(refused.err.find("stages[1].config.captured_motions: "), std::string::npos) << refused.err;
+  }
+}
+
 // A shipped jump campaign (pose_vae → explore → novel) at the smoke preset, cut to
 // `explore_samples` Stage 1 samples and one novel trial for each of the two best of them. At smoke
 // no jump is learnt, so no explore trial clears its bar (the jump's success rule) or is a strategy,

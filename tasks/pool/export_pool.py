@@ -127,9 +127,9 @@ def main():
     with open(args.out, "w", encoding="utf-8") as f:
         json.dump(table, f, indent=1)
         f.write("\n")
+    rows = table["rows"]
     done = sum(r["finished"] for r in rows)
     print(f"{args.out}: {len(rows)} rows ({done} finished, {sum(r['success'] for r in rows)} successful)")
-
 
 if __name__ == "__main__":
     main()

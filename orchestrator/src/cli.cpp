@@ -515,11 +515,19 @@ int cmd_summary(int argc, char** argv) {
 int cmd_tasks(int argc, char** argv) {
   Command cmd;
   cmd.options.add_options()("task", po::value<std::string>(), "task name (default: every installed task)")("json", "print JSON")(
-      "all", "also the test plugins the build makes for podium's own tests");
+      "all", "also the test plugins the build makes for podium's own tests")(
+      "config", po::value<std::string>(), "describe NAME at this config (JSON object, e.g. '{\"stage\": \"novel\"}')");
   cmd.positional.add("task", 1);
-  if (!parse(cmd, "tasks", "[NAME] [--json] [--all]", argc, argv)) return 0;
+  if (!parse(cmd, "tasks", "[NAME] [--json] [--all] [--config JSON]", argc, argv)) return 0;
+  Json config = Json::object();
+  if (cmd.vm.count("config")) {
+    const std::string text = cmd.vm["config"].as<std::string>();
+    config = Json::parse(text, nullptr, false);
+    if (config.is_discarded() || !config.is_object())
+      throw podium::base::UserError("--config: " + text + " is not a JSON object");
+  }
   const Json tasks = podium::orchestrator::list_tasks(
-      worker_binary(), cmd.vm.count("task") ? cmd.vm["task"].as<std::string>() : "", cmd.vm.count("all") > 0);
+      worker_binary(), cmd.vm.count("task") ? cmd.vm["task"].as<std::string>() : "", cmd.vm.count("all") > 0, config);
   if (cmd.vm.count("json")) std::cout << (cmd.vm.count("task") ? tasks[0] : tasks).dump(2) << "\n";
   else std::cout << podium::orchestrator::format_tasks(tasks);
   return 0;

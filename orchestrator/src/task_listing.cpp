@@ -4,7 +4,9 @@
 #include <map>
 #include <sstream>
 
+#include "podium/base/config.h"
 #include "podium/base/error.h"
+#include "podium/base/json.h"
 #include "podium/plugins/loader.h"
 #include "podium/store/summary.h"
 #include "worker_process.h"
@@ -16,9 +18,14 @@ using base::Json;
 
 namespace {
 
-Json described(const fs::path& worker_binary, const std::string& name, const fs::path& file) {
+Json described(const fs::path& worker_binary, const std::string& name, const fs::path& file, const Json& config) {
   Json task = {{"name", name}, {"file", file.string()}};
-  task.update(describe_task_isolated(worker_binary, name, Json::object()));
+  try {
+    task.update(describe_task_isolated(worker_binary, name, config));
+  } catch (const base::ConfigError& e) {
+    throw base::UserError(base::json_path_join("--config", e.path()) + ": " + e.problem());
+  }
+  if (!config.empty()) task["described_with"] = config;
   return task;
 }
 
@@ -50,7 +57,8 @@ void format_keys(std::ostringstream& out, const Json& keys, const std::string& p
     const std::string type = key.at("type").get<std::string>();
     const Json items = key.value("items", Json::object());
     const auto kind = [](const Json& k) {
-      return k.value("format", std::string()) == "file" ? "file" : k.value("type", std::string("value"));
+      const std::string format = k.value("format", std::string());
+      return format == "file" || format == "path" ? format : k.value("type", std::string("value"));
     };
     const std::string shown_type = type == "array" ? "array of " + kind(items) + "s" : kind(key);
     const std::string fallback = key.value("required", false) ? "required" : key.contains("default") ? key["default"].dump() : "";
@@ -76,17 +84,18 @@ std::string range_list(const Json& entries) {
 
 }  // namespace
 
-Json list_tasks(const fs::path& worker_binary, const std::string& name, bool with_test_plugins) {
+Json list_tasks(const fs::path& worker_binary, const std::string& name, bool with_test_plugins, const Json& config) {
   const auto plugins = plugins::installed_plugins();
   if (!name.empty()) {
     const auto it = plugins.find(name);
-    return Json::array({described(worker_binary, name, it == plugins.end() ? fs::path() : it->second)});
+    return Json::array({described(worker_binary, name, it == plugins.end() ? fs::path() : it->second, config)});
   }
+  if (!config.empty()) throw base::UserError("--config describes one task: name it (podium tasks NAME --config JSON)");
   Json tasks = Json::array();
   for (const auto& [task, file] : plugins) {
     if (!with_test_plugins && plugins::is_test_plugin(file)) continue;
     try {
-      tasks.push_back(described(worker_binary, task, file));
+      tasks.push_back(described(worker_binary, task, file, Json::object()));
     } catch (const base::UserError& e) {
       tasks.push_back({{"name", task}, {"file", file.string()}, {"error", e.what()}});
     }
@@ -102,7 +111,8 @@ std::string format_tasks(const Json& tasks) {
       out << "  cannot be described: " << t["error"].get<std::string>() << "\n\n";
       continue;
     }
-    out << "  params (default config): " << range_list(t.value("params", Json::array())) << "\n";
+    const std::string at = t.contains("described_with") ? "config " + t["described_with"].dump() : "default config";
+    out << "  params (" << at << "): " << range_list(t.value("params", Json::array())) << "\n";
     out << "  features: " << range_list(t.value("features", Json::array())) << "\n";
     std::string metrics;
     for (const auto& m : t.value("metrics", Json::array()))

@@ -131,6 +131,28 @@ TEST(PodiumTasks, TextListsEveryInstalledTaskAndItsConfigKeys) {
   EXPECT_NE(all.out.find("cannot be described: "), std::string::npos) << all.out;
 }
 
+// `--config` describes a task at a config other than its default: its params follow `dim`; a value
+// the task rejects is one line naming --config's JSON path.
+TEST(PodiumTasks, ConfigDescribesTheTaskAtThatConfig) {
+  TempDir dir;
+  const auto r = run_podium({"tasks", "landscape", "--json", "--config", "{\"dim\": 2}"}, dir.path());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Json task = Json::parse(r.out);
+  EXPECT_EQ(task["params"].size(), 2u);
+  EXPECT_EQ(task["described_with"], Json({{"dim", 2}}));
+  const auto text = run_podium({"tasks", "landscape", "--config", "{\"dim\": 2}"}, dir.path());
+  EXPECT_NE(text.out.find("  params (config {\"dim\":2}): x0 [0, 1], x1 [0, 1]\n"), std::string::npos) << text.out;
+  for (const auto& [args, message] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"tasks", "landscape", "--config", "{\"dim\": 0}"}, "--config.dim: 0 is not"},
+           {{"tasks", "landscape", "--config", "[1]"}, "--config: [1] is not a JSON object"},
+           {{"tasks", "--config", "{\"dim\": 2}"}, "--config describes one task"}}) {
+    const auto bad = run_podium(args, dir.path());
+    EXPECT_EQ(bad.exit_code, 2) << bad.err;
+    EXPECT_NE(bad.err.find(message), std::string::npos) << bad.err;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  }
+}
+
 TEST(PodiumTasks, AnUnknownTaskIsOneLineAndExit2) {
   TempDir dir;
   const auto r = run_podium({"tasks", "no_such_task"}, dir.path());

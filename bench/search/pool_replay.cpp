@@ -11,7 +11,10 @@ namespace podium::bench::pool {
 
 SearchView::SearchView(const PoolTable& table, const std::string& origin)
     : space(search::Space::from_json(table.params_json, origin + ": params")),
-      features(search::Feature::list_from_json(table.features_json, origin + ": features")) {}
+      features(search::Feature::list_from_json(table.features_json, origin + ": features")) {
+  if (!table.orientation_json.is_null())
+    orientation = search::Feature::list_from_json(table.orientation_json.at("features"), origin + ": orientation.features");
+}
 
 search::Outcome outcome(const PoolTable& table) {
   return [&table](const std::vector<double>& x) -> std::optional<std::vector<double>> {
@@ -23,6 +26,15 @@ search::Outcome outcome(const PoolTable& table) {
 
 namespace {
 constexpr std::uint64_t kRandomExpectedSalt = 0x9001e;
+
+// Distinct successful strategies by the second feature set among the rows found so far (those
+// that recorded it).
+int orientation_count(const SearchView& view, const std::vector<const PoolRow*>& found, double threshold) {
+  std::vector<std::vector<double>> vectors;
+  for (const PoolRow* row : found)
+    if (row->success && row->orientation.size() == view.orientation.size()) vectors.push_back(row->orientation);
+  return search::count_strategies(view.orientation, vectors, threshold);
+}
 
 // One arm, one repetition: counts after each budget.
 void run_once(const PoolTable& table, const SearchView& view, const ReplayOptions& o, const std::string& arm, int rep,
@@ -38,7 +50,8 @@ void run_once(const PoolTable& table, const SearchView& view, const ReplayOption
   std::vector<bool> success;
   int failures = 0;
   std::set<std::string> techniques;
-  std::vector<int> s, sc, f, tq;
+  std::vector<const PoolRow*> rows;
+  std::vector<int> s, sc, f, tq, so, soc;
   for (int b : o.budgets) {
     while (static_cast<int>(found.size()) < b) {
       const auto proposals = search->ask(1);
@@ -50,17 +63,51 @@ void run_once(const PoolTable& table, const SearchView& view, const ReplayOption
       found.push_back(row.finished ? row.features : std::vector<double>(table.features.size(), 0.0));
       success.push_back(row.success);
       failures += row.success ? 0 : 1;
+      rows.push_back(&row);
       if (row.success && !row.technique.empty()) techniques.insert(row.technique);
     }
     tq.push_back(static_cast<int>(techniques.size()));
     s.push_back(search::count_strategies(view.features, found, table.strategy_threshold, &success));
     sc.push_back(search::count_strategies(view.features, found, 2.0 * table.strategy_threshold, &success));
     f.push_back(failures);
+    if (!view.orientation.empty()) {
+      so.push_back(orientation_count(view, rows, table.orientation_threshold));
+      soc.push_back(orientation_count(view, rows, 2.0 * table.orientation_threshold));
+    }
   }
   out.strategies[static_cast<std::size_t>(rep)] = s;
   out.strategies_coarse[static_cast<std::size_t>(rep)] = sc;
   out.failures[static_cast<std::size_t>(rep)] = f;
   out.techniques[static_cast<std::size_t>(rep)] = tq;
+  if (!view.orientation.empty()) {
+    out.orientations[static_cast<std::size_t>(rep)] = so;
+    out.orientations_coarse[static_cast<std::size_t>(rep)] = soc;
+  }
+}
+
+// The second feature set's ceiling, occupancy and random expectation at `threshold`.
+CountBaseline orientation_baseline(const PoolTable& table, const SearchView& view, const ReplayOptions& o, double threshold) {
+  CountBaseline c;
+  c.threshold = threshold;
+  std::vector<const PoolRow*> all;
+  for (const auto& row : table.rows) all.push_back(&row);
+  c.occupied = orientation_count(view, all, threshold);
+  if (c.occupied > 0) {
+    std::vector<double> low, high;
+    table.reachable(low, high, true);
+    c.ceiling = search::strategy_ceiling(view.orientation, threshold, low, high);
+  }
+  const search::Outcome lookup = [&table](const std::vector<double>& x) -> std::optional<std::vector<double>> {
+    const PoolRow& r = table.rows[table.nearest(x)];
+    if (!r.success || r.orientation.empty()) return std::nullopt;
+    return r.orientation;
+  };
+  for (int b : o.budgets) {
+    const std::uint64_t seed = base::derive_seed(o.first_seed, kRandomExpectedSalt, static_cast<std::uint64_t>(b));
+    c.random_expected.push_back(
+        search::expected_random_count(view.orientation, threshold, view.space, lookup, b, o.expected_draws, seed));
+  }
+  return c;
 }
 }  // namespace
 
@@ -74,6 +121,10 @@ ReplayResult replay(const PoolTable& table, const ReplayOptions& o) {
     runs.strategies_coarse.resize(static_cast<std::size_t>(o.reps));
     runs.failures.resize(static_cast<std::size_t>(o.reps));
     runs.techniques.resize(static_cast<std::size_t>(o.reps));
+    if (!view.orientation.empty()) {
+      runs.orientations.resize(static_cast<std::size_t>(o.reps));
+      runs.orientations_coarse.resize(static_cast<std::size_t>(o.reps));
+    }
     for (int rep = 0; rep < o.reps; ++rep) run_once(table, view, o, arm, rep, runs);
     r.arms[arm] = std::move(runs);
   }
@@ -99,6 +150,9 @@ ReplayResult replay(const PoolTable& table, const ReplayOptions& o) {
     r.random_expected_coarse.push_back(
         search::expected_random_count(view.features, 2.0 * tau, view.space, lookup, b, o.expected_draws, seed));
   }
+  if (!view.orientation.empty())
+    for (double scale : {1.0, 2.0})
+      r.orientation.push_back(orientation_baseline(table, view, o, scale * table.orientation_threshold));
   return r;
 }
 

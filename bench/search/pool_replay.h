@@ -4,7 +4,10 @@
 // by seed), and after each budget counts the distinct successful strategies it found
 // (search/strategies.h, at the pool's strategy threshold τ and at 2τ) and its failures (trials
 // that did not succeed). Beside them: the ceiling (the cells the pool's reachable feature range
-// meets) and random search's expected count (Monte Carlo over uniform draws of the box).
+// meets) and random search's expected count (Monte Carlo over uniform draws of the box). A table
+// with a second feature set (PoolTable::orientation: a jump's 3-D bar-frame rotation) gets the same
+// count, ceiling and expectation on it at its own threshold and twice it, for the same replays
+// (the searches see the first feature set only).
 #include <map>
 #include <string>
 #include <vector>
@@ -23,6 +26,7 @@ using tasks::pool::PoolTable;
 struct SearchView {
   search::Space space;
   std::vector<search::Feature> features;
+  std::vector<search::Feature> orientation;  ///< the table's second feature set (empty when none)
   /// Throws UserError naming `origin` when the table's params or features are not a task's.
   SearchView(const PoolTable& table, const std::string& origin);
 };
@@ -44,6 +48,16 @@ struct ReplayOptions {
 struct ArmRuns {
   std::vector<std::vector<int>> strategies, strategies_coarse, failures;  ///< at τ, at 2τ; failures
   std::vector<std::vector<int>> techniques;  ///< distinct nearest captured techniques among successes
+  /// Distinct successful strategies by the second feature set, at its τ and 2τ (empty without one).
+  std::vector<std::vector<int>> orientations, orientations_coarse;
+};
+
+/// One way of counting over the whole pool: its ceiling, the cells the pool's successes occupy and
+/// random search's expected count per budget.
+struct CountBaseline {
+  double threshold = 0.0;
+  int ceiling = 0, occupied = 0;
+  std::vector<double> random_expected;  ///< per budget
 };
 
 struct ReplayResult {
@@ -51,6 +65,8 @@ struct ReplayResult {
   int ceiling = 0, ceiling_coarse = 0;                          ///< at τ and 2τ
   int occupied = 0, occupied_coarse = 0;                        ///< cells the whole pool's successes occupy
   std::vector<double> random_expected, random_expected_coarse;  ///< per budget
+  /// The second feature set's, at its τ and 2τ (none without one).
+  std::vector<CountBaseline> orientation;
 };
 
 /// Runs the replay; throws UserError for an unknown arm or a bad search config.

@@ -5,7 +5,8 @@
 // pool's threshold τ and at 2τ), each arm's paired difference from random with its standard
 // error, failures per arm (trials that did not succeed), the ceiling (the cells the pool's
 // reachable feature range meets) and random's expected count (Monte Carlo over uniform draws),
-// and the mean number of distinct nearest captured techniques among each arm's successes.
+// and the mean number of distinct nearest captured techniques among each arm's successes; for a
+// table with a second feature set (a jump's 3-D bar-frame rotation), the same on it.
 // The thesis's schedule is `--bds-config '{"schedule": "thesis"}'`.
 // The thesis's claim (§3.7.2: BDS found 6 strategies in 10 samples where random found 3) reads as
 // reproduced at 10 samples when BDS ≥ 1.5 × random's mean with the paired difference beyond 2
@@ -17,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "bench_args.h"
 #include "pool_replay.h"
@@ -25,8 +27,11 @@ using podium::base::Json;
 using podium::bench::pool::mean_sd;
 
 namespace {
-void print_counts(const podium::bench::pool::ReplayResult& r, const std::vector<std::string>& arms, std::size_t b, bool coarse) {
-  const auto pick = [&](const podium::bench::pool::ArmRuns& runs) { return coarse ? runs.strategies_coarse : runs.strategies; };
+using Counts = std::vector<std::vector<int>>;
+using Pick = std::function<const Counts&(const podium::bench::pool::ArmRuns&)>;
+
+void print_counts(const podium::bench::pool::ReplayResult& r, const std::vector<std::string>& arms, std::size_t b,
+                  const Pick& pick) {
   for (const auto& arm : arms) {
     std::vector<double> v, fails, techniques;
     for (const auto& rep : pick(r.arms.at(arm))) v.push_back(rep[b]);
@@ -43,6 +48,19 @@ void print_counts(const podium::bench::pool::ReplayResult& r, const std::vector<
       std::printf("   − random: %+.2f ± %.2f (SE)", dm.mean, se);
     }
     std::printf("\n");
+  }
+}
+
+// One way of counting: its ceiling and occupancy, then per budget random's expectation and the arms.
+void print_section(const podium::bench::pool::ReplayResult& r, const podium::bench::pool::ReplayOptions& o,
+                   const std::string& what, double tau, int ceiling, int occupied, const std::vector<double>& expected,
+                   const Pick& pick) {
+  std::printf("\n%sτ = %.3g: ceiling %d (cells of the reachable range; the whole pool's successes occupy %d)\n", what.c_str(),
+              tau, ceiling, occupied);
+  for (std::size_t b = 0; b < o.budgets.size(); ++b) {
+    std::printf("  @%d samples: random's expected count %.2f; ceiling ≥ 2 × expected: %s\n", o.budgets[b], expected[b],
+                expected[b] > 0 && ceiling >= 2.0 * expected[b] ? "yes (comparable)" : "no (a search cannot show 2× here)");
+    print_counts(r, o.arms, b, pick);
   }
 }
 }  // namespace
@@ -87,17 +105,17 @@ int main(int argc, char** argv) {
     std::printf("reps %d paired by seed (first %llu), arms", o.reps, first_seed);
     for (const auto& a : o.arms) std::printf(" %s", a.c_str());
     std::printf("; %.1f s\n", seconds);
-    for (int coarse = 0; coarse < 2; ++coarse) {
-      const double tau = (1.0 + coarse) * table.strategy_threshold;
-      const int ceiling = coarse ? r.ceiling_coarse : r.ceiling, occupied = coarse ? r.occupied_coarse : r.occupied;
-      std::printf("\nτ = %.3g: ceiling %d (cells of the reachable range; the whole pool's successes occupy %d)\n", tau, ceiling,
-                  occupied);
-      for (std::size_t b = 0; b < o.budgets.size(); ++b) {
-        const double expected = coarse ? r.random_expected_coarse[b] : r.random_expected[b];
-        std::printf("  @%d samples: random's expected count %.2f; ceiling ≥ 2 × expected: %s\n", o.budgets[b], expected,
-                    expected > 0 && ceiling >= 2.0 * expected ? "yes (comparable)" : "no (a search cannot show 2× here)");
-        print_counts(r, o.arms, b, coarse == 1);
-      }
+    using podium::bench::pool::ArmRuns;
+    const double tau = table.strategy_threshold;
+    print_section(r, o, "", tau, r.ceiling, r.occupied, r.random_expected,
+                  [](const ArmRuns& a) -> const Counts& { return a.strategies; });
+    print_section(r, o, "", 2 * tau, r.ceiling_coarse, r.occupied_coarse, r.random_expected_coarse,
+                  [](const ArmRuns& a) -> const Counts& { return a.strategies_coarse; });
+    for (std::size_t k = 0; k < r.orientation.size(); ++k) {
+      const auto& c = r.orientation[k];
+      print_section(r, o, "second feature set (" + table.orientation_json.value("info", std::string()) + "), ", c.threshold,
+                    c.ceiling, c.occupied, c.random_expected,
+                    [k](const ArmRuns& a) -> const Counts& { return k == 0 ? a.orientations : a.orientations_coarse; });
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: %s\n", argv[0], e.what());

@@ -10,6 +10,11 @@ for the jump its deterministic test jump cleared the starting bar), its strategy
 technique; a trial that failed outright is a row with "finished": false; running or pending
 trials are left out (export again as the pool grows).
 
+A second feature set, counted beside the first (for the jump, the 3-D bar-frame rotation of its
+Stage 2): --orientation POINTER (a JSON pointer into the result info; for --task jump by default
+/bar_frame_rotation, "" for none) with --orientation-config CONFIG, the task config whose
+description declares those features and their threshold (for the jump by default {"stage": "novel"}).
+
 A pool may come from several campaigns (e.g. one continued under a new seed): --append TABLE keeps
 that table's rows from other campaigns, replaces its rows from this one (exporting again is safe),
 and lists every campaign in "source"; each row names its campaign. The tables must describe the same
@@ -17,6 +22,7 @@ box, features and strategy threshold.
 
 usage: export_pool.py --podium BIN --db DB --campaign NAME --stage NAME --out TABLE.json
                       [--task jump] [--success POINTER] [--bar /z_reached_m] [--append TABLE]
+                      [--orientation POINTER] [--orientation-config JSON]
 """
 import argparse
 import json
@@ -46,7 +52,7 @@ def appended(path, table, campaign):
     """`table` after the rows (and sources) of the table at `path` that come from other campaigns."""
     with open(path, encoding="utf-8") as f:
         old = json.load(f)
-    for key in ("params", "features", "strategy_threshold"):
+    for key in ("params", "features", "strategy_threshold") + (("orientation",) if "orientation" in old else ()):
         if old.get(key) != table[key]:
             sys.exit(f"export_pool: {path}: {key} is {json.dumps(old.get(key))}, not this export's {json.dumps(table[key])}")
     sources = old.get("source", [])
@@ -76,7 +82,13 @@ def main():
     a.add_argument("--success", default=None, help="default: the task's success rule (its description's success.info)")
     a.add_argument("--bar", default="/z_reached_m")
     a.add_argument("--append", default=None, help="a table whose rows of other campaigns are kept")
+    a.add_argument("--orientation", default=None, help="JSON pointer of a second feature set in the result info")
+    a.add_argument("--orientation-config", default=None, help="the task config that declares the second feature set")
     args = a.parse_args()
+    if args.orientation is None:
+        args.orientation = "/bar_frame_rotation" if args.task == "jump" else ""
+    if args.orientation_config is None:
+        args.orientation_config = '{"stage": "novel"}' if args.task == "jump" else "{}"
     task = run_json([args.podium, "tasks", args.task, "--json", "--db", args.db])
     if args.success is None:
         rule = task.get("success") or {}
@@ -86,6 +98,14 @@ def main():
     if not args.success.startswith("/") or not args.bar.startswith("/"):
         sys.exit("export_pool: --success and --bar are JSON pointers (they start with '/')")
 
+    orientation = None
+    if args.orientation:
+        if not args.orientation.startswith("/"):
+            sys.exit("export_pool: --orientation is a JSON pointer (it starts with '/')")
+        described = run_json([args.podium, "tasks", args.task, "--json", "--db", args.db, "--config", args.orientation_config])
+        orientation = {"info": args.orientation, "features": described["features"],
+                       "strategy_threshold": described["strategy_threshold"],
+                       "described_with": json.loads(args.orientation_config)}
     trials = run_json([args.podium, "export", args.campaign, "--format", "json", "--db", args.db])
     names = [p["name"] for p in task["params"]]
     features = [f["name"] for f in task["features"]]
@@ -111,6 +131,10 @@ def main():
             technique = pointer(info, "/nearest_technique/name")
             if technique:
                 row["technique"] = technique
+            if orientation:
+                value = pointer(info, args.orientation)
+                ok = isinstance(value, list) and len(value) == len(orientation["features"])
+                row["orientation"] = value if ok else None
         rows.append(row)
     if not rows:
         sys.exit(f"export_pool: campaign {args.campaign} stage {args.stage} has no finished trials yet")
@@ -122,6 +146,8 @@ def main():
         "strategy_threshold": task["strategy_threshold"],
         "rows": rows,
     }
+    if orientation:
+        table["orientation"] = orientation
     if args.append:
         table = appended(args.append, table, args.campaign)
     with open(args.out, "w", encoding="utf-8") as f:

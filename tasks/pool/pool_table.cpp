@@ -45,7 +45,7 @@ std::vector<Range> ranges(const Json& j, const std::string& path, bool need_para
   return out;
 }
 
-PoolRow parse_row(const Json& r, std::size_t dim, std::size_t nf, const std::string& path) {
+PoolRow parse_row(const Json& r, std::size_t dim, std::size_t nf, std::size_t n_orientation, const std::string& path) {
   PoolRow row;
   const Json& trial = field(r, "trial", path);
   if (!trial.is_number_integer()) throw UserError(path + ".trial: " + trial.dump() + " is not an integer");
@@ -63,6 +63,9 @@ PoolRow parse_row(const Json& r, std::size_t dim, std::size_t nf, const std::str
   row.bar_m = bar.get<double>();
   const Json& technique = r.value("technique", Json(""));
   row.technique = technique.is_string() ? technique.get<std::string>() : "";
+  const Json& orientation = r.value("orientation", Json(nullptr));
+  if (n_orientation > 0 && row.finished && !orientation.is_null())
+    row.orientation = numbers(orientation, n_orientation, path + ".orientation");
   return row;
 }
 }  // namespace
@@ -80,10 +83,20 @@ PoolTable PoolTable::parse(const Json& j, const std::string& origin) {
     throw UserError(origin + ": strategy_threshold: " + threshold.dump() + " is not a number > 0");
   t.strategy_threshold = threshold.get<double>();
   t.source = j.value("source", Json::object());
+  t.orientation_json = j.value("orientation", Json(nullptr));
+  if (!t.orientation_json.is_null()) {
+    const std::string at = origin + ": orientation";
+    t.orientation_features = ranges(field(t.orientation_json, "features", at), at + ".features", true);
+    const Json& tau = field(t.orientation_json, "strategy_threshold", at);
+    if (!tau.is_number() || !(tau.get<double>() > 0))
+      throw UserError(at + ".strategy_threshold: " + tau.dump() + " is not a number > 0");
+    t.orientation_threshold = tau.get<double>();
+  }
   const Json& rows = field(j, "rows", origin);
   if (!rows.is_array() || rows.empty()) throw UserError(origin + ": rows: expected a non-empty array");
   for (std::size_t i = 0; i < rows.size(); ++i)
-    t.rows.push_back(parse_row(rows[i], t.box.size(), t.features.size(), origin + ": " + base::json_path_index("rows", i)));
+    t.rows.push_back(parse_row(rows[i], t.box.size(), t.features.size(), t.orientation_features.size(),
+                               origin + ": " + base::json_path_index("rows", i)));
   return t;
 }
 
@@ -93,13 +106,16 @@ Json PoolTable::to_json() const {
     Json row = {{"trial", r.trial}, {"params", r.params}, {"finished", r.finished}, {"success", r.success}, {"bar_m", r.bar_m}};
     row["features"] = r.finished ? Json(r.features) : Json(nullptr);
     if (!r.technique.empty()) row["technique"] = r.technique;
+    if (!orientation_json.is_null()) row["orientation"] = r.orientation.empty() ? Json(nullptr) : Json(r.orientation);
     out.push_back(row);
   }
-  return {{"params", params_json},
-          {"features", features_json},
-          {"strategy_threshold", strategy_threshold},
-          {"source", source},
-          {"rows", out}};
+  Json table = {{"params", params_json},
+                {"features", features_json},
+                {"strategy_threshold", strategy_threshold},
+                {"source", source},
+                {"rows", out}};
+  if (!orientation_json.is_null()) table["orientation"] = orientation_json;
+  return table;
 }
 
 std::size_t PoolTable::nearest(const std::vector<double>& x) const {
@@ -121,15 +137,18 @@ std::size_t PoolTable::nearest(const std::vector<double>& x) const {
   return best;
 }
 
-void PoolTable::reachable(std::vector<double>& low, std::vector<double>& high) const {
-  low.assign(features.size(), std::numeric_limits<double>::infinity());
-  high.assign(features.size(), -std::numeric_limits<double>::infinity());
-  for (const auto& r : rows)
-    if (r.success)
-      for (std::size_t j = 0; j < features.size(); ++j) {
-        low[j] = std::min(low[j], r.features[j]);
-        high[j] = std::max(high[j], r.features[j]);
-      }
+void PoolTable::reachable(std::vector<double>& low, std::vector<double>& high, bool orientation) const {
+  const std::size_t n = orientation ? orientation_features.size() : features.size();
+  low.assign(n, std::numeric_limits<double>::infinity());
+  high.assign(n, -std::numeric_limits<double>::infinity());
+  for (const auto& r : rows) {
+    const std::vector<double>& v = orientation ? r.orientation : r.features;
+    if (!r.success || v.size() != n) continue;
+    for (std::size_t j = 0; j < n; ++j) {
+      low[j] = std::min(low[j], v[j]);
+      high[j] = std::max(high[j], v[j]);
+    }
+  }
 }
 
 }  // namespace podium::tasks::pool

@@ -26,6 +26,9 @@ struct PoolRow {
   std::vector<double> features;  ///< empty when not finished
   double bar_m = 0.0;            ///< the bar the trial reached (0 when not finished)
   std::string technique;         ///< nearest captured technique ("" when unknown)
+  /// The second feature set's values (PoolTable::orientation; a jump's 3-D bar-frame rotation):
+  /// empty when the table has none or the trial did not record it.
+  std::vector<double> orientation;
 };
 
 /// A named closed interval: one parameter of the box, or one feature's declared range.
@@ -42,6 +45,13 @@ struct PoolTable {
   double strategy_threshold = 0.0;
   base::Json source = base::Json::object();  ///< where the rows came from (campaign, stage, database)
   std::vector<PoolRow> rows;
+  /// Optional second feature set, counted beside the first (the issue's "3-D bar-frame
+  /// orientation count" for jumps): {"info": the result-info pointer it was read from, "features":
+  /// [...] as a task describes them, "strategy_threshold", "described_with": the task config that
+  /// declares them}; null when absent.
+  base::Json orientation_json = nullptr;
+  std::vector<Range> orientation_features;  ///< orientation_json's features (empty when absent)
+  double orientation_threshold = 0.0;
 
   /// Reads a table file; a malformed one is a UserError naming the file, the JSON path and value.
   static PoolTable load(const std::filesystem::path& file);
@@ -51,8 +61,9 @@ struct PoolTable {
 
   /// Index of the row nearest to x (Euclidean in the box scaled to [0,1]^d; ties: the first).
   std::size_t nearest(const std::vector<double>& x) const;
-  /// Per feature, the lowest and highest value of the successful rows (the reachable range).
-  void reachable(std::vector<double>& low, std::vector<double>& high) const;
+  /// Per feature, the lowest and highest value of the successful rows (the reachable range); with
+  /// `orientation`, of the second feature set over the successful rows that recorded it.
+  void reachable(std::vector<double>& low, std::vector<double>& high, bool orientation = false) const;
 };
 
 }  // namespace podium::tasks::pool

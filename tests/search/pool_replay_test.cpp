@@ -85,6 +85,56 @@ TEST(PoolReplay, RandomMatchesItsExpectationAndCountsStayUnderTheCeiling) {
   EXPECT_EQ(again.arms.at("random").strategies, r.arms.at("random").strategies);
 }
 
+// A second feature set (a jump's 3-D bar-frame rotation): here 2-D, (1 − x, 0), recorded by every
+// row but those below x = 0.1. It is counted beside the first for the same replays, at its own
+// threshold and twice it, with its ceiling and random's expectation, over the rows that recorded
+// it; the table keeps it through a round trip.
+TEST(PoolReplay, ASecondFeatureSetIsCountedBesideTheFirst) {
+  base::Json j = synthetic_table();
+  j["orientation"] = {{"info", "/rotation"},
+                      {"features", {{{"name", "a"}, {"low", 0.0}, {"high", 1.0}}, {{"name", "b"}, {"low", -1.0}, {"high", 1.0}}}},
+                      {"strategy_threshold", 0.1}};
+  for (auto& row : j["rows"]) {
+    const double x = row["params"][0].get<double>();
+    if (x >= 0.095) row["orientation"] = {1.0 - x, 0.0};
+  }
+  const PoolTable t = PoolTable::parse(j, "table.json");
+  EXPECT_TRUE(t.rows[3].orientation.empty());
+  EXPECT_EQ(t.rows[30].orientation, std::vector<double>({0.7, 0.0}));
+  EXPECT_TRUE(t.rows[50].orientation.empty());  // failed outright: nothing recorded
+  const PoolTable again = PoolTable::parse(t.to_json(), "round trip");
+  EXPECT_EQ(again.rows[30].orientation, t.rows[30].orientation);
+  EXPECT_EQ(again.orientation_threshold, 0.1);
+
+  ReplayOptions o;
+  o.reps = 100;
+  o.budgets = {5, 10};
+  o.arms = {"random"};
+  const ReplayResult r = replay(t, o);
+  ASSERT_EQ(r.orientation.size(), 2u);
+  // Successes that recorded it: x in [0.1, 0.79], so a in [0.21, 0.9]: cells 2–9 of 10 at 0.1
+  // (b's 20 cells: one), cells 1–4 of 5 at 0.2.
+  EXPECT_EQ(r.orientation[0].ceiling, 8);
+  EXPECT_EQ(r.orientation[0].occupied, 8);
+  EXPECT_EQ(r.orientation[1].ceiling, 4);
+  const auto& runs = r.arms.at("random");
+  ASSERT_EQ(runs.orientations.size(), 100u);
+  for (std::size_t b = 0; b < 2; ++b) {
+    std::vector<double> counts;
+    for (std::size_t k = 0; k < runs.orientations.size(); ++k) {
+      counts.push_back(runs.orientations[k][b]);
+      EXPECT_LE(runs.orientations[k][b], r.orientation[0].ceiling);
+      EXPECT_LE(runs.orientations_coarse[k][b], runs.orientations[k][b]);
+    }
+    const MeanSd m = mean_sd(counts);
+    EXPECT_NEAR(m.mean, r.orientation[0].random_expected[b], 4.0 * m.sd / std::sqrt(100.0) + 0.02) << o.budgets[b];
+  }
+  // Without one, nothing is counted.
+  const ReplayResult plain = replay(PoolTable::parse(synthetic_table(), "table.json"), o);
+  EXPECT_TRUE(plain.orientation.empty());
+  EXPECT_TRUE(plain.arms.at("random").orientations.empty());
+}
+
 // BDS's default treatment of failed samples (bds.h "Failed samples") against Algorithm 1 read
 // literally, on the same table and seeds: the literal reading explores into the failing end of
 // the box (x ≥ 0.795) more often than random does; modelling the success probability fails less.

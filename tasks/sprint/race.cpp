@@ -379,9 +379,15 @@ void add_track_lines(const fs::path& file, const TrackSpec& track) {
   for (const int side : {-1, 1})
     h["props"].push_back(box(side < 0 ? "lane_right" : "lane_left", 0.5 * (lane_from + lane_to),
                              y0 + side * (half_lane + 0.5 * w), 0.5 * (lane_to - lane_from), 0.5 * w));
-  std::ofstream out(file);
-  out << h.dump() << '\n' << rest;
-  if (!out) throw base::UserError(file.string() + ": cannot write the race motion");
+  // A new file renamed over the old: a trial killed mid-write leaves the recorder's whole file.
+  fs::path tmp = file;
+  tmp += ".lines";
+  {
+    std::ofstream out(tmp);
+    out << h.dump() << '\n' << rest;
+    if (!out.flush()) throw base::UserError(tmp.string() + ": cannot write the race motion");
+  }
+  fs::rename(tmp, file);
 }
 
 }  // namespace

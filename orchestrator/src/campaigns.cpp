@@ -59,7 +59,7 @@ std::string path_format(const Json& key) {
 }
 
 // The values of `config` (the spec's own stage config) that the task's config description
-// (`keys`, ConfigReader::describe's form) declares as files ("format": "file"), in nested objects
+// (`keys`, ConfigReader::describe's form) declares as files ("format": "file" or "path"), in nested objects
 // and arrays too, resolved by resolved_file. `path` is config's JSON path, for errors.
 void resolve_files(Json& config, const Json& keys, const fs::path& spec_dir, const std::string& path) {
   if (!config.is_object() || !keys.is_array()) return;
@@ -114,7 +114,7 @@ std::int64_t submit_campaign(const std::filesystem::path& database, const Json& 
       }
       config.update(presets[s.preset], /*merge_objects=*/true);
     }
-    // Merged key by key at every depth, so `config.ppo.lr = 1e-4` keeps the preset's other PPO keys.
+    // Merged key by key at every depth, so `config.ppo.policy_lr_start` alone keeps the preset's other PPO keys.
     config.update(own_config, /*merge_objects=*/true);
     // The task validates its resolved config: a value it rejects is named by its JSON path.
     Json description;

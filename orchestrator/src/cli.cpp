@@ -59,9 +59,9 @@ commands:
   summary CAMPAIGN... [--json] [--short]
                              per stage: trials done, the best trial, the strategies found, the task's
                              result tables; several campaigns: side by side, with discovery curves
-  tasks [NAME] [--json] [--all]
+  tasks [NAME] [--json] [--all] [--config JSON]
                              installed task plugins: params, features, metrics, presets, config keys
-                             (--all: with the test plugins)
+                             (--all: with the test plugins; --config: NAME described at that config)
   tool [TASK [COMMAND [ARGS...]]]
                              a task's command-line tool (alone: which tasks have one; TASK --help: its
                              commands), e.g. podium tool getup_curves edit faceup.json --out late.json

@@ -19,11 +19,12 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def trial_folder(podium, db, campaign, trial):
-    out = subprocess.run([podium, "log", campaign, trial, "--path", "--db", db], capture_output=True, text=True)
+def artifacts(podium, db, campaign):
+    """{trial name: {artifact name: path}} from `podium export --format json`."""
+    out = subprocess.run([podium, "export", campaign, "--format", "json", "--db", db], capture_output=True, text=True)
     if out.returncode != 0:
-        sys.exit(f"variations_bars: {trial}: {out.stderr.strip()}")
-    return os.path.dirname(out.stdout.strip())
+        sys.exit(f"variations_bars: {out.stderr.strip()}")
+    return {row["name"]: {a["name"]: a["path"] for a in row.get("artifacts", [])} for row in json.loads(out.stdout)}
 
 
 def main():
@@ -36,12 +37,13 @@ def main():
     with open(os.path.join(HERE, "highjump_variations.json"), encoding="utf-8") as f:
         variations = json.load(f)
     bars = [float(b) for b in args.bars.split(",")]
-    vae = os.path.join(trial_folder(args.podium, args.db, variations["name"], "pose_vae/0"), "pose_vae.pt")
+    files = artifacts(args.podium, args.db, variations["name"])
+    vae = files["pose_vae/0"]["pose_vae"]
     stages = []
     for stage in variations["stages"][1:]:
         box = stage["config"]["takeoff_box"]
         takeoff = [0.5 * (lo + hi) for lo, hi in box.values()]
-        policy = os.path.join(trial_folder(args.podium, args.db, variations["name"], stage["name"] + "/0"), "policy.pt")
+        policy = files[stage["name"] + "/0"]["policy"]
         world = {k: v for k, v in stage["config"].items() if k in ("gravity_mps2", "strength", "mass_scale", "joint_edits")}
         config = dict(world, stage="evaluate", kind="high_jump",
                       shipped=[{"policy": policy, "pose_vae": vae, "takeoff": takeoff, "z_m": z} for z in bars])

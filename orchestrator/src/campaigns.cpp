@@ -292,7 +292,13 @@ std::vector<Ordered> export_rows(const store::Store& store, std::int64_t campaig
       row["error"] = t.error;
       row["started_at"] = t.started_at;
       row["finished_at"] = t.finished_at;
-      if (json) row["result"] = Ordered::parse(t.result_info.dump());  // the task's free-form results (RunResult::info)
+      if (json) {
+        row["result"] = Ordered::parse(t.result_info.dump());  // the task's free-form results (RunResult::info)
+        Ordered artifacts = Ordered::array();                  // the files it left, as the dashboard lists them
+        for (const auto& a : store.artifacts(t.id))
+          artifacts.push_back({{"name", a.name}, {"path", a.path}, {"sha256", a.sha256}, {"size_bytes", a.size_bytes}});
+        row["artifacts"] = artifacts;
+      }
       if (metrics) {
         Ordered series = Ordered::object();
         for (const auto& m : store.metrics(t.id)) series[m.name].push_back({m.step, m.value});

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -55,6 +56,7 @@ TEST(Cli, Runs200TrialCampaignEndToEnd) {
     EXPECT_EQ(row["params"].size(), 3u);
     EXPECT_EQ(row["features"].size(), 2u);
     indices.insert(row["trial"].get<std::int64_t>());
+    EXPECT_TRUE(row["artifacts"].empty()) << row;  // this landscape writes no file
   }
   EXPECT_EQ(indices.size(), 200u);
   // A strategy id is the trial's feature grid cell (search/strategies.h at the task's threshold
@@ -103,6 +105,21 @@ bool some_trial_running(const TempDir& dir, const std::string& id) {
   for (const auto& t : store->campaign_trials(std::stoll(id)))
     if (t.state == "running") return true;
   return false;
+}
+
+// The JSON export names each trial's files (a script finds a trial's policy without the database).
+TEST(Cli, JsonExportListsEachTrialsArtifacts) {
+  TempDir dir;
+  const auto id = submit(dir, landscape_spec(2, {{"artifact", true}}));
+  ASSERT_EQ(run_podium({"run"}, dir.path()).exit_code, 0);
+  for (const auto& row : export_json(dir, id)) {
+    ASSERT_EQ(row["artifacts"].size(), 1u) << row;
+    EXPECT_EQ(row["artifacts"][0]["name"], "result");
+    const std::string path = row["artifacts"][0]["path"].get<std::string>();
+    EXPECT_TRUE(std::filesystem::path(path).is_absolute()) << path;
+    EXPECT_EQ(row["artifacts"][0]["size_bytes"].get<std::int64_t>(), static_cast<std::int64_t>(std::filesystem::file_size(path)));
+    EXPECT_EQ(row["artifacts"][0]["sha256"].get<std::string>().size(), 64u);
+  }
 }
 
 TEST(Cli, KillNineAtRandomMomentsLosesAndRepeatsNothing) {

@@ -16,11 +16,12 @@ SearchView::SearchView(const PoolTable& table, const std::string& origin)
     orientation = search::Feature::list_from_json(table.orientation_json.at("features"), origin + ": orientation.features");
 }
 
-search::Outcome outcome(const PoolTable& table) {
-  return [&table](const std::vector<double>& x) -> std::optional<std::vector<double>> {
+search::Outcome outcome(const PoolTable& table, bool orientation) {
+  return [&table, orientation](const std::vector<double>& x) -> std::optional<std::vector<double>> {
     const PoolRow& r = table.rows[table.nearest(x)];
-    if (!r.success) return std::nullopt;
-    return r.features;
+    const std::vector<double>& v = orientation ? r.orientation : r.features;
+    if (!r.success || v.empty()) return std::nullopt;
+    return v;
   };
 }
 
@@ -97,11 +98,7 @@ CountBaseline orientation_baseline(const PoolTable& table, const SearchView& vie
     table.reachable(low, high, true);
     c.ceiling = search::strategy_ceiling(view.orientation, threshold, low, high);
   }
-  const search::Outcome lookup = [&table](const std::vector<double>& x) -> std::optional<std::vector<double>> {
-    const PoolRow& r = table.rows[table.nearest(x)];
-    if (!r.success || r.orientation.empty()) return std::nullopt;
-    return r.orientation;
-  };
+  const search::Outcome lookup = outcome(table, true);
   for (int b : o.budgets) {
     const std::uint64_t seed = base::derive_seed(o.first_seed, kRandomExpectedSalt, static_cast<std::uint64_t>(b));
     c.random_expected.push_back(

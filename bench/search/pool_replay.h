@@ -31,9 +31,9 @@ struct SearchView {
   SearchView(const PoolTable& table, const std::string& origin);
 };
 
-/// The lookup as an Outcome: the nearest row's features when it succeeded, else nothing. The
-/// table must outlive it.
-search::Outcome outcome(const PoolTable& table);
+/// The lookup as an Outcome: the nearest row's features (with `orientation`, its second feature
+/// set's, when it recorded them) when it succeeded, else nothing. The table must outlive it.
+search::Outcome outcome(const PoolTable& table, bool orientation = false);
 
 struct ReplayOptions {
   std::vector<std::string> arms = {"bds", "random", "novelty"};

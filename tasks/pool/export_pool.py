@@ -53,8 +53,8 @@ def appended(path, table, campaign):
     with open(path, encoding="utf-8") as f:
         old = json.load(f)
     for key in ("params", "features", "strategy_threshold") + (("orientation",) if "orientation" in old else ()):
-        if old.get(key) != table[key]:
-            sys.exit(f"export_pool: {path}: {key} is {json.dumps(old.get(key))}, not this export's {json.dumps(table[key])}")
+        if old.get(key) != table.get(key):
+            sys.exit(f"export_pool: {path}: {key} is {json.dumps(old.get(key))}, not this export's {json.dumps(table.get(key))}")
     sources = old.get("source", [])
     sources = sources if isinstance(sources, list) else [sources]
     kept_sources = [s for s in sources if s.get("campaign") != campaign]

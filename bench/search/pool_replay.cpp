@@ -28,18 +28,32 @@ search::Outcome outcome(const PoolTable& table, bool orientation) {
 namespace {
 constexpr std::uint64_t kRandomExpectedSalt = 0x9001e;
 
-// Distinct successful strategies by the second feature set among the rows found so far (those
-// that recorded it).
-int orientation_count(const SearchView& view, const std::vector<const PoolRow*>& found, double threshold) {
+// Distinct successful strategies among `rows` by one counting's feature set (a row that did not
+// record the set is left out).
+int count(const SearchView& view, const Counting& c, const std::vector<const PoolRow*>& rows) {
+  const auto& features = c.orientation ? view.orientation : view.features;
   std::vector<std::vector<double>> vectors;
-  for (const PoolRow* row : found)
-    if (row->success && row->orientation.size() == view.orientation.size()) vectors.push_back(row->orientation);
-  return search::count_strategies(view.orientation, vectors, threshold);
+  for (const PoolRow* row : rows) {
+    const auto& v = c.orientation ? row->orientation : row->features;
+    if (row->success && v.size() == features.size()) vectors.push_back(v);
+  }
+  return search::count_strategies(features, vectors, c.threshold);
+}
+
+// The countings, without their baselines: the first feature set at τ and 2τ, the second's too.
+std::vector<Counting> countings(const PoolTable& table, const SearchView& view) {
+  std::vector<Counting> out;
+  for (bool orientation : {false, true}) {
+    if (orientation && view.orientation.empty()) break;
+    const double tau = orientation ? table.orientation_threshold : table.strategy_threshold;
+    for (double scale : {1.0, 2.0}) out.push_back({orientation, scale * tau, 0, 0, {}});
+  }
+  return out;
 }
 
 // One arm, one repetition: counts after each budget.
-void run_once(const PoolTable& table, const SearchView& view, const ReplayOptions& o, const std::string& arm, int rep,
-              ArmRuns& out) {
+void run_once(const PoolTable& table, const SearchView& view, const ReplayOptions& o, const std::vector<Counting>& countings,
+              const std::string& arm, int rep, ArmRuns& out) {
   search::SearchSetup setup;
   setup.space = view.space;
   setup.features = view.features;
@@ -47,64 +61,45 @@ void run_once(const PoolTable& table, const SearchView& view, const ReplayOption
   setup.seed = o.first_seed + static_cast<std::uint64_t>(rep);
   setup.config = o.configs.count(arm) ? o.configs.at(arm) : base::Json::object();
   auto search = search::make_search(arm, setup, "arms." + arm);
-  std::vector<std::vector<double>> found;
-  std::vector<bool> success;
   int failures = 0;
   std::set<std::string> techniques;
   std::vector<const PoolRow*> rows;
-  std::vector<int> s, sc, f, tq, so, soc;
+  const auto r = static_cast<std::size_t>(rep);
   for (int b : o.budgets) {
-    while (static_cast<int>(found.size()) < b) {
+    while (static_cast<int>(rows.size()) < b) {
       const auto proposals = search->ask(1);
       if (proposals.empty()) throw base::UserError("pool replay: " + arm + " proposed nothing");
       const PoolRow& row = table.rows[table.nearest(proposals[0].x)];
       search::Observation obs{proposals[0].id, row.finished, {}, row.features, row.success};
       if (row.finished) obs.objectives = {row.bar_m};
       search->tell({obs});
-      found.push_back(row.finished ? row.features : std::vector<double>(table.features.size(), 0.0));
-      success.push_back(row.success);
       failures += row.success ? 0 : 1;
       rows.push_back(&row);
       if (row.success && !row.technique.empty()) techniques.insert(row.technique);
     }
-    tq.push_back(static_cast<int>(techniques.size()));
-    s.push_back(search::count_strategies(view.features, found, table.strategy_threshold, &success));
-    sc.push_back(search::count_strategies(view.features, found, 2.0 * table.strategy_threshold, &success));
-    f.push_back(failures);
-    if (!view.orientation.empty()) {
-      so.push_back(orientation_count(view, rows, table.orientation_threshold));
-      soc.push_back(orientation_count(view, rows, 2.0 * table.orientation_threshold));
-    }
-  }
-  out.strategies[static_cast<std::size_t>(rep)] = s;
-  out.strategies_coarse[static_cast<std::size_t>(rep)] = sc;
-  out.failures[static_cast<std::size_t>(rep)] = f;
-  out.techniques[static_cast<std::size_t>(rep)] = tq;
-  if (!view.orientation.empty()) {
-    out.orientations[static_cast<std::size_t>(rep)] = so;
-    out.orientations_coarse[static_cast<std::size_t>(rep)] = soc;
+    out.techniques[r].push_back(static_cast<int>(techniques.size()));
+    out.failures[r].push_back(failures);
+    for (std::size_t c = 0; c < countings.size(); ++c) out.counts[c][r].push_back(count(view, countings[c], rows));
   }
 }
 
-// The second feature set's ceiling, occupancy and random expectation at `threshold`.
-CountBaseline orientation_baseline(const PoolTable& table, const SearchView& view, const ReplayOptions& o, double threshold) {
-  CountBaseline c;
-  c.threshold = threshold;
+// A counting's ceiling, occupancy and random expectation over the whole pool.
+void baseline(const PoolTable& table, const SearchView& view, const ReplayOptions& o, Counting& c) {
   std::vector<const PoolRow*> all;
   for (const auto& row : table.rows) all.push_back(&row);
-  c.occupied = orientation_count(view, all, threshold);
+  c.occupied = count(view, c, all);
+  const auto& features = c.orientation ? view.orientation : view.features;
   if (c.occupied > 0) {
     std::vector<double> low, high;
-    table.reachable(low, high, true);
-    c.ceiling = search::strategy_ceiling(view.orientation, threshold, low, high);
+    table.reachable(low, high, c.orientation);
+    c.ceiling = search::strategy_ceiling(features, c.threshold, low, high);
   }
-  const search::Outcome lookup = outcome(table, true);
+  const search::Outcome lookup = outcome(table, c.orientation);
   for (int b : o.budgets) {
     const std::uint64_t seed = base::derive_seed(o.first_seed, kRandomExpectedSalt, static_cast<std::uint64_t>(b));
     c.random_expected.push_back(
-        search::expected_random_count(view.orientation, threshold, view.space, lookup, b, o.expected_draws, seed));
+        search::expected_random_count(features, c.threshold, view.space, lookup, b, o.expected_draws, seed));
   }
-  return c;
 }
 }  // namespace
 
@@ -112,44 +107,17 @@ ReplayResult replay(const PoolTable& table, const ReplayOptions& o) {
   PODIUM_CHECK(o.reps > 0 && !o.budgets.empty(), "pool replay: reps and budgets must be positive");
   ReplayResult r;
   const SearchView view(table, "pool table");
+  r.countings = countings(table, view);
+  const auto reps = static_cast<std::size_t>(o.reps);
   for (const auto& arm : o.arms) {
     ArmRuns runs;
-    runs.strategies.resize(static_cast<std::size_t>(o.reps));
-    runs.strategies_coarse.resize(static_cast<std::size_t>(o.reps));
-    runs.failures.resize(static_cast<std::size_t>(o.reps));
-    runs.techniques.resize(static_cast<std::size_t>(o.reps));
-    if (!view.orientation.empty()) {
-      runs.orientations.resize(static_cast<std::size_t>(o.reps));
-      runs.orientations_coarse.resize(static_cast<std::size_t>(o.reps));
-    }
-    for (int rep = 0; rep < o.reps; ++rep) run_once(table, view, o, arm, rep, runs);
+    runs.failures.resize(reps);
+    runs.techniques.resize(reps);
+    runs.counts.assign(r.countings.size(), std::vector<std::vector<int>>(reps));
+    for (int rep = 0; rep < o.reps; ++rep) run_once(table, view, o, r.countings, arm, rep, runs);
     r.arms[arm] = std::move(runs);
   }
-  const double tau = table.strategy_threshold;
-  std::vector<double> low, high;
-  table.reachable(low, high);
-  std::vector<std::vector<double>> all;
-  std::vector<bool> success;
-  for (const auto& row : table.rows) {
-    all.push_back(row.finished ? row.features : std::vector<double>(table.features.size(), 0.0));
-    success.push_back(row.success);
-  }
-  r.occupied = search::count_strategies(view.features, all, tau, &success);
-  r.occupied_coarse = search::count_strategies(view.features, all, 2.0 * tau, &success);
-  if (r.occupied > 0) {
-    r.ceiling = search::strategy_ceiling(view.features, tau, low, high);
-    r.ceiling_coarse = search::strategy_ceiling(view.features, 2.0 * tau, low, high);
-  }
-  const auto lookup = outcome(table);
-  for (int b : o.budgets) {
-    const std::uint64_t seed = base::derive_seed(o.first_seed, kRandomExpectedSalt, static_cast<std::uint64_t>(b));
-    r.random_expected.push_back(search::expected_random_count(view.features, tau, view.space, lookup, b, o.expected_draws, seed));
-    r.random_expected_coarse.push_back(
-        search::expected_random_count(view.features, 2.0 * tau, view.space, lookup, b, o.expected_draws, seed));
-  }
-  if (!view.orientation.empty())
-    for (double scale : {1.0, 2.0})
-      r.orientation.push_back(orientation_baseline(table, view, o, scale * table.orientation_threshold));
+  for (auto& c : r.countings) baseline(table, view, o, c);
   return r;
 }
 

@@ -44,29 +44,28 @@ struct ReplayOptions {
   int expected_draws = 20000;                 ///< Monte Carlo draws for random's expected count
 };
 
-/// One arm's runs: [rep][budget] values.
-struct ArmRuns {
-  std::vector<std::vector<int>> strategies, strategies_coarse, failures;  ///< at τ, at 2τ; failures
-  std::vector<std::vector<int>> techniques;  ///< distinct nearest captured techniques among successes
-  /// Distinct successful strategies by the second feature set, at its τ and 2τ (empty without one).
-  std::vector<std::vector<int>> orientations, orientations_coarse;
+/// One way of counting distinct successful strategies: a feature set of the table (its first, or
+/// its second) at one threshold, with that count's baseline over the whole pool.
+struct Counting {
+  bool orientation = false;  ///< the table's second feature set, else its first
+  double threshold = 0.0;
+  int ceiling = 0;                      ///< cells the reachable range of the set meets (0 when nothing succeeded)
+  int occupied = 0;                     ///< cells the whole pool's successes occupy
+  std::vector<double> random_expected;  ///< random search's expected count, per budget
 };
 
-/// One way of counting over the whole pool: its ceiling, the cells the pool's successes occupy and
-/// random search's expected count per budget.
-struct CountBaseline {
-  double threshold = 0.0;
-  int ceiling = 0, occupied = 0;
-  std::vector<double> random_expected;  ///< per budget
+/// One arm's runs: [rep][budget] values.
+struct ArmRuns {
+  std::vector<std::vector<int>> failures;    ///< trials that did not succeed
+  std::vector<std::vector<int>> techniques;  ///< distinct nearest captured techniques among successes
+  /// Distinct successful strategies, [counting][rep][budget] in ReplayResult::countings' order.
+  std::vector<std::vector<std::vector<int>>> counts;
 };
 
 struct ReplayResult {
   std::map<std::string, ArmRuns> arms;
-  int ceiling = 0, ceiling_coarse = 0;                          ///< at τ and 2τ
-  int occupied = 0, occupied_coarse = 0;                        ///< cells the whole pool's successes occupy
-  std::vector<double> random_expected, random_expected_coarse;  ///< per budget
-  /// The second feature set's, at its τ and 2τ (none without one).
-  std::vector<CountBaseline> orientation;
+  /// The first feature set at τ and 2τ, then (for a table with one) the second at its τ and 2τ.
+  std::vector<Counting> countings;
 };
 
 /// Runs the replay; throws UserError for an unknown arm or a bad search config.

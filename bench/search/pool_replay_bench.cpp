@@ -18,7 +18,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 
 #include "bench_args.h"
 #include "pool_replay.h"
@@ -27,40 +26,52 @@ using podium::base::Json;
 using podium::bench::pool::mean_sd;
 
 namespace {
+using podium::bench::pool::ReplayOptions;
+using podium::bench::pool::ReplayResult;
 using Counts = std::vector<std::vector<int>>;
-using Pick = std::function<const Counts&(const podium::bench::pool::ArmRuns&)>;
 
-void print_counts(const podium::bench::pool::ReplayResult& r, const std::vector<std::string>& arms, std::size_t b,
-                  const Pick& pick) {
-  for (const auto& arm : arms) {
-    std::vector<double> v, fails, techniques;
-    for (const auto& rep : pick(r.arms.at(arm))) v.push_back(rep[b]);
-    for (const auto& rep : r.arms.at(arm).failures) fails.push_back(rep[b]);
-    for (const auto& rep : r.arms.at(arm).techniques) techniques.push_back(rep[b]);
-    const auto m = mean_sd(v), f = mean_sd(fails), t = mean_sd(techniques);
-    std::printf("    %-8s %5.2f ± %.2f   failures %5.2f ± %.2f   techniques %4.2f", arm.c_str(), m.mean, m.sd, f.mean, f.sd,
-                t.mean);
-    if (arm != "random" && r.arms.count("random")) {
-      std::vector<double> d;
-      for (std::size_t k = 0; k < v.size(); ++k) d.push_back(v[k] - pick(r.arms.at("random"))[k][b]);
-      const auto dm = mean_sd(d);
-      const double se = dm.sd / std::sqrt(static_cast<double>(d.size()));
-      std::printf("   − random: %+.2f ± %.2f (SE)", dm.mean, se);
+std::vector<double> at_budget(const Counts& counts, std::size_t b) {
+  std::vector<double> v;
+  for (const auto& rep : counts) v.push_back(rep[b]);
+  return v;
+}
+
+// What every counting shares: each arm's failures and distinct nearest captured techniques.
+void print_trials(const ReplayResult& r, const ReplayOptions& o) {
+  std::printf(
+      "\nper arm, mean ± sd: failures (trials that did not succeed); distinct nearest captured techniques among successes\n");
+  for (std::size_t b = 0; b < o.budgets.size(); ++b) {
+    std::printf("  @%d samples:\n", o.budgets[b]);
+    for (const auto& arm : o.arms) {
+      const auto f = mean_sd(at_budget(r.arms.at(arm).failures, b)), t = mean_sd(at_budget(r.arms.at(arm).techniques, b));
+      std::printf("    %-8s failures %5.2f ± %.2f   techniques %4.2f ± %.2f\n", arm.c_str(), f.mean, f.sd, t.mean, t.sd);
     }
-    std::printf("\n");
   }
 }
 
-// One way of counting: its ceiling and occupancy, then per budget random's expectation and the arms.
-void print_section(const podium::bench::pool::ReplayResult& r, const podium::bench::pool::ReplayOptions& o,
-                   const std::string& what, double tau, int ceiling, int occupied, const std::vector<double>& expected,
-                   const Pick& pick) {
+// One counting: its ceiling and occupancy, then per budget random's expectation and each arm's
+// count with its paired difference from random.
+void print_counting(const ReplayResult& r, const ReplayOptions& o, std::size_t c, const std::string& what) {
+  const auto& counting = r.countings[c];
   std::printf("\n%sτ = %.3g: ceiling %d (cells of the reachable range; the whole pool's successes occupy %d)\n", what.c_str(),
-              tau, ceiling, occupied);
+              counting.threshold, counting.ceiling, counting.occupied);
   for (std::size_t b = 0; b < o.budgets.size(); ++b) {
-    std::printf("  @%d samples: random's expected count %.2f; ceiling ≥ 2 × expected: %s\n", o.budgets[b], expected[b],
-                expected[b] > 0 && ceiling >= 2.0 * expected[b] ? "yes (comparable)" : "no (a search cannot show 2× here)");
-    print_counts(r, o.arms, b, pick);
+    const double expected = counting.random_expected[b];
+    std::printf("  @%d samples: random's expected count %.2f; ceiling ≥ 2 × expected: %s\n", o.budgets[b], expected,
+                expected > 0 && counting.ceiling >= 2.0 * expected ? "yes (comparable)" : "no (a search cannot show 2× here)");
+    for (const auto& arm : o.arms) {
+      const auto v = at_budget(r.arms.at(arm).counts[c], b);
+      const auto m = mean_sd(v);
+      std::printf("    %-8s %5.2f ± %.2f", arm.c_str(), m.mean, m.sd);
+      if (arm != "random" && r.arms.count("random")) {
+        const auto random = at_budget(r.arms.at("random").counts[c], b);
+        std::vector<double> d;
+        for (std::size_t k = 0; k < v.size(); ++k) d.push_back(v[k] - random[k]);
+        const auto dm = mean_sd(d);
+        std::printf("   − random: %+.2f ± %.2f (SE)", dm.mean, dm.sd / std::sqrt(static_cast<double>(d.size())));
+      }
+      std::printf("\n");
+    }
   }
 }
 }  // namespace
@@ -105,18 +116,9 @@ int main(int argc, char** argv) {
     std::printf("reps %d paired by seed (first %llu), arms", o.reps, first_seed);
     for (const auto& a : o.arms) std::printf(" %s", a.c_str());
     std::printf("; %.1f s\n", seconds);
-    using podium::bench::pool::ArmRuns;
-    const double tau = table.strategy_threshold;
-    print_section(r, o, "", tau, r.ceiling, r.occupied, r.random_expected,
-                  [](const ArmRuns& a) -> const Counts& { return a.strategies; });
-    print_section(r, o, "", 2 * tau, r.ceiling_coarse, r.occupied_coarse, r.random_expected_coarse,
-                  [](const ArmRuns& a) -> const Counts& { return a.strategies_coarse; });
-    for (std::size_t k = 0; k < r.orientation.size(); ++k) {
-      const auto& c = r.orientation[k];
-      print_section(r, o, "second feature set (" + table.orientation_json.value("info", std::string()) + "), ", c.threshold,
-                    c.ceiling, c.occupied, c.random_expected,
-                    [k](const ArmRuns& a) -> const Counts& { return k == 0 ? a.orientations : a.orientations_coarse; });
-    }
+    print_trials(r, o);
+    const std::string second = "second feature set (" + table.orientation_json.value("info", std::string()) + "), ";
+    for (std::size_t c = 0; c < r.countings.size(); ++c) print_counting(r, o, c, r.countings[c].orientation ? second : "");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s: %s\n", argv[0], e.what());
     return 1;

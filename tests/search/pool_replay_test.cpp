@@ -63,26 +63,27 @@ TEST(PoolReplay, RandomMatchesItsExpectationAndCountsStayUnderTheCeiling) {
   o.configs["bds"] = {{"direct_evals", 100}, {"explore_candidates", 64}};
   const ReplayResult r = replay(t, o);
   // Successes span [0, 0.79]: on 4 cells of 0.25 that is cells 0–3; on 2 cells of 0.5, both.
-  EXPECT_EQ(r.ceiling, 4);
-  EXPECT_EQ(r.ceiling_coarse, 2);
-  EXPECT_EQ(r.occupied, 4);
+  ASSERT_EQ(r.countings.size(), 2u);  // the first feature set at τ and 2τ; no second set
+  EXPECT_EQ(r.countings[0].ceiling, 4);
+  EXPECT_EQ(r.countings[1].ceiling, 2);
+  EXPECT_EQ(r.countings[0].occupied, 4);
   ASSERT_EQ(r.arms.size(), 3u);
   for (std::size_t b = 0; b < 2; ++b) {
     std::vector<double> random, failures;
-    for (const auto& rep : r.arms.at("random").strategies) random.push_back(rep[b]);
+    for (const auto& rep : r.arms.at("random").counts[0]) random.push_back(rep[b]);
     for (const auto& rep : r.arms.at("random").failures) failures.push_back(rep[b]);
     const MeanSd m = mean_sd(random), f = mean_sd(failures);
     // Random's replayed mean agrees with the Monte Carlo expectation within 4 standard errors.
-    EXPECT_NEAR(m.mean, r.random_expected[b], 4.0 * m.sd / std::sqrt(200.0) + 0.02) << o.budgets[b];
+    EXPECT_NEAR(m.mean, r.countings[0].random_expected[b], 4.0 * m.sd / std::sqrt(200.0) + 0.02) << o.budgets[b];
     // Each draw fails with probability ≈ 0.215 (x ≥ 0.795, plus the row that failed outright).
     EXPECT_NEAR(f.mean, 0.215 * o.budgets[b], 4.0 * f.sd / std::sqrt(200.0) + 0.02) << o.budgets[b];
     for (const auto& [arm, runs] : r.arms)
-      for (const auto& rep : runs.strategies) EXPECT_LE(rep[b], r.ceiling) << arm;
+      for (const auto& rep : runs.counts[0]) EXPECT_LE(rep[b], r.countings[0].ceiling) << arm;
   }
   // Paired by seed and deterministic: a second replay gives the same runs.
   o.arms = {"random"};
   const ReplayResult again = replay(t, o);
-  EXPECT_EQ(again.arms.at("random").strategies, r.arms.at("random").strategies);
+  EXPECT_EQ(again.arms.at("random").counts, r.arms.at("random").counts);
 }
 
 // A second feature set (a jump's 3-D bar-frame rotation): here 2-D, (1 − x, 0), recorded by every
@@ -111,28 +112,32 @@ TEST(PoolReplay, ASecondFeatureSetIsCountedBesideTheFirst) {
   o.budgets = {5, 10};
   o.arms = {"random"};
   const ReplayResult r = replay(t, o);
-  ASSERT_EQ(r.orientation.size(), 2u);
+  ASSERT_EQ(r.countings.size(), 4u);
+  const Counting &fine = r.countings[2], &coarse = r.countings[3];
+  EXPECT_TRUE(fine.orientation && coarse.orientation);
+  EXPECT_EQ(fine.threshold, 0.1);
+  EXPECT_EQ(coarse.threshold, 0.2);
   // Successes that recorded it: x in [0.1, 0.79], so a in [0.21, 0.9]: cells 2–9 of 10 at 0.1
   // (b's 20 cells: one), cells 1–4 of 5 at 0.2.
-  EXPECT_EQ(r.orientation[0].ceiling, 8);
-  EXPECT_EQ(r.orientation[0].occupied, 8);
-  EXPECT_EQ(r.orientation[1].ceiling, 4);
+  EXPECT_EQ(fine.ceiling, 8);
+  EXPECT_EQ(fine.occupied, 8);
+  EXPECT_EQ(coarse.ceiling, 4);
   const auto& runs = r.arms.at("random");
-  ASSERT_EQ(runs.orientations.size(), 100u);
+  ASSERT_EQ(runs.counts[2].size(), 100u);
   for (std::size_t b = 0; b < 2; ++b) {
     std::vector<double> counts;
-    for (std::size_t k = 0; k < runs.orientations.size(); ++k) {
-      counts.push_back(runs.orientations[k][b]);
-      EXPECT_LE(runs.orientations[k][b], r.orientation[0].ceiling);
-      EXPECT_LE(runs.orientations_coarse[k][b], runs.orientations[k][b]);
+    for (std::size_t k = 0; k < runs.counts[2].size(); ++k) {
+      counts.push_back(runs.counts[2][k][b]);
+      EXPECT_LE(runs.counts[2][k][b], fine.ceiling);
+      EXPECT_LE(runs.counts[3][k][b], runs.counts[2][k][b]);
     }
     const MeanSd m = mean_sd(counts);
-    EXPECT_NEAR(m.mean, r.orientation[0].random_expected[b], 4.0 * m.sd / std::sqrt(100.0) + 0.02) << o.budgets[b];
+    EXPECT_NEAR(m.mean, fine.random_expected[b], 4.0 * m.sd / std::sqrt(100.0) + 0.02) << o.budgets[b];
   }
   // Without one, nothing is counted.
   const ReplayResult plain = replay(PoolTable::parse(synthetic_table(), "table.json"), o);
-  EXPECT_TRUE(plain.orientation.empty());
-  EXPECT_TRUE(plain.arms.at("random").orientations.empty());
+  EXPECT_EQ(plain.countings.size(), 2u);
+  EXPECT_EQ(plain.arms.at("random").counts.size(), 2u);
 }
 
 // BDS's default treatment of failed samples (bds.h "Failed samples") against Algorithm 1 read

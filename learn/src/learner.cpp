@@ -7,6 +7,7 @@
 #include "podium/base/config.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
+#include "podium/base/native_blas.h"
 #include "podium/learn/ppo.h"
 #include "podium/learn/sac.h"
 
@@ -80,6 +81,15 @@ void setup_blas() {
                         ") is active; network updates are 7-9x slower than with OpenBLAS. Fix: "
                         "apt-get install libopenblas0-pthread, or update-alternatives --config "
                         "libblas.so.3-x86_64-linux-gnu");
+    using CoreName = char* (*)();
+    const auto core_name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+    const std::string core = core_name != nullptr && core_name() != nullptr ? core_name() : "";
+    const std::string wider = base::openblas_core_override(core, base::cpu_vector_bits());
+    if (!wider.empty())
+      base::log_warning("learn: OpenBLAS runs its generic " + core +
+                        " kernels on this CPU (a model newer than it knows); "
+                        "network updates are about 2x slower. Fix: OPENBLAS_CORETYPE=" +
+                        wider + " in the environment (the podium program sets it itself)");
   });
 }
 

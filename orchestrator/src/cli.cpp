@@ -13,6 +13,7 @@
 #include <map>
 #include <vector>
 
+#include "native_blas.h"
 #include "podium/base/error.h"
 #include "podium/base/log.h"
 #include "podium/base/version.h"
@@ -603,6 +604,7 @@ std::string error_line(const std::string& what) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  podium::orchestrator::use_native_blas_kernels(argv);
   if (argc < 2) {
     std::cerr << kUsage;
     return 2;

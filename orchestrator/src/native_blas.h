@@ -1,0 +1,12 @@
+#pragma once
+// Before anything loads OpenBLAS (a task plugin brings libtorch and it): when the installed
+// OpenBLAS would run its generic kernels on this CPU (base/native_blas.h), set OPENBLAS_CORETYPE
+// to the kernels the CPU runs and start this program again with the same arguments, so this
+// process and every worker it starts use them. A value the user set stands. The value podium set
+// is marked with the host (PODIUM_OPENBLAS_CORETYPE=core@host), so a worker on another machine
+// (Slurm) decides afresh for its own CPU.
+namespace podium::orchestrator {
+
+void use_native_blas_kernels(char** argv);
+
+}  // namespace podium::orchestrator

@@ -24,9 +24,9 @@ int core_bits(std::string core) {
     if (core == wide) return 512;
   for (const char* avx2 : {"haswell", "zen", "excavator"})
     if (core == avx2) return 256;
-  for (const char* narrow : {"prescott", "core2", "penryn", "dunnington", "nehalem", "sandybridge", "atom", "katmai",
-                             "coppermine", "northwood", "banias", "opteron", "opteron_sse3", "barcelona", "bobcat",
-                             "bulldozer", "piledriver", "steamroller", "nano"})
+  for (const char* narrow :
+       {"prescott", "core2", "penryn", "dunnington", "nehalem", "sandybridge", "atom", "katmai", "coppermine", "northwood",
+        "banias", "opteron", "opteron_sse3", "barcelona", "bobcat", "bulldozer", "piledriver", "steamroller", "nano"})
     if (core == narrow) return 0;
   return -1;
 }

@@ -35,9 +35,9 @@ void use_native_blas_kernels(char** argv) {
   const std::string host = host_name();
   if (set != nullptr) {
     const bool podiums = marker != nullptr && std::string(marker).rfind(std::string(set) + "@", 0) == 0;
-    if (!podiums) return;                                         // the user's choice stands
+    if (!podiums) return;                                              // the user's choice stands
     if (std::string(marker) == std::string(set) + "@" + host) return;  // decided on this machine
-    unsetenv(kCoreType);                                          // decided on another machine
+    unsetenv(kCoreType);                                               // decided on another machine
     unsetenv(kMarker);
   }
   const std::string core = base::openblas_core_override(openblas_own_choice(), base::cpu_vector_bits());

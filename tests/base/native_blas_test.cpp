@@ -19,7 +19,7 @@ TEST(NativeBlas, AChoiceAsWideAsTheCpuOrUnknownStands) {
   EXPECT_EQ(openblas_core_override("Cooperlake", 512), "");
   EXPECT_EQ(openblas_core_override("Zen", 256), "");
   EXPECT_EQ(openblas_core_override("Haswell", 256), "");
-  EXPECT_EQ(openblas_core_override("Prescott", 0), "");       // a CPU without AVX2: nothing wider to use
+  EXPECT_EQ(openblas_core_override("Prescott", 0), "");          // a CPU without AVX2: nothing wider to use
   EXPECT_EQ(openblas_core_override("SomeFutureCore", 512), "");  // a name this table does not know
   EXPECT_EQ(openblas_core_override("", 512), "");
 }

@@ -223,6 +223,11 @@ CurveGetupEnv::CurveGetupEnv(const CurveEnvSettings& settings, std::shared_ptr<c
     throw base::UserError("curve get-up env: stand_s " + std::to_string(settings.stand_s) + " is not ≥ 0");
   episode_length_ = curve_episode_steps(curve(), settings_);
   set_standing_share(settings.standing_share);
+  if (!(settings.standing_tail_s >= 0.0))
+    throw base::UserError("curve get-up env: standing tail " + std::to_string(settings.standing_tail_s) + " s is not ≥ 0");
+  for (const auto& clip : curves_->clips)
+    if (clip && std::find(standing_clips_.begin(), standing_clips_.end(), clip) == standing_clips_.end())
+      standing_clips_.push_back(clip);
   if (!(settings.curve_filter_rad >= 0.0))
     throw base::UserError("curve get-up env: curve filter " + std::to_string(settings.curve_filter_rad) + " rad is not ≥ 0");
 }
@@ -334,11 +339,27 @@ void CurveGetupEnv::place_feet(Eigen::VectorXd& q) {
   q(2) += lift;
 }
 
-// §5.2 (ii): standing in the model's standing pose, turned uniformly, entered at the curve's standing
-// part (s = 1 from the first step), for T_stand: on flat at the origin; on a harder level at a drop
-// site with its feet on the surface (place_feet). The seed takes standing frames of its clips; our
-// drop curves have none, so every curve's is the model's own standing pose.
+// §5.2 (ii): a standing start, entered at the curve's standing part (s = 1 from the first step)
+// for T_stand. On flat, "a standing pose selected from one of the reference motion clips": a clip
+// drawn uniformly among the set's, a time uniform in its last standing_tail_s, its pose (with a
+// clip start's joint noise) and velocities. Otherwise (off flat, no clip, or a tail of 0) the
+// model's standing pose turned uniformly: on flat at the origin, on a harder level at a drop site
+// with its feet on the surface (place_feet; the seed: "the feet of the character are re-oriented
+// to match the local terrain slope").
 void CurveGetupEnv::begin_standing(base::Rng& rng) {
+  time_offset_s_ = curve().duration_s;
+  episode_length_ = control_steps(settings_.stand_s, settings_.control_hz);
+  if (level_ == 0 && settings_.standing_tail_s > 0.0 && !standing_clips_.empty()) {
+    const auto& clip =
+        standing_clips_[static_cast<std::size_t>(rng.integer(0, static_cast<std::int64_t>(standing_clips_.size()) - 1))];
+    const double end = clip->duration_s();
+    set_reference(clip);
+    character::ReferenceStart(settings_.clip_start_noise_rad, false,
+                              rng.uniform(std::max(0.0, end - settings_.standing_tail_s), end))
+        .begin(*this, rng);
+    set_reference(curves_->clips[static_cast<std::size_t>(curve_)]);
+    return;
+  }
   Eigen::VectorXd q = model().standing_pose();
   const Eigen::Quaterniond turn(Eigen::AngleAxisd(rng.uniform(-std::numbers::pi, std::numbers::pi), Eigen::Vector3d::UnitZ()));
   const Eigen::Quaterniond root = turn * Eigen::Quaterniond(q(3), q(4), q(5), q(6));
@@ -350,8 +371,6 @@ void CurveGetupEnv::begin_standing(base::Rng& rng) {
     place_feet(q);
   }
   world().set_state(q, Eigen::VectorXd::Zero(model().nv()));
-  time_offset_s_ = curve().duration_s;
-  episode_length_ = control_steps(settings_.stand_s, settings_.control_hz);
 }
 
 void CurveGetupEnv::begin_episode(base::Rng& rng) {

@@ -101,6 +101,10 @@ struct CurveEnvSettings {
   /// off flat at a drop site with the feet turned to the surface (ours: the seed gives no share; it found "several standing poses
   /// in the set of initial states necessary for learning successful get-up motions").
   double standing_share = 0.0;
+  /// §5.2 (ii): on flat, a standing start is "a standing pose selected from one of the reference
+  /// motion clips": a frame of a clip's last this-many seconds (the DeepMimic get-up clips stand
+  /// through their last 0.2–0.4 s); 0, or a set without clips, takes the model's standing pose.
+  double standing_tail_s = 0.2;
   /// §5.2: after a drop, a curve is used only when its initial torso angles are within this of the
   /// torso's (30°); 0: no filter.
   double curve_filter_rad = 30.0 * 3.14159265358979323846 / 180.0;
@@ -212,6 +216,7 @@ class CurveGetupEnv final : public character::CharacterEnv {
   double standing_share_ = 0.0, time_offset_s_ = 0.0;
   bool standing_ = false;
   std::vector<std::pair<int, bool>> finished_;
+  std::vector<std::shared_ptr<const character::Clip>> standing_clips_;  ///< the set's distinct clips
 };
 
 }  // namespace podium::tasks::getup_curves

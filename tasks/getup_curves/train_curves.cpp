@@ -52,8 +52,11 @@ void read_env_settings(base::ConfigReader& r, CurveEnvSettings& e) {
       r.number("clip_start_noise_rad", e.clip_start_noise_rad, {.min = 0.0, .max = 1.0}, "joint noise of a clip start, rad");
   read_terrain_levels(r, e.terrain);
   e.standing_share = r.number("standing_share", e.standing_share, {.min = 0.0, .max = 1.0},
-                              "§5.2 (ii): the share of training episodes on flat that start standing (the model's standing "
-                              "pose, entered at the curve's standing part, for T_stand); ours: the seed gives none");
+                              "§5.2 (ii): the share of training episodes that start standing, entered at the curve's "
+                              "standing part for T_stand; ours: the seed gives none");
+  e.standing_tail_s = r.number("standing_tail_s", e.standing_tail_s, {.min = 0.0, .max = 60.0},
+                               "§5.2 (ii): on flat a standing start is a frame of a reference clip's last this-many seconds "
+                               "(a clip drawn uniformly); 0, off flat or without clips: the model's standing pose");
   e.curve_filter_rad = r.number("curve_filter_deg", e.curve_filter_rad * 180.0 / std::numbers::pi, {.min = 0.0, .max = 180.0},
                                 "§5.2: after a drop, a curve whose initial torso angles are farther than this from the "
                                 "torso's is replaced by one that is near (30°); 0: no filter") *

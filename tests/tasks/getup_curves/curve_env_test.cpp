@@ -289,6 +289,56 @@ TEST(CurveGetupEnv, CurveFilesLoadAndABadClipIsNamed) {
   EXPECT_THROW(CurveGetupEnv({}, make_curve_set({}, model)), base::UserError);
 }
 
+// §5.2 (ii) with clips: a standing start on flat is a frame of a clip's last standing_tail_s
+// (its pose exactly, without noise), entered at the curve's standing part; with a tail of 0 it is
+// the model's standing pose.
+TEST(CurveGetupStarts, AStandingStartOnFlatIsAFrameOfAClipsStandingEnd) {
+  const char* shared = std::getenv("PODIUM_SHARED_DIR");
+  const std::filesystem::path clip =
+      shared ? std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_getup_faceup.txt"
+             : std::filesystem::path();
+  if (clip.empty() || !std::filesystem::exists(clip)) GTEST_SKIP() << "PODIUM_SHARED_DIR or humanoid3d_getup_faceup.txt absent";
+  podium::testing::TempDir dir;
+  std::filesystem::copy_file(clip, dir / "faceup.txt");
+  StyleCurve curve = rising_curve(3.8, true);
+  curve.start = {CurveStart::Kind::clip, "faceup.txt", 0, true};
+  save_style_curve(dir / "faceup.json", curve);
+  const auto set = load_curve_set({dir / "faceup.json"}, humanoid());
+  const character::Clip& frames = *set->clips[0];
+  CurveEnvSettings settings;
+  settings.standing_share = 1.0;
+  settings.clip_start_noise_rad = 0.0;
+  settings.standing_tail_s = 0.2;
+  CurveGetupEnv env(settings, set);
+  for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+    env.seed(seed);
+    std::vector<double> obs;
+    env.reset(obs);
+    ASSERT_TRUE(env.standing_start());
+    EXPECT_DOUBLE_EQ(env.curve_time_s(), curve.duration_s);
+    const Eigen::VectorXd& q = env.world().data().q;
+    // The nearest frame of the clip's last 0.2 s (a sample between two frames lies within their span).
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < frames.size(); ++f) {
+      if (frames.times_s[f] < frames.duration_s() - 0.2 - 0.05) continue;
+      nearest = std::min(nearest, (q.tail(q.size() - 7) - frames.poses[f].tail(q.size() - 7)).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LT(nearest, 0.05) << seed;
+    const double h = env.achieved()(0);
+    EXPECT_GT(h, 0.9 * curve.at(1.0)(0)) << seed;  // standing: h near the curve's end
+    learn::StepResult out;
+    for (int step = 0; step < 15; ++step) env.step(hold(env), out);
+    std::printf("seed %llu: h %.3f m, after 0.5 s %.3f m\n", static_cast<unsigned long long>(seed), h, env.achieved()(0));
+    EXPECT_GT(env.achieved()(0), h - 0.3) << seed;  // not fallen within half a second
+  }
+  settings.standing_tail_s = 0.0;
+  CurveGetupEnv model_pose(settings, set);
+  model_pose.seed(1);
+  std::vector<double> obs;
+  model_pose.reset(obs);
+  EXPECT_NEAR(model_pose.world().data().q(2), model_pose.model().standing_pose()(2), 1e-12);
+}
+
 TEST(CurveGetupEnv, AClipStartBeginsInItsFrameOnTheBack) {
   const char* shared = std::getenv("PODIUM_SHARED_DIR");
   const std::filesystem::path clip =
@@ -458,8 +508,9 @@ TEST(CurveGetupStarts, AStandingStartOffFlatTurnsTheFeetToTheSurface) {
   EXPECT_EQ(kinds.size(), 2u);  // both halves met
 }
 
-// §5.2 (ii): a standing start stands in the model's standing pose on flat, entered at the curve's
-// standing part (s = 1 from the first step) for T_stand, and does not count for the curriculum.
+// §5.2 (ii): a standing start on flat, with no clip in the set, stands in the model's standing
+// pose, entered at the curve's standing part (s = 1 from the first step) for T_stand, and does not
+// count for the curriculum.
 TEST(CurveGetupStarts, AStandingStartEntersTheCurveAtItsStandingPart) {
   CurveEnvSettings settings;
   settings.standing_share = 1.0;

@@ -118,6 +118,29 @@ Json PoolTable::to_json() const {
   return table;
 }
 
+PoolTable PoolTable::by_orientation() const {
+  if (orientation_json.is_null()) throw UserError("pool: the table has no second feature set (\"orientation\")");
+  PoolTable t = *this;
+  t.features_json = orientation_json.at("features");
+  t.features = orientation_features;
+  t.strategy_threshold = orientation_threshold;
+  t.orientation_json = {
+      {"info", "the first feature set"}, {"features", features_json}, {"strategy_threshold", strategy_threshold}};
+  t.orientation_features = features;
+  t.orientation_threshold = strategy_threshold;
+  t.rows.clear();
+  bool recorded = false;
+  for (const PoolRow& r : rows) {
+    if (r.finished && r.orientation.empty()) continue;  // a row that did not record the set
+    PoolRow swapped = r;
+    std::swap(swapped.features, swapped.orientation);
+    recorded = recorded || r.finished;
+    t.rows.push_back(std::move(swapped));
+  }
+  if (!recorded) throw UserError("pool: no row of the table recorded its second feature set");
+  return t;
+}
+
 std::size_t PoolTable::nearest(const std::vector<double>& x) const {
   PODIUM_CHECK(x.size() == box.size(), "pool: parameters of the wrong dimension");
   std::size_t best = 0;

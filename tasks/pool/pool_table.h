@@ -59,6 +59,11 @@ struct PoolTable {
   static PoolTable parse(const base::Json& j, const std::string& origin);
   base::Json to_json() const;
 
+  /// The table searched by its second feature set: that set as the features (its threshold as
+  /// τ), the first as the second set, and only the rows that recorded it (and those that failed
+  /// outright). Throws UserError when the table has no second set or no row recorded it.
+  PoolTable by_orientation() const;
+
   /// Index of the row nearest to x (Euclidean in the box scaled to [0,1]^d; ties: the first).
   std::size_t nearest(const std::vector<double>& x) const;
   /// Per feature, the lowest and highest value of the successful rows (the reachable range); with

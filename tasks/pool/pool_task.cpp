@@ -16,12 +16,21 @@ using base::Json;
 namespace {
 struct TaskConfig {
   std::string table;
+  std::string feature_set = "first";
 };
 
 TaskConfig read_config(base::ConfigReader& r) {
   TaskConfig c;
   c.table = r.file("table", "", "the pool's table (export_pool.py; README.md); required to run");
+  c.feature_set = r.choice("feature_set", c.feature_set, {"first", "orientation"},
+                           "the features a search sees: the table's first set, or its second (a jump's 3-D bar-frame "
+                           "rotation; only the rows that recorded it)");
   return c;
+}
+
+PoolTable load_table(const TaskConfig& c) {
+  const PoolTable t = PoolTable::load(c.table);
+  return c.feature_set == "orientation" ? t.by_orientation() : t;
 }
 
 TaskConfig parse_config(const Json& config) { return base::ConfigReader::parse(config, "pool config", read_config); }
@@ -41,7 +50,7 @@ class PoolTask final : public plugins::Task {
               {"config", accepted},
               {"config_defaults", base::ConfigReader::defaults(accepted)}};
     if (!c.table.empty()) {
-      const PoolTable t = PoolTable::load(c.table);
+      const PoolTable t = load_table(c);
       d["params"] = t.params_json;
       d["features"] = t.features_json;
       d["strategy_threshold"] = t.strategy_threshold;
@@ -52,7 +61,7 @@ class PoolTask final : public plugins::Task {
   plugins::RunResult run(const plugins::RunRequest& request, plugins::Sink& sink) override {
     const TaskConfig c = parse_config(request.config);
     if (c.table.empty()) throw base::UserError("pool: config.table is required (the pool's table file)");
-    const PoolTable t = PoolTable::load(c.table);
+    const PoolTable t = load_table(c);
     std::vector<double> x;
     for (const auto& p : t.box) {
       if (!request.params.contains(p.name) || !request.params[p.name].is_number())

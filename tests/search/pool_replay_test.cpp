@@ -134,6 +134,22 @@ TEST(PoolReplay, ASecondFeatureSetIsCountedBesideTheFirst) {
     const MeanSd m = mean_sd(counts);
     EXPECT_NEAR(m.mean, fine.random_expected[b], 4.0 * m.sd / std::sqrt(100.0) + 0.02) << o.budgets[b];
   }
+  // Searched by it: its rows only (x ≥ 0.095, and row 50 that failed outright), its features and
+  // threshold first, the first set second; a replay then counts it first.
+  const PoolTable by = t.by_orientation();
+  EXPECT_EQ(by.rows.size(), 91u);
+  EXPECT_EQ(by.features.size(), 2u);
+  EXPECT_EQ(by.strategy_threshold, 0.1);
+  EXPECT_EQ(by.orientation_threshold, 0.25);
+  EXPECT_EQ(by.rows[20].features, t.rows[30].orientation);
+  EXPECT_EQ(by.rows[20].orientation, t.rows[30].features);
+  const ReplayResult swapped = replay(by, o);
+  ASSERT_EQ(swapped.countings.size(), 4u);
+  EXPECT_FALSE(swapped.countings[0].orientation);
+  EXPECT_EQ(swapped.countings[0].threshold, 0.1);
+  EXPECT_EQ(swapped.countings[0].ceiling, fine.ceiling);
+  EXPECT_EQ(swapped.countings[2].threshold, 0.25);
+  EXPECT_THROW(PoolTable::parse(synthetic_table(), "table.json").by_orientation(), base::UserError);
   // Without one, nothing is counted.
   const ReplayResult plain = replay(PoolTable::parse(synthetic_table(), "table.json"), o);
   EXPECT_EQ(plain.countings.size(), 2u);

@@ -72,5 +72,33 @@ TEST(PoolTask, PodiumRunsASearchOverARecordedTable) {
   }
 }
 
+// feature_set "orientation": the search sees the table's second feature set (here (1 − b, a),
+// recorded by the rows with b ≥ 0.25) and looks up only the rows that recorded it.
+TEST(PoolTask, ASearchCanSeeTheTablesSecondFeatureSet) {
+  podium::testing::TempDir dir;
+  json t = synthetic_table();
+  t["orientation"] = {{"info", "/rotation"},
+                      {"features", {{{"name", "u"}, {"low", 0.0}, {"high", 1.0}}, {{"name", "v"}, {"low", 0.0}, {"high", 1.0}}}},
+                      {"strategy_threshold", 0.2}};
+  for (auto& row : t["rows"]) {
+    const double a = row["params"][0].get<double>(), b = row["params"][1].get<double>();
+    if (b >= 0.25) row["orientation"] = {1.0 - b, a};
+  }
+  const auto table = dir / "table.json";
+  std::ofstream(table) << t.dump();
+  json s = spec(table.string(), "random");
+  s["stages"][0]["config"]["feature_set"] = "orientation";
+  const auto campaign = podium::testing::run_campaign_to_end(dir.path(), s);
+  const auto& trials = campaign.trials.at("replay");
+  ASSERT_EQ(trials.size(), 8u);
+  for (const auto& trial : trials) {
+    const json& recorded = trial.result_info.at("recorded_params");
+    EXPECT_GE(recorded["b"].get<double>(), 0.25) << "only rows that recorded the set";
+    ASSERT_EQ(trial.features.size(), 2u);
+    EXPECT_DOUBLE_EQ(trial.features[0], 1.0 - recorded["b"].get<double>());
+    EXPECT_DOUBLE_EQ(trial.features[1], recorded["a"].get<double>());
+  }
+}
+
 }  // namespace
 }  // namespace podium::tasks::pool

@@ -569,7 +569,8 @@ int dispatch(const std::string& command, int argc, char** argv) {
     return podium::orchestrator::run_batch_trial(argv[2]);  // inside a Slurm job
   if (command == "version" || command == "--version") {
     std::cout << "podium " << podium::base::version() << " (" << podium::base::compiler_id() << ", " << podium::base::build_type()
-              << ")\n";
+              << ")\n"
+              << podium::orchestrator::blas_kernels_line() << "\n";
     return 0;
   }
   if (command == "--help" || command == "-h" || command == "help") {

@@ -18,7 +18,8 @@ std::string host_name() {
   return gethostname(name, sizeof name - 1) == 0 ? std::string(name) : std::string();
 }
 
-// The core OpenBLAS picks on its own here ("" when it is not installed).
+// The core OpenBLAS runs in this process ("" when it is not installed): its own choice unless
+// OPENBLAS_CORETYPE was set when it loaded.
 std::string openblas_own_choice() {
   void* library = dlopen("libopenblas.so.0", RTLD_LAZY | RTLD_LOCAL);
   if (library == nullptr) return "";
@@ -47,6 +48,18 @@ void use_native_blas_kernels(char** argv) {
   execv("/proc/self/exe", argv);  // returns only on failure: go on with OpenBLAS's own kernels
   unsetenv(kCoreType);
   unsetenv(kMarker);
+}
+
+std::string blas_kernels_line() {
+  const std::string core = openblas_own_choice();  // the library is loaded with this process's environment
+  if (core.empty()) return "openblas: not found";
+  const char* set = std::getenv(kCoreType);
+  const char* marker = std::getenv(kMarker);
+  const std::string who = set == nullptr ? "OpenBLAS's own choice"
+                          : marker != nullptr && std::string(marker).rfind(std::string(set) + "@", 0) == 0
+                              ? "chosen by podium for this CPU"
+                              : "OPENBLAS_CORETYPE as set";
+  return "openblas: " + core + " kernels (" + who + ")";
 }
 
 }  // namespace podium::orchestrator

@@ -406,6 +406,26 @@ TEST(Cli, CommandsSayWhatTheyDid) {
   EXPECT_EQ(dashed.out, version.out);
 }
 
+// `podium version` names the OpenBLAS kernels in use and who chose them (docs/user-guide.md
+// "Install"): a value the user set stands; one podium set on another machine (a Slurm worker's
+// inherited environment) is decided afresh here.
+TEST(Cli, VersionNamesTheOpenBlasKernelsAndAUsersChoiceStands) {
+  TempDir dir;
+  const auto version = run_podium({"version"}, dir.path());
+  ASSERT_EQ(version.exit_code, 0);
+  ASSERT_NE(version.out.find("\nopenblas: "), std::string::npos) << version.out;
+  if (version.out.find("openblas: not found") != std::string::npos) GTEST_SKIP() << "OpenBLAS is not installed";
+  using podium::testing::shell;
+  const std::string binary = podium::testing::podium_binary().string();
+  const auto own = shell("env -u OPENBLAS_CORETYPE -u PODIUM_OPENBLAS_CORETYPE " + binary + " version");
+  EXPECT_EQ(own.out.find("as set"), std::string::npos) << own.out;
+  const auto set = shell("OPENBLAS_CORETYPE=Prescott " + binary + " version");
+  EXPECT_NE(set.out.find("openblas: Prescott kernels (OPENBLAS_CORETYPE as set)"), std::string::npos) << set.out;
+  const auto elsewhere =
+      shell("OPENBLAS_CORETYPE=Prescott PODIUM_OPENBLAS_CORETYPE=Prescott@another-host " + binary + " version");
+  EXPECT_EQ(elsewhere.out, own.out) << "decided here as without it";
+}
+
 TEST(Cli, EveryCommandHasHelp) {
   TempDir dir;
   for (const auto& command : {"submit", "run", "status", "trials", "log", "pause", "resume", "cancel", "export", "tasks"}) {

@@ -6,8 +6,8 @@
 - repeatability: for each stage `repeat_poolK` of the repeats campaign
   (experiments/jump/highjump_pool_repeats.json), the pool's take-off K (its row in the table) beside
   its retrainings: success at the starting bar, bar reached, up-angle and 3-D bar-frame rotation;
-  per take-off the up-angle's spread (sd over the pool row and its repeats) and whether the
-  success agrees, and over all of them the pooled within-take-off sd of the up-angle against the
+  per take-off the up-angle's spread (sd over the pool row and its repeats), the rotations'
+  largest pairwise distance and whether the success agrees, and over all of them the pooled within-take-off sd of the up-angle against the
   strategy threshold.
 
 Reads the database read-only (its attempts; the trials through `podium export --format json`: give a
@@ -98,6 +98,11 @@ def repeatability(podium, db, repeats, pool_campaign, table_file):
             dof += len(ups) - 1
             print(f"    up-angle {mean:.3f} ± {sd:.3f} rad over {len(ups)} trainings; "
                   f"range {max(ups) - min(ups):.3f} rad ({(max(ups) - min(ups)) / threshold:.2f} τ)")
+        rots = [o["rotation"] for o in runs if o.get("rotation")]
+        if len(rots) >= 2:
+            far = max(math.dist(a, b) for a in rots for b in rots)
+            tau_r = table.get("orientation", {}).get("strategy_threshold")
+            print(f"    rotation: largest pairwise distance {far:.3f} rad" + (f" ({far / tau_r:.2f} τ)" if tau_r else ""))
         same = len({o["success"] for o in runs}) == 1
         agree += same
         counted += 1

@@ -289,15 +289,21 @@ TEST(CurveGetupEnv, CurveFilesLoadAndABadClipIsNamed) {
   EXPECT_THROW(CurveGetupEnv({}, make_curve_set({}, model)), base::UserError);
 }
 
+// DeepMimic's supine get-up clip (../shared/data), or empty when PODIUM_SHARED_DIR is unset or the
+// file absent.
+std::filesystem::path faceup_clip() {
+  const char* shared = std::getenv("PODIUM_SHARED_DIR");
+  if (!shared) return {};
+  const std::filesystem::path clip = std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_getup_faceup.txt";
+  return std::filesystem::exists(clip) ? clip : std::filesystem::path();
+}
+
 // §5.2 (ii) with clips: a standing start on flat is a frame of a clip's last standing_tail_s
 // (its pose exactly, without noise), entered at the curve's standing part; with a tail of 0 it is
 // the model's standing pose.
 TEST(CurveGetupStarts, AStandingStartOnFlatIsAFrameOfAClipsStandingEnd) {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  const std::filesystem::path clip =
-      shared ? std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_getup_faceup.txt"
-             : std::filesystem::path();
-  if (clip.empty() || !std::filesystem::exists(clip)) GTEST_SKIP() << "PODIUM_SHARED_DIR or humanoid3d_getup_faceup.txt absent";
+  const std::filesystem::path clip = faceup_clip();
+  if (clip.empty()) GTEST_SKIP() << "PODIUM_SHARED_DIR or humanoid3d_getup_faceup.txt absent";
   podium::testing::TempDir dir;
   std::filesystem::copy_file(clip, dir / "faceup.txt");
   StyleCurve curve = rising_curve(3.8, true);
@@ -340,11 +346,8 @@ TEST(CurveGetupStarts, AStandingStartOnFlatIsAFrameOfAClipsStandingEnd) {
 }
 
 TEST(CurveGetupEnv, AClipStartBeginsInItsFrameOnTheBack) {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  const std::filesystem::path clip =
-      shared ? std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_getup_faceup.txt"
-             : std::filesystem::path();
-  if (clip.empty() || !std::filesystem::exists(clip)) GTEST_SKIP() << "PODIUM_SHARED_DIR or humanoid3d_getup_faceup.txt absent";
+  const std::filesystem::path clip = faceup_clip();
+  if (clip.empty()) GTEST_SKIP() << "PODIUM_SHARED_DIR or humanoid3d_getup_faceup.txt absent";
   const sim::ModelPtr model = humanoid();
   podium::testing::TempDir dir;
   std::filesystem::copy_file(clip, dir / "faceup.txt");

@@ -76,6 +76,7 @@ def repeatability(podium, db, repeats, pool_campaign, table_file):
                     key=lambda s: int(s[len("repeat_pool"):]))
     print(f"\nrepeatability (pool campaign {pool_campaign}; strategy threshold τ = {threshold} rad):")
     squares, dof, agree, counted = 0.0, 0, 0, 0
+    ok_squares, ok_dof = 0.0, 0  # over the successful trainings only: the features a count sees
     for stage in stages:
         k = int(stage[len("repeat_pool"):])
         row = rows.get((pool_campaign, k))
@@ -98,6 +99,10 @@ def repeatability(podium, db, repeats, pool_campaign, table_file):
             dof += len(ups) - 1
             print(f"    up-angle {mean:.3f} ± {sd:.3f} rad over {len(ups)} trainings; "
                   f"range {max(ups) - min(ups):.3f} rad ({(max(ups) - min(ups)) / threshold:.2f} τ)")
+        ok = [o["up_angle"] for o in runs if o["success"] and o["up_angle"] is not None]
+        if len(ok) >= 2:
+            ok_squares += sum((u - statistics.fmean(ok)) ** 2 for u in ok)
+            ok_dof += len(ok) - 1
         rots = [o["rotation"] for o in runs if o.get("rotation")]
         if len(rots) >= 2:
             far = max(math.dist(a, b) for a in rots for b in rots)
@@ -112,6 +117,10 @@ def repeatability(podium, db, repeats, pool_campaign, table_file):
         pooled = math.sqrt(squares / dof)
         print(f"  pooled within-take-off sd of the up-angle: {pooled:.3f} rad ({pooled / threshold:.2f} τ), "
               f"{dof} degrees of freedom; success agrees for {agree} of {counted} take-offs")
+    if ok_dof:
+        pooled = math.sqrt(ok_squares / ok_dof)
+        print(f"  over the successful trainings only (what a strategy count sees): {pooled:.3f} rad "
+              f"({pooled / threshold:.2f} τ), {ok_dof} degrees of freedom")
 
 
 def main():

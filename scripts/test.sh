@@ -11,7 +11,7 @@ export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1
 # The OpenBLAS kernels podium runs on this CPU (`podium version`; docs/user-guide.md, "Install"),
 # for the test programs too: they load OpenBLAS before main, so they cannot choose for themselves.
 if [ -z "${OPENBLAS_CORETYPE:-}" ]; then
-  core=$(build/bin/podium version | sed -n 's/^openblas: \([A-Za-z0-9_]*\) kernels.*/\1/p')
+  core=$(build/bin/podium version 2>/dev/null | sed -n 's/^openblas: \([A-Za-z0-9_]*\) kernels.*/\1/p' || true)
   if [ -n "$core" ]; then export OPENBLAS_CORETYPE=$core; fi
 fi
 ctest --test-dir build -j "$(nproc)" --output-on-failure "$@"

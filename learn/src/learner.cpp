@@ -83,7 +83,8 @@ void setup_blas() {
                         "libblas.so.3-x86_64-linux-gnu");
     using CoreName = char* (*)();
     const auto core_name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
-    const std::string core = core_name != nullptr && core_name() != nullptr ? core_name() : "";
+    const char* name = core_name != nullptr ? core_name() : nullptr;
+    const std::string core = name != nullptr ? name : "";
     const std::string wider = base::openblas_core_override(core, base::cpu_vector_bits());
     if (!wider.empty())
       base::log_warning("learn: OpenBLAS runs its generic " + core +

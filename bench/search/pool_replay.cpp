@@ -72,6 +72,7 @@ void run_once(const PoolTable& table, const SearchView& view, const ReplayOption
       const PoolRow& row = table.rows[table.nearest(proposals[0].x)];
       search::Observation obs{proposals[0].id, row.finished, {}, row.features, row.success};
       if (row.finished) obs.objectives = {row.bar_m};
+      obs.x = row.params;  // the search models the recorded take-off's outcome where it was recorded
       search->tell({obs});
       failures += row.success ? 0 : 1;
       rows.push_back(&row);

@@ -182,6 +182,7 @@ void Scheduler::handle(const ExecutorEvent& e) {
     obs.objectives = e.result["objectives"].get<std::vector<double>>();
     obs.features = e.result["features"].get<std::vector<double>>();
     obs.success = search::trial_success(s.strategies.success, e.result.value("info", Json::object()));
+    obs.x = search::evaluated_params(e.result.value("info", Json::object()));
     std::vector<store::ArtifactRecord> artifacts;
     for (const auto& a : e.result["artifacts"])
       artifacts.push_back({a["name"], a["path"], a["sha256"], a["size"].get<std::int64_t>()});

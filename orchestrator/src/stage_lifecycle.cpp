@@ -76,6 +76,7 @@ void Scheduler::load_stage(CampaignRun& c, std::size_t index) {
       obs.objectives = t.objectives.get<std::vector<double>>();
       obs.features = t.features;
       obs.success = search::trial_success(s.strategies.success, t.result_info);
+      obs.x = search::evaluated_params(t.result_info);
     }
   }
   adopt_running_jobs(c);

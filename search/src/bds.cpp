@@ -574,7 +574,12 @@ void BayesianDiversitySearch::tell(const std::vector<Observation>& observations)
     } else if (it->second.step == "explore" && new_strategy) {
       fallback_left_ = 0;
     }
-    told_.push_back({o.id, it->second.u, o.ok, o.ok ? o.features : std::vector<double>{}, o.ok && o.success});
+    if (!o.x.empty() && o.x.size() != static_cast<std::size_t>(it->second.u.size()))
+      throw base::UserError(name() + ": trial " + std::to_string(o.id) + " ran at " + std::to_string(o.x.size()) +
+                            " parameters but the space has " + std::to_string(it->second.u.size()));
+    // A result is modelled where it was measured (Observation::x), not where it was asked for.
+    told_.push_back(
+        {o.id, o.x.empty() ? it->second.u : to_unit(o.x), o.ok, o.ok ? o.features : std::vector<double>{}, o.ok && o.success});
     pending_.erase(it);
   }
 }

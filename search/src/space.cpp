@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "podium/base/error.h"
+#include "podium/search/search.h"
 
 namespace podium::search {
 
@@ -90,6 +91,17 @@ Json Feature::list_to_json(const std::vector<Feature>& features) {
     out.push_back(entry);
   }
   return out;
+}
+
+std::vector<double> evaluated_params(const Json& info) {
+  const auto it = info.find("evaluated_params");
+  if (it == info.end() || !it->is_array()) return {};
+  std::vector<double> x;
+  for (const Json& v : *it) {
+    if (!v.is_number()) return {};
+    x.push_back(v.get<double>());
+  }
+  return x;
 }
 
 }  // namespace podium::search

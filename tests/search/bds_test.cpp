@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "landscape_model.h"
+#include "podium/base/error.h"
 #include "podium/base/rng.h"
 #include "podium/search/search.h"
 
@@ -50,6 +51,30 @@ TEST(Bds, BatchedProposalsAreDistinctPoints) {
   const auto batch = search->ask(6);
   ASSERT_EQ(batch.size(), 6u);
   EXPECT_GT(min_pairwise_distance(batch), 0.05);
+}
+
+// A result is modelled where it was measured: a task that looks results up at the nearest
+// recorded point (tasks/pool) reports that point (Observation::x), and the GPs see it there.
+TEST(Bds, AResultIsModelledWhereTheTrialRanNotWhereItWasAsked) {
+  auto search = make_search("bds", unit_box(3, {{"initial_samples", 2}}));
+  const auto asked = search->ask(2);
+  Observation elsewhere = run(asked[1]);
+  elsewhere.x = {0.125, 0.875, 0.5};
+  search->tell({run(asked[0]), elsewhere});
+  const Json told = search->save().at("told");
+  ASSERT_EQ(told.size(), 2u);
+  EXPECT_EQ(told[0].at("u"), Json(asked[0].x)) << "the unit box: u is x";
+  EXPECT_EQ(told[1].at("u"), Json({0.125, 0.875, 0.5}));
+  Observation short_x = run(search->ask(1).at(0));
+  short_x.x = {0.5};
+  EXPECT_THROW(search->tell({short_x}), base::UserError);
+}
+
+TEST(Search, WhereATrialRanIsReadFromItsResultInfo) {
+  EXPECT_EQ(evaluated_params(Json::parse(R"({"evaluated_params": [0.5, 2]})")), (std::vector<double>{0.5, 2.0}));
+  EXPECT_TRUE(evaluated_params(Json::object()).empty());
+  EXPECT_TRUE(evaluated_params(Json()).empty());
+  EXPECT_TRUE(evaluated_params(Json::parse(R"({"evaluated_params": [0.5, "x"]})")).empty());
 }
 
 TEST(Bds, FailedTrialsAreKeptOutAndNotProposedAgain) {

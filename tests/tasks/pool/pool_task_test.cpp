@@ -60,6 +60,8 @@ TEST(PoolTask, PodiumRunsASearchOverARecordedTable) {
     ASSERT_EQ(trials.size(), 8u) << algorithm;
     for (const auto& t : trials) {
       const json& recorded = t.result_info.at("recorded_params");
+      // Where the trial ran, for the search to model it there (search::Observation::x).
+      EXPECT_EQ(t.result_info.at("evaluated_params"), json({recorded["a"], recorded["b"]}));
       // The result is the nearest recorded row's: a grid point within half a step of the proposal.
       EXPECT_LE(std::abs(recorded["a"].get<double>() - t.params["a"].get<double>()), 0.05 + 1e-9) << t.params;
       ASSERT_EQ(t.features.size(), 1u);

@@ -41,7 +41,15 @@ struct Observation {
   /// The task's success rule (search/strategies.h trial_success): a finished trial that missed the
   /// task's goal (a jump that did not clear) is ok with features but no strategy.
   bool success = true;
+  /// Where the trial ran when that is not its proposal (a task that looks results up at the
+  /// nearest recorded point, tasks/pool): parameters inside the space's bounds, in its order. A
+  /// search that models results over the parameters (BDS) models them here; empty: the proposal.
+  std::vector<double> x = {};
 };
+
+/// Observation::x from a trial's result info: its "evaluated_params" (one number per parameter, in
+/// the space's order), which a task that looks results up reports (tasks/pool); else empty.
+std::vector<double> evaluated_params(const Json& info);
 
 class Search {
  public:

@@ -181,16 +181,15 @@ void Scheduler::handle(const ExecutorEvent& e) {
     obs.ok = true;
     obs.objectives = e.result["objectives"].get<std::vector<double>>();
     obs.features = e.result["features"].get<std::vector<double>>();
-    obs.success = search::trial_success(s.strategies.success, e.result.value("info", Json::object()));
-    obs.x = search::evaluated_params(e.result.value("info", Json::object()));
+    const Json info = e.result.value("info", Json::object());
+    obs.success = search::trial_success(s.strategies.success, info);
+    obs.x = search::evaluated_params(info);
     std::vector<store::ArtifactRecord> artifacts;
     for (const auto& a : e.result["artifacts"])
       artifacts.push_back({a["name"], a["path"], a["sha256"], a["size"].get<std::int64_t>()});
-    store_.complete_trial(f.trial.id, obs.objectives, s.feature_names, obs.features, e.result.value("info", Json::object()),
-                          artifacts);
+    store_.complete_trial(f.trial.id, obs.objectives, s.feature_names, obs.features, info, artifacts);
     s.held[f.trial.index] = obs;  // told in trial order (advance_search)
-    if (const auto id = s.strategies.assign(obs.features, e.result.value("info", Json::object())))
-      store_.set_trial_strategy(f.trial.id, *id);
+    if (const auto id = s.strategies.assign(obs.features, info)) store_.set_trial_strategy(f.trial.id, *id);
     c.counter.record_finished();
     emit(c, "trial_done", {{"stage", s.rec.name}, {"trial", f.trial.index}, {"objectives", obs.objectives}}, false);
   } else {

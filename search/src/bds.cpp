@@ -562,6 +562,9 @@ void BayesianDiversitySearch::tell(const std::vector<Observation>& observations)
       for (double v : o.features)
         if (!std::isfinite(v))
           throw base::UserError(name() + ": trial " + std::to_string(o.id) + " reported a non-finite feature value");
+    if (!o.x.empty() && o.x.size() != static_cast<std::size_t>(it->second.u.size()))
+      throw base::UserError(name() + ": trial " + std::to_string(o.id) + " ran at " + std::to_string(o.x.size()) +
+                            " parameters but the space has " + std::to_string(it->second.u.size()));
     const bool new_strategy = is_new_strategy(o);
     // The self-correcting schedule (bds.h): stalled diversity steps trigger exploration, which
     // stops at its first new strategy.
@@ -574,9 +577,6 @@ void BayesianDiversitySearch::tell(const std::vector<Observation>& observations)
     } else if (it->second.step == "explore" && new_strategy) {
       fallback_left_ = 0;
     }
-    if (!o.x.empty() && o.x.size() != static_cast<std::size_t>(it->second.u.size()))
-      throw base::UserError(name() + ": trial " + std::to_string(o.id) + " ran at " + std::to_string(o.x.size()) +
-                            " parameters but the space has " + std::to_string(it->second.u.size()));
     // A result is modelled where it was measured (Observation::x), not where it was asked for.
     told_.push_back(
         {o.id, o.x.empty() ? it->second.u : to_unit(o.x), o.ok, o.ok ? o.features : std::vector<double>{}, o.ok && o.success});

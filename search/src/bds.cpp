@@ -37,6 +37,7 @@ BdsParams BdsParams::from_json(const Json& config, const std::string& path) {
   p.explore_starts = r.integer("explore_starts", p.explore_starts, {1, 1000});
   p.direct_evals = r.integer("direct_evals", p.direct_evals, {10, 10000000});
   p.fit_starts = r.integer("fit_starts", p.fit_starts, {0, 1000});
+  p.fit_min_points = r.integer("fit_min_points", p.fit_min_points, {0, 1000000});
   p.ucb_beta = r.number("ucb_beta", p.ucb_beta, {0.0, 1e6});
   p.length_scale_min = r.number("length_scale_min", p.length_scale_min, {1e-6, 1e6});
   p.length_scale_max = r.number("length_scale_max", p.length_scale_max, {p.length_scale_min, 1e6});
@@ -178,7 +179,8 @@ VectorXd BayesianDiversitySearch::initial_point() {
 }
 
 void BayesianDiversitySearch::fit_if_needed() {
-  if (success_modelled() && told_.size() != success_fitted_on_) {
+  const std::size_t min_points = params_.fit_min_points > 0 ? static_cast<std::size_t>(params_.fit_min_points) : space_.dim() + 3;
+  if (success_modelled() && told_.size() != success_fitted_on_ && told_.size() >= min_points) {
     auto gp = *success_model();
     gp.fit(rng_, params_.fit_starts, bounds_);
     theta_success_ = gp.theta();
@@ -187,7 +189,7 @@ void BayesianDiversitySearch::fit_if_needed() {
   std::vector<const Told*> ok;
   for (const auto& t : told_)
     if (modelled(t)) ok.push_back(&t);
-  if (ok.size() == fitted_on_) return;
+  if (ok.size() == fitted_on_ || ok.size() < min_points) return;
   const int d = static_cast<int>(space_.dim());
   MatrixXd x(static_cast<Eigen::Index>(ok.size()), d);
   for (std::size_t i = 0; i < ok.size(); ++i) x.row(static_cast<Eigen::Index>(i)) = ok[i]->u.transpose();

@@ -102,6 +102,12 @@ struct BdsParams {
   int explore_starts = 5;        ///< L-BFGS starts (the best candidates)
   int direct_evals = 800;        ///< DIRECT-L evaluations per diversity step
   int fit_starts = 2;            ///< random hyperparameter starts besides the previous optimum
+  /// Observations a GP needs before its hyperparameters are fitted; 0: one more than it has
+  /// hyperparameters (dim + 3). Until then it keeps the defaults (signal 1, length 0.5, noise
+  /// 10⁻⁴). Maximum likelihood on fewer points is degenerate: on one success it can explain the
+  /// feature as noise, σ is then flat over the box, and a success-weighted exploration step
+  /// proposes that success again.
+  int fit_min_points = 0;
   /// Thesis eq. 3.8: the diversity acquisition plus β·Σ_j σ_j(x) (σ in feature units), so diversity
   /// steps keep some of the exploration's spread. 0 is the thesis's choice (pure eq. 3.7).
   double ucb_beta = 0.0;

@@ -264,8 +264,8 @@ TEST(Summary, ReadsADatabaseAnOlderPodiumWrote) {
 }
 
 // A task names its objectives per stage from the stage's config: the demo's get-up Evaluate stage
-// ranks by the mean slowed success, its training stage by the success rate; the jump's by its
-// jumps' success. Submitted (each stage described by its plugin), not run.
+// ranks by the mean slowed success, its training stage by the success rate; the jumps' (high and
+// obstacle) by their jumps' success. Submitted (each stage described by its plugin), not run.
 TEST(Summary, ObjectivesAreNamedPerStageByTheTasksDescription) {
   TempDir dir;
   const auto submit = run_podium({"submit", std::string(PODIUM_SOURCE_DIR) + "/campaigns/getup_demo.json"}, dir.path());
@@ -273,7 +273,7 @@ TEST(Summary, ObjectivesAreNamedPerStageByTheTasksDescription) {
   const auto status = run_podium({"status", "getup-demo", "--json"}, dir.path());
   ASSERT_EQ(status.exit_code, 0) << status.err;
   const Json stages = Json::parse(status.out)["stages"];
-  ASSERT_EQ(stages.size(), 4u);
+  ASSERT_EQ(stages.size(), 5u);
   const auto names = [](const Json& entries) {
     std::vector<std::string> out;
     for (const auto& e : entries) out.push_back(e["name"]);
@@ -285,9 +285,11 @@ TEST(Summary, ObjectivesAreNamedPerStageByTheTasksDescription) {
     EXPECT_EQ(names(stages[evaluate]["features"]),
               (std::vector<std::string>{"chest_up_at_half_height", "side_lean", "hand_support", "knee_support"}));
   }
-  EXPECT_EQ(names(stages[2]["objectives"]), std::vector<std::string>{"success_rate"});
-  EXPECT_EQ(stages[2]["features"][0]["unit"], "rad");
-  EXPECT_EQ(names(stages[3]["objectives"]), (std::vector<std::string>{"success_rate", "weakness"}));
+  for (const int jumps : {2, 3}) {  // the high jumps, then the obstacle jumps
+    EXPECT_EQ(names(stages[jumps]["objectives"]), std::vector<std::string>{"success_rate"});
+    EXPECT_EQ(stages[jumps]["features"][0]["unit"], "rad");
+  }
+  EXPECT_EQ(names(stages[4]["objectives"]), (std::vector<std::string>{"success_rate", "weakness"}));
   for (const auto& stage : stages)
     for (const auto& entry : stage["objectives"]) EXPECT_TRUE(entry.contains("description")) << stage["name"] << entry;
 }

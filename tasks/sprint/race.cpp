@@ -295,7 +295,7 @@ struct RaceContext {
 // Steps `env` with `policy` to the episode's end, sampling (and recording) after every step;
 // `before` may change each action (the dip).
 void run_phase(SprintEnv& env, const character::PolicyFn& policy, std::vector<double>& observation, Trace& tr,
-               sim::Recorder* recorder, bool& truncated, const std::function<void(std::span<double>)>& before = {}) {
+               sim::Recorder* recorder, const std::function<void(std::span<double>)>& before = {}) {
   std::vector<double> action(env.action_space().size());
   learn::StepResult step;
   for (;;) {
@@ -304,10 +304,7 @@ void run_phase(SprintEnv& env, const character::PolicyFn& policy, std::vector<do
     env.step(action, step);
     if (recorder) recorder->record(env.world());
     take_sample(env, tr);
-    if (step.terminated || step.truncated) {
-      truncated = step.truncated && !step.terminated;
-      return;
-    }
+    if (step.terminated || step.truncated) return;
     observation.swap(step.observation);
   }
 }
@@ -320,7 +317,6 @@ RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, con
   e.index = index, e.seed = seed, e.draw = draw;
   Trace tr;
   std::vector<double> observation;
-  bool truncated = false;
   SprintEnvSettings start_settings = c.start;
   start_settings.fixed_draw = draw;
   SprintEnv start(start_settings);
@@ -328,10 +324,10 @@ RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, con
   start.reset(observation);
   if (recorder) recorder->record(start.world());
   take_sample(start, tr);
-  run_phase(start, c.policies.start, observation, tr, recorder, truncated);
+  run_phase(start, c.policies.start, observation, tr, recorder);
   e.reference = c.start.start_references.at(static_cast<std::size_t>(start.reference_index())).name;
   if (start.outcome() != SprintEnv::Outcome::landed || !start.landing_state()) {
-    e.outcome = truncated ? "no_landing" : to_string(start.outcome());
+    e.outcome = start.outcome() == SprintEnv::Outcome::running ? "no_landing" : to_string(start.outcome());
     measure(tr, c.s, c.length_m, e);
     return e;
   }
@@ -346,11 +342,11 @@ RaceEpisode run_episode(const RaceContext& c, int index, std::uint64_t seed, con
   std::optional<DipTrigger> trigger;
   if (dip) dip_actions.emplace(run.world().model_ptr(), false), trigger.emplace(*dip, *dip_actions, c.length_m);
   int step = 0;
-  run_phase(run, c.policies.accelerate, observation, tr, recorder, truncated, [&](std::span<double> action) {
+  run_phase(run, c.policies.accelerate, observation, tr, recorder, [&](std::span<double> action) {
     if (trigger) trigger->apply(step++, run.world().data().q(0), action);
   });
   if (trigger && trigger->fired_step() >= 0) e.dip_x_m = trigger->fired_x_m();
-  e.outcome = truncated ? "time_limit" : to_string(run.outcome());
+  e.outcome = run.outcome() == SprintEnv::Outcome::running ? "time_limit" : to_string(run.outcome());
   if (run.outcome() == SprintEnv::Outcome::finished) e.finish_time_s = run.finish_line().finish_time();
   measure(tr, c.s, c.length_m, e);
   return e;

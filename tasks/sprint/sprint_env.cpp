@@ -369,7 +369,12 @@ void SprintEnv::on_step(learn::StepResult& out) {
              : finish    ? Outcome::finished
                          : Outcome::running;
   out.reward = base.total() + terms.mass + terms.diagonal + terms.mirror + terms.primitive + imitation;
-  out.terminated = outcome_ != Outcome::running;
+  // A phase's end is a hand-over, not a failure: the landing hands the run to stage 2 and the line
+  // ends the race. Both cut the episode as a time limit does (PPO bootstraps there); as terminal
+  // states they would be worth nothing, less than the survival and imitation reward of never
+  // getting there, and a Start policy trained so learnt not to land.
+  out.terminated = outcome_ == Outcome::fell || outcome_ == Outcome::left_lane || outcome_ == Outcome::deviated;
+  out.truncated = outcome_ == Outcome::landed || outcome_ == Outcome::finished;
   out.info = {base.forward,     base.survival,         base.lateral,       terms.mass,
               terms.diagonal,   terms.mirror,          terms.primitive,    static_cast<double>(counter_.steps()),
               fell ? 1.0 : 0.0, left_lane ? 1.0 : 0.0, finish ? 1.0 : 0.0, finish.value_or(0.0),

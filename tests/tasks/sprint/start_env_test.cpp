@@ -101,6 +101,7 @@ TEST(SprintStartEnv, TheImitationTermIsOneOnTheReferenceAndLessOffIt) {
 struct Landing {
   int steps = 0;
   std::vector<std::vector<double>> infos;
+  bool terminated = false, truncated = false;  // how the last step ended the episode
 };
 Landing land(SprintEnv& env) {
   std::vector<double> observation;
@@ -117,6 +118,7 @@ Landing land(SprintEnv& env) {
     out.infos.push_back(step.info);
     ++out.steps;
   } while (!step.terminated && !step.truncated && out.steps < 30);
+  out.terminated = step.terminated, out.truncated = step.truncated;
   return out;
 }
 
@@ -127,6 +129,9 @@ TEST(SprintStartEnv, ThePhaseEndsAtTheFirstCountedLandingOnTheGround) {
     const Landing run = land(env);
     SCOPED_TRACE("reference " + std::to_string(env.reference_index()));
     ASSERT_EQ(env.outcome(), SprintEnv::Outcome::landed);
+    // A hand-over, not a terminal state: PPO bootstraps there, so landing costs the policy nothing.
+    EXPECT_TRUE(run.truncated);
+    EXPECT_FALSE(run.terminated);
     for (std::size_t k = 0; k < run.infos.size(); ++k) {
       const bool last = k + 1 == run.infos.size();
       EXPECT_EQ(run.infos[k][info("landed")], last ? 1.0 : 0.0) << k;

@@ -142,9 +142,9 @@ TEST(PoseLabels, DeepMimicGetUpBecomesALabelledPoseSet) {
 
 // The thesis's P-VAE training clips (CMU-derived, for the 60 kg jumper) make one pose set.
 TEST(PoseLabels, JumpVaeClipsBuildOnePoseSet) {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  const std::filesystem::path root = shared ? std::filesystem::path(shared) / "data/jump/data" : std::filesystem::path();
-  if (!shared || !std::filesystem::exists(root / "vae/txt")) GTEST_SKIP() << "PODIUM_SHARED_DIR/data/jump/data/vae is absent";
+  const std::filesystem::path root = podium::testing::shared_data("jump/data");
+  if (root.empty() || !std::filesystem::exists(root / "vae/txt"))
+    GTEST_SKIP() << "PODIUM_SHARED_DIR/data/jump/data/vae is absent";
   const sim::ModelPtr model = sim::load_deepmimic(root / "characters/humanoid3d_jumper60kg.txt");
   const PoseBridge bridge(model, PoseBridge::Frame::y_up);
   learn::PoseDataset all;

@@ -7,14 +7,12 @@
 #include "podium/base/rng.h"
 #include "podium/character/frames.h"
 #include "podium/sim/model.h"
+#include "shared_data.h"
 
 namespace podium::character::testing {
 
-/// ../shared/data/deepmimic/data, or empty when PODIUM_SHARED_DIR is unset.
-inline std::filesystem::path deepmimic_dir() {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  return shared ? std::filesystem::path(shared) / "data/deepmimic/data" : std::filesystem::path();
-}
+/// ../shared/data/deepmimic/data, or empty when it is absent.
+inline std::filesystem::path deepmimic_dir() { return podium::testing::shared_data("deepmimic/data"); }
 
 /// A random configuration: root anywhere above the ground, hinges within ±1 rad, balls within 1 rad.
 inline Eigen::VectorXd random_q(const sim::CharacterModel& model, base::Rng& rng) {

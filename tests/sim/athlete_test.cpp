@@ -11,6 +11,7 @@
 
 #include "podium/sim/dynamics.h"
 #include "podium/sim/world.h"
+#include "shared_data.h"
 
 namespace podium::sim {
 namespace {
@@ -97,11 +98,8 @@ TEST(Athlete, HasTheJumpersLegTorqueLimitsAndDeepMimicsElsewhere) {
 
 // The leg limits are the thesis's own character file's (read there when present).
 TEST(Athlete, LegTorqueLimitsEqualTheJumperFiles) {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  const std::filesystem::path file =
-      shared ? std::filesystem::path(shared) / "data/jump/data/characters/humanoid3d_jumper60kg.txt" : std::filesystem::path();
-  if (file.empty() || !std::filesystem::exists(file))
-    GTEST_SKIP() << "PODIUM_SHARED_DIR/data/jump is absent: no jumper file to compare with";
+  const std::filesystem::path file = podium::testing::shared_data("jump/data/characters/humanoid3d_jumper60kg.txt");
+  if (file.empty()) GTEST_SKIP() << "PODIUM_SHARED_DIR/data/jump is absent: no jumper file to compare with";
   const ModelPtr athlete = load_shipped_model("athlete"), jumper = load_deepmimic(file);
   for (const char* joint : {"right_hip", "left_hip", "right_knee", "left_knee", "right_ankle", "left_ankle"})
     EXPECT_EQ(joint_limits(*athlete, joint), joint_limits(*jumper, joint)) << joint;

@@ -9,21 +9,16 @@
 #include "podium/base/error.h"
 #include "podium/base/json.h"
 #include "podium/sim/model.h"
+#include "shared_data.h"
 
 namespace podium::sim {
 namespace {
 
 using base::Json;
 
-std::filesystem::path deepmimic_dir() {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  return shared ? std::filesystem::path(shared) / "data/deepmimic/data" : std::filesystem::path();
-}
+std::filesystem::path deepmimic_dir() { return podium::testing::shared_data("deepmimic/data"); }
 
-std::filesystem::path jump_dir() {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  return shared ? std::filesystem::path(shared) / "data/jump/data" : std::filesystem::path();
-}
+std::filesystem::path jump_dir() { return podium::testing::shared_data("jump/data"); }
 
 // A root and one joint below it, in DeepMimic's format; `joint` adds or overrides the joint's keys.
 std::filesystem::path write_character(const std::string& name, const Json& joint) {

@@ -22,6 +22,7 @@
 #include "podium/character/pose_bridge.h"
 #include "podium/character/rewards.h"
 #include "process.h"
+#include "shared_data.h"
 
 namespace podium::tasks::getup_curves {
 namespace {
@@ -291,12 +292,7 @@ TEST(CurveGetupEnv, CurveFilesLoadAndABadClipIsNamed) {
 
 // DeepMimic's supine get-up clip (../shared/data), or empty when PODIUM_SHARED_DIR is unset or the
 // file absent.
-std::filesystem::path faceup_clip() {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  if (!shared) return {};
-  const std::filesystem::path clip = std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_getup_faceup.txt";
-  return std::filesystem::exists(clip) ? clip : std::filesystem::path();
-}
+std::filesystem::path faceup_clip() { return podium::testing::shared_data("deepmimic/data/motions/humanoid3d_getup_faceup.txt"); }
 
 // §5.2 (ii) with clips: a standing start on flat is a frame of a clip's last standing_tail_s
 // (its pose exactly, without noise), entered at the curve's standing part; with a tail of 0 it is

@@ -14,6 +14,7 @@
 #include "podium/base/error.h"
 #include "podium/character/frames.h"
 #include "podium/sim/model.h"
+#include "shared_data.h"
 
 namespace podium::tasks::getup_curves {
 namespace {
@@ -95,15 +96,10 @@ const GetUpClip kClips[] = {
     {"jump/data/vae/txt/cmu136-140/140/140_03.txt", "jump/data/characters/humanoid3d_jumper60kg.txt"},
 };
 
-std::filesystem::path shared_data() {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  return shared ? std::filesystem::path(shared) / "data" : std::filesystem::path();
-}
-
 // The missing file, or "" when every clip and skeleton is there.
 std::string missing_data() {
-  const std::filesystem::path data = shared_data();
-  if (data.empty()) return "PODIUM_SHARED_DIR is unset";
+  const std::filesystem::path data = podium::testing::shared_data();
+  if (data.empty()) return "PODIUM_SHARED_DIR/data is absent";
   for (const GetUpClip& c : kClips)
     for (const char* f : {c.file, c.character})
       if (!std::filesystem::exists(data / f)) return (data / f).string() + " is absent";
@@ -111,7 +107,7 @@ std::string missing_data() {
 }
 
 character::Clip load_clip(const GetUpClip& c) {
-  const std::filesystem::path data = shared_data();
+  const std::filesystem::path data = podium::testing::shared_data();
   return character::read_deepmimic_clip(sim::load_deepmimic(data / c.character), data / c.file);
 }
 

@@ -18,6 +18,7 @@
 #include "podium/base/json.h"
 #include "podium/sim/model.h"
 #include "process.h"
+#include "shared_data.h"
 
 namespace podium::tasks::getup_curves {
 namespace {
@@ -177,9 +178,8 @@ struct SharedData {
   std::string missing;
 };
 SharedData shared_data(const std::vector<std::string>& files) {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  if (!shared) return {{}, "PODIUM_SHARED_DIR is unset"};
-  const fs::path root = fs::path(shared) / "data";
+  const fs::path root = podium::testing::shared_data();
+  if (root.empty()) return {{}, "PODIUM_SHARED_DIR/data is absent"};
   for (const auto& f : files)
     if (!fs::exists(root / f)) return {root, (root / f).string() + " is absent"};
   return {root, ""};

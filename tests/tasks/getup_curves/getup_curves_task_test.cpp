@@ -21,6 +21,7 @@
 #include "podium/plugins/loader.h"
 #include "podium/sim/model.h"
 #include "process.h"
+#include "shared_data.h"
 #include "task_conformance.h"
 
 namespace podium::tasks::getup_curves {
@@ -369,8 +370,7 @@ TEST(GetupCurvesCampaign, AFixedScheduleOpensTheRegionsByStepCount) {
 // DeepMimic's two get-up clips on their skeleton as pose_clips, or empty (with the reason) when
 // ../shared/data is absent.
 Json deepmimic_getup_clips(std::string& missing) {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  const fs::path data = shared ? fs::path(shared) / "data/deepmimic/data" : fs::path();
+  const fs::path data = podium::testing::shared_data("deepmimic/data");
   if (data.empty() || !fs::exists(data / "characters/humanoid3d.txt")) {
     missing = "../shared/data/deepmimic absent (PODIUM_SHARED_DIR): no clips for the C-VAE";
     return Json::array();

@@ -17,6 +17,7 @@
 #include "podium/base/error.h"
 #include "podium/character/pose_bridge.h"
 #include "process.h"
+#include "shared_data.h"
 
 namespace podium::tasks::getup_curves {
 namespace {
@@ -122,12 +123,11 @@ TEST(PoseCvae, PrincipalComponentsAndTheMeanPoseBaselineOnHandMadePoses) {
 
 // The seven get-up clips of ../shared/data and the skeletons they were captured on.
 std::vector<PoseClip> getup_clips(std::string& missing) {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  if (!shared) {
-    missing = "PODIUM_SHARED_DIR is unset";
+  const fs::path data = podium::testing::shared_data();
+  if (data.empty()) {
+    missing = "PODIUM_SHARED_DIR/data is absent";
     return {};
   }
-  const fs::path data = fs::path(shared) / "data";
   const std::string deepmimic = (data / "deepmimic/data/characters/humanoid3d.txt").string();
   const std::string jumper = (data / "jump/data/characters/humanoid3d_jumper60kg.txt").string();
   std::vector<PoseClip> clips = {{(data / "deepmimic/data/motions/humanoid3d_getup_faceup.txt").string(), deepmimic},

@@ -7,6 +7,7 @@
 #include "jump_env.h"
 #include "podium/character/frames.h"
 #include "podium/character/pose_bridge.h"
+#include "shared_data.h"
 
 namespace podium::tasks::jump::testing {
 
@@ -43,11 +44,6 @@ inline learn::StepResult step_until_decided(JumpEnv& env, int max_steps = 100) {
 }
 
 // ../shared/data/jump/data, or empty when PODIUM_SHARED_DIR is unset or the folder is absent.
-inline std::filesystem::path captured_jump_dir() {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  if (!shared) return {};
-  const std::filesystem::path dir = std::filesystem::path(shared) / "data/jump/data";
-  return std::filesystem::exists(dir) ? dir : std::filesystem::path{};
-}
+inline std::filesystem::path captured_jump_dir() { return podium::testing::shared_data("jump/data"); }
 
 }  // namespace podium::tasks::jump::testing

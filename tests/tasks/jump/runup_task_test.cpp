@@ -15,6 +15,7 @@
 #include "podium/base/json.h"
 #include "podium/plugins/loader.h"
 #include "process.h"
+#include "shared_data.h"
 #include "task_conformance.h"
 
 namespace podium::tasks::jump {
@@ -24,11 +25,7 @@ using base::Json;
 namespace fs = std::filesystem;
 
 // ../shared/data/jump/data, or empty when PODIUM_SHARED_DIR is unset or the folder is absent.
-fs::path captured_jump_dir() {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  const fs::path dir = shared ? fs::path(shared) / "data/jump/data" : fs::path();
-  return !dir.empty() && fs::exists(dir) ? dir : fs::path();
-}
+fs::path captured_jump_dir() { return podium::testing::shared_data("jump/data"); }
 
 // The stage in the task conformance suite (determinism, artifacts, cancel, resume from a kill),
 // on the smoke preset toward a fixed target without a jump policy; no case without the reference

@@ -14,6 +14,7 @@
 
 #include "podium/base/error.h"
 #include "podium/sim/model.h"
+#include "shared_data.h"
 
 namespace podium::tasks::sprint {
 namespace {
@@ -80,9 +81,8 @@ TEST(Primitive, GaussianKlMatchesItsClosedForm) {
 
 // ../shared/data's 3–4 m/s runs (the list), or empty when absent.
 std::vector<std::string> run_clips(fs::path& data) {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  if (!shared) return {};
-  data = fs::path(shared) / "data";
+  data = podium::testing::shared_data();
+  if (data.empty()) return {};
   const fs::path vae = data / "jump/data/vae/txt";
   std::vector<std::string> clips;
   for (const char* c : {"cmu01-09/09/09_02", "cmu01-09/09/09_04", "cmu01-09/09/09_06", "cmu01-09/09/09_07", "cmu15-19/16/16_48",

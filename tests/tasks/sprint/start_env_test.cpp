@@ -17,6 +17,7 @@
 #include "podium/base/error.h"
 #include "podium/character/pose_bridge.h"
 #include "podium/sim/dynamics.h"
+#include "shared_data.h"
 #include "sprint_env.h"
 #include "train_start.h"
 #include "user_start.h"
@@ -214,12 +215,7 @@ namespace podium::tasks::sprint {
 namespace {
 
 // DeepMimic's run (../shared/data), or empty when PODIUM_SHARED_DIR is unset or the file absent.
-std::filesystem::path deepmimic_run() {
-  const char* shared = std::getenv("PODIUM_SHARED_DIR");
-  if (!shared) return {};
-  const std::filesystem::path file = std::filesystem::path(shared) / "data/deepmimic/data/motions/humanoid3d_run.txt";
-  return std::filesystem::exists(file) ? file : std::filesystem::path{};
-}
+std::filesystem::path deepmimic_run() { return podium::testing::shared_data("deepmimic/data/motions/humanoid3d_run.txt"); }
 
 double lowest_over(const character::Clip& clip) {
   double low = 1e300;

@@ -48,10 +48,10 @@ EpisodeDraw draw_from_json(const base::Json& json, const std::string& where) {
 
 SprintEnv::Outcome outcome_of(const std::string& name) {
   using O = SprintEnv::Outcome;
-  for (const auto o : {O::running, O::fell, O::left_lane, O::finished, O::landed, O::deviated})
+  for (const auto o : {O::running, O::fell, O::left_lane, O::finished, O::landed, O::deviated, O::no_landing})
     if (name == to_string(o)) return o;
   throw base::UserError("sprint env state: sprint.outcome: \"" + name +
-                        "\" is not running, fell, left_lane, finished, landed or deviated");
+                        "\" is not running, fell, left_lane, finished, landed, deviated or no_landing");
 }
 
 bool same_props(const std::vector<sim::BoxProp>& a, const std::vector<sim::BoxProp>& b) {
@@ -132,6 +132,8 @@ const char* to_string(SprintEnv::Outcome outcome) {
       return "landed";
     case SprintEnv::Outcome::deviated:
       return "deviated";
+    case SprintEnv::Outcome::no_landing:
+      return "no_landing";
   }
   return "running";
 }
@@ -346,6 +348,13 @@ double SprintEnv::start_terms(const sim::Observation& f, bool counted, bool& lan
   return settings_.preset.start.imitation_weight * terms.total;
 }
 
+// Whether the Start's reference (the one drawn) is over, with the preset's extra time, unlanded.
+bool SprintEnv::start_overran(bool landed) const {
+  if (!start_mode() || landed || reference_ < 0) return false;
+  const StartReference& ref = settings_.start_references[static_cast<std::size_t>(reference_)];
+  return reference_time_s() >= ref.clip->duration_s() + settings_.preset.start.extra_time_s - 1e-9;
+}
+
 void SprintEnv::on_step(learn::StepResult& out) {
   const sim::Observation& f = features();
   const TrackSpec& track = settings_.preset.track;
@@ -362,18 +371,21 @@ void SprintEnv::on_step(learn::StepResult& out) {
   const Terms terms = phase_terms(f);
   bool landed = false, deviated = false;
   const double imitation = start_mode() ? start_terms(f, counted, landed, deviated) : 0.0;
-  outcome_ = fell        ? Outcome::fell
-             : left_lane ? Outcome::left_lane
-             : deviated  ? Outcome::deviated
-             : landed    ? Outcome::landed
-             : finish    ? Outcome::finished
-                         : Outcome::running;
+  outcome_ = fell                    ? Outcome::fell
+             : left_lane             ? Outcome::left_lane
+             : deviated              ? Outcome::deviated
+             : landed                ? Outcome::landed
+             : start_overran(landed) ? Outcome::no_landing
+             : finish                ? Outcome::finished
+                                     : Outcome::running;
   out.reward = base.total() + terms.mass + terms.diagonal + terms.mirror + terms.primitive + imitation;
   // A phase's end is a hand-over, not a failure: the landing hands the run to stage 2 and the line
-  // ends the race. Both cut the episode as a time limit does (PPO bootstraps there); as terminal
-  // states they would be worth nothing, less than the survival and imitation reward of never
-  // getting there, and a Start policy trained so learnt not to land.
-  out.terminated = outcome_ == Outcome::fell || outcome_ == Outcome::left_lane || outcome_ == Outcome::deviated;
+  // ends the race. Both cut the episode as a time limit does (PPO bootstraps there), and a Start
+  // that has not landed when its reference is over has failed (terminal, worth nothing). With the
+  // landing terminal and the reference's end a time limit, the survival and imitation reward of
+  // the steps left made not landing pay more, and a Start policy trained so learnt not to land.
+  out.terminated = outcome_ == Outcome::fell || outcome_ == Outcome::left_lane || outcome_ == Outcome::deviated ||
+                   outcome_ == Outcome::no_landing;
   out.truncated = outcome_ == Outcome::landed || outcome_ == Outcome::finished;
   out.info = {base.forward,     base.survival,         base.lateral,       terms.mass,
               terms.diagonal,   terms.mirror,          terms.primitive,    static_cast<double>(counter_.steps()),

@@ -132,7 +132,8 @@ std::vector<std::string> sprint_env_info_names(bool start_mode = false);
 
 class SprintEnv final : public character::CharacterEnv {
  public:
-  enum class Outcome { running, fell, left_lane, finished, landed, deviated };
+  /// no_landing: the Start's reference ended (plus the preset's extra_time_s) before a landing.
+  enum class Outcome { running, fell, left_lane, finished, landed, deviated, no_landing };
 
   /// Throws base::UserError for a bad setting (a model without the sprint's bodies, a bad start
   /// state, a hand-over state of another model).
@@ -187,6 +188,7 @@ class SprintEnv final : public character::CharacterEnv {
   Terms phase_terms(const sim::Observation& features);
   void apply_drag();
   double start_terms(const sim::Observation& features, bool counted, bool& landed, bool& deviated);
+  bool start_overran(bool landed) const;
 
   SprintEnvSettings settings_;
   SprintBodies bodies_;

@@ -29,7 +29,8 @@ void read_start(base::ConfigReader& r, StartPreset& s) {
   s.min_pose_reward =
       r.number("min_pose_reward", s.min_pose_reward, {0.0, 1.0}, "early termination: r_p at most this (0: never)");
   s.landing_x_m = r.number("landing_x_m", s.landing_x_m, {0.0, 10.0, true}, "the references' first landing, m past the line");
-  s.extra_time_s = r.number("extra_time_s", s.extra_time_s, {0.0, 60.0}, "an episode's limit beyond the longest reference, s");
+  s.extra_time_s = r.number("extra_time_s", s.extra_time_s, {0.0, 60.0},
+                            "a Start not landed by its reference's duration plus this has failed, s");
 }
 
 }  // namespace

@@ -28,7 +28,7 @@ struct StartPreset {
   double max_com_deviation_m = 0.5;  ///< ends the episode when the COM is this far from the reference's
   double min_pose_reward = 0.0;      ///< ends it when r_p falls to this (0: never)
   double landing_x_m = 0.5;          ///< the references' first landing, m past the line
-  double extra_time_s = 0.5;         ///< an episode's limit: the longest reference's duration plus this
+  double extra_time_s = 0.5;         ///< a Start not landed by its reference's duration plus this has failed
 };
 
 /// The race report (race.h): how many DR episodes it runs (smoke a few, quick 20, paper 100).

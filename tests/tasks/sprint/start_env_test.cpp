@@ -153,6 +153,31 @@ TEST(SprintStartEnv, ThePhaseEndsAtTheFirstCountedLandingOnTheGround) {
   }
 }
 
+// A Start that has not landed when its reference is over (plus extra_time_s) has failed: a
+// terminal state, worth nothing, so that not landing cannot pay more than landing.
+TEST(SprintStartEnv, AStartNotLandedWhenItsReferenceIsOverHasFailed) {
+  SprintEnvSettings settings = start_settings();
+  settings.preset.start.max_com_deviation_m = 1e3;  // holding the set position must not count as deviating
+  SprintEnv env(settings);
+  env.seed(6);
+  std::vector<double> observation;
+  env.reset(observation);
+  const character::Clip& clip = env.imitation().clip();
+  const double end_s = clip.duration_s() + settings.preset.start.extra_time_s;
+  env.set_reference_time(end_s - 1.5 * env.control_dt_s());
+  const std::vector<double> hold = character::PoseBridge(env.world().model_ptr()).pose(clip.poses.front());
+  learn::StepResult step;
+  env.step(hold, step);  // still inside the reference's time: running
+  EXPECT_EQ(env.outcome(), SprintEnv::Outcome::running) << to_string(env.outcome());
+  EXPECT_FALSE(step.terminated || step.truncated);
+  env.step(hold, step);  // past it, unlanded
+  EXPECT_EQ(env.outcome(), SprintEnv::Outcome::no_landing) << to_string(env.outcome());
+  EXPECT_TRUE(step.terminated);
+  EXPECT_FALSE(step.truncated);
+  EXPECT_GE(env.reference_time_s(), end_s - 1e-9);
+  EXPECT_FALSE(env.landing_state().has_value());
+}
+
 TEST(SprintStartEnv, ALandingStateSavedAndReloadedContinuesBitwiseInTheStageTwoEnvironment) {
   SprintEnv start(start_settings());
   start.seed(11);

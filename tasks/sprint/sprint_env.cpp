@@ -27,6 +27,14 @@ bool foot_down(const sim::Observation& f, int foot) {
   return f.touches(foot, sim::Contact::Partner::ground) || f.touches(foot, sim::Contact::Partner::prop);
 }
 
+// A step is a touchdown on the track past the start line (x = 0). Behind it a foot in the blocks
+// slides off its face and touches the track with its toe within a few control steps of the set
+// position; counted, that touch was the Start's "landing" (in the blocks), or it ended the hands'
+// allowance there (a fall).
+bool foot_on_track_past_line(const sim::World& world, const sim::Observation& f, int foot) {
+  return f.touches(foot, sim::Contact::Partner::ground) && world.body_centroid(foot).x() > 0.0;
+}
+
 // The COM relative to the root, in the root's heading frame (as com_in_heading_frame, from the
 // COM the World's observation already holds).
 Eigen::Vector3d com_heading(const sim::CharacterData& d, const sim::Observation& f) {
@@ -359,7 +367,8 @@ void SprintEnv::on_step(learn::StepResult& out) {
   const sim::Observation& f = features();
   const TrackSpec& track = settings_.preset.track;
   const double x = world().data().q(0), y = world().data().q(1);
-  const bool counted = counter_.observe(foot_down(f, bodies_.left_foot), foot_down(f, bodies_.right_foot));
+  const bool counted = counter_.observe(foot_on_track_past_line(world(), f, bodies_.left_foot),
+                                        foot_on_track_past_line(world(), f, bodies_.right_foot));
   if (counted) poses_.touchdown();
   const bool fell = fallen_body(f, allowance_, counter_.steps() > 0) >= 0;
   const bool left_lane = body_outside_lane(track, world(), lane_bodies_) >= 0;

@@ -153,6 +153,37 @@ TEST(SprintStartEnv, ThePhaseEndsAtTheFirstCountedLandingOnTheGround) {
   }
 }
 
+// A step is a touchdown on the track past the start line. Held in the set position (the first
+// frame's pose as targets, from rest) the feet slide off their blocks and touch the track with
+// their toes within a few control steps; that is no step (before, it was counted: the Start
+// "landed" in the blocks, or its hands, still on the track, made it a fall).
+TEST(SprintStartEnv, FeetSlidingOffTheirBlocksTakeNoStep) {
+  SprintEnvSettings settings = start_settings();
+  settings.preset.start.max_com_deviation_m = 1e3;  // holding the set position must not count as deviating
+  for (std::uint64_t seed : {6u, 7u, 8u, 9u}) {
+    SprintEnv env(settings);
+    env.seed(seed);
+    std::vector<double> observation;
+    env.reset(observation);
+    const character::ImitationReference& ref = env.imitation();
+    env.world().set_state(ref.pose(0.0), Eigen::VectorXd::Zero(env.model().nv()));
+    env.observe(observation);
+    const std::vector<double> hold = character::PoseBridge(env.world().model_ptr()).pose(ref.clip().poses.front());
+    learn::StepResult step;
+    bool toe_on_track = false;
+    for (int k = 0; k < 8; ++k) {
+      env.step(hold, step);
+      for (const sim::Contact& c : env.features().contacts)
+        toe_on_track |=
+            c.partner == sim::Contact::Partner::ground && (c.body == env.bodies().left_foot || c.body == env.bodies().right_foot);
+    }
+    SCOPED_TRACE("reference " + std::to_string(env.reference_index()));
+    EXPECT_TRUE(toe_on_track);  // the case this is about
+    EXPECT_EQ(env.step_counter().steps(), 0);
+    EXPECT_EQ(env.outcome(), SprintEnv::Outcome::running) << to_string(env.outcome());
+  }
+}
+
 // A Start that has not landed when its reference is over (plus extra_time_s) has failed: a
 // terminal state, worth nothing, so that not landing cannot pay more than landing.
 TEST(SprintStartEnv, AStartNotLandedWhenItsReferenceIsOverHasFailed) {

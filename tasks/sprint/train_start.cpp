@@ -62,7 +62,14 @@ Json StartEvaluation::to_json() const {
           {"return", return_mean},
           {"min_reference_landing_rate", min_reference_landing_rate},
           {"per_reference", per},
+          {"ends", ends},
           {"landings", landings.size()}};
+}
+
+std::string StartEvaluation::ends_text() const {
+  std::string out;
+  for (const auto& [end, count] : ends) out += (out.empty() ? "" : ", ") + end + " " + std::to_string(count);
+  return out;
 }
 
 double reference_landing_speed(const character::Clip& clip) {
@@ -96,6 +103,7 @@ StartEvaluation evaluate_starts(SprintEnv& env, const character::PolicyFn& polic
     error_sum += std::sqrt(s.tracking_errors().pose / joints), ++steps;
     StartEvaluation::PerReference& per = out.per_reference[static_cast<std::size_t>(s.reference_index())];
     if (e.step_index() == 1) ++per.episodes;
+    if (s.outcome() != SprintEnv::Outcome::running) ++out.ends[to_string(s.outcome())];
     if (s.outcome() == SprintEnv::Outcome::landed && s.landing_state()) {
       ++per.landings;
       out.landings.push_back(*s.landing_state());
@@ -109,6 +117,9 @@ StartEvaluation evaluate_starts(SprintEnv& env, const character::PolicyFn& polic
   const character::EvaluationReport report = character::evaluate(env, policy, c);
   out.landing_rate = report.success_rate;
   out.return_mean = report.mean_return;
+  int ended = 0;
+  for (const auto& [end, count] : out.ends) ended += count;
+  if (ended < episodes) out.ends["time_limit"] = episodes - ended;
   out.tracking_error_rad = steps > 0 ? error_sum / static_cast<double>(steps) : 0.0;
   out.com_speed_ratio = out.landings.empty() ? 0.0 : ratio_sum / static_cast<double>(out.landings.size());
   out.min_reference_landing_rate = 1.0;
@@ -162,10 +173,11 @@ character::Figures StartStage::test(const character::TestRound& round, learn::Le
   send("start/min_reference_landing_rate", samples, e.min_reference_landing_rate);
   send("start/tracking_error_rad", samples, e.tracking_error_rad);
   send("start/com_speed_ratio", samples, e.com_speed_ratio);
-  char line[200];
+  char line[320];
   std::snprintf(line, sizeof line,
-                "start: sample %.0f: return %.2f, landings %.2f, tracking error %.3f rad, COM speed %.2f of the reference's",
-                samples, e.return_mean, e.landing_rate, e.tracking_error_rad, e.com_speed_ratio);
+                "start: sample %.0f: return %.2f, landings %.2f, tracking error %.3f rad, COM speed %.2f of the reference's; "
+                "ends: %s",
+                samples, e.return_mean, e.landing_rate, e.tracking_error_rad, e.com_speed_ratio, e.ends_text().c_str());
   base::log_info(line);
   return {{"min_reference_landing_rate", e.min_reference_landing_rate},
           {"landing_rate", e.landing_rate},

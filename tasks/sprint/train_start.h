@@ -5,6 +5,7 @@
 /// (hand-over states with their draws) written for stage 2.
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -57,7 +58,10 @@ struct StartEvaluation {
   std::vector<PerReference> per_reference;
   double min_reference_landing_rate = 0.0;  ///< the lowest landing rate of a reference drawn at least once
   std::vector<base::Json> landings;         ///< the landings' hand-over states
-  base::Json to_json() const;               ///< the figures (not the states)
+  /// How the episodes ended, by SprintEnv outcome name ("time_limit": cut while running).
+  std::map<std::string, int> ends;
+  std::string ends_text() const;  ///< e.g. "landed 3, fell 12, deviated 5"
+  base::Json to_json() const;     ///< the figures (not the states)
 };
 /// The forward COM speed at a reference's last frame (its last two frames' COM by forward
 /// kinematics over the frame time), m/s.

@@ -207,6 +207,11 @@ TEST(SprintTask, SmokeCampaignRunsStartAccelerateDipAndTheRaceEndToEnd) {
     EXPECT_EQ(episodes, 4);  // the smoke preset's final_episodes
     EXPECT_EQ(static_cast<std::size_t>(landed), states.size());
     EXPECT_EQ(t.result_info["min_reference_landing_rate"].get<double>(), lowest);
+    // How the final episodes ended: every one once, the landings among them.
+    int ends = 0;
+    for (const auto& [end, count] : t.result_info["ends"].items()) ends += count.get<int>();
+    EXPECT_EQ(ends, 4) << t.result_info["ends"];
+    EXPECT_EQ(t.result_info["ends"].value("landed", 0), landed) << t.result_info["ends"];
   }
   // Stage 2 from the best start trial's landings, or (none landed: the untrained smoke policy
   // rarely does) from the fallback, which its info says.

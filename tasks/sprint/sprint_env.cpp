@@ -356,9 +356,10 @@ double SprintEnv::start_terms(const sim::Observation& f, bool counted, bool& lan
   return settings_.preset.start.imitation_weight * terms.total;
 }
 
-// Whether the Start's reference (the one drawn) is over, with the preset's extra time, unlanded.
-bool SprintEnv::start_overran(bool landed) const {
-  if (!start_mode() || landed || reference_ < 0) return false;
+// Whether the Start's reference (the one drawn) is over, with the preset's extra time (the caller
+// asks only when the step did not land).
+bool SprintEnv::start_overran() const {
+  if (!start_mode() || reference_ < 0) return false;
   const StartReference& ref = settings_.start_references[static_cast<std::size_t>(reference_)];
   return reference_time_s() >= ref.clip->duration_s() + settings_.preset.start.extra_time_s - 1e-9;
 }
@@ -380,13 +381,13 @@ void SprintEnv::on_step(learn::StepResult& out) {
   const Terms terms = phase_terms(f);
   bool landed = false, deviated = false;
   const double imitation = start_mode() ? start_terms(f, counted, landed, deviated) : 0.0;
-  outcome_ = fell                    ? Outcome::fell
-             : left_lane             ? Outcome::left_lane
-             : deviated              ? Outcome::deviated
-             : landed                ? Outcome::landed
-             : start_overran(landed) ? Outcome::no_landing
-             : finish                ? Outcome::finished
-                                     : Outcome::running;
+  outcome_ = fell              ? Outcome::fell
+             : left_lane       ? Outcome::left_lane
+             : deviated        ? Outcome::deviated
+             : landed          ? Outcome::landed
+             : start_overran() ? Outcome::no_landing
+             : finish          ? Outcome::finished
+                               : Outcome::running;
   out.reward = base.total() + terms.mass + terms.diagonal + terms.mirror + terms.primitive + imitation;
   // A phase's end is a hand-over, not a failure: the landing hands the run to stage 2 and the line
   // ends the race. Both cut the episode as a time limit does (PPO bootstraps there), and a Start

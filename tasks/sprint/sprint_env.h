@@ -188,7 +188,7 @@ class SprintEnv final : public character::CharacterEnv {
   Terms phase_terms(const sim::Observation& features);
   void apply_drag();
   double start_terms(const sim::Observation& features, bool counted, bool& landed, bool& deviated);
-  bool start_overran(bool landed) const;
+  bool start_overran() const;
 
   SprintEnvSettings settings_;
   SprintBodies bodies_;

@@ -24,14 +24,11 @@ namespace {
 using base::Json;
 namespace fs = std::filesystem;
 
-// ../shared/data/jump/data, or empty when PODIUM_SHARED_DIR is unset or the folder is absent.
-fs::path captured_jump_dir() { return podium::testing::shared_data("jump/data"); }
-
 // The stage in the task conformance suite (determinism, artifacts, cancel, resume from a kill),
 // on the smoke preset toward a fixed target without a jump policy; no case without the reference
 // run (../shared/data/jump).
 std::vector<podium::testing::ConformanceCase> runup_conformance() {
-  const fs::path data = captured_jump_dir();
+  const fs::path data = podium::testing::shared_data("jump/data");  // the captured runs
   if (data.empty()) return {};
   return {{.task = "jump",
            .base_config = {{"stage", "runup"},
@@ -67,7 +64,7 @@ TEST(JumpRunup, StageDeclaresItsMetricsAndNeedsAReferenceRun) {
 }
 
 TEST(JumpRunup, SmokeRunsExploreThenRunupAndTheFullJumpEndToEnd) {
-  const fs::path data = captured_jump_dir();
+  const fs::path data = podium::testing::shared_data("jump/data");  // the captured runs
   if (data.empty()) GTEST_SKIP() << "../shared/data/jump absent (PODIUM_SHARED_DIR): no reference run";
   Json spec = base::read_json_file(fs::path(PODIUM_SOURCE_DIR) / "campaigns/highjump.json");
   for (auto& stage : spec["stages"]) stage["preset"] = "smoke";

@@ -153,22 +153,33 @@ TEST(SprintStartEnv, ThePhaseEndsAtTheFirstCountedLandingOnTheGround) {
   }
 }
 
+// The Start with deviation never ending an episode: holding the set position is far off the
+// reference, and these tests are about steps and the reference's end.
+SprintEnvSettings held_set_settings() {
+  SprintEnvSettings s = start_settings();
+  s.preset.start.max_com_deviation_m = 1e3;
+  return s;
+}
+
+// The set position (the drawn reference's first frame) as SPD targets.
+std::vector<double> set_position_targets(const SprintEnv& env) {
+  return character::PoseBridge(env.world().model_ptr()).pose(env.imitation().clip().poses.front());
+}
+
 // A step is a touchdown on the track past the start line. Held in the set position (the first
 // frame's pose as targets, from rest) the feet slide off their blocks and touch the track with
 // their toes within a few control steps; that is no step (before, it was counted: the Start
 // "landed" in the blocks, or its hands, still on the track, made it a fall).
 TEST(SprintStartEnv, FeetSlidingOffTheirBlocksTakeNoStep) {
-  SprintEnvSettings settings = start_settings();
-  settings.preset.start.max_com_deviation_m = 1e3;  // holding the set position must not count as deviating
   for (std::uint64_t seed : {6u, 7u, 8u, 9u}) {
-    SprintEnv env(settings);
+    SprintEnv env(held_set_settings());
     env.seed(seed);
     std::vector<double> observation;
     env.reset(observation);
     const character::ImitationReference& ref = env.imitation();
     env.world().set_state(ref.pose(0.0), Eigen::VectorXd::Zero(env.model().nv()));
     env.observe(observation);
-    const std::vector<double> hold = character::PoseBridge(env.world().model_ptr()).pose(ref.clip().poses.front());
+    const std::vector<double> hold = set_position_targets(env);
     learn::StepResult step;
     bool toe_on_track = false;
     for (int k = 0; k < 8; ++k) {
@@ -187,8 +198,7 @@ TEST(SprintStartEnv, FeetSlidingOffTheirBlocksTakeNoStep) {
 // A Start that has not landed when its reference is over (plus extra_time_s) has failed: a
 // terminal state, worth nothing, so that not landing cannot pay more than landing.
 TEST(SprintStartEnv, AStartNotLandedWhenItsReferenceIsOverHasFailed) {
-  SprintEnvSettings settings = start_settings();
-  settings.preset.start.max_com_deviation_m = 1e3;  // holding the set position must not count as deviating
+  const SprintEnvSettings settings = held_set_settings();
   SprintEnv env(settings);
   env.seed(6);
   std::vector<double> observation;
@@ -196,7 +206,7 @@ TEST(SprintStartEnv, AStartNotLandedWhenItsReferenceIsOverHasFailed) {
   const character::Clip& clip = env.imitation().clip();
   const double end_s = clip.duration_s() + settings.preset.start.extra_time_s;
   env.set_reference_time(end_s - 1.5 * env.control_dt_s());
-  const std::vector<double> hold = character::PoseBridge(env.world().model_ptr()).pose(clip.poses.front());
+  const std::vector<double> hold = set_position_targets(env);
   learn::StepResult step;
   env.step(hold, step);  // still inside the reference's time: running
   EXPECT_EQ(env.outcome(), SprintEnv::Outcome::running) << to_string(env.outcome());

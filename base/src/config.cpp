@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace podium::base {
@@ -208,6 +209,12 @@ std::string ConfigReader::file(const std::string& key, const std::string& fallba
   if (!v) return fallback;
   if (!v->is_string()) fail_at(path_of(key), shown(*v) + " is not a string (a file path)");
   return v->get<std::string>();
+}
+
+std::string ConfigReader::existing_file(const std::string& key, const std::string& fallback, const std::string& doc) {
+  const std::string f = file(key, fallback, doc);
+  if (!f.empty() && !std::filesystem::is_regular_file(f)) fail(key, "is not a file");
+  return f;
 }
 
 std::string ConfigReader::path(const std::string& key, const std::string& fallback, const std::string& doc) {

@@ -1,5 +1,7 @@
 #include "podium/base/native_blas.h"
 
+#include <dlfcn.h>
+
 #include <algorithm>
 #include <cctype>
 
@@ -36,6 +38,16 @@ std::string openblas_core_override(const std::string& chosen, int cpu_bits) {
   const int bits = core_bits(chosen);
   if (bits < 0 || bits >= cpu_bits) return "";
   return cpu_bits >= 512 ? "SkylakeX" : cpu_bits >= 256 ? "Haswell" : "";
+}
+
+std::string openblas_core_name() {
+  using CoreName = char* (*)();
+  auto core_name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  if (core_name == nullptr)
+    if (void* library = dlopen("libopenblas.so.0", RTLD_LAZY | RTLD_LOCAL))
+      core_name = reinterpret_cast<CoreName>(dlsym(library, "openblas_get_corename"));
+  const char* name = core_name != nullptr ? core_name() : nullptr;
+  return name != nullptr ? std::string(name) : std::string();
 }
 
 }  // namespace podium::base

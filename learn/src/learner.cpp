@@ -81,10 +81,7 @@ void setup_blas() {
                         ") is active; network updates are 7-9x slower than with OpenBLAS. Fix: "
                         "apt-get install libopenblas0-pthread, or update-alternatives --config "
                         "libblas.so.3-x86_64-linux-gnu");
-    using CoreName = char* (*)();
-    const auto core_name = reinterpret_cast<CoreName>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
-    const char* name = core_name != nullptr ? core_name() : nullptr;
-    const std::string core = name != nullptr ? name : "";
+    const std::string core = base::openblas_core_name();
     const std::string wider = base::openblas_core_override(core, base::cpu_vector_bits());
     if (!wider.empty())
       base::log_warning("learn: OpenBLAS runs its generic " + core +

@@ -1,6 +1,5 @@
 #include "native_blas.h"
 
-#include <dlfcn.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -18,16 +17,6 @@ std::string host_name() {
   return gethostname(name, sizeof name - 1) == 0 ? std::string(name) : std::string();
 }
 
-// The core OpenBLAS runs in this process ("" when it is not installed): its own choice unless
-// OPENBLAS_CORETYPE was set when it loaded.
-std::string openblas_own_choice() {
-  void* library = dlopen("libopenblas.so.0", RTLD_LAZY | RTLD_LOCAL);
-  if (library == nullptr) return "";
-  using CoreName = char* (*)();
-  const auto core_name = reinterpret_cast<CoreName>(dlsym(library, "openblas_get_corename"));
-  const char* name = core_name != nullptr ? core_name() : nullptr;
-  return name != nullptr ? std::string(name) : std::string();
-}
 }  // namespace
 
 void use_native_blas_kernels(char** argv) {
@@ -41,7 +30,7 @@ void use_native_blas_kernels(char** argv) {
     unsetenv(kCoreType);                                               // decided on another machine
     unsetenv(kMarker);
   }
-  const std::string core = base::openblas_core_override(openblas_own_choice(), base::cpu_vector_bits());
+  const std::string core = base::openblas_core_override(base::openblas_core_name(), base::cpu_vector_bits());
   if (core.empty()) return;
   setenv(kCoreType, core.c_str(), 1);
   setenv(kMarker, (core + "@" + host).c_str(), 1);
@@ -51,7 +40,7 @@ void use_native_blas_kernels(char** argv) {
 }
 
 std::string blas_kernels_line() {
-  const std::string core = openblas_own_choice();  // the library is loaded with this process's environment
+  const std::string core = base::openblas_core_name();  // the library is loaded with this process's environment
   if (core.empty()) return "openblas: not found";
   const char* set = std::getenv(kCoreType);
   const char* marker = std::getenv(kMarker);

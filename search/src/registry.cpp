@@ -1,4 +1,5 @@
-// The one place that maps an algorithm name in a campaign spec to its implementation.
+// The one place that maps an algorithm name in a campaign spec to its implementation, and the
+// search.h helpers every search shares.
 #include "bds.h"
 #include "cmaes.h"
 #include "novel_policy_seeking.h"
@@ -8,6 +9,17 @@
 #include "random_search.h"
 
 namespace podium::search {
+
+std::vector<double> evaluated_params(const Json& info) {
+  const auto it = info.find("evaluated_params");
+  if (it == info.end() || !it->is_array()) return {};
+  std::vector<double> x;
+  for (const Json& v : *it) {
+    if (!v.is_number()) return {};
+    x.push_back(v.get<double>());
+  }
+  return x;
+}
 
 std::vector<std::string> algorithm_names() { return {"random", "bds", "novelty", "novel_policy", "cmaes"}; }
 

@@ -93,15 +93,4 @@ Json Feature::list_to_json(const std::vector<Feature>& features) {
   return out;
 }
 
-std::vector<double> evaluated_params(const Json& info) {
-  const auto it = info.find("evaluated_params");
-  if (it == info.end() || !it->is_array()) return {};
-  std::vector<double> x;
-  for (const Json& v : *it) {
-    if (!v.is_number()) return {};
-    x.push_back(v.get<double>());
-  }
-  return x;
-}
-
 }  // namespace podium::search

@@ -105,10 +105,9 @@ Settings read_settings(base::ConfigReader& r) {
   s.threads = r.integer<int>("threads", s.threads, {1, 64}, "threads stepping the copies");
   if (s.threads > s.copies) r.fail("threads", "is above copies " + std::to_string(s.copies));
   s.checkpoint_every = r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1000000}, "tests between training checkpoints");
-  s.warm_start = r.file(
+  s.warm_start = r.existing_file(
       "warm_start", s.warm_start,
       "a Weaker trial's training.ckpt to train on from (same config but for the limits; its steps count towards total_steps)");
-  if (!s.warm_start.empty() && !fs::is_regular_file(s.warm_start)) r.fail("warm_start", "is not a file: " + s.warm_start);
   s.hold_strength = r.number("hold_strength", s.hold_strength, {.min = 0.0, .max = 1.0},
                              "> 0: departs from the seed: no curriculum, train (β̂ ~ clip(N(β, ε), β, 1)) and test at this "
                              "strength β, which no test passed (e.g. on from a warm_start); 0: Algorithm 1, the seed's");

@@ -84,10 +84,9 @@ SlowerConfig read_slower(base::ConfigReader& r) {
     r.fail("slow_total_steps", "is not a multiple of slow_eval_every " + std::to_string(c.eval_every));
   c.gamma = r.number("slow_gamma", c.gamma, {.min = 0.0, .max = 1.0},
                      "Slower: SAC's discount for π_slow (Table 1: 0.95); `sac.gamma` sets Weaker's");
-  c.warm_start =
-      r.file("slow_warm_start", c.warm_start,
-             "Slower: a Slower trial's training.ckpt to train on from (its π_weak must be this trial's); \"\": from scratch");
-  if (!c.warm_start.empty() && !fs::is_regular_file(c.warm_start)) r.fail("slow_warm_start", "is not a file: " + c.warm_start);
+  c.warm_start = r.existing_file(
+      "slow_warm_start", c.warm_start,
+      "Slower: a Slower trial's training.ckpt to train on from (its π_weak must be this trial's); \"\": from scratch");
   c.test_kappa =
       r.number("slow_test_kappa", c.test_kappa, {.min = 0.0, .max = 10.0, .exclusive_min = true}, "Slower: κ of the tests");
   return c;

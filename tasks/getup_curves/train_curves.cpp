@@ -117,10 +117,9 @@ TrainSettings read_train_settings(base::ConfigReader& r) {
                                    "the first curves whose episode with the exported policy is recorded");
   s.checkpoint_every =
       r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1'000'000}, "PPO iterations between checkpoints");
-  s.warm_start = r.file("warm_start", s.warm_start,
-                        "a train trial's training.ckpt to train on from (the same curves and networks; its steps count "
-                        "towards total_steps); empty: from scratch");
-  if (!s.warm_start.empty() && !fs::is_regular_file(s.warm_start)) r.fail("warm_start", "is not a file: " + s.warm_start);
+  s.warm_start = r.existing_file("warm_start", s.warm_start,
+                                 "a train trial's training.ckpt to train on from (the same curves and networks; its steps count "
+                                 "towards total_steps); empty: from scratch");
   return s;
 }
 

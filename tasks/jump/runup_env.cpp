@@ -46,11 +46,9 @@ RunupSettings read_runup_settings(base::ConfigReader& r, const RunupSettings& ju
                                 "the residual action's per-joint offset bound, rad");
   s.max_com_deviation_m = r.number("runup_max_com_deviation_m", s.max_com_deviation_m, {.min = 0.0, .exclusive_min = true},
                                    "early termination when the COM is this far from the reference's");
-  s.warm_start = r.file("runup_warm_start", s.warm_start,
-                        "a run-up trial's training.ckpt to train on from (the same target, reference and networks; its "
-                        "steps count towards total_samples); empty: from scratch");
-  if (!s.warm_start.empty() && !std::filesystem::is_regular_file(s.warm_start))
-    r.fail("runup_warm_start", "is not a file: " + s.warm_start);
+  s.warm_start = r.existing_file("runup_warm_start", s.warm_start,
+                                 "a run-up trial's training.ckpt to train on from (the same target, reference and networks; its "
+                                 "steps count towards total_samples); empty: from scratch");
   return s;
 }
 

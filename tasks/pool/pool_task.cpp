@@ -77,11 +77,12 @@ class PoolTask final : public plugins::Task {
     plugins::RunResult result;
     result.objectives = {row.bar_m};
     result.features = row.features;
-    Json recorded = Json::object();
-    for (std::size_t k = 0; k < x.size(); ++k) recorded[t.box[k].name] = row.params[k];
-    result.info = {{"success", row.success},         {"row", i},
-                   {"recorded_trial", row.trial},    {"recorded_params", recorded},
-                   {"evaluated_params", row.params}, {"bar_m", row.bar_m}};
+    // evaluated_params: the recorded row's take-off, where the result was measured (search.h).
+    result.info = {{"success", row.success},
+                   {"row", i},
+                   {"recorded_trial", row.trial},
+                   {"evaluated_params", row.params},
+                   {"bar_m", row.bar_m}};
     Json summary = {{"recorded trial", row.trial}, {"success", row.success}, {"bar m", row.bar_m}};
     if (!row.technique.empty()) {
       result.info["nearest_technique"] = {{"name", row.technique}};

@@ -22,11 +22,6 @@ using character::CharacterEnv;
 
 namespace {
 
-bool foot_down(const sim::Observation& f, int foot) {
-  // On the track or on a block: a foot pushing off a block lifts before its first touchdown.
-  return f.touches(foot, sim::Contact::Partner::ground) || f.touches(foot, sim::Contact::Partner::prop);
-}
-
 // A step is a touchdown on the track past the start line (x = 0). Behind it a foot in the blocks
 // slides off its face and touches the track with its toe within a few control steps of the set
 // position; counted, that touch was the Start's "landing" (in the blocks), or it ended the hands'
@@ -292,7 +287,9 @@ void SprintEnv::begin_episode() {
   if (world().config().friction != draw_.friction) world().set_friction(draw_.friction);
   const sim::Observation& f = features();
   if (handover_ && handover_->contains("step_counter")) counter_.load_state(handover_->at("step_counter"));
-  else counter_.reset(foot_down(f, bodies_.left_foot), foot_down(f, bodies_.right_foot));
+  else  // the counter's own rule: a foot in the blocks is off the track, so its first touchdown past the line counts
+    counter_.reset(foot_on_track_past_line(world(), f, bodies_.left_foot),
+                   foot_on_track_past_line(world(), f, bodies_.right_foot));
   finish_.reset(world());
   poses_.reset();
   if (strides_) strides_->reset();

@@ -41,11 +41,9 @@ StartTrainSettings read_start_train_settings(base::ConfigReader& r) {
                                     "the exported policy's episodes (its figures and the landing states)");
   s.checkpoint_every = r.integer<int>("checkpoint_every", s.checkpoint_every, {1, 1'000'000}, "iterations between checkpoints");
   s.eval_seed = r.integer<std::uint64_t>("eval_seed", s.eval_seed, {}, "seed of the test episodes (not used in training)");
-  s.warm_start = r.file("warm_start", s.warm_start,
-                        "a trial's training.ckpt of the same stage to train on from (the same track, starts and "
-                        "networks; its samples count towards total_samples); empty: from scratch");
-  if (!s.warm_start.empty() && !std::filesystem::is_regular_file(s.warm_start))
-    r.fail("warm_start", "is not a file: " + s.warm_start);
+  s.warm_start = r.existing_file("warm_start", s.warm_start,
+                                 "a trial's training.ckpt of the same stage to train on from (the same track, starts and "
+                                 "networks; its samples count towards total_samples); empty: from scratch");
   s.clips = read_start_clips(r);
   return s;
 }

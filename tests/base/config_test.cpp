@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 namespace podium::base {
 namespace {
 
@@ -164,6 +166,23 @@ TEST(ConfigReader, CustomRulesFailWithTheSameShape) {
   ConfigReader empty(unnamed, "", "spec.json");
   EXPECT_THROW(empty.string("name", required), ConfigError);
   EXPECT_FALSE(empty.has("other"));
+}
+
+TEST(ConfigReader, AnExistingFileMustNameARegularFile) {
+  const std::string here = std::filesystem::temp_directory_path().string();
+  const Json config = {{"empty", ""}, {"folder", here}, {"missing", here + "/no such checkpoint"}};
+  ConfigReader r(config, "stages[0].config", "spec.json");
+  EXPECT_EQ(r.existing_file("empty", "x"), "");
+  EXPECT_EQ(r.existing_file("absent", ""), "");
+  for (const char* key : {"folder", "missing"}) {
+    try {
+      r.existing_file(key, "");
+      FAIL() << key << ": no error";
+    } catch (const ConfigError& e) {
+      EXPECT_EQ(e.path(), std::string("stages[0].config.") + key);
+      EXPECT_NE(e.problem().find("is not a file"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(ConfigReader, DescribeRecordsEveryKeyFromTheReadingCode) {

@@ -102,6 +102,9 @@ class ConfigReader {
   /// one against the spec's folder, checks that the file exists and passes it on absolute.
   std::string file(const std::string& key, const std::string& fallback, const std::string& doc = "");
   std::string file(const std::string& key, Required, const std::string& doc = "");
+  /// file(), and a value that is not "" must name a regular file now (also for a config that did
+  /// not pass through `podium submit`): a warm start's checkpoint, say.
+  std::string existing_file(const std::string& key, const std::string& fallback, const std::string& doc = "");
   /// A file or folder path ("format": "path"): resolved and checked by `podium submit` as file() is.
   std::string path(const std::string& key, const std::string& fallback, const std::string& doc = "");
   std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed,

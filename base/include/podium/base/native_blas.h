@@ -20,4 +20,9 @@ int cpu_vector_bits();
 /// Excavator 256; the older ones OpenBLAS 0.3 names (Prescott, Core2, Nehalem, Sandybridge, …) 0.
 std::string openblas_core_override(const std::string& chosen, int cpu_bits);
 
+/// The core whose kernels OpenBLAS runs in this process (openblas_get_corename()): the loaded
+/// BLAS's when it is OpenBLAS, else libopenblas.so.0's as it loads with this environment; "" when
+/// OpenBLAS is not installed.
+std::string openblas_core_name();
+
 }  // namespace podium::base

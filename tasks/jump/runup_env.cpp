@@ -104,7 +104,7 @@ RunupEnv::RunupEnv(const RunupSettings& settings, std::shared_ptr<const characte
         p.condition.window_s = settings.handover_window_s;
         p.condition.takeoff_time_s = settings.takeoff_time_s > 0
                                          ? settings.takeoff_time_s
-                                         : reference_takeoff_time(*model, reference->times_s, reference->poses, p.foot, p.other);
+                                         : reference_takeoff_time(*model, reference->times_s, reference->poses, p.foot);
         if (p.condition.takeoff_time_s > reference->duration_s() + 1e-9)
           throw base::UserError("jump runup: runup_takeoff_time_s " + std::to_string(p.condition.takeoff_time_s) +
                                 " is after the reference run's end " + std::to_string(reference->duration_s()) + " s");

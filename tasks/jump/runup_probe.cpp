@@ -6,8 +6,10 @@
 //   - each strategy's jump policy handed the reference's own state at its take-off (an ideal
 //     run-up) and that state with the strategy's ω and lateral speed put in: the full jump's ceiling.
 //
-//   jump_runup_probe RUN.txt [JUMPS]   (RUN: VC5_sprint__curves_03.txt of arpspoof/Jump's
-//                                       data/motions/beyond; JUMPS per case, default 20)
+//   jump_runup_probe RUN.txt [JUMPS [KIND]]   (RUN: VC5_sprint__curves_03.txt or, with KIND
+//                                              obstacle, VC5_Run_jumpToBox_01.txt of arpspoof/Jump's
+//                                              data/motions/beyond; JUMPS per case, default 20;
+//                                              KIND high_jump (default) or obstacle: whose strategies)
 //
 // With a trained run-up policy it evaluates it instead, on noise seeds of one's choosing (held
 // out from training's tests): JUMPS run-ups and full jumps (the first deterministic, the others
@@ -15,13 +17,14 @@
 //
 //   jump_runup_probe RUN.txt JUMPS RUNUP.pt STRATEGY SEED LEAD_S [WINDOW_S]
 //       STRATEGY: the MANIFEST's index among the jump policies (0 flop-like, 1 scissor-like,
-//       2 straddle-like); LEAD_S: the run-up's runup_lead_s (quick: 0.5); WINDOW_S: runup_window_s
-//       (default 0.2; 0 hands over at the reference's take-off time exactly)
+//       2 straddle-like, 3–6 the obstacle jumps; an obstacle strategy's run-up uses eq. 3.14); LEAD_S: the run-up's runup_lead_s
+//       (quick: 0.5); WINDOW_S: runup_window_s (default 0.2; 0 hands over at the reference's take-off time exactly)
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "podium/base/json.h"
 #include "podium/character/frames.h"
@@ -39,7 +42,14 @@ struct Strategy {
   std::string name, policy;
   std::vector<double> takeoff;
   double z_m = 0.5;
+  JumpKind kind = JumpKind::high_jump;
 };
+
+// The P-VAE a kind's shipped jump policies act through (MANIFEST.json).
+PosePrior prior_for(JumpKind kind) {
+  return load_pose_prior(std::string(PODIUM_JUMP_POLICY_DIR) +
+                         (kind == JumpKind::obstacle ? "/obstacle_pose_vae.pt" : "/athlete_pose_vae.pt"));
+}
 
 std::vector<Strategy> shipped(const std::string& dir) {
   std::ifstream in(dir + "/MANIFEST.json");
@@ -47,8 +57,11 @@ std::vector<Strategy> shipped(const std::string& dir) {
   std::vector<Strategy> out;
   for (const base::Json& p : m.at("policies")) {
     if (!p.contains("takeoff")) continue;
+    const bool obstacle = p.contains("box_width_reached_m");
     out.push_back({p.at("file").get<std::string>(), dir + "/" + p.at("file").get<std::string>(),
-                   p.at("takeoff").get<std::vector<double>>(), p.at("bar_reached_m").get<double>()});
+                   p.at("takeoff").get<std::vector<double>>(),
+                   p.at(obstacle ? "box_width_reached_m" : "bar_reached_m").get<double>(),
+                   obstacle ? JumpKind::obstacle : JumpKind::high_jump});
   }
   return out;
 }
@@ -79,6 +92,7 @@ void zero_residual(const RunupSettings& s, const std::shared_ptr<const character
 int jumps_from(const Strategy& st, const PosePrior& prior, const Eigen::VectorXd& q, const Eigen::VectorXd& qd, int n,
                double noise) {
   JumpSettings js;
+  js.kind = st.kind;
   js.sim_hz = 150.0;
   js.takeoff_features = st.takeoff;
   js.difficulty_m = st.z_m;
@@ -111,6 +125,7 @@ int jumps_from(const Strategy& st, const PosePrior& prior, const Eigen::VectorXd
 int held_out(const RunupSettings& base, const std::vector<Strategy>& strategies, int n, char** argv) {
   const Strategy& st = strategies.at(static_cast<std::size_t>(std::stoi(argv[4])));
   RunupSettings s = base;
+  s.kind = st.kind;
   s.takeoff_features = st.takeoff;
   s.lead_s = std::stod(argv[6]);
   if (argv[7] != nullptr) s.handover_window_s = std::stod(argv[7]);
@@ -120,16 +135,18 @@ int held_out(const RunupSettings& base, const std::vector<Strategy>& strategies,
   const EvaluationJumps config{.jumps = n, .sigma = 0.1, .seed = std::stoull(argv[5])};
   const RunupEvaluation e = evaluate_runups(env, policy, config);
   JumpSettings js;
+  js.kind = st.kind;
   js.sim_hz = s.sim_hz;
   js.takeoff_features = st.takeoff;
   js.difficulty_m = st.z_m;
-  const JumpPolicy jump{st.policy, load_pose_prior(std::string(PODIUM_JUMP_POLICY_DIR) + "/athlete_pose_vae.pt"), js};
+  const JumpPolicy jump{st.policy, prior_for(st.kind), js};
   const FullJumps full = full_jumps(env, policy, jump, config, {});
   std::printf(
       "%s run-up %s, seed %s, %d run-ups: hand-over %.2f, r_G %.3f, |Δω| (%.2f, %.2f, %.2f) rad/s, |Δv_y| %.2f m/s; "
-      "full jumps over %.2f m: %.2f\n",
+      "full jumps over %.2f m (%s): %.2f\n",
       st.name.c_str(), argv[3], argv[5], n, e.handover_rate, e.task_reward, e.omega_error.x(), e.omega_error.y(),
-      e.omega_error.z(), e.lateral_speed_error, st.z_m, full.success_rate);
+      e.omega_error.z(), e.lateral_speed_error, st.z_m, st.kind == JumpKind::obstacle ? "box width" : "bar", full.success_rate);
+  for (const auto& [ending, count] : full.endings) std::printf("  full jumps ending %s: %d\n", ending.c_str(), count);
   return 0;
 }
 
@@ -137,15 +154,18 @@ int held_out(const RunupSettings& base, const std::vector<Strategy>& strategies,
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: jump_runup_probe RUN.txt [JUMPS]\n");
+    std::fprintf(stderr,
+                 "usage: jump_runup_probe RUN.txt [JUMPS [KIND]] | RUN.txt JUMPS RUNUP.pt STRATEGY SEED LEAD_S [WINDOW_S]\n");
     return 2;
   }
   const int n = argc > 2 ? std::stoi(argv[2]) : 20;
   RunupSettings s;
   s.motion = argv[1];
   s.sim_hz = 150.0;
-  const std::vector<Strategy> strategies = shipped(PODIUM_JUMP_POLICY_DIR);
+  std::vector<Strategy> strategies = shipped(PODIUM_JUMP_POLICY_DIR);
   if (argc >= 7) return held_out(s, strategies, n, argv);
+  s.kind = argc > 3 && std::string(argv[3]) == "obstacle" ? JumpKind::obstacle : JumpKind::high_jump;
+  std::erase_if(strategies, [&](const Strategy& st) { return st.kind != s.kind; });
   s.takeoff_features = strategies.front().takeoff;
   const auto clip = load_reference_run(s);
   const character::ImitationReference reference(clip);
@@ -170,19 +190,19 @@ int main(int argc, char** argv) {
                 std::remainder(yaw(t_off) - yaw(t_off - lead), 2 * M_PI),
                 std::remainder(travel(t_off) - travel(t_off - lead), 2 * M_PI));
   for (const Strategy& st : strategies) {
-    const RunupTarget target = runup_target(JumpKind::high_jump, st.takeoff);
+    const RunupTarget target = runup_target(s.kind, st.takeoff);
     std::printf("target %s: ω (%.2f, %.2f, %.2f), v_y %.2f; reference's r_G %.3f\n", st.name.c_str(), target.root_omega.x(),
                 target.root_omega.y(), target.root_omega.z(), target.lateral_speed,
                 runup_task_reward(target, root_motion(clip->sample(t_off), reference.velocity(t_off))));
   }
   for (double start : {0.0, t_off - 2.0, t_off - 1.5, t_off - 1.0, t_off - 0.5})
     if (start >= 0.0) zero_residual(s, clip, start);
-  const PosePrior prior = load_pose_prior(std::string(PODIUM_JUMP_POLICY_DIR) + "/athlete_pose_vae.pt");
+  const PosePrior prior = prior_for(s.kind);
   for (const Strategy& st : strategies)
     for (double t = t_off - 0.2; t <= t_off + 1e-9; t += 1.0 / 30.0) {
       const Eigen::VectorXd q = clip->sample(t);
       const Eigen::VectorXd& qd = reference.velocity(t);  // the stored frame's
-      const RunupTarget target = runup_target(JumpKind::high_jump, st.takeoff);
+      const RunupTarget target = runup_target(s.kind, st.takeoff);
       // The reference's take-off with the strategy's ω and lateral speed put in (heading frame → root frame).
       Eigen::VectorXd ideal = qd;
       const Eigen::Matrix3d R = character::quat_at(q, 3).normalized().toRotationMatrix();

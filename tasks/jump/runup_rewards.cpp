@@ -51,40 +51,8 @@ bool takeoff_reached(const TakeoffCondition& c, double t_s, bool takeoff_foot_do
 }
 
 double reference_takeoff_time(const sim::CharacterModel& model, std::span<const double> times_s,
-                              std::span<const Eigen::VectorXd> poses, int takeoff_foot, int other_foot) {
-  sim::CharacterData d(model);
-  const auto low_point = [&](int body) {
-    double low = std::numeric_limits<double>::infinity();
-    const sim::Body& b = model.bodies()[static_cast<std::size_t>(body)];
-    const sim::LinkData& l = d.links[static_cast<std::size_t>(b.link)];
-    for (const sim::Geom& g : model.links()[static_cast<std::size_t>(b.link)].geoms) {
-      if (g.body != body) continue;
-      const Eigen::Matrix3d Rg = l.R * g.rot.toRotationMatrix();
-      double z = (l.p + l.R * g.pos).z();
-      if (g.type == sim::ShapeType::sphere) z -= g.radius;
-      if (g.type == sim::ShapeType::capsule) z -= std::abs(Rg(2, 2)) * g.half_length + g.radius;
-      if (g.type == sim::ShapeType::box) z -= Rg.row(2).cwiseAbs().dot(g.half_extents);
-      low = std::min(low, z);
-    }
-    return low;
-  };
-  std::vector<double> foot(poses.size()), other(poses.size());
-  double ground = std::numeric_limits<double>::infinity();
-  std::size_t apex = 0;  // the frame of the highest root: the captured jump's flight
-  for (std::size_t f = 0; f < poses.size(); ++f) {
-    d.q = poses[f];
-    sim::forward_kinematics(model, d);
-    foot[f] = low_point(takeoff_foot), other[f] = low_point(other_foot);
-    ground = std::min({ground, foot[f], other[f]});
-    if (poses[f](2) > poses[apex](2)) apex = f;
-  }
-  constexpr double kContact = 0.03;  // m above the clip's lowest foot point
-  // Before the apex: a captured run-up goes on past its take-off (the curved sprint lands and walks
-  // out, its last single support is after the landing), and the run-up ends at the take-off.
-  for (std::size_t f = apex + 1; f-- > 0;)
-    if (foot[f] - ground < kContact && other[f] - ground >= kContact) return times_s[f];
-  throw base::UserError("jump run-up: the reference run never has " +
-                        model.bodies()[static_cast<std::size_t>(takeoff_foot)].name + " alone on the ground");
+                              std::span<const Eigen::VectorXd> poses, int takeoff_foot) {
+  return times_s[takeoff_frame(model, poses, takeoff_foot)];
 }
 
 }  // namespace podium::tasks::jump

@@ -46,10 +46,9 @@ struct TakeoffCondition {
 /// Whether the run-up hands over after the control step that ended at reference time `t_s`.
 bool takeoff_reached(const TakeoffCondition& condition, double t_s, bool takeoff_foot_down, bool other_foot_down);
 
-/// The reference run's take-off time: the last frame before the clip's highest root (its jump's
-/// flight) at which `takeoff_foot` is within 3 cm of the clip's lowest foot height while the other
-/// foot is at least 3 cm above it (single support). Throws base::UserError when no frame is.
+/// The reference run's take-off time: its takeoff_frame (takeoff.h), the frame Stage 1 takes a
+/// clip's take-off state from.
 double reference_takeoff_time(const sim::CharacterModel& model, std::span<const double> times_s,
-                              std::span<const Eigen::VectorXd> poses, int takeoff_foot, int other_foot);
+                              std::span<const Eigen::VectorXd> poses, int takeoff_foot);
 
 }  // namespace podium::tasks::jump

@@ -174,31 +174,34 @@ TakeoffState read_takeoff_npy(const sim::ModelPtr& model, const std::filesystem:
   return placed_at_takeoff(*model, s, takeoff_foot);
 }
 
+std::size_t takeoff_frame(const sim::CharacterModel& model, std::span<const Eigen::VectorXd> poses, int takeoff_foot) {
+  sim::CharacterData d(model);
+  std::vector<double> foot(poses.size()), others(poses.size());
+  std::size_t apex = 0;  // the frame of the highest root: the captured jump's flight
+  for (std::size_t f = 0; f < poses.size(); ++f) {
+    d.q = poses[f];
+    sim::forward_kinematics(model, d);
+    const std::vector<double> low = lowest_by_body(model, d);
+    foot[f] = low.at(static_cast<std::size_t>(takeoff_foot));
+    others[f] = std::numeric_limits<double>::infinity();
+    for (std::size_t b = 0; b < low.size(); ++b)
+      if (static_cast<int>(b) != takeoff_foot) others[f] = std::min(others[f], low[b]);
+    if (poses[f](2) > poses[apex](2)) apex = f;
+  }
+  double ground = std::numeric_limits<double>::infinity();  // before the flight (a landing may be lower: a mat)
+  for (std::size_t f = 0; f <= apex; ++f) ground = std::min({ground, foot[f], others[f]});
+  constexpr double kContact = 0.03;  // m above the motion's lowest point before its flight
+  // Before the apex: a captured run goes on past its take-off (the curved sprint lands and walks
+  // out, its last single support is after the landing).
+  for (std::size_t f = apex + 1; f-- > 0;)
+    if (foot[f] - ground < kContact && others[f] - ground >= kContact) return f;
+  throw base::UserError("jump take-off: in the captured motion, " + model.bodies()[static_cast<std::size_t>(takeoff_foot)].name +
+                        " is never alone on the ground before the root's highest frame");
+}
+
 TakeoffState takeoff_from_clip(const character::Clip& clip, int takeoff_foot) {
   const sim::CharacterModel& model = *clip.model;
-  sim::CharacterData d(model);
-  std::vector<double> foot(clip.size());
-  std::size_t peak = 0;
-  double peak_z = -std::numeric_limits<double>::infinity();
-  for (std::size_t f = 0; f < clip.size(); ++f) {
-    d.q = clip.poses[f];
-    d.qd = Eigen::VectorXd::Zero(model.nv());
-    sim::forward_kinematics(model, d);
-    foot[f] = lowest_by_body(model, d).at(takeoff_foot);
-    Eigen::Vector3d com, com_vel;
-    sim::center_of_mass(model, d, com, com_vel);
-    if (com.z() > peak_z) peak_z = com.z(), peak = f;
-  }
-  const double ground = *std::min_element(foot.begin(), foot.end());
-  std::size_t takeoff = peak + 1;
-  for (std::size_t f = peak; f-- > 0;)
-    if (foot[f] - ground < 0.03) {
-      takeoff = f;
-      break;
-    }
-  if (takeoff > peak)
-    throw base::UserError("jump take-off: in the clip, " + model.bodies()[takeoff_foot].name +
-                          " never touches the ground before the peak");
+  const std::size_t takeoff = takeoff_frame(model, clip.poses, takeoff_foot);
   const Eigen::VectorXd qd = clip.velocities()[takeoff];
   TakeoffState s;
   s.q = clip.poses[takeoff];

@@ -45,10 +45,15 @@ TakeoffState read_takeoff_json(const sim::ModelPtr& model, const std::filesystem
 /// or an angle; y-up) and velocity (root v, root ω + 1 pad, per ball joint ω + 1 pad, per hinge a
 /// rate). Needs a model in DeepMimic's joint order (humanoid34, the athlete). Placed.
 TakeoffState read_takeoff_npy(const sim::ModelPtr& model, const std::filesystem::path& path, int takeoff_foot);
-/// The take-off frame of a captured jump (arpspoof/Jump data/motions/beyond/*.txt, read with
-/// character::read_deepmimic_clip): the last frame before the centre of mass peaks in which the
-/// take-off foot is within 3 cm of the clip's lowest foot height; velocities by the clip's
-/// differences. Placed. Throws base::UserError when the foot never touches before the peak.
+/// The take-off frame of a captured motion (a jump, or a run that ends in one): the last frame
+/// before the root's highest at which `takeoff_foot` is within 3 cm of the motion's lowest point
+/// before that frame and every other body at least 3 cm above it (one-leg support). The one rule for Stage
+/// 1's take-off from a clip and the run-up's hand-over (runup_rewards.h). Throws base::UserError
+/// when no frame is.
+std::size_t takeoff_frame(const sim::CharacterModel& model, std::span<const Eigen::VectorXd> poses, int takeoff_foot);
+/// The take-off state of a captured jump or run (arpspoof/Jump data/motions/beyond/*.txt, read with
+/// character::read_deepmimic_clip) at its takeoff_frame; velocities by the clip's differences.
+/// Placed.
 TakeoffState takeoff_from_clip(const character::Clip& clip, int takeoff_foot);
 /// Turns the state about the vertical so the root faces +x, moves the root over the origin, and
 /// lifts it so the take-off foot's lowest point is on the ground (z = 0). Throws base::UserError

@@ -180,7 +180,10 @@ FullJumps full_jumps(RunupEnv& runup, const character::PolicyFn& runup_policy, c
     runup.reset(obs);
     roll_out(
         runup, [&](auto o, auto a) { noisy(o, a); }, obs, record ? &run_rec : nullptr);
-    if (!runup.handed_over()) continue;
+    if (!runup.handed_over()) {
+      ++out.endings["no hand-over"];
+      continue;
+    }
     const Placement p = place_for_jump(runup.world().data().q);
     jump_env.seed(seed);
     jump_env.reset(obs);
@@ -189,6 +192,7 @@ FullJumps full_jumps(RunupEnv& runup, const character::PolicyFn& runup_policy, c
     roll_out(
         jump_env, [&](auto o, auto a) { jump_policy.act(o, a); }, obs, record ? &jump_rec : nullptr);
     successes += jump_env.outcome() == Outcome::success ? 1 : 0;
+    ++out.endings[jump_env.outcome() == Outcome::success ? "success" : jump_env.outcome_reason()];
     if (record) {
       fs::create_directories(record_dir);
       sim::write_trajectory(run_rec, record_dir / "runup.jsonl");
@@ -271,7 +275,8 @@ Json RunupOutcome::to_json() const {
           {"omega_error", {runups.omega_error.x(), runups.omega_error.y(), runups.omega_error.z()}},
           {"lateral_speed_error", runups.lateral_speed_error},
           {"return", runups.return_mean},
-          {"full_jump_success_rate", full.success_rate}};
+          {"full_jump_success_rate", full.success_rate},
+          {"full_jump_endings", full.endings}};
 }
 
 RunupOutcome run_runup_trial(const TrainSettings& train, const RunupSettings& runup, const std::optional<JumpPolicy>& jump,

@@ -5,6 +5,7 @@
 /// strategy's jump policy from the state reached, recorded as one motion.
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -42,6 +43,8 @@ struct JumpPolicy {
 struct FullJumps {
   double success_rate = 0.0;  ///< over all run-ups (one that never hands over fails)
   std::filesystem::path trajectory;
+  /// How the full jumps ended: the jump's outcome reason (jump_rules.h), or "no hand-over", with counts.
+  std::map<std::string, int> endings;
 };
 FullJumps full_jumps(RunupEnv& runup, const character::PolicyFn& runup_policy, const JumpPolicy& jump,
                      const EvaluationJumps& config, const std::filesystem::path& record_dir);

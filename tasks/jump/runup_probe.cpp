@@ -142,7 +142,7 @@ int held_out(const RunupSettings& base, const std::vector<Strategy>& strategies,
   const JumpPolicy jump{st.policy, prior_for(st.kind), js};
   const FullJumps full = full_jumps(env, policy, jump, config, {});
   std::printf(
-      "%s run-up %s, seed %s, %d run-ups: hand-over %.2f, r_G %.3f, |Δω| (%.2f, %.2f, %.2f) rad/s, |Δv_y| %.2f m/s; "
+      "%s run-up %s, seed %s, %d run-ups: hand-over %.2f, r_G %.3f, |Δω| (%.3f, %.3f, %.3f) rad/s, |Δv_y| %.3f m/s; "
       "full jumps over %.2f m (%s): %.2f\n",
       st.name.c_str(), argv[3], argv[5], n, e.handover_rate, e.task_reward, e.omega_error.x(), e.omega_error.y(),
       e.omega_error.z(), e.lateral_speed_error, st.z_m, st.kind == JumpKind::obstacle ? "box width" : "bar", full.success_rate);

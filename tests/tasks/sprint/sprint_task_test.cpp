@@ -1,5 +1,5 @@
 // The sprint plugin through the real `podium` binary at the smoke preset: the task conformance
-// suite on its start stage (determinism, artifacts, cancel, resume from a kill), its description,
+// suite on its stages (determinism, artifacts, cancel, resume from a kill), their descriptions,
 // and campaigns/sprint.json end to end (start → accelerate → dip → race), each trial's landing
 // states read back as stage 2's start set, the dip's CMA-ES run over the best stage-2 trial and the
 // race stage's report read back.
@@ -20,6 +20,7 @@
 #include "process.h"
 #include "sprint_env.h"
 #include "task_conformance.h"
+#include "train_accelerate.h"
 
 namespace podium::tasks::sprint {
 namespace {
@@ -49,6 +50,29 @@ PODIUM_TASK_CONFORMANCE(SprintAccelerateStage, {.task = "sprint",
                                                 .resumes_from_checkpoint = true,
                                                 .artifacts = {"policy", "dip_starts", "trajectory"},
                                                 .warm_start = podium::testing::WarmStartCase{train_on_from, 45}});
+
+// The dip: each trial gets a smoke accelerate trial whose snapshot set (dip_starts, or the stage's
+// fallback when it is empty) is repeated to 200, so a trial of many dip episodes runs long enough to be cancelled or killed; it
+// keeps no checkpoint (a candidate is seconds), so attempt 2 runs it again to the same result.
+Json dip_inputs(const fs::path& dir) {
+  Json accelerate = podium::testing::smoke_input_trial("sprint", {{"stage", "accelerate"}}, dir, "accelerate");
+  std::vector<Json> snapshots = load_handover_states(accelerate["artifacts"]["dip_starts"].get<std::string>());
+  if (snapshots.empty())  // no smoke run gets there: the stage's own fallback (8 m before the 10 m line)
+    snapshots = fallback_starts("smoke", 150.0, 2.0);
+  std::vector<Json> many;
+  for (std::size_t i = 0; many.size() < 200; ++i) many.push_back(snapshots[i % snapshots.size()]);
+  const fs::path file = dir / "dip_starts_200.json";
+  save_handover_states(file.string(), many);
+  accelerate["artifacts"]["dip_starts"] = file.string();
+  return Json::array({accelerate});
+}
+PODIUM_TASK_CONFORMANCE(SprintDipStage, {.task = "sprint",
+                                         .base_config = {{"stage", "dip"}},
+                                         .long_config = {{"dip_episodes", 200}},
+                                         .resume_config = {{"dip_episodes", 60}},
+                                         .kill_delay_s = 0.5,
+                                         .artifacts = {"episodes"},
+                                         .inputs = dip_inputs});
 
 // The race: each trial gets a smoke start trial and a smoke accelerate trial (made for the test)
 // and races their policies over the smoke preset's DR episodes; it keeps no checkpoint (a race is

@@ -212,7 +212,7 @@ std::string ConfigReader::file(const std::string& key, const std::string& fallba
 }
 
 std::string ConfigReader::existing_file(const std::string& key, const std::string& fallback, const std::string& doc) {
-  const std::string f = file(key, fallback, doc);
+  std::string f = file(key, fallback, doc);
   if (!f.empty() && !std::filesystem::is_regular_file(f)) fail(key, "is not a file");
   return f;
 }

@@ -18,7 +18,6 @@
 namespace podium::tasks::getup {
 
 using base::Json;
-namespace fs = std::filesystem;
 
 Settings read_settings(base::ConfigReader& r) {
   Settings s;

@@ -1,12 +1,9 @@
 #include "runup_rewards.h"
 
 #include <cmath>
-#include <limits>
 
 #include "podium/base/error.h"
 #include "podium/character/frames.h"
-#include "podium/sim/data.h"
-#include "podium/sim/dynamics.h"
 #include "takeoff.h"
 
 namespace podium::tasks::jump {

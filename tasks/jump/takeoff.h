@@ -47,9 +47,9 @@ TakeoffState read_takeoff_json(const sim::ModelPtr& model, const std::filesystem
 TakeoffState read_takeoff_npy(const sim::ModelPtr& model, const std::filesystem::path& path, int takeoff_foot);
 /// The take-off frame of a captured motion (a jump, or a run that ends in one): the last frame
 /// before the root's highest at which `takeoff_foot` is within 3 cm of the motion's lowest point
-/// before that frame and every other body at least 3 cm above it (one-leg support). The one rule for Stage
-/// 1's take-off from a clip and the run-up's hand-over (runup_rewards.h). Throws base::UserError
-/// when no frame is.
+/// before that frame and every other body at least 3 cm above it (one-leg support). The one rule
+/// for Stage 1's take-off from a clip and the run-up's hand-over (runup_rewards.h). Throws
+/// base::UserError when no frame is.
 std::size_t takeoff_frame(const sim::CharacterModel& model, std::span<const Eigen::VectorXd> poses, int takeoff_foot);
 /// The take-off state of a captured jump or run (arpspoof/Jump data/motions/beyond/*.txt, read with
 /// character::read_deepmimic_clip) at its takeoff_frame; velocities by the clip's differences.

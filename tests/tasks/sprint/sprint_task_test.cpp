@@ -19,6 +19,7 @@
 #include "podium/plugins/loader.h"
 #include "process.h"
 #include "sprint_env.h"
+#include "sprint_preset.h"
 #include "task_conformance.h"
 #include "train_accelerate.h"
 
@@ -51,14 +52,19 @@ PODIUM_TASK_CONFORMANCE(SprintAccelerateStage, {.task = "sprint",
                                                 .artifacts = {"policy", "dip_starts", "trajectory"},
                                                 .warm_start = podium::testing::WarmStartCase{train_on_from, 45}});
 
-// The dip: each trial gets a smoke accelerate trial whose snapshot set (dip_starts, or the stage's
-// fallback when it is empty) is repeated to 200, so a trial of many dip episodes runs long enough to be cancelled or killed; it
-// keeps no checkpoint (a candidate is seconds), so attempt 2 runs it again to the same result.
+// The dip: each trial gets a smoke accelerate trial whose snapshot set (dip_starts, or the
+// stage's fallback when it is empty) is repeated to 200, so a trial of many dip episodes runs long
+// enough to be cancelled or killed; it keeps no checkpoint (a candidate is seconds), so attempt 2
+// runs it again to the same result.
 Json dip_inputs(const fs::path& dir) {
   Json accelerate = podium::testing::smoke_input_trial("sprint", {{"stage", "accelerate"}}, dir, "accelerate");
   std::vector<Json> snapshots = load_handover_states(accelerate["artifacts"]["dip_starts"].get<std::string>());
-  if (snapshots.empty())  // no smoke run gets there: the stage's own fallback (8 m before the 10 m line)
-    snapshots = fallback_starts("smoke", 150.0, 2.0);
+  if (snapshots.empty()) {  // no smoke run gets there: the stage's own fallback, handover_before_line_m before the line
+    const double smoke_hz =
+        plugins::load_task("sprint")->describe({{"stage", "dip"}})["presets"]["smoke"]["sim_hz"].get<double>();
+    snapshots = fallback_starts("smoke", smoke_hz,
+                                load_sprint_preset("smoke").track.length_m - AccelerateSettings{}.handover_before_line_m);
+  }
   std::vector<Json> many;
   for (std::size_t i = 0; many.size() < 200; ++i) many.push_back(snapshots[i % snapshots.size()]);
   const fs::path file = dir / "dip_starts_200.json";

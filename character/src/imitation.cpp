@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <string>
 
 #include "podium/base/error.h"
 #include "podium/character/frames.h"
@@ -33,37 +35,72 @@ std::shared_ptr<const Clip> checked(std::shared_ptr<const Clip> clip) {
   return clip;
 }
 
-// Σ_j ‖q̂_j ⊖ q_j‖²: the rotation angle between the two orientations of every ball joint and the
-// root, the angle difference of every hinge.
-double pose_error(const sim::CharacterModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& ref) {
-  double sum = 0.0;
+// ‖q̂_j ⊖ q_j‖² per link: the rotation angle between the two orientations of every ball joint and
+// the root, the angle difference of every hinge.
+std::vector<double> pose_errors(const sim::CharacterModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& ref) {
+  std::vector<double> out;
+  out.reserve(model.links().size());
   for (const Link& l : model.links()) {
     if (l.joint == JointType::revolute) {
       const double d = ref(l.q_index) - q(l.q_index);
-      sum += d * d;
+      out.push_back(d * d);
       continue;
     }
     const int i = l.joint == JointType::free ? l.q_index + 3 : l.q_index;
-    sum += log_map(quat_at(ref, i).normalized().conjugate() * quat_at(q, i).normalized()).squaredNorm();
+    out.push_back(log_map(quat_at(ref, i).normalized().conjugate() * quat_at(q, i).normalized()).squaredNorm());
+  }
+  return out;
+}
+
+// Σ_j ŵ_j ‖q̇̂_j − q̇_j‖² over every rotational DoF: the root's ω (not its linear velocity) and the joints.
+double velocity_error(const sim::CharacterModel& model, const Eigen::VectorXd& qd, const Eigen::VectorXd& ref,
+                      const std::vector<double>& weight) {
+  double sum = 0.0;
+  for (std::size_t j = 0; j < model.links().size(); ++j) {
+    const Link& l = model.links()[j];
+    const int n = l.joint == JointType::free ? 3 : l.nv;
+    sum += weight[j] * (ref.segment(l.v_index, n) - qd.segment(l.v_index, n)).squaredNorm();
   }
   return sum;
 }
 
-// Σ_j ‖q̇̂_j − q̇_j‖² over every rotational DoF: the root's ω (not its linear velocity) and the joints.
-double velocity_error(const sim::CharacterModel& model, const Eigen::VectorXd& qd, const Eigen::VectorXd& ref) {
+// DeepMimic's DiffWeight per joint of its humanoid3d.txt (the free joint: "root").
+double deepmimic_joint_weight(const std::string& joint) {
+  static const std::map<std::string, double> weights = {
+      {"root", 1.0},        {"chest", 0.5},          {"neck", 0.3},          {"right_hip", 0.5},   {"right_knee", 0.3},
+      {"right_ankle", 0.2}, {"right_shoulder", 0.3}, {"right_elbow", 0.2},   {"right_wrist", 0.0}, {"left_hip", 0.5},
+      {"left_knee", 0.3},   {"left_ankle", 0.2},     {"left_shoulder", 0.3}, {"left_elbow", 0.2},  {"left_wrist", 0.0}};
+  const auto it = weights.find(joint);
+  return it == weights.end() ? 1.0 : it->second;
+}
+
+// ŵ per link, normalised to sum 1 (DeepMimic's CalcJointWeights).
+std::vector<double> normalised_joint_weights(const sim::CharacterModel& model, bool deepmimic) {
+  std::vector<double> w;
+  for (const Link& l : model.links())
+    w.push_back(deepmimic ? deepmimic_joint_weight(l.joint == JointType::free ? "root" : l.name) : 1.0);
   double sum = 0.0;
-  for (const Link& l : model.links()) {
-    const int n = l.joint == JointType::free ? 3 : l.nv;
-    sum += (ref.segment(l.v_index, n) - qd.segment(l.v_index, n)).squaredNorm();
-  }
-  return sum;
+  for (double v : w) sum += v;
+  if (!(sum > 0.0)) throw base::UserError("imitation: the joint weights of model " + model.name() + " sum to 0");
+  for (double& v : w) v /= sum;
+  return w;
+}
+
+// An end effector's position from its root, in the root's heading frame, its height above the
+// (flat) ground in place of the vertical offset (DeepMimic's CalcRewardImitate).
+Eigen::Vector3d from_root(const Eigen::VectorXd& q, const Eigen::Vector3d& p) {
+  const Eigen::Matrix3d heading = heading_rotation(heading_yaw(quat_at(q, 3).normalized().toRotationMatrix()));
+  Eigen::Vector3d rel = heading.transpose() * (p - q.head<3>());
+  rel.z() = p.z();
+  return rel;
 }
 
 }  // namespace
 
 ImitationReference::ImitationReference(std::shared_ptr<const Clip> clip, ImitationWeights weights)
     : clip_(checked(std::move(clip))),
-      weights_(weights),
+      weights_(std::move(weights)),
+      joint_weight_(normalised_joint_weights(*clip_->model, weights_.deepmimic_joint_weights)),
       velocities_(clip_->velocities()),
       sim_(*clip_->model),
       ref_(*clip_->model) {}
@@ -89,14 +126,17 @@ TrackingErrors ImitationReference::errors(const Eigen::VectorXd& q, const Eigen:
   sim_.q = q, sim_.qd = qd;
   ref_.q = pose(t_s), ref_.qd = velocity(t_s);
   TrackingErrors e;
-  e.pose = pose_error(model, q, ref_.q);
-  e.velocity = velocity_error(model, qd, ref_.qd);
+  const std::vector<double> per_link = pose_errors(model, q, ref_.q);
+  double unweighted = 0.0;
+  for (std::size_t j = 0; j < per_link.size(); ++j) e.pose += joint_weight_[j] * per_link[j], unweighted += per_link[j];
+  e.pose_rms_rad = std::sqrt(unweighted / static_cast<double>(per_link.size()));
+  e.velocity = velocity_error(model, qd, ref_.qd, joint_weight_);
   sim::forward_kinematics(model, sim_);
   sim::forward_kinematics(model, ref_);
   for (int b : model.end_effector_bodies())
-    e.end_effector +=
-        (sim::body_point(model, ref_, b, Eigen::Vector3d::Zero()) - sim::body_point(model, sim_, b, Eigen::Vector3d::Zero()))
-            .squaredNorm();
+    e.end_effector += (from_root(ref_.q, sim::body_point(model, ref_, b, Eigen::Vector3d::Zero())) -
+                       from_root(q, sim::body_point(model, sim_, b, Eigen::Vector3d::Zero())))
+                          .squaredNorm();
   Eigen::Vector3d com, com_ref, vel;
   sim::center_of_mass(model, sim_, com, vel);
   sim::center_of_mass(model, ref_, com_ref, vel);

@@ -20,9 +20,11 @@ void read_start(base::ConfigReader& r, StartPreset& s) {
   w.velocity = r.number("velocity", w.velocity, {0.0, 1e3}, "w_v of r_I (joint rates)");
   w.end_effector = r.number("end_effector", w.end_effector, {0.0, 1e3}, "w_e of r_I (end effectors)");
   w.com = r.number("com", w.com, {0.0, 1e3}, "w_c of r_I (centre of mass)");
-  w.pose_scale = r.number("pose_scale", w.pose_scale, {0.0, 1e4}, "r_p = exp(−this·Σ‖q̂ ⊖ q‖²), per rad²");
+  w.pose_scale =
+      r.number("pose_scale", w.pose_scale, {0.0, 1e4}, "r_p = exp(−this·Σ_j ŵ_j‖q̂_j ⊖ q_j‖²) (character/imitation.h), per rad²");
   w.velocity_scale = r.number("velocity_scale", w.velocity_scale, {0.0, 1e4}, "r_v's kernel, per (rad/s)²");
-  w.end_effector_scale = r.number("end_effector_scale", w.end_effector_scale, {0.0, 1e4}, "r_e's kernel, per m²");
+  w.end_effector_scale =
+      r.number("end_effector_scale", w.end_effector_scale, {0.0, 1e4}, "r_e's kernel (end effectors from the root), per m²");
   w.com_scale = r.number("com_scale", w.com_scale, {0.0, 1e4}, "r_c's kernel, per m²");
   s.max_com_deviation_m = r.number("max_com_deviation_m", s.max_com_deviation_m, {0.0, 100.0, true},
                                    "early termination: the COM this far from the reference's, m");

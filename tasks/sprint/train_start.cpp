@@ -92,13 +92,12 @@ StartEvaluation evaluate_starts(SprintEnv& env, const character::PolicyFn& polic
   for (int k = 0; k < episodes; ++k) c.start_seeds.push_back(base::derive_seed(seed, static_cast<std::uint64_t>(k)));
   StartEvaluation out;
   for (const StartReference& r : env.settings().start_references) out.per_reference.push_back({r.name, 0, 0});
-  const auto joints = static_cast<double>(env.model().links().size());
   double error_sum = 0.0, ratio_sum = 0.0;
   std::int64_t steps = 0;
   c.each_step = [&](std::size_t, const character::CharacterEnv& e) {
     const auto& s = static_cast<const SprintEnv&>(e);
     if (e.step_index() == 0) return;  // the reference's own first frame
-    error_sum += std::sqrt(s.tracking_errors().pose / joints), ++steps;
+    error_sum += s.tracking_errors().pose_rms_rad, ++steps;
     StartEvaluation::PerReference& per = out.per_reference[static_cast<std::size_t>(s.reference_index())];
     if (e.step_index() == 1) ++per.episodes;
     if (s.outcome() != SprintEnv::Outcome::running) ++out.ends[to_string(s.outcome())];

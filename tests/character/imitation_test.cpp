@@ -49,51 +49,77 @@ TEST(Imitation, EveryTermIsOneOnTheReference) {
   }
 }
 
-TEST(Imitation, PoseTermFallsAsExpOfMinusTwoTimesTheSquaredAngle) {
+// DeepMimic's joint weights on the athlete's 13 links (the wrists, weight 0, are not links): they
+// sum to 4.8, so a joint of DiffWeight w counts w / 4.8 of its squared error.
+constexpr double kWeightSum = 4.8;
+
+TEST(Imitation, PoseTermFallsAsExpOfMinusTwoTimesTheWeightedSquaredAngle) {
   const ImitationReference ref(running_clip());
   const sim::CharacterModel& m = *ref.clip().model;
   for (double d : {0.05, 0.2, 0.5, 1.0}) {
     Eigen::VectorXd q = ref.pose(kT);
-    q(m.link("right_knee").q_index) += d;  // a hinge: error d²
-    EXPECT_NEAR(ref.terms(q, ref.velocity(kT), kT).pose, std::exp(-2.0 * d * d), 1e-12) << d;
-    // And a ball joint turned by a further d about a tilted axis: error 2d² in all.
+    q(m.link("right_knee").q_index) += d;  // a hinge of weight 0.3: error d²
+    EXPECT_NEAR(ref.terms(q, ref.velocity(kT), kT).pose, std::exp(-2.0 * 0.3 / kWeightSum * d * d), 1e-12) << d;
+    // And a ball joint (weight 0.5) turned by d about a tilted axis.
     const int hip = m.link("right_hip").q_index;
     set_quat(q, hip, quat_at(q, hip) * exp_map(d * Eigen::Vector3d(1.0, 1.0, 0.0).normalized()));
-    EXPECT_NEAR(ref.terms(q, ref.velocity(kT), kT).pose, std::exp(-2.0 * 2.0 * d * d), 1e-9) << d;
+    EXPECT_NEAR(ref.terms(q, ref.velocity(kT), kT).pose, std::exp(-2.0 * (0.3 + 0.5) / kWeightSum * d * d), 1e-9) << d;
+    // The report's per-joint error is unweighted: √(2d² / 13).
+    EXPECT_NEAR(ref.errors(q, ref.velocity(kT), kT).pose_rms_rad, std::sqrt(2.0 * d * d / 13.0), 1e-9) << d;
   }
-  // The root's orientation counts as a joint.
+  // The root's orientation counts as a joint, of weight 1.
   Eigen::VectorXd q = ref.pose(kT);
   set_quat(q, 3, quat_at(q, 3) * exp_map(Eigen::Vector3d(0.0, 0.0, 0.3)));
-  EXPECT_NEAR(ref.terms(q, ref.velocity(kT), kT).pose, std::exp(-2.0 * 0.09), 1e-9);
+  EXPECT_NEAR(ref.terms(q, ref.velocity(kT), kT).pose, std::exp(-2.0 * 0.09 / kWeightSum), 1e-9);
 }
 
-TEST(Imitation, VelocityTermFallsAsExpOfMinusATenthOfTheSquaredRateError) {
+TEST(Imitation, WithoutNamedWeightsEveryJointCountsTheSame) {
+  ImitationWeights uniform;
+  uniform.deepmimic_joint_weights = false;
+  const ImitationReference ref(running_clip(), uniform);
+  const sim::CharacterModel& m = *ref.clip().model;
+  ASSERT_EQ(m.links().size(), 13u);
+  Eigen::VectorXd q = ref.pose(kT);
+  q(m.link("right_knee").q_index) += 0.4;
+  EXPECT_NEAR(ref.terms(q, ref.velocity(kT), kT).pose, std::exp(-2.0 * 0.16 / 13.0), 1e-12);
+}
+
+TEST(Imitation, VelocityTermFallsAsExpOfMinusATenthOfTheWeightedSquaredRateError) {
   const ImitationReference ref(running_clip());
   const sim::CharacterModel& m = *ref.clip().model;
   for (double d : {0.5, 2.0, 5.0}) {
     Eigen::VectorXd qd = ref.velocity(kT);
-    qd(m.link("left_elbow").v_index) += d;
-    qd(1) -= d;  // the root's ω_y
-    EXPECT_NEAR(ref.terms(ref.pose(kT), qd, kT).velocity, std::exp(-0.1 * 2.0 * d * d), 1e-12) << d;
+    qd(m.link("left_elbow").v_index) += d;  // weight 0.2
+    qd(1) -= d;                             // the root's ω_y, weight 1
+    const double expected = std::exp(-0.1 * (0.2 + 1.0) / kWeightSum * d * d);
+    EXPECT_NEAR(ref.terms(ref.pose(kT), qd, kT).velocity, expected, 1e-12) << d;
     qd(3) += 10.0;  // the root's linear velocity is not in r_v
-    EXPECT_NEAR(ref.terms(ref.pose(kT), qd, kT).velocity, std::exp(-0.1 * 2.0 * d * d), 1e-12) << d;
+    EXPECT_NEAR(ref.terms(ref.pose(kT), qd, kT).velocity, expected, 1e-12) << d;
   }
 }
 
-TEST(Imitation, EndEffectorAndComTermsFallWithTheirDisplacement) {
+TEST(Imitation, EndEffectorsCountFromTheirRootAndTheComInTheWorld) {
   const ImitationReference ref(running_clip());
   const std::size_t effectors = ref.clip().model->end_effector_bodies().size();
   ASSERT_EQ(effectors, 4u);  // hands and feet
+  const ImitationWeights w;
   for (double d : {0.01, 0.05, 0.2}) {
     Eigen::VectorXd q = ref.pose(kT);
-    q.head<3>() += d * Eigen::Vector3d(0.6, 0.8, 0.0);  // the whole body moved by d: every point moves by d
-    const ImitationTerms terms = ref.terms(q, ref.velocity(kT), kT);
+    q.head<3>() += d * Eigen::Vector3d(0.6, 0.8, 0.0);  // the whole body moved by d along the ground
+    ImitationTerms terms = ref.terms(q, ref.velocity(kT), kT);
     EXPECT_DOUBLE_EQ(terms.pose, 1.0);
-    EXPECT_NEAR(terms.end_effector, std::exp(-40.0 * static_cast<double>(effectors) * d * d), 1e-9) << d;
+    EXPECT_NEAR(terms.end_effector, 1.0, 1e-12) << d;  // from the root: unmoved
     EXPECT_NEAR(terms.com, std::exp(-10.0 * d * d), 1e-9) << d;
-    const ImitationWeights w;
-    EXPECT_NEAR(terms.total, w.pose + w.velocity + w.end_effector * terms.end_effector + w.com * terms.com, 1e-12);
+    EXPECT_NEAR(terms.total, w.pose + w.velocity + w.end_effector + w.com * terms.com, 1e-12);
+    q.z() += d;  // and raised by d: every effector's height above the ground is d off
+    terms = ref.terms(q, ref.velocity(kT), kT);
+    EXPECT_NEAR(terms.end_effector, std::exp(-10.0 * static_cast<double>(effectors) * d * d), 1e-9) << d;
+    EXPECT_NEAR(terms.com, std::exp(-10.0 * 2.0 * d * d), 1e-9) << d;
   }
+  // Turned about the vertical with its root, the body's effectors are where the reference's are.
+  Eigen::VectorXd q = ref.pose(kT);
+  set_quat(q, 3, exp_map(Eigen::Vector3d(0.0, 0.0, 0.7)) * quat_at(q, 3));
+  EXPECT_NEAR(ref.terms(q, ref.velocity(kT), kT).end_effector, 1.0, 1e-9);
 }
 
 TEST(Imitation, TermsAreTheWeightedKernelsOfTheErrors) {
@@ -101,7 +127,7 @@ TEST(Imitation, TermsAreTheWeightedKernelsOfTheErrors) {
   const ImitationTerms t = imitation_terms(e);
   EXPECT_DOUBLE_EQ(t.pose, std::exp(-2.0 * 0.3));
   EXPECT_DOUBLE_EQ(t.velocity, std::exp(-0.1 * 4.0));
-  EXPECT_DOUBLE_EQ(t.end_effector, std::exp(-40.0 * 0.02));
+  EXPECT_DOUBLE_EQ(t.end_effector, std::exp(-10.0 * 0.02));
   EXPECT_DOUBLE_EQ(t.com, std::exp(-10.0 * 0.05));
   EXPECT_DOUBLE_EQ(t.total, 0.65 * t.pose + 0.1 * t.velocity + 0.15 * t.end_effector + 0.1 * t.com);
   ImitationWeights only_pose;

@@ -48,9 +48,9 @@ TEST(SprintPreset, EpisodeDrawsStayInTheRangesAndRepeatPerSeed) {
 TEST(SprintPreset, TheStartPhasesImitationSettingsAreData) {
   for (const char* name : {"smoke", "quick", "paper"}) {
     const StartPreset start = load_sprint_preset(name).start;
-    EXPECT_EQ(start.imitation_weight, 10.0) << name;  // λ_i: r_I ≤ 1 against r_base's 3-4 per step
-    EXPECT_EQ(start.weights.pose, 0.65) << name;      // DeepMimic's r_I
-    EXPECT_EQ(start.weights.end_effector_scale, 40.0) << name;
+    EXPECT_EQ(start.imitation_weight, 10.0) << name;            // λ_i: r_I ≤ 1 against r_base's 3-4 per step
+    EXPECT_EQ(start.weights.pose, 0.65) << name;                // DeepMimic's r_I
+    EXPECT_EQ(start.weights.end_effector_scale, 10.0) << name;  // DeepMimic's code: end effectors from the root
     EXPECT_EQ(start.max_com_deviation_m, 0.5) << name;
     EXPECT_EQ(start.landing_x_m, 0.5) << name;
   }

@@ -1,18 +1,24 @@
 #pragma once
 /// Imitation of a reference clip, DeepMimic-style (Peng, Abbeel, Levine, van de Panne, "DeepMimic:
 /// Example-guided deep reinforcement learning of physics-based character skills", SIGGRAPH 2018,
-/// §5 "Reward" and §6 "Training": RSI, early termination; the thesis's run-up (§3.6.1) trains with
-/// it, and the sprint's Start phase and the style-curve get-up are to):
+/// §5 "Reward" and §6 "Training": RSI, early termination; the thesis's run-up (§3.6.1) and the
+/// sprint's Start phase train with it):
 ///
 ///   r_I = w_p r_p + w_v r_v + w_e r_e + w_c r_c,  w = (0.65, 0.1, 0.15, 0.1)
-///   r_p = exp(−2 Σ_j ‖q̂_j ⊖ q_j‖²)       joint rotations (the root's included)
-///   r_v = exp(−0.1 Σ_j ‖q̇̂_j − q̇_j‖²)     joint rates (the root's angular velocity included)
-///   r_e = exp(−40 Σ_e ‖p̂_e − p_e‖²)       end effectors, world positions
+///   r_p = exp(−2 Σ_j ŵ_j ‖q̂_j ⊖ q_j‖²)    joint rotations (the root's included)
+///   r_v = exp(−0.1 Σ_j ŵ_j ‖q̇̂_j − q̇_j‖²)  joint rates (the root's angular velocity included)
+///   r_e = exp(−10 Σ_e ‖p̂_e − p_e‖²)       end effectors, each relative to its own root
 ///   r_c = exp(−10 ‖p̂_c − p_c‖²)           centre of mass, world position
 ///
-/// with the reference (hatted) at the env's reference clock. The parts: `ImitationReference` (the
-/// clip, its frame velocities and the terms), `ReferenceStateStart` (RSI: a uniformly drawn frame),
-/// `EarlyTermination` (a fall or a large deviation), `ReferencePhase` (the phase in the observation).
+/// with the reference (hatted) at the env's reference clock. The paper prints r_p and r_v as plain
+/// sums over the joints and r_e on world positions at 40; its code (DeepMimicCore,
+/// SceneImitate.cpp, CalcRewardImitate), which made its results, weighs each joint by the
+/// character file's DiffWeight normalised to sum 1 (ŵ: a weighted mean, 15× looser than the sum
+/// on its 15-joint humanoid, so r_p still has a slope at 0.5 rad per joint) and measures end
+/// effectors from the root in the heading frame (height above the ground) at 10. Those are the
+/// defaults here. The parts: `ImitationReference` (the clip, its frame velocities and the terms),
+/// `ReferenceStateStart` (RSI: a uniformly drawn frame), `EarlyTermination` (a fall or a large
+/// deviation), `ReferencePhase` (the phase in the observation).
 #include <Eigen/Core>
 #include <memory>
 #include <string>
@@ -24,18 +30,23 @@
 
 namespace podium::character {
 
-/// The weights and kernel scales of r_I (defaults: DeepMimic §5).
+/// The weights and kernel scales of r_I (defaults: DeepMimic's code, above).
 struct ImitationWeights {
   double pose = 0.65, velocity = 0.1, end_effector = 0.15, com = 0.1;
-  double pose_scale = 2.0, velocity_scale = 0.1, end_effector_scale = 40.0, com_scale = 10.0;
+  double pose_scale = 2.0, velocity_scale = 0.1, end_effector_scale = 10.0, com_scale = 10.0;
+  /// ŵ: DeepMimic's per-joint weights (the DiffWeight of its humanoid3d.txt, whose joint names
+  /// humanoid34 and the athlete share; a joint it does not name weighs 1), normalised to sum 1;
+  /// false: every joint 1, normalised.
+  bool deepmimic_joint_weights = true;
 };
 
 /// The squared tracking errors of one state against the reference.
 struct TrackingErrors {
-  double pose = 0.0;          ///< Σ_j ‖q̂_j ⊖ q_j‖² over the root rotation and every joint, rad²
-  double velocity = 0.0;      ///< Σ_j ‖q̇̂_j − q̇_j‖² over the root's ω (its frame) and the joints', (rad/s)²
-  double end_effector = 0.0;  ///< Σ_e ‖p̂_e − p_e‖² over the model's end-effector bodies, world, m²
+  double pose = 0.0;          ///< Σ_j ŵ_j ‖q̂_j ⊖ q_j‖² over the root rotation and every joint, rad²
+  double velocity = 0.0;      ///< Σ_j ŵ_j ‖q̇̂_j − q̇_j‖² over the root's ω (its frame) and the joints', (rad/s)²
+  double end_effector = 0.0;  ///< Σ_e ‖p̂_e − p_e‖² over the end-effector bodies, each from its root (heading frame), m²
   double com = 0.0;           ///< ‖p̂_c − p_c‖², world, m²
+  double pose_rms_rad = 0.0;  ///< √(Σ_j ‖q̂_j ⊖ q_j‖² / J), unweighted over the J links: the per-joint error reports use
 };
 
 /// The four kernels and their weighted sum r_I (each term in (0, 1], 1 on the reference).
@@ -72,6 +83,7 @@ class ImitationReference {
 
   std::shared_ptr<const Clip> clip_;
   ImitationWeights weights_;
+  std::vector<double> joint_weight_;  // per link, ŵ (sums to 1)
   std::vector<Eigen::VectorXd> velocities_;
   mutable sim::CharacterData sim_, ref_;  // forward kinematics scratch
 };

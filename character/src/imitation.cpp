@@ -99,7 +99,7 @@ Eigen::Vector3d from_root(const Eigen::VectorXd& q, const Eigen::Vector3d& p) {
 
 ImitationReference::ImitationReference(std::shared_ptr<const Clip> clip, ImitationWeights weights)
     : clip_(checked(std::move(clip))),
-      weights_(std::move(weights)),
+      weights_(weights),
       joint_weight_(normalised_joint_weights(*clip_->model, weights_.deepmimic_joint_weights)),
       velocities_(clip_->velocities()),
       sim_(*clip_->model),

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The demo, end to end: installs what is missing, builds, runs the demo campaign (the shipped
 # get-up policy pair from falls no training saw, fast and slowed; the shipped high-jump and obstacle-jump strategies;
-# a smoke-sized Discover + Weaker training stage), prints its summary (`podium summary --short`:
+# a smoke-sized Discover + Weaker training stage; edits of a style curve replayed by the shipped
+# style-curve policy), prints its summary (`podium summary --short`:
 # per stage a short table) and the page to open first.
 # Usage: scripts/demo.sh [SPEC.json]   (default campaigns/getup_demo.json; campaigns/demo.json is
 # the strategy-search demo on an analytic landscape)

@@ -265,7 +265,8 @@ TEST(Summary, ReadsADatabaseAnOlderPodiumWrote) {
 
 // A task names its objectives per stage from the stage's config: the demo's get-up Evaluate stage
 // ranks by the mean slowed success, its training stage by the success rate; the jumps' (high and
-// obstacle) by their jumps' success. Submitted (each stage described by its plugin), not run.
+// obstacle) by their jumps' success; the curve edits by the edited curve's success, then r_task.
+// Submitted (each stage described by its plugin), not run.
 TEST(Summary, ObjectivesAreNamedPerStageByTheTasksDescription) {
   TempDir dir;
   const auto submit = run_podium({"submit", std::string(PODIUM_SOURCE_DIR) + "/campaigns/getup_demo.json"}, dir.path());
@@ -273,7 +274,7 @@ TEST(Summary, ObjectivesAreNamedPerStageByTheTasksDescription) {
   const auto status = run_podium({"status", "getup-demo", "--json"}, dir.path());
   ASSERT_EQ(status.exit_code, 0) << status.err;
   const Json stages = Json::parse(status.out)["stages"];
-  ASSERT_EQ(stages.size(), 5u);
+  ASSERT_EQ(stages.size(), 6u);
   const auto names = [](const Json& entries) {
     std::vector<std::string> out;
     for (const auto& e : entries) out.push_back(e["name"]);
@@ -290,6 +291,7 @@ TEST(Summary, ObjectivesAreNamedPerStageByTheTasksDescription) {
     EXPECT_EQ(stages[jumps]["features"][0]["unit"], "rad");
   }
   EXPECT_EQ(names(stages[4]["objectives"]), (std::vector<std::string>{"success_rate", "weakness"}));
+  EXPECT_EQ(names(stages[5]["objectives"]), (std::vector<std::string>{"success_rate", "mean_r_task"}));
   for (const auto& stage : stages)
     for (const auto& entry : stage["objectives"]) EXPECT_TRUE(entry.contains("description")) << stage["name"] << entry;
 }

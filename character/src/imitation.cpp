@@ -35,19 +35,25 @@ std::shared_ptr<const Clip> checked(std::shared_ptr<const Clip> clip) {
   return clip;
 }
 
-// ‖q̂_j ⊖ q_j‖² per link: the rotation angle between the two orientations of every ball joint and
-// the root, the angle difference of every hinge.
-std::vector<double> pose_errors(const sim::CharacterModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& ref) {
-  std::vector<double> out;
-  out.reserve(model.links().size());
-  for (const Link& l : model.links()) {
+// Σ_j ŵ_j ‖q̂_j ⊖ q_j‖² and the unweighted Σ_j ‖q̂_j ⊖ q_j‖²: the rotation angle between the two
+// orientations of every ball joint and the root, the angle difference of every hinge.
+struct PoseSums {
+  double weighted = 0.0, unweighted = 0.0;
+};
+PoseSums pose_error(const sim::CharacterModel& model, const Eigen::VectorXd& q, const Eigen::VectorXd& ref,
+                    const std::vector<double>& weight) {
+  PoseSums out;
+  for (std::size_t j = 0; j < model.links().size(); ++j) {
+    const Link& l = model.links()[j];
+    double e = 0.0;
     if (l.joint == JointType::revolute) {
       const double d = ref(l.q_index) - q(l.q_index);
-      out.push_back(d * d);
-      continue;
+      e = d * d;
+    } else {
+      const int i = l.joint == JointType::free ? l.q_index + 3 : l.q_index;
+      e = log_map(quat_at(ref, i).normalized().conjugate() * quat_at(q, i).normalized()).squaredNorm();
     }
-    const int i = l.joint == JointType::free ? l.q_index + 3 : l.q_index;
-    out.push_back(log_map(quat_at(ref, i).normalized().conjugate() * quat_at(q, i).normalized()).squaredNorm());
+    out.weighted += weight[j] * e, out.unweighted += e;
   }
   return out;
 }
@@ -86,11 +92,12 @@ std::vector<double> normalised_joint_weights(const sim::CharacterModel& model, b
   return w;
 }
 
-// An end effector's position from its root, in the root's heading frame, its height above the
-// (flat) ground in place of the vertical offset (DeepMimic's CalcRewardImitate).
-Eigen::Vector3d from_root(const Eigen::VectorXd& q, const Eigen::Vector3d& p) {
-  const Eigen::Matrix3d heading = heading_rotation(heading_yaw(quat_at(q, 3).normalized().toRotationMatrix()));
-  Eigen::Vector3d rel = heading.transpose() * (p - q.head<3>());
+// An end effector's position from its root (d after forward kinematics), in the root's heading
+// frame, its height above the (flat) ground in place of the vertical offset (DeepMimic's
+// CalcRewardImitate).
+Eigen::Vector3d from_root(const sim::CharacterData& d, const Eigen::Vector3d& p) {
+  const Eigen::Matrix3d heading = heading_rotation(heading_yaw(d.links[0].R));
+  Eigen::Vector3d rel = heading.transpose() * (p - d.links[0].p);
   rel.z() = p.z();
   return rel;
 }
@@ -126,16 +133,15 @@ TrackingErrors ImitationReference::errors(const Eigen::VectorXd& q, const Eigen:
   sim_.q = q, sim_.qd = qd;
   ref_.q = pose(t_s), ref_.qd = velocity(t_s);
   TrackingErrors e;
-  const std::vector<double> per_link = pose_errors(model, q, ref_.q);
-  double unweighted = 0.0;
-  for (std::size_t j = 0; j < per_link.size(); ++j) e.pose += joint_weight_[j] * per_link[j], unweighted += per_link[j];
-  e.pose_rms_rad = std::sqrt(unweighted / static_cast<double>(per_link.size()));
+  const PoseSums pose_sums = pose_error(model, q, ref_.q, joint_weight_);
+  e.pose = pose_sums.weighted;
+  e.pose_rms_rad = std::sqrt(pose_sums.unweighted / static_cast<double>(model.links().size()));
   e.velocity = velocity_error(model, qd, ref_.qd, joint_weight_);
   sim::forward_kinematics(model, sim_);
   sim::forward_kinematics(model, ref_);
   for (int b : model.end_effector_bodies())
-    e.end_effector += (from_root(ref_.q, sim::body_point(model, ref_, b, Eigen::Vector3d::Zero())) -
-                       from_root(q, sim::body_point(model, sim_, b, Eigen::Vector3d::Zero())))
+    e.end_effector += (from_root(ref_, sim::body_point(model, ref_, b, Eigen::Vector3d::Zero())) -
+                       from_root(sim_, sim::body_point(model, sim_, b, Eigen::Vector3d::Zero())))
                           .squaredNorm();
   Eigen::Vector3d com, com_ref, vel;
   sim::center_of_mass(model, sim_, com, vel);
